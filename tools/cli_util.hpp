@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <boost/program_options.hpp>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace sonarsynth::cli {
+
+namespace po = boost::program_options;
+
+/// A subcommand: `sonarsynth <name> ...`. `run` gets the arguments after the name and returns the
+/// process exit code. It may throw sonarsynth::Error (exit 1) or a program_options error (exit 2).
+struct Command {
+  const char* name;
+  const char* summary;
+  std::function<int(const std::vector<std::string>& args)> run;
+};
+
+/// Parses `args` against `options` (+ positional), handles --help by printing `usage` and the
+/// options. Returns false if help was printed (the command should return 0).
+bool parse(const std::vector<std::string>& args, const po::options_description& options,
+           const po::positional_options_description& positional, po::variables_map& vm,
+           const std::string& usage);
+
+/// Parses "KEY=VALUE" strings (GDAL's --co style); throws InputError naming the option otherwise.
+std::vector<std::pair<std::string, std::string>> parse_key_values(
+    const std::vector<std::string>& items, const char* option_name);
+
+}  // namespace sonarsynth::cli

@@ -1,0 +1,14 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <vector>
+
+#include "cli_util.hpp"
+
+namespace sonarsynth::cli {
+
+// One function per subcommand (tools/cmd_<name>.cpp); main.cpp lists them.
+// Add yours here and in main.cpp's table.
+int run_version(const std::vector<std::string>& args);
+
+}  // namespace sonarsynth::cli

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT
+// sonarsynth: synthetic side-scan sonar survey data. `sonarsynth --help` lists the subcommands.
+#include <boost/program_options/errors.hpp>
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/version.hpp"
+
+namespace sc = sonarsynth::cli;
+
+namespace {
+
+const std::vector<sc::Command>& commands() {
+  static const std::vector<sc::Command> table = {
+      {"version", "print the version and exit", sc::run_version},
+  };
+  return table;
+}
+
+void print_usage(std::ostream& os) {
+  os << "usage: sonarsynth <command> [options]   (sonarsynth <command> --help for details)\n\n"
+        "commands:\n";
+  for (const auto& c : commands()) {
+    os << "  " << c.name << std::string(12 - std::min<size_t>(11, std::strlen(c.name)), ' ')
+       << c.summary << "\n";
+  }
+}
+
+}  // namespace
+
+namespace sonarsynth::cli {
+int run_version(const std::vector<std::string>& /*args*/) {
+  std::cout << "sonarsynth " << sonarsynth::kVersion << "\n";
+  return 0;
+}
+}  // namespace sonarsynth::cli
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
+    print_usage(argc < 2 ? std::cerr : std::cout);
+    return argc < 2 ? 2 : 0;
+  }
+  if (std::strcmp(argv[1], "--version") == 0) return sc::run_version({});
+  const std::string name = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  for (const auto& c : commands()) {
+    if (name != c.name) continue;
+    try {
+      return c.run(args);
+    } catch (const boost::program_options::error& e) {
+      std::cerr << "sonarsynth " << name << ": " << e.what() << "\n(see sonarsynth " << name
+                << " --help)\n";
+      return 2;
+    } catch (const sonarsynth::Error& e) {
+      std::cerr << "sonarsynth " << name << ": error: " << e.what() << "\n";
+      return 1;
+    } catch (const std::exception& e) {
+      std::cerr << "sonarsynth " << name << ": internal error: " << e.what() << "\n";
+      return 3;
+    }
+  }
+  std::cerr << "sonarsynth: unknown command '" << name << "'\n";
+  print_usage(std::cerr);
+  return 2;
+}
