@@ -1,17 +1,19 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/atomic_file.hpp"
 
+#include <unistd.h>
+
 #include <atomic>
 #include <string>
 #include <system_error>
-#include <unistd.h>
 
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {
 namespace fs = std::filesystem;
 
-AtomicOutput::AtomicOutput(fs::path final_path, bool overwrite) : final_path_(std::move(final_path)) {
+AtomicOutput::AtomicOutput(fs::path final_path, bool overwrite)
+    : final_path_(std::move(final_path)) {
   std::error_code ec;
   if (!overwrite && fs::exists(final_path_, ec)) {
     throw FormatError(final_path_.string() + ": already exists (use --overwrite to replace it)");
@@ -45,8 +47,8 @@ void AtomicOutput::commit() {
   std::error_code ec;
   fs::rename(temp_path_, final_path_, ec);
   if (ec) {
-    throw FormatError(final_path_.string() + ": cannot move the finished file into place: " +
-                      ec.message());
+    throw FormatError(final_path_.string() +
+                      ": cannot move the finished file into place: " + ec.message());
   }
   committed_ = true;
 }

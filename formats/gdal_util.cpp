@@ -26,7 +26,9 @@ void ensure_registered() {
   });
 }
 
-std::string last_error_message() { return g_last_error; }
+std::string last_error_message() {
+  return g_last_error;
+}
 
 void DatasetCloser::operator()(GDALDataset* ds) const {
   if (ds) GDALClose(GDALDataset::ToHandle(ds));

@@ -55,7 +55,8 @@ Eigen::Vector2d GeoFrame::local_from_geodetic(const Geodetic& p) const {
                      e.what());
   }
   // A point in the other hemisphere of the same zone keeps this frame's false northing.
-  if (northp != northp_) y += northp_ ? -GeographicLib::UTMUPS::UTMShift() : GeographicLib::UTMUPS::UTMShift();
+  if (northp != northp_)
+    y += northp_ ? -GeographicLib::UTMUPS::UTMShift() : GeographicLib::UTMUPS::UTMShift();
   return local_from_projected({x, y});
 }
 

@@ -73,14 +73,16 @@ HeightSample HeightGrid::sample(double x_m, double y_m) const {
   const double z10 = heights_[i + 1];
   const double z01 = heights_[i + g.cols];
   const double z11 = heights_[i + g.cols + 1];
-  const double a = z10 - z00;              // d/du along the row
-  const double b = z01 - z00;              // d/dv
-  const double c = z11 - z10 - z01 + z00;  // twist
+  const double a = z10 - z00;                        // d/du along the row
+  const double b = z01 - z00;                        // d/dv
+  const double c = z11 - z10 - z01 + z00;            // twist
   const double z = z00 + a * u + b * v + c * u * v;  // NaN if any node is a hole
   return {z, (a + c * v) / g.dx_m, (b + c * u) / g.dy_m};
 }
 
-double HeightGrid::height_m(double x_m, double y_m) const { return sample(x_m, y_m).z_m; }
+double HeightGrid::height_m(double x_m, double y_m) const {
+  return sample(x_m, y_m).z_m;
+}
 
 void HeightGrid::profile(const Eigen::Vector2d& start_m, const Eigen::Vector2d& dir,
                          double length_m, int subdivisions, std::vector<ProfilePoint>& out) const {

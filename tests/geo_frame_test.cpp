@@ -1,15 +1,18 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/geo_frame.hpp"
 
-#include <GeographicLib/Geodesic.hpp>
 #include <gtest/gtest.h>
+
+#include <GeographicLib/Geodesic.hpp>
 
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {
 namespace {
 
-Geodetic deg(double lat, double lon) { return {rad_from_deg(lat), rad_from_deg(lon), 0.0}; }
+Geodetic deg(double lat, double lon) {
+  return {rad_from_deg(lat), rad_from_deg(lon), 0.0};
+}
 
 // Round trip geodetic -> local -> geodetic; error measured as a geodesic distance.
 double round_trip_error_m(const GeoFrame& f, const Geodetic& p) {
@@ -29,7 +32,7 @@ TEST(GeoFrame, ChoosesStandardZoneAndEpsg) {
   EXPECT_EQ(south.zone(), 56);
   EXPECT_FALSE(south.northp());
   EXPECT_EQ(south.epsg(), 32756);
-  EXPECT_EQ(GeoFrame::around(deg(60.5, 5.5)).zone(), 32);  // Norway exception (32V)
+  EXPECT_EQ(GeoFrame::around(deg(60.5, 5.5)).zone(), 32);       // Norway exception (32V)
   EXPECT_EQ(GeoFrame::around(deg(-89.0, 10.0)).epsg(), 32761);  // UPS south
 }
 
@@ -83,7 +86,9 @@ TEST(GeoFrame, ConvergenceTurnsTrueIntoGridAzimuth) {
   EXPECT_NEAR(grid_az, f.grid_azimuth_from_true_rad(0.0, p), 1e-5);
 }
 
-TEST(GeoFrame, RejectsBadZone) { EXPECT_THROW(GeoFrame(61, true, 0, 0), InputError); }
+TEST(GeoFrame, RejectsBadZone) {
+  EXPECT_THROW(GeoFrame(61, true, 0, 0), InputError);
+}
 
 }  // namespace
 }  // namespace sonarsynth

@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <random>
@@ -35,7 +35,8 @@ GridGeometry north_up(double cell, std::size_t n) {
 
 TEST(HeightGrid, PlaneIsExactIncludingGradientAndNormal) {
   const double a = 0.1, b = -0.05, c = -20.0;
-  const HeightGrid grid = make_grid(north_up(0.5, 201), [&](double x, double y) { return a * x + b * y + c; });
+  const HeightGrid grid =
+      make_grid(north_up(0.5, 201), [&](double x, double y) { return a * x + b * y + c; });
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-49.9, 49.9);
   for (int i = 0; i < 1000; ++i) {
@@ -53,7 +54,8 @@ TEST(HeightGrid, PlaneIsExactIncludingGradientAndNormal) {
 TEST(HeightGrid, ParaboloidWithinBilinearErrorBound) {
   // z = k (x^2 + y^2): bilinear interpolation error <= k h^2 / 2, gradient error <= 2 k h / 2.
   const double k = 0.01, h = 0.5;
-  const HeightGrid grid = make_grid(north_up(h, 201), [&](double x, double y) { return k * (x * x + y * y); });
+  const HeightGrid grid =
+      make_grid(north_up(h, 201), [&](double x, double y) { return k * (x * x + y * y); });
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-49.0, 49.0);
   double worst_z = 0, worst_g = 0;
@@ -77,7 +79,7 @@ TEST(HeightGrid, HolesAndOutsideAreNaN) {
   HeightGrid grid = make_grid(north_up(1.0, 11), [](double, double) { return -10.0; });
   grid.mutable_heights()[5 * 11 + 5] = std::numeric_limits<float>::quiet_NaN();  // node (0, 0)
   EXPECT_TRUE(std::isnan(grid.height_m(0.0, 0.0)));
-  EXPECT_TRUE(std::isnan(grid.height_m(0.5, 0.5)));    // a cell touching the hole
+  EXPECT_TRUE(std::isnan(grid.height_m(0.5, 0.5)));  // a cell touching the hole
   EXPECT_TRUE(std::isnan(grid.height_m(-0.5, -0.5)));
   EXPECT_FALSE(std::isnan(grid.height_m(1.5, 1.5)));   // cells not touching it are fine
   EXPECT_TRUE(std::isnan(grid.height_m(-5.01, 0.0)));  // outside
@@ -89,7 +91,8 @@ TEST(HeightGrid, HolesAndOutsideAreNaN) {
 
 TEST(HeightGrid, ProfileHitsEveryGridLineAndMatchesPointQueries) {
   const double k = 0.01;
-  const HeightGrid grid = make_grid(north_up(0.5, 201), [&](double x, double y) { return k * (x * x + y * y); });
+  const HeightGrid grid =
+      make_grid(north_up(0.5, 201), [&](double x, double y) { return k * (x * x + y * y); });
   const Eigen::Vector2d start(-3.1, 2.7);
   const Eigen::Vector2d dir = Eigen::Vector2d(0.8, -0.6);  // unit
   std::vector<ProfilePoint> prof;

@@ -7,9 +7,9 @@ namespace sonarsynth {
 
 /// A geodetic position on WGS 84. Angles in radians (degrees only at I/O).
 struct Geodetic {
-  double lat_rad = 0.0;    ///< latitude, [-pi/2, pi/2], north positive
-  double lon_rad = 0.0;    ///< longitude, [-pi, pi], east positive
-  double height_m = 0.0;   ///< height above the vertical datum of the bathymetry, up positive
+  double lat_rad = 0.0;   ///< latitude, [-pi/2, pi/2], north positive
+  double lon_rad = 0.0;   ///< longitude, [-pi, pi], east positive
+  double height_m = 0.0;  ///< height above the vertical datum of the bathymetry, up positive
 };
 
 /// The local metric frame every simulation quantity lives in.
@@ -68,7 +68,11 @@ class GeoFrame {
 
 /// Degrees <-> radians, for I/O boundaries.
 constexpr double kPi = 3.14159265358979323846;
-constexpr double rad_from_deg(double deg) { return deg * (kPi / 180.0); }
-constexpr double deg_from_rad(double rad) { return rad * (180.0 / kPi); }
+constexpr double rad_from_deg(double deg) {
+  return deg * (kPi / 180.0);
+}
+constexpr double deg_from_rad(double rad) {
+  return rad * (180.0 / kPi);
+}
 
 }  // namespace sonarsynth

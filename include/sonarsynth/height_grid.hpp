@@ -30,9 +30,9 @@ struct GridGeometry {
 
 /// Height, slope and validity of the bilinear surface at a point.
 struct HeightSample {
-  double z_m;      ///< height (elevation, up positive), metres; NaN where there is no seabed
-  double dzdx;     ///< surface gradient along x (dimensionless)
-  double dzdy;     ///< surface gradient along y
+  double z_m;   ///< height (elevation, up positive), metres; NaN where there is no seabed
+  double dzdx;  ///< surface gradient along x (dimensionless)
+  double dzdy;  ///< surface gradient along y
   bool valid() const { return z_m == z_m; }
   /// Upward unit normal (-dz/dx, -dz/dy, 1)/|.|.
   Eigen::Vector3d normal() const;
@@ -56,7 +56,9 @@ class HeightGrid {
   const GridGeometry& geometry() const { return geometry_; }
   const std::vector<float>& heights() const { return heights_; }
   std::vector<float>& mutable_heights() { return heights_; }
-  float node(std::size_t col, std::size_t row) const { return heights_[row * geometry_.cols + col]; }
+  float node(std::size_t col, std::size_t row) const {
+    return heights_[row * geometry_.cols + col];
+  }
   bool empty() const { return heights_.empty(); }
 
   /// Bilinear height at (x, y); NaN outside the grid or if any of the 4 nodes is a hole.

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/material.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sonarsynth/error.hpp"
+
+namespace sonarsynth {
+namespace {
+double from_db(double db) {
+  return std::pow(10.0, db / 10.0);
+}
+}  // namespace
+
+void Material::validate() const {
+  const std::string where = "material '" + name + "': ";
+  if (name.empty()) throw InputError("material: empty name");
+  if (!(lambert_mu > 0.0 && lambert_mu <= 1.0)) {
+    throw InputError(where + "lambert_mu = " + std::to_string(lambert_mu) +
+                     ". Violated constraint: 0 < lambert_mu <= 1");
+  }
+  if (!(paper_reflectivity >= 0.0 && paper_reflectivity <= 1.0)) {
+    throw InputError(where + "reflectivity = " + std::to_string(paper_reflectivity) +
+                     ". Violated constraint: 0 <= reflectivity <= 1");
+  }
+  if (!(texture_shape_nu >= 0.0) || !std::isfinite(texture_shape_nu)) {
+    throw InputError(where + "texture_shape = " + std::to_string(texture_shape_nu) +
+                     ". Violated constraint: texture_shape >= 0 (0 = none)");
+  }
+}
+
+MaterialTable MaterialTable::defaults() {
+  // Lambert mu chosen so that BS at 30-45 deg grazing (mu sin^2 g, ~ -4 dB) falls at the
+  // midpoints of the ranges in sonar-physics.md §1.5: mud -35, sand -25, gravel -20, rock -15 dB.
+  MaterialTable t;
+  t.set({"mud", from_db(-31.0), 0.25, 0.0});
+  t.set({"sand", from_db(-21.0), 0.5, 20.0});
+  t.set({"gravel", from_db(-16.0), 0.7, 5.0});
+  t.set({"rock", from_db(-11.0), 0.85, 2.0});
+  t.set({"steel", from_db(-8.0), 1.0, 0.0});
+  t.set({"concrete", from_db(-10.0), 0.9, 0.0});
+  return t;
+}
+
+std::uint16_t MaterialTable::set(const Material& m) {
+  m.validate();
+  for (std::size_t i = 0; i < materials_.size(); ++i) {
+    if (materials_[i].name == m.name) {
+      materials_[i] = m;
+      return static_cast<std::uint16_t>(i);
+    }
+  }
+  if (materials_.size() >= ClassRaster::kNoClass) throw InputError("material: too many materials");
+  materials_.push_back(m);
+  return static_cast<std::uint16_t>(materials_.size() - 1);
+}
+
+bool MaterialTable::contains(const std::string& name) const {
+  return std::any_of(materials_.begin(), materials_.end(),
+                     [&](const Material& m) { return m.name == name; });
+}
+
+std::uint16_t MaterialTable::index_of(const std::string& name) const {
+  for (std::size_t i = 0; i < materials_.size(); ++i) {
+    if (materials_[i].name == name) return static_cast<std::uint16_t>(i);
+  }
+  std::string known;
+  for (const Material& m : materials_) known += (known.empty() ? "" : ", ") + m.name;
+  throw InputError("unknown material '" + name + "' (known: " + known + ")");
+}
+
+void MaterialPolygon::compute_bbox() {
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  for (const auto& ring : rings) {
+    for (const Eigen::Vector2d& p : ring) {
+      x0 = std::min(x0, p.x());
+      y0 = std::min(y0, p.y());
+      x1 = std::max(x1, p.x());
+      y1 = std::max(y1, p.y());
+    }
+  }
+  bbox = {x0, y0, x1, y1};
+}
+
+bool MaterialPolygon::contains(const Eigen::Vector2d& p) const {
+  if (p.x() < bbox[0] || p.y() < bbox[1] || p.x() > bbox[2] || p.y() > bbox[3]) return false;
+  bool inside = false;
+  for (const auto& ring : rings) {
+    const std::size_t n = ring.size();
+    for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+      const Eigen::Vector2d& a = ring[i];
+      const Eigen::Vector2d& b = ring[j];
+      if ((a.y() > p.y()) != (b.y() > p.y()) &&
+          p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+        inside = !inside;
+      }
+    }
+  }
+  return inside;
+}
+
+std::uint16_t ClassRaster::at(double x_m, double y_m) const {
+  if (classes.empty()) return kNoClass;
+  const double c = std::round(geometry.col_of_x(x_m));
+  const double r = std::round(geometry.row_of_y(y_m));
+  if (!(c >= 0 && r >= 0 && c < static_cast<double>(geometry.cols) &&
+        r < static_cast<double>(geometry.rows))) {
+    return kNoClass;
+  }
+  return classes[static_cast<std::size_t>(r) * geometry.cols + static_cast<std::size_t>(c)];
+}
+
+void MaterialMap::add_polygon(MaterialPolygon polygon) {
+  polygon.compute_bbox();
+  polygons_.push_back(std::move(polygon));
+}
+
+std::uint16_t MaterialMap::material_at(double x_m, double y_m) const {
+  const Eigen::Vector2d p(x_m, y_m);
+  for (auto it = polygons_.rbegin(); it != polygons_.rend(); ++it) {
+    if (it->contains(p)) return it->material;
+  }
+  const std::uint16_t c = raster_.at(x_m, y_m);
+  return c == ClassRaster::kNoClass ? default_ : c;
+}
+
+}  // namespace sonarsynth
