@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: MIT
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/scene.hpp"
+
+namespace sonarsynth {
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}  // namespace
+
+void ProfileOptions::validate() const {
+  if (grid_subdivisions < 1 || grid_subdivisions > 64) {
+    throw InputError("profile: grid_subdivisions = " + std::to_string(grid_subdivisions) +
+                     ". Violated constraint: 1 <= grid_subdivisions <= 64");
+  }
+  if (object_segments < 2 || object_segments > 256) {
+    throw InputError("profile: object_segments = " + std::to_string(object_segments) +
+                     ". Violated constraint: 2 <= object_segments <= 256");
+  }
+}
+
+void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
+                        const Eigen::Vector2d& across_dir, double max_y_m, double sensor_z_m,
+                        const ProfileOptions& options, BeamProfile& out, ProfileScratch& scratch) {
+  out.clear();
+  out.sensor_z_m = sensor_z_m;
+  const HeightGrid& grid = scene.bathymetry;
+  const MaterialMap& mmap = scene.material_map;
+  const bool uniform = mmap.uniform();
+  const std::uint16_t default_material = mmap.default_material();
+  auto seabed_material = [&](double y0, double y1) {
+    if (uniform) return default_material;
+    const Eigen::Vector2d p = nadir_xy_m + 0.5 * (y0 + y1) * across_dir;
+    return mmap.material_at(p.x(), p.y());
+  };
+
+  grid.profile(nadir_xy_m, across_dir, max_y_m, options.grid_subdivisions, scratch.seabed);
+
+  // Objects the ray crosses, as spans of y.
+  scratch.spans.clear();
+  scene.objects.candidates_along(nadir_xy_m, across_dir, max_y_m, scratch.candidates);
+  for (std::uint32_t i : scratch.candidates) {
+    double s0 = 0, s1 = 0;
+    if (scene.objects.primitives()[i].footprint_interval(nadir_xy_m, across_dir, s0, s1) &&
+        s1 > 0.0 && s0 < max_y_m && s1 > s0) {
+      scratch.spans.push_back({std::max(s0, 0.0), std::min(s1, max_y_m), i});
+    }
+  }
+
+  if (scratch.spans.empty()) {  // Seabed only: the common case, no extra work.
+    const auto& pts = scratch.seabed;
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      out.add_node(pts[k].s_m, pts[k].z_m, 0,
+                   k == 0 ? default_material : seabed_material(pts[k - 1].s_m, pts[k].s_m));
+    }
+    return;
+  }
+
+  // Sample positions: the seabed's, plus each object's own (ends, and for curved sections
+  // points evenly spaced in the angle of the section's ellipse, s = mid - half cos(phi)).
+  auto& s = scratch.s;
+  s.clear();
+  for (const ProfilePoint& p : scratch.seabed) s.push_back(p.s_m);
+  const auto& prims = scene.objects.primitives();
+  for (const auto& span : scratch.spans) {
+    s.push_back(span.s0);
+    s.push_back(span.s1);
+    if (prims[span.object].shape != ObjectShape::kBox) {
+      // The unclipped section of a cylinder or ellipsoid along the ray.
+      double a0 = 0, a1 = 0;
+      prims[span.object].footprint_interval(nadir_xy_m, across_dir, a0, a1);
+      const double mid = 0.5 * (a0 + a1), half = 0.5 * (a1 - a0);
+      for (int k = 1; k < options.object_segments; ++k) {
+        const double sk = mid - half * std::cos(kPi * k / options.object_segments);
+        if (sk > span.s0 && sk < span.s1) s.push_back(sk);
+      }
+    }
+  }
+  std::sort(s.begin(), s.end());
+
+  // Height of the upper envelope just after (side = +1) or just before (side = -1) position y,
+  // and which surface it belongs to (-1 = seabed).
+  auto envelope = [&](double y, int side, std::int64_t& top_object) {
+    const Eigen::Vector2d p = nadir_xy_m + y * across_dir;
+    double z = grid.height_m(p.x(), p.y());
+    top_object = -1;
+    for (const auto& span : scratch.spans) {
+      const bool inside = side > 0 ? (y >= span.s0 && y < span.s1) : (y > span.s0 && y <= span.s1);
+      if (!inside) continue;
+      // Evaluate a hair inside the footprint so boundary rounding cannot drop the object.
+      const double eps = 1e-9 * std::max(1.0, span.s1 - span.s0);
+      const double yy = std::clamp(y, span.s0 + eps, span.s1 - eps);
+      const Eigen::Vector2d q = nadir_xy_m + yy * across_dir;
+      double zb = 0, zt = 0;
+      if (prims[span.object].vertical_extent(q.x(), q.y(), zb, zt) && !(zt <= z)) {
+        // A hole in the seabed under an object: the object still stands (its base was placed).
+        z = zt;
+        top_object = span.object;
+      }
+    }
+    return z;
+  };
+
+  const double min_gap = 1e-9 * std::max(1.0, max_y_m);
+  double last_y = -1.0;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double y = s[k];
+    if (k > 0 && y - last_y <= min_gap) continue;
+    std::int64_t obj_before = -1, obj_after = -1;
+    const double z_before = k == 0 ? kNaN : envelope(y, -1, obj_before);
+    const double z_after = envelope(y, +1, obj_after);
+    auto facet = [&](std::int64_t obj, double y0, double y1) {
+      if (obj >= 0) {
+        const auto& p = prims[static_cast<std::size_t>(obj)];
+        return std::pair<std::int32_t, std::uint16_t>{p.id, p.material};
+      }
+      return std::pair<std::int32_t, std::uint16_t>{0, seabed_material(y0, y1)};
+    };
+    if (k > 0) {
+      // Facet from the previous node to this one belongs to the surface just before y.
+      const auto [lab, mat] = facet(obj_before, last_y, y);
+      out.add_node(y, z_before, lab, mat);
+      const bool wall = !(std::abs(z_after - z_before) <= 1e-9) && !std::isnan(z_after);
+      if (wall) {
+        const auto [wl, wm] = facet(z_after > z_before ? obj_after : obj_before, y, y);
+        out.add_node(y, z_after, wl, wm);
+      }
+    } else {
+      out.add_node(y, z_after, 0, default_material);
+    }
+    last_y = y;
+  }
+}
+
+}  // namespace sonarsynth

@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/scene.hpp"
+
+namespace sonarsynth {
+namespace {
+
+Scene flat_scene(double cell, double depth) {
+  Scene scene(GeoFrame(19, true, 500000.0, 5000000.0));
+  const std::size_t n = static_cast<std::size_t>(100.0 / cell) + 1;
+  GridGeometry g{-50.0, 50.0, cell, -cell, n, n};
+  scene.bathymetry = HeightGrid(g, std::vector<float>(g.size(), static_cast<float>(-depth)));
+  scene.material_map = MaterialMap(scene.materials.index_of("sand"));
+  return scene;
+}
+
+double max_z(const BeamProfile& p, std::int32_t* label_at_max = nullptr) {
+  double best = -1e9;
+  for (std::size_t i = 0; i < p.nodes(); ++i) {
+    if (p.z_m[i] > best) {
+      best = p.z_m[i];
+      if (label_at_max && i > 0) *label_at_max = p.label[i - 1];
+    }
+  }
+  return best;
+}
+
+TEST(SceneProfile, SeabedOnlyProfileIsTheGridProfile) {
+  Scene scene = flat_scene(1.0, 20.0);
+  scene.objects.build_index();
+  BeamProfile prof;
+  ProfileScratch scratch;
+  build_beam_profile(scene, {0.3, 0.2}, {1.0, 0.0}, 30.0, -10.0, {}, prof, scratch);
+  ASSERT_GE(prof.nodes(), 30u);
+  EXPECT_DOUBLE_EQ(prof.y_m.front(), 0.0);
+  EXPECT_DOUBLE_EQ(prof.y_m.back(), 30.0);
+  EXPECT_EQ(prof.label.size(), prof.nodes() - 1);
+  for (double z : prof.z_m) EXPECT_NEAR(z, -20.0, 1e-6);
+  for (auto m : prof.material) EXPECT_EQ(m, scene.materials.index_of("sand"));
+  EXPECT_DOUBLE_EQ(prof.sensor_z_m, -10.0);
+}
+
+TEST(SceneProfile, ThinPipeOnCoarseGridIsSeenAtFullHeight) {
+  // A 0.5 m pipe (radius 0.25) on a 1 m grid, running north; ping line running east across it.
+  Scene scene = flat_scene(1.0, 20.0);
+  ObjectPrimitive pipe;
+  pipe.shape = ObjectShape::kCylinder;
+  pipe.id = 7;
+  pipe.material = scene.materials.index_of("steel");
+  pipe.centre_xy_m = {12.37, 0.0};
+  pipe.heading_rad = 0.0;
+  pipe.half_extent_m = {20.0, 0.25, 0.25};
+  pipe.place_on_seabed(scene.bathymetry, 0.0, 0.0, "pipe");
+  scene.objects.add(pipe);
+  scene.objects.build_index();
+  BeamProfile prof;
+  ProfileScratch scratch;
+  build_beam_profile(scene, {0.0, 3.0}, {1.0, 0.0}, 40.0, -10.0, {}, prof, scratch);
+  std::int32_t label = -1;
+  EXPECT_NEAR(max_z(prof, &label), -19.5, 1e-3);  // the pipe's crest, 16 segments
+  EXPECT_EQ(label, 7);
+  // Every node inside the footprint lies on the circle; outside, on the seabed.
+  for (std::size_t i = 0; i < prof.nodes(); ++i) {
+    const double v = prof.y_m[i] - 12.37;
+    if (std::abs(v) < 0.25 - 1e-9) {
+      EXPECT_NEAR(prof.z_m[i], -19.75 + std::sqrt(0.0625 - v * v), 1e-6) << prof.y_m[i];
+    } else if (std::abs(v) > 0.25 + 1e-9) {
+      EXPECT_NEAR(prof.z_m[i], -20.0, 1e-6);
+    }
+  }
+  // Facets on the pipe carry its id and material; nodes stay in order.
+  int pipe_facets = 0;
+  for (std::size_t f = 0; f + 1 < prof.nodes(); ++f) {
+    EXPECT_LE(prof.y_m[f], prof.y_m[f + 1]);
+    if (prof.label[f] == 7) {
+      ++pipe_facets;
+      EXPECT_EQ(prof.material[f], scene.materials.index_of("steel"));
+    }
+  }
+  EXPECT_GE(pipe_facets, 16);
+}
+
+TEST(SceneProfile, BoxHasVerticalWallsAtItsFootprintEdges) {
+  Scene scene = flat_scene(0.5, 10.0);
+  ObjectPrimitive box;
+  box.shape = ObjectShape::kBox;
+  box.id = 3;
+  box.centre_xy_m = {30.5, 0.0};
+  box.half_extent_m = {0.5, 5.0, 0.5};  // 1 m along the ray... u is north: make it face east
+  box.heading_rad = kPi / 2;            // u east: 1 m along the ray, 10 m wide, 1 m high
+  box.place_on_seabed(scene.bathymetry, 0.0, 0.0, "box");
+  scene.objects.add(box);
+  scene.objects.build_index();
+  BeamProfile prof;
+  ProfileScratch scratch;
+  build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 45.0, 0.0, {}, prof, scratch);
+  int walls = 0;
+  for (std::size_t i = 0; i + 1 < prof.nodes(); ++i) {
+    if (prof.y_m[i] == prof.y_m[i + 1]) {
+      ++walls;
+      EXPECT_NEAR(std::abs(prof.z_m[i + 1] - prof.z_m[i]), 1.0, 1e-6);
+      EXPECT_TRUE(std::abs(prof.y_m[i] - 30.0) < 1e-9 || std::abs(prof.y_m[i] - 31.0) < 1e-9);
+      EXPECT_EQ(prof.label[i], 3);
+    }
+  }
+  EXPECT_EQ(walls, 2);
+  EXPECT_NEAR(max_z(prof), -9.0, 1e-6);
+}
+
+TEST(SceneProfile, RejectsBadOptions) {
+  ProfileOptions o;
+  o.grid_subdivisions = 0;
+  EXPECT_THROW(o.validate(), InputError);
+  o = {};
+  o.object_segments = 1;
+  EXPECT_THROW(o.validate(), InputError);
+}
+
+}  // namespace
+}  // namespace sonarsynth
