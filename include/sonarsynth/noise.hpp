@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+namespace sonarsynth {
+
+/// The founding paper's noise, eq. (2) of Gwon et al. (URAI 2017), kept for parity:
+///   I' = I (1 + u) + r,  u ~ U(-a, a),  r ~ Rayleigh(sigma).
+/// Moments: E[I'] = I + sigma sqrt(pi/2) (biased), multiplicative contrast a / sqrt(3).
+struct PaperNoise {
+  double uniform_half_width = 0.1;  ///< a, dimensionless, [0, 1]
+  double rayleigh_sigma = 0.0;      ///< sigma of the additive Rayleigh term, intensity units, >= 0
+  std::uint64_t seed = 0;
+
+  /// Throws InputError naming the violated constraint.
+  void validate() const;
+};
+
+/// Physical noise (reference §1.6): per sample the complex circular Gaussian field
+///   z = sqrt(I T / 2) (n1 + i n2) + sqrt(N / 2) (n3 + i n4),  output I' = |z|^2,
+/// with T ~ Gamma(nu, 1/nu) (unit-mean texture: K-distributed intensity, SI = 1 + 2/nu) when
+/// the sample's nu > 0, T = 1 otherwise (exponential intensity, SI = 1), and thermal noise of
+/// mean power N added BEFORE detection (Rician amplitude). E[I'] = I + N.
+struct SpeckleNoise {
+  double thermal_noise_power = 0.0;  ///< N, mean noise intensity, same units as I, >= 0
+  std::uint64_t seed = 0;
+
+  /// Throws InputError naming the violated constraint.
+  void validate() const;
+};
+
+/// Random numbers are keyed, not sequential: sample i draws from hash(seed, keys[i], stream),
+/// so output is bit-identical whatever the thread count or processing order. Callers give a
+/// sample the key of its dominant seabed contributor's quantised ground position (speckle
+/// "frozen per seabed location": overlapping pings see the same speckle) and water-column /
+/// shadow samples a (ping, sample) key. The thermal-noise term uses hash(keys[i], noise_keys[i])
+/// streams distinct from the speckle streams; pass noise_keys as the (ping, sample) keys so that
+/// thermal noise is independent between pings.
+
+/// Applies PaperNoise in place. keys.size() must equal intensity.size() (else InputError).
+void apply_paper_noise(const PaperNoise& noise, std::span<const std::uint64_t> keys,
+                       std::span<double> intensity);
+
+/// Applies SpeckleNoise in place. keys (scatterer keys) and noise_keys (thermal keys) must have
+/// intensity.size() entries; texture_nu has intensity.size() entries (0 = no texture) or is
+/// empty (no texture anywhere). Throws InputError on size mismatch or nu < 0.
+void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
+                         std::span<const std::uint64_t> noise_keys,
+                         std::span<const double> texture_nu, std::span<double> intensity);
+
+}  // namespace sonarsynth

@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "sonarsynth/backscatter.hpp"
+#include "sonarsynth/beam_pattern.hpp"
+#include "sonarsynth/beam_profile.hpp"
+
+namespace sonarsynth {
+
+/// Parameters of the per-side renderer (reference sonar-physics.md §1, §2.1, Appendix A).
+/// Sample i covers the slant-range bin [i dr, (i + 1) dr) (dr = sample_spacing_m) or, with a
+/// pulse window w > 0, the interval [(i + 1) dr - w, (i + 1) dr] (rectangular CW pulse, §1.4).
+struct SideParams {
+  double sample_spacing_m = 0.05;  ///< dr = c dt / 2, slant range per sample, metres, > 0
+  std::size_t samples = 2000;      ///< samples per side, [1, 2^24]
+  int gauss_points = 2;            ///< Gauss–Legendre points per sub-piece, [1, 5]
+  bool shadows = true;             ///< horizon occlusion on (off: every facet is lit)
+  /// Effective along-track beam width beta_eff, radians, (0, pi]: the ensonified strip at range
+  /// r is r beta_eff wide (2-D beam-plane model, §1.3; see beta_eff_uniform_line_array_rad).
+  double beta_eff_rad = 0.0174532925199433;  // 1 deg
+  /// Vertical beam (one-way intensity, weighted two-way = squared).
+  VerticalBeamPattern vertical_beam;
+  /// Depression of the vertical beam axis below the horizontal in the beam plane, radians,
+  /// [-pi/2, pi/2] (tilt; the caller adds the roll towards this side).
+  double beam_axis_depression_rad = 0.349065850398866;  // 20 deg
+  BackscatterModel backscatter = BackscatterModel::lambert;
+  /// Material table indexed by BeamProfile::material; non-empty.
+  std::vector<Material> materials = {Material{.name = "default"}};
+  bool spreading = true;             ///< two-way spherical spreading r^-4 (off: factor 1)
+  double absorption_db_per_m = 0.0;  ///< one-way alpha, dB/m, >= 0 (0 = off)
+  double calibration_k = 1.0;        ///< global calibration constant K, linear, > 0
+  double pulse_window_m = 0.0;       ///< c tau / 2, metres, >= 0 (0 = the sample bin itself)
+  bool truth = false;                ///< fill SideEcho truth arrays
+
+  /// Throws InputError naming the violated constraint.
+  void validate() const;
+};
+
+/// What a sample's dominant contribution is.
+enum class SampleClass : std::uint8_t {
+  water_column,  ///< before the first seabed return: no return
+  seabed,        ///< dominated by a facet with label 0
+  object,        ///< dominated by a facet with label > 0
+  shadow,        ///< no return; the range interval is occluded (hidden) seabed
+  no_seabed,     ///< no return; holes (NaN), beyond the profile end
+};
+
+/// Output of render_side for one side of one ping. All vectors are resized to
+/// SideParams::samples; reuse one instance across pings to avoid allocation.
+struct SideEcho {
+  std::vector<double> intensity;  ///< linear received intensity per sample, >= 0
+
+  // Truth (filled only with SideParams::truth; sized 0 otherwise). Describes the single
+  // sub-piece of seabed contributing the most energy to the sample (its midpoint).
+  std::vector<SampleClass> truth_class;
+  std::vector<std::int32_t> truth_label;      ///< facet label (0 seabed, > 0 object id, -1 none)
+  std::vector<std::uint16_t> truth_material;  ///< facet material (0 if none)
+  std::vector<double> truth_grazing_rad;  ///< grazing angle at the contributor, rad, NaN if none
+  std::vector<double> truth_ground_y_m;   ///< beam-plane y of the contributor, m, NaN if none
+  std::vector<double> truth_ground_z_m;   ///< height z of the contributor, m, NaN if none
+
+  /// Scratch space of the renderer (fine bins, per-bin dominance); not an output.
+  struct Workspace {
+    std::vector<double> fine_energy;
+    std::vector<double> best_energy;
+    std::vector<double> best_cos_inc;
+    std::vector<double> best_y_m;
+    std::vector<double> best_z_m;
+    std::vector<std::int32_t> best_label;
+    std::vector<std::uint16_t> best_material;
+    std::vector<std::uint8_t> shadowed;
+  } workspace;
+};
+
+/// Renders one side of one ping: exact horizon sweep with facet clipping, split of every facet
+/// at its slant-range minimum and at every bin boundary (quadratic roots), Gauss–Legendre
+/// integration in arc length of
+///   K sigma_b(phi) b^2(theta - theta_axis) beta_eff r r^-4 10^(-2 alpha r / 10) dl
+/// on each sub-piece, contributions SUMMED per bin (Appendix A of the reference). No per-ping
+/// normalisation. Throws InputError if params or the profile are invalid (sizes, y order,
+/// material index).
+void render_side(const BeamProfile& profile, const SideParams& params, SideEcho& out);
+
+}  // namespace sonarsynth

@@ -1,0 +1,547 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/render_side.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <string>
+
+#include "sonarsynth/error.hpp"
+
+namespace sonarsynth {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// y used in tan(depression) = (Hs - z) / y at nadir (Appendix A: "if y_A == 0: y_A = eps").
+constexpr double kMinTanY = 1e-9;
+
+// Gauss–Legendre rules mapped to [0, 1] (Abramowitz & Stegun, Table 25.4).
+struct GaussRule {
+  int n;
+  double x[5];
+  double w[5];
+};
+constexpr GaussRule make_rule(int n, const double (&x)[5], const double (&w)[5]) {
+  GaussRule r{n, {}, {}};
+  for (int i = 0; i < n; ++i) {
+    r.x[i] = 0.5 * (1.0 + x[i]);
+    r.w[i] = 0.5 * w[i];
+  }
+  return r;
+}
+constexpr GaussRule kRules[5] = {
+    make_rule(1, {0, 0, 0, 0, 0}, {2, 0, 0, 0, 0}),
+    make_rule(2, {-0.57735026918962576451, 0.57735026918962576451, 0, 0, 0}, {1, 1, 0, 0, 0}),
+    make_rule(3, {-0.77459666924148337704, 0, 0.77459666924148337704, 0, 0},
+              {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0, 0, 0}),
+    make_rule(4,
+              {-0.86113631159405257522, -0.33998104358485626480, 0.33998104358485626480,
+               0.86113631159405257522, 0},
+              {0.34785484513745385737, 0.65214515486254614263, 0.65214515486254614263,
+               0.34785484513745385737, 0}),
+    make_rule(5,
+              {-0.90617984593866399280, -0.53846931010568309104, 0, 0.53846931010568309104,
+               0.90617984593866399280},
+              {0.23692688505618908751, 0.47862867049936646804, 0.56888888888888888889,
+               0.47862867049936646804, 0.23692688505618908751}),
+};
+
+// Slant-range bins of width dr: bin j = [j dr, (j + 1) dr), j = 0 .. n - 1.
+struct UniformGrid {
+  double dr;
+  double inv_dr;
+  std::ptrdiff_t n;
+  double edge(std::ptrdiff_t j) const { return static_cast<double>(j) * dr; }
+  std::ptrdiff_t index(double r) const {
+    return static_cast<std::ptrdiff_t>(std::floor(r * inv_dr));
+  }
+};
+
+// Bins split at k dr and at (k + 1) dr - f (0 < f < dr), for a pulse window w = m dr + f:
+// fine bin 2k = [k dr, (k + 1) dr - f), fine bin 2k + 1 = [(k + 1) dr - f, (k + 1) dr).
+struct SplitGrid {
+  double dr;
+  double inv_dr;
+  double f;
+  std::ptrdiff_t n;  // 2 * samples
+  double edge(std::ptrdiff_t j) const {
+    const double k = static_cast<double>(j >> 1);
+    return (j & 1) ? (k + 1.0) * dr - f : k * dr;
+  }
+  std::ptrdiff_t index(double r) const {
+    const auto k = static_cast<std::ptrdiff_t>(std::floor(r * inv_dr));
+    return 2 * k + ((r >= static_cast<double>(k + 1) * dr - f) ? 1 : 0);
+  }
+};
+
+// Per-call constants of the integrand.
+struct Integrand {
+  double sensor_z_m;
+  double axis_rad;
+  const VerticalBeamPattern* beam;  // non-Gaussian, non-uniform patterns; else nullptr
+  double gauss_coef;                // Gaussian two-way b^2 = exp(-gauss_coef off^2); 0 = none
+  bool spreading;
+  double kappa_per_m;  // 2 alpha ln(10) / 10 (two-way, nepers of intensity per metre); 0 = off
+  const GaussRule* rule;
+};
+
+// One visible linear facet A + t u, t in [0, 1].
+struct Facet {
+  double ay, az, uy, uz;  // start and direction
+  double len_m;           // |u|
+  double ny, nz;          // upward unit normal (-u_z, u_y) / |u|
+  double a, tm0, p2;      // r(t)^2 = a (t - tm0)^2 + p2 (p = distance of the facet's line)
+  double coef;            // K beta_eff sigma-coefficient of the facet's material
+  std::int32_t label;
+  std::uint16_t material;
+  double range(double t) const {
+    const double d = t - tm0;
+    return std::sqrt(std::max(0.0, a * d * d + p2));
+  }
+  // Parameter where r(t) = e on the branch after (+1) or before (-1) the range minimum.
+  double root(double e, double branch) const {
+    return tm0 + branch * std::sqrt(std::max(0.0, (e * e - p2) / a));
+  }
+};
+
+struct Workspace {
+  double* energy;
+  double* best;
+  double* best_cos;
+  double* best_y;
+  double* best_z;
+  std::int32_t* best_label;
+  std::uint16_t* best_material;
+};
+
+// Longest sub-piece integrated by one Gauss rule, relative to its distance from the sensor:
+// the integrand varies on the scale of r, so the rule's error ~ (l / r)^4 (near nadir a bin spans
+// metres of seabed). 0.02 keeps the 2-point rule below ~1e-9 relative on a flat seabed.
+constexpr double kMaxPieceOverRange = 0.02;
+
+// Gauss–Legendre sum over [q0, q1] (in t) of the integrand without the arc-length factor.
+inline double gauss_sum(const Facet& f, const Integrand& in, double q0, double dq) {
+  const GaussRule& rule = *in.rule;
+  double sum = 0.0;
+  for (int g = 0; g < rule.n; ++g) {
+    const double t = q0 + rule.x[g] * dq;
+    const double py = f.ay + t * f.uy;
+    const double dz = f.az + t * f.uz - in.sensor_z_m;  // P_z - Hs
+    const double r2 = py * py + dz * dz;
+    if (!(r2 > 0.0)) continue;
+    const double r = std::sqrt(r2);
+    const double cos_inc = -(f.ny * py + f.nz * dz) / r;
+    if (!(cos_inc > 0.0)) continue;
+    // sigma / coef = cos^2(phi); along-track extent r beta (beta in coef).
+    double v = rule.w[g] * cos_inc * cos_inc * r;
+    if (in.spreading) v /= r2 * r2;
+    // Gaussian beam and absorption share one exp().
+    double expo = 0.0;
+    if (in.gauss_coef > 0.0) {
+      const double off = std::atan2(-dz, py) - in.axis_rad;
+      expo -= in.gauss_coef * off * off;
+    } else if (in.beam != nullptr) {
+      v *= in.beam->two_way(std::atan2(-dz, py) - in.axis_rad);
+    }
+    if (in.kappa_per_m > 0.0) expo -= in.kappa_per_m * r;
+    if (expo != 0.0) v *= std::exp(expo);
+    sum += v;
+  }
+  return sum;
+}
+
+// Integrates the sub-piece [q0, q1] of facet f into fine bin j.
+template <bool kTruth>
+inline void integrate(const Facet& f, const Integrand& in, double q0, double q1, std::ptrdiff_t j,
+                      const Workspace& ws) {
+  const double dq = q1 - q0;
+  if (!(dq > 0.0)) return;
+  const double dl = dq * f.len_m;
+  const double tmid = 0.5 * (q0 + q1);
+  const double my = f.ay + tmid * f.uy, mz = f.az + tmid * f.uz - in.sensor_z_m;
+  const double rmid2 = my * my + mz * mz;
+  double sum;
+  if (dl * dl <= kMaxPieceOverRange * kMaxPieceOverRange * rmid2) {
+    sum = gauss_sum(f, in, q0, dq);
+  } else {
+    const double parts = std::ceil(dl / (kMaxPieceOverRange * std::sqrt(rmid2)));
+    const int n = static_cast<int>(std::min(parts, 4096.0));
+    const double h = dq / static_cast<double>(n);
+    sum = 0.0;
+    for (int k = 0; k < n; ++k) sum += gauss_sum(f, in, q0 + static_cast<double>(k) * h, h);
+    sum /= static_cast<double>(n);
+  }
+  const double e = sum * dl * f.coef;
+  ws.energy[j] += e;
+  if constexpr (kTruth) {
+    if (e > ws.best[j]) {
+      const double r = std::sqrt(rmid2);
+      ws.best[j] = e;
+      ws.best_cos[j] = r > 0.0 ? std::clamp(-(f.ny * my + f.nz * mz) / r, 0.0, 1.0) : 0.0;
+      ws.best_y[j] = my;
+      ws.best_z[j] = mz + in.sensor_z_m;
+      ws.best_label[j] = f.label;
+      ws.best_material[j] = f.material;
+    }
+  }
+}
+
+// Cuts the monotone piece [s0, s1] of facet f (range increasing if branch = +1, decreasing if
+// branch = -1 as t goes from s0 to s1) at every bin edge and integrates each sub-piece.
+// Edges are visited in order of t, so no sort is needed.
+template <bool kTruth, class Grid>
+void render_piece(const Facet& f, const Integrand& in, const Grid& grid, double s0, double s1,
+                  double branch, const Workspace& ws) {
+  if (!(s1 > s0)) return;
+  const double r_max = grid.edge(grid.n);
+  const double r0 = f.range(s0);
+  const double r1 = f.range(s1);
+  if (branch > 0) {
+    if (r0 >= r_max) return;
+    std::ptrdiff_t j = std::max<std::ptrdiff_t>(0, grid.index(r0));
+    while (j > 0 && grid.edge(j) > r0) --j;
+    while (j + 1 < grid.n && grid.edge(j + 1) <= r0) ++j;
+    double q = s0;
+    while (true) {
+      const double e = grid.edge(j + 1);
+      if (e >= r1) {
+        integrate<kTruth>(f, in, q, s1, j, ws);
+        return;
+      }
+      const double qn = std::clamp(f.root(e, branch), q, s1);
+      integrate<kTruth>(f, in, q, qn, j, ws);
+      q = qn;
+      if (++j >= grid.n) return;
+    }
+  } else {
+    // Range falls from r0 (at s0) to r1 (at s1).
+    if (r1 >= r_max) return;
+    double q = s0;
+    std::ptrdiff_t j;
+    if (r0 >= r_max) {
+      j = grid.n - 1;
+      q = std::clamp(f.root(r_max, branch), s0, s1);
+    } else {
+      j = std::max<std::ptrdiff_t>(0, grid.index(r0));
+      while (j > 0 && grid.edge(j) > r0) --j;
+      while (j + 1 < grid.n && grid.edge(j + 1) <= r0) ++j;
+    }
+    while (true) {
+      const double e = grid.edge(j);
+      if (e <= r1 || j == 0) {
+        integrate<kTruth>(f, in, q, s1, j, ws);
+        return;
+      }
+      const double qn = std::clamp(f.root(e, branch), q, s1);
+      integrate<kTruth>(f, in, q, qn, j, ws);
+      q = qn;
+      --j;
+    }
+  }
+}
+
+// Marks the fine bins spanned by the hidden part [h0, h1] of a facet as shadow (truth only).
+template <class Grid>
+void mark_shadow(const Facet& f, const Grid& grid, double h0, double h1,
+                 std::vector<std::uint8_t>& shadowed) {
+  if (!(h1 > h0)) return;
+  const double tm = std::clamp(f.tm0, h0, h1);
+  const double ra = f.range(h0), rb = f.range(h1), rm = f.range(tm);
+  const double lo = std::min({ra, rb, rm});
+  const double hi = std::max({ra, rb, rm});
+  if (lo >= grid.edge(grid.n)) return;
+  const std::ptrdiff_t j0 = std::max<std::ptrdiff_t>(0, grid.index(lo));
+  const std::ptrdiff_t j1 = std::min<std::ptrdiff_t>(grid.n - 1, grid.index(hi));
+  for (std::ptrdiff_t j = j0; j <= j1; ++j) shadowed[static_cast<std::size_t>(j)] = 1;
+}
+
+void fail(const std::string& msg) {
+  throw InputError("render_side: " + msg);
+}
+
+void validate_profile(const BeamProfile& p, std::size_t n_materials) {
+  const std::size_t n = p.y_m.size();
+  if (p.z_m.size() != n) {
+    fail("profile z_m.size() = " + std::to_string(p.z_m.size()) +
+         ". Violated constraint: z_m.size() == y_m.size() = " + std::to_string(n));
+  }
+  const std::size_t facets = n == 0 ? 0 : n - 1;
+  if (p.label.size() != facets || p.material.size() != facets) {
+    fail("profile label.size() = " + std::to_string(p.label.size()) +
+         ", material.size() = " + std::to_string(p.material.size()) +
+         ". Violated constraint: label.size() == material.size() == nodes - 1 = " +
+         std::to_string(facets));
+  }
+  if (!std::isfinite(p.sensor_z_m)) {
+    fail("profile sensor_z_m = " + std::to_string(p.sensor_z_m) +
+         ". Violated constraint: sensor_z_m finite");
+  }
+  double prev = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double y = p.y_m[i];
+    if (!(std::isfinite(y) && y >= prev)) {
+      fail("profile y_m[" + std::to_string(i) + "] = " + std::to_string(y) +
+           ". Violated constraint: 0 <= y_m[i-1] <= y_m[i], finite");
+    }
+    prev = y;
+  }
+  for (std::size_t i = 0; i < facets; ++i) {
+    if (p.material[i] >= n_materials) {
+      fail("profile material[" + std::to_string(i) + "] = " + std::to_string(p.material[i]) +
+           ". Violated constraint: material < materials.size() = " + std::to_string(n_materials));
+    }
+  }
+}
+
+template <bool kTruth, class Grid>
+bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, SideEcho& out) {
+  auto& w = out.workspace;
+  const Workspace ws{w.fine_energy.data(),  w.best_energy.data(), w.best_cos_inc.data(),
+                     w.best_y_m.data(),     w.best_z_m.data(),    w.best_label.data(),
+                     w.best_material.data()};
+  const VerticalBeamShape shape = par.vertical_beam.shape;
+  const double w3 = par.vertical_beam.width_3db_rad;
+  // Two-way Gaussian: (exp(-4 ln2 (off/W)^2))^2 = exp(-8 ln2 off^2 / W^2), reference §1.3.
+  const Integrand in{prof.sensor_z_m,
+                     par.beam_axis_depression_rad,
+                     (shape == VerticalBeamShape::uniform || shape == VerticalBeamShape::gaussian)
+                         ? nullptr
+                         : &par.vertical_beam,
+                     shape == VerticalBeamShape::gaussian ? 8.0 * std::log(2.0) / (w3 * w3) : 0.0,
+                     par.spreading,
+                     par.absorption_db_per_m * 2.0 * std::log(10.0) / 10.0,
+                     &kRules[par.gauss_points - 1]};
+  const double hs = prof.sensor_z_m;
+  const double r_max = grid.edge(grid.n);
+  const double kb = par.calibration_k * par.beta_eff_rad;
+  bool any_valid = false;
+  double tan_h = kInf;  // running minimum of tan(depression) (the horizon)
+  const std::size_t n = prof.nodes();
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    const double ya = prof.y_m[i], za = prof.z_m[i];
+    const double yb = prof.y_m[i + 1], zb = prof.z_m[i + 1];
+    if (ya >= r_max) break;                          // r >= y: nothing further out can reach a bin
+    if (std::isnan(za) || std::isnan(zb)) continue;  // hole: no return, horizon unchanged
+    any_valid = true;
+    Facet f{};
+    f.ay = ya;
+    f.az = za;
+    f.uy = yb - ya;
+    f.uz = zb - za;
+    f.a = f.uy * f.uy + f.uz * f.uz;
+    double t0 = 0.0, t1 = 1.0;  // visible part
+    double h0 = 0.0, h1 = 0.0;  // hidden part (truth)
+    if (par.shadows) {
+      // Horizon sweep with exact clipping (reference §2.1 step 3, Appendix A).
+      const double ta = (hs - za) / std::max(ya, kMinTanY);
+      const double tb = (hs - zb) / std::max(yb, kMinTanY);
+      const bool va = ta <= tan_h, vb = tb <= tan_h;
+      if (!va && !vb) {
+        t1 = 0.0;
+        h1 = 1.0;
+      } else if (va != vb) {
+        const double den = (zb - za) + tan_h * (yb - ya);
+        double ts = den != 0.0 ? (hs - za - tan_h * ya) / den : (va ? 1.0 : 0.0);
+        ts = std::isnan(ts) ? (va ? 1.0 : 0.0) : std::clamp(ts, 0.0, 1.0);
+        if (va) {
+          t1 = ts;
+          h0 = ts;
+          h1 = 1.0;
+        } else {
+          t0 = ts;
+          h1 = ts;
+        }
+      }
+      tan_h = std::min({tan_h, ta, tb});
+    }
+    if (!(f.a > 0.0)) continue;  // zero-length facet
+    f.len_m = std::sqrt(f.a);
+    f.ny = -f.uz / f.len_m;
+    f.nz = f.uy / f.len_m;
+    const double wy = ya, wz = za - hs;  // w = A - S
+    f.tm0 = -(wy * f.uy + wz * f.uz) / f.a;
+    const double cross = wy * f.uz - wz * f.uy;
+    f.p2 = cross * cross / f.a;
+    const std::size_t fi = i;
+    f.label = prof.label[fi];
+    f.material = prof.material[fi];
+    f.coef = kb * backscatter_coefficient(par.backscatter, par.materials[f.material]);
+    if constexpr (kTruth) mark_shadow(f, grid, h0, h1, w.shadowed);
+    if (!(t1 > t0)) continue;
+    const double tm = std::clamp(f.tm0, t0, t1);
+    render_piece<kTruth>(f, in, grid, t0, tm, -1.0, ws);
+    render_piece<kTruth>(f, in, grid, tm, t1, +1.0, ws);
+  }
+  return any_valid;
+}
+
+// Sample i <- fine bins [first(i), last(i)] (clipped at 0).
+template <bool kTruth, class Window>
+void gather(const SideParams& par, bool any_valid, Window window, SideEcho& out) {
+  auto& w = out.workspace;
+  const std::size_t ns = par.samples;
+  const std::ptrdiff_t nf = static_cast<std::ptrdiff_t>(w.fine_energy.size());
+  std::ptrdiff_t first_return = nf;
+  if constexpr (kTruth) {
+    for (std::ptrdiff_t j = 0; j < nf; ++j) {
+      if (w.fine_energy[static_cast<std::size_t>(j)] > 0.0) {
+        first_return = j;
+        break;
+      }
+    }
+  }
+  for (std::size_t i = 0; i < ns; ++i) {
+    const auto [j0, j1] = window(static_cast<std::ptrdiff_t>(i));
+    double sum = 0.0;
+    std::ptrdiff_t jbest = -1;
+    bool shadow = false;
+    for (std::ptrdiff_t j = std::max<std::ptrdiff_t>(0, j0); j <= j1; ++j) {
+      const auto u = static_cast<std::size_t>(j);
+      sum += w.fine_energy[u];
+      if constexpr (kTruth) {
+        if (w.best_energy[u] > 0.0 &&
+            (jbest < 0 || w.best_energy[u] > w.best_energy[static_cast<std::size_t>(jbest)])) {
+          jbest = j;
+        }
+        shadow = shadow || w.shadowed[u] != 0;
+      }
+    }
+    out.intensity[i] = sum;
+    if constexpr (kTruth) {
+      if (jbest >= 0) {
+        const auto b = static_cast<std::size_t>(jbest);
+        out.truth_class[i] = w.best_label[b] > 0 ? SampleClass::object : SampleClass::seabed;
+        out.truth_label[i] = w.best_label[b];
+        out.truth_material[i] = w.best_material[b];
+        out.truth_grazing_rad[i] = std::asin(w.best_cos_inc[b]);
+        out.truth_ground_y_m[i] = w.best_y_m[b];
+        out.truth_ground_z_m[i] = w.best_z_m[b];
+      } else {
+        out.truth_class[i] = shadow                             ? SampleClass::shadow
+                             : (j1 < first_return && any_valid) ? SampleClass::water_column
+                                                                : SampleClass::no_seabed;
+        out.truth_label[i] = -1;
+        out.truth_material[i] = 0;
+        out.truth_grazing_rad[i] = kNaN;
+        out.truth_ground_y_m[i] = kNaN;
+        out.truth_ground_z_m[i] = kNaN;
+      }
+    }
+  }
+}
+
+template <bool kTruth>
+void render_impl(const BeamProfile& prof, const SideParams& par, SideEcho& out) {
+  const double dr = par.sample_spacing_m;
+  const auto ns = static_cast<std::ptrdiff_t>(par.samples);
+  // Pulse window w = m dr + f.
+  double m_real = std::floor(par.pulse_window_m / dr);
+  double f = par.pulse_window_m - m_real * dr;
+  if (f <= 1e-9 * dr) f = 0.0;
+  if (dr - f <= 1e-9 * dr) {
+    f = 0.0;
+    m_real += 1.0;
+  }
+  const auto m = static_cast<std::ptrdiff_t>(m_real);
+  const bool split = par.pulse_window_m > 0.0 && f > 0.0;
+  const std::size_t nf = static_cast<std::size_t>(split ? 2 * ns : ns);
+  auto& w = out.workspace;
+  w.fine_energy.assign(nf, 0.0);
+  if constexpr (kTruth) {
+    w.best_energy.assign(nf, 0.0);
+    w.best_cos_inc.resize(nf);
+    w.best_y_m.resize(nf);
+    w.best_z_m.resize(nf);
+    w.best_label.resize(nf);
+    w.best_material.resize(nf);
+    w.shadowed.assign(nf, 0);
+    out.truth_class.resize(par.samples);
+    out.truth_label.resize(par.samples);
+    out.truth_material.resize(par.samples);
+    out.truth_grazing_rad.resize(par.samples);
+    out.truth_ground_y_m.resize(par.samples);
+    out.truth_ground_z_m.resize(par.samples);
+  }
+  out.intensity.resize(par.samples);
+  if (split) {
+    const SplitGrid grid{dr, 1.0 / dr, f, 2 * ns};
+    const bool any = sweep<kTruth>(prof, par, grid, out);
+    gather<kTruth>(
+        par, any,
+        [m](std::ptrdiff_t i) {
+          return std::pair<std::ptrdiff_t, std::ptrdiff_t>{2 * (i - m) + 1, 2 * i + 1};
+        },
+        out);
+  } else {
+    const UniformGrid grid{dr, 1.0 / dr, ns};
+    const bool any = sweep<kTruth>(prof, par, grid, out);
+    const std::ptrdiff_t back = par.pulse_window_m > 0.0 ? m - 1 : 0;
+    gather<kTruth>(
+        par, any,
+        [back](std::ptrdiff_t i) {
+          return std::pair<std::ptrdiff_t, std::ptrdiff_t>{i - back, i};
+        },
+        out);
+  }
+}
+
+}  // namespace
+
+void SideParams::validate() const {
+  auto bad = [](const std::string& what) { throw InputError("side params: " + what); };
+  if (!(std::isfinite(sample_spacing_m) && sample_spacing_m > 0.0)) {
+    bad("sample_spacing_m = " + std::to_string(sample_spacing_m) +
+        ". Violated constraint: sample_spacing_m > 0");
+  }
+  if (samples < 1 || samples > (std::size_t{1} << 24)) {
+    bad("samples = " + std::to_string(samples) + ". Violated constraint: 1 <= samples <= 2^24");
+  }
+  if (gauss_points < 1 || gauss_points > 5) {
+    bad("gauss_points = " + std::to_string(gauss_points) +
+        ". Violated constraint: 1 <= gauss_points <= 5");
+  }
+  if (!(std::isfinite(beta_eff_rad) && beta_eff_rad > 0.0 && beta_eff_rad <= 3.14159265358979)) {
+    bad("beta_eff_rad = " + std::to_string(beta_eff_rad) +
+        ". Violated constraint: 0 < beta_eff_rad <= pi");
+  }
+  vertical_beam.validate();
+  if (!(std::isfinite(beam_axis_depression_rad) &&
+        std::abs(beam_axis_depression_rad) <= 1.5707963267948966 + 1e-12)) {
+    bad("beam_axis_depression_rad = " + std::to_string(beam_axis_depression_rad) +
+        ". Violated constraint: -pi/2 <= beam_axis_depression_rad <= pi/2");
+  }
+  if (materials.empty()) bad("materials is empty. Violated constraint: materials.size() >= 1");
+  for (const Material& m : materials) m.validate();
+  if (!(std::isfinite(absorption_db_per_m) && absorption_db_per_m >= 0.0)) {
+    bad("absorption_db_per_m = " + std::to_string(absorption_db_per_m) +
+        ". Violated constraint: absorption_db_per_m >= 0");
+  }
+  if (!(std::isfinite(calibration_k) && calibration_k > 0.0)) {
+    bad("calibration_k = " + std::to_string(calibration_k) +
+        ". Violated constraint: calibration_k > 0");
+  }
+  if (!(std::isfinite(pulse_window_m) && pulse_window_m >= 0.0)) {
+    bad("pulse_window_m = " + std::to_string(pulse_window_m) +
+        ". Violated constraint: pulse_window_m >= 0");
+  }
+}
+
+void render_side(const BeamProfile& profile, const SideParams& params, SideEcho& out) {
+  params.validate();
+  validate_profile(profile, params.materials.size());
+  if (params.truth) {
+    render_impl<true>(profile, params, out);
+  } else {
+    render_impl<false>(profile, params, out);
+    out.truth_class.clear();
+    out.truth_label.clear();
+    out.truth_material.clear();
+    out.truth_grazing_rad.clear();
+    out.truth_ground_y_m.clear();
+    out.truth_ground_z_m.clear();
+  }
+}
+
+}  // namespace sonarsynth
