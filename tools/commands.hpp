@@ -10,5 +10,6 @@ namespace sonarsynth::cli {
 // One function per subcommand (tools/cmd_<name>.cpp); main.cpp lists them.
 // Add yours here and in main.cpp's table.
 int run_version(const std::vector<std::string>& args);
+int run_bathy(const std::vector<std::string>& args);
 
 }  // namespace sonarsynth::cli

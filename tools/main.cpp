@@ -17,6 +17,8 @@ namespace {
 const std::vector<sc::Command>& commands() {
   static const std::vector<sc::Command> table = {
       {"version", "print the version and exit", sc::run_version},
+      {"bathy", "generate bathymetry (plane, ripples, fBm, seamount, scarp) as a GeoTIFF",
+       sc::run_bathy},
   };
   return table;
 }

@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: MIT
+// `sonarsynth bathy` end to end: the CLI's file read back through read_height_grid.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include "sonarsynth/formats/gdal_grid.hpp"
+
+namespace sonarsynth {
+namespace {
+namespace fs = std::filesystem;
+
+class BathyCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("sonarsynth_bathy_cli_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  // Runs `sonarsynth bathy <args>` (output silenced); returns the exit status.
+  static int run(const std::string& args) {
+    const std::string cmd = std::string(SONARSYNTH_CLI) + " bathy " + args + " >/dev/null 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  std::size_t file_count() const {
+    std::size_t n = 0;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
+    return n;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(BathyCliTest, WritesGridCentredOnLatLon) {
+  const std::string out = path("b.tif");
+  ASSERT_EQ(run("-o " + out +
+                " --lat -41.29 --lon 174.78 --size 200x100 --cell 0.5 --depth 25"
+                " --slope 1,90 --ripples 2,0.1 --fbm 0.2,16,4 --seamount 10,5,3,12"
+                " --scarp 0,0,0,1 --seed 5 -q"),
+            0);
+  const LoadedGrid g = read_height_grid(out);
+  EXPECT_EQ(g.frame.epsg(), 32760);  // 174.78 E is in UTM zone 60, southern hemisphere
+  const GridGeometry& geo = g.grid.geometry();
+  EXPECT_EQ(geo.cols, 400u);
+  EXPECT_EQ(geo.rows, 200u);
+  EXPECT_DOUBLE_EQ(geo.dx_m, 0.5);
+  EXPECT_DOUBLE_EQ(geo.dy_m, -0.5);
+  EXPECT_EQ(g.valid_count, 400u * 200u);
+  // The centre of the node area is the requested point.
+  const Eigen::Vector4d b = g.grid.bounds();
+  EXPECT_NEAR(b[2] - b[0], 199.5, 1e-9);
+  EXPECT_NEAR(b[3] - b[1], 99.5, 1e-9);
+  const Geodetic c = g.frame.geodetic_from_local({0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])});
+  EXPECT_NEAR(deg_from_rad(c.lat_rad), -41.29, 1e-8);
+  EXPECT_NEAR(deg_from_rad(c.lon_rad), 174.78, 1e-8);
+  // Heights around -25 m: slope +-1.7 m over 200 m, the rest a few metres at most.
+  const auto [lo, hi] = g.grid.height_range();
+  EXPECT_GT(lo, -30.0);
+  EXPECT_LT(hi, -19.0);
+
+  // Same options and seed: the same heights; another seed: different heights.
+  ASSERT_EQ(run("-o " + path("same.tif") +
+                " --lat -41.29 --lon 174.78 --size 200x100 --cell 0.5 --depth 25"
+                " --slope 1,90 --ripples 2,0.1 --fbm 0.2,16,4 --seamount 10,5,3,12"
+                " --scarp 0,0,0,1 --seed 5 --threads 3 -q"),
+            0);
+  const LoadedGrid same = read_height_grid(path("same.tif"));
+  EXPECT_EQ(std::memcmp(same.grid.heights().data(), g.grid.heights().data(),
+                        g.grid.heights().size() * sizeof(float)),
+            0);
+  ASSERT_EQ(run("-o " + path("other.tif") +
+                " --lat -41.29 --lon 174.78 --size 200x100 --cell 0.5 --depth 25 --fbm 0.2,16,4"
+                " --seed 6 -q"),
+            0);
+  EXPECT_NE(read_height_grid(path("other.tif")).grid.heights(), g.grid.heights());
+}
+
+TEST_F(BathyCliTest, FlatGridIsMinusDepth) {
+  ASSERT_EQ(run("-o " + path("flat.tif") + " --lat 10 --lon 20 --size 10x8 --cell 1 --depth 7 -q"),
+            0);
+  const LoadedGrid g = read_height_grid(path("flat.tif"));
+  for (float h : g.grid.heights()) ASSERT_EQ(h, -7.0f);
+}
+
+TEST_F(BathyCliTest, BadValuesFailAndWriteNothing) {
+  const std::string base = "-o " + path("bad.tif") + " --lat 43 --lon -70 ";
+  EXPECT_EQ(run(base + "--size 100x100 --cell 0"), 1);
+  EXPECT_EQ(run(base + "--size 100x100 --cell -1"), 1);
+  EXPECT_EQ(run(base + "--size 100x0 --cell 1"), 1);
+  EXPECT_EQ(run(base + "--size 100 --cell 1"), 1);
+  EXPECT_EQ(run(base + "--size 100x100 --cell 1 --depth -5"), 1);
+  EXPECT_EQ(run(base + "--size 100x100 --cell 1 --ripples 0,0.1"), 1);
+  EXPECT_EQ(run(base + "--size 100x100 --cell 1 --fbm 0.1,10,0"), 1);
+  EXPECT_EQ(run(base + "--size 100x100 --cell 1 --seamount 1,2,3"), 1);
+  EXPECT_EQ(run(base + "--size 100x100 --cell 1 --co PREDICTOR=7"), 1);  // fails while writing
+  EXPECT_EQ(run("-o " + path("bad.tif") + " --lat 91 --lon 0 --size 100x100 --cell 1"), 1);
+  EXPECT_EQ(run(base + "--size 100x100"), 2);  // missing --cell: a usage error
+  EXPECT_EQ(file_count(), 0u);                 // no output, no temporary left behind
+}
+
+TEST_F(BathyCliTest, RefusesToOverwriteWithoutFlag) {
+  const std::string args = "-o " + path("x.tif") + " --lat 43 --lon -70 --size 10x10 --cell 1 -q";
+  ASSERT_EQ(run(args + " --depth 5"), 0);
+  EXPECT_EQ(run(args + " --depth 9"), 1);
+  EXPECT_EQ(read_height_grid(path("x.tif")).grid.heights().front(), -5.0f);
+  ASSERT_EQ(run(args + " --depth 9 --overwrite"), 0);
+  EXPECT_EQ(read_height_grid(path("x.tif")).grid.heights().front(), -9.0f);
+}
+
+}  // namespace
+}  // namespace sonarsynth
