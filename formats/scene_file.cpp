@@ -1,0 +1,524 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/formats/scene_file.hpp"
+
+#include <gdal_priv.h>
+#include <gdal_utils.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "sonarsynth/bathy_gen.hpp"
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/formats/gdal_util.hpp"
+#include "yaml_fields.hpp"
+
+namespace sonarsynth {
+namespace {
+
+namespace fs = std::filesystem;
+using yaml::Fields;
+
+std::string resolve(const fs::path& base_dir, const std::string& file) {
+  const fs::path p(file);
+  return (p.is_absolute() ? p : base_dir / p).lexically_normal().string();
+}
+
+// State shared while building one scene.
+struct Builder {
+  Scene& scene;
+  fs::path base_dir;
+  Eigen::Vector2d centre_xy_m;  // centre of the bathymetry grid, local frame
+  std::set<std::int32_t> used_ids;
+  std::int32_t next_id = 1;
+
+  // A position: {lat_deg, lon_deg} or {east_m, north_m} (metres from the grid centre, grid axes).
+  Eigen::Vector2d position(const Fields& f, const std::string& key) const {
+    const Fields p = f.child(key);
+    p.only({"lat_deg", "lon_deg", "east_m", "north_m"});
+    if (p.has("lat_deg") || p.has("lon_deg")) {
+      const double lat = p.number_in("lat_deg", 0.0, -90.0, 90.0);
+      const double lon = p.number_in("lon_deg", 0.0, -180.0, 360.0);
+      if (!p.has("lat_deg") || !p.has("lon_deg")) p.fail("", "needs both lat_deg and lon_deg");
+      try {
+        return scene.frame.local_from_geodetic({rad_from_deg(lat), rad_from_deg(lon), 0.0});
+      } catch (const InputError& e) {
+        p.fail("", e.what());
+      }
+    }
+    return centre_xy_m + Eigen::Vector2d(p.number("east_m"), p.number("north_m"));
+  }
+
+  std::uint16_t material(const Fields& f, const char* fallback) const {
+    const std::string name = f.text("material", fallback);
+    try {
+      return scene.materials.index_of(name);
+    } catch (const InputError& e) {
+      f.fail("material", e.what());
+    }
+  }
+
+  std::int32_t take_id(const Fields& f) {
+    std::int32_t id = next_id;
+    if (f.has("id")) {
+      const auto v = f.integer("id", 0);
+      if (v <= 0 || v > 2'000'000'000) f.fail_value("id", "1 <= id <= 2e9");
+      id = static_cast<std::int32_t>(v);
+      if (used_ids.count(id)) f.fail_value("id", "ids are unique within a scene");
+    }
+    while (used_ids.count(id)) ++id;
+    used_ids.insert(id);
+    next_id = std::max(next_id, id + 1);
+    return id;
+  }
+
+  void place(ObjectPrimitive p, const Fields& f, double clearance_m, double embed) {
+    p.place_on_seabed(scene.bathymetry, clearance_m, embed, f.file() + ": " + f.path());
+    scene.objects.add(std::move(p));
+  }
+
+  void add_object(const Fields& o) {
+    const std::string type = o.text("type");
+    const double clearance = o.number_in("clearance_m", 0.0, 0.0, 1e4);
+    const double embed = o.number_in("embed", 0.0, 0.0, 0.99);
+    const double heading = rad_from_deg(o.number("heading_deg", 0.0));
+    ObjectPrimitive p;
+    if (type == "pipe" || type == "cylinder") {
+      o.only({"type", "id", "name", "material", "position", "heading_deg", "length_m", "start", "end",
+              "diameter_m", "clearance_m", "embed"});
+      p.shape = ObjectShape::kCylinder;
+      p.material = material(o, "steel");
+      const double radius = 0.5 * o.number_in("diameter_m", 0.0, 0.0, 1e3, true);
+      if (o.has("start") || o.has("end")) {
+        const Eigen::Vector2d a = position(o, "start"), b = position(o, "end");
+        const Eigen::Vector2d d = b - a;
+        if (d.norm() <= 0.0) o.fail("end", "equals start: a pipe needs a length");
+        p.centre_xy_m = 0.5 * (a + b);
+        p.heading_rad = std::atan2(d.x(), d.y());
+        p.half_extent_m = {0.5 * d.norm(), radius, radius};
+      } else {
+        p.centre_xy_m = position(o, "position");
+        p.heading_rad = heading;
+        p.half_extent_m = {0.5 * o.number_in("length_m", 0.0, 0.0, 1e5, true), radius, radius};
+      }
+      p.id = take_id(o);
+      place(p, o, clearance, embed);
+    } else if (type == "box" || type == "rock") {
+      o.only({"type", "id", "name", "material", "position", "heading_deg", "size_m", "diameter_m",
+              "clearance_m", "embed"});
+      p.shape = type == "box" ? ObjectShape::kBox : ObjectShape::kEllipsoid;
+      p.material = material(o, type == "box" ? "steel" : "rock");
+      p.centre_xy_m = position(o, "position");
+      p.heading_rad = heading;
+      if (type == "rock" && o.has("diameter_m")) {
+        const double r = 0.5 * o.number_in("diameter_m", 0.0, 0.0, 1e3, true);
+        p.half_extent_m = {r, r, r};
+      } else {
+        const auto s = o.numbers("size_m", 3);
+        for (int i = 0; i < 3; ++i) {
+          if (!(s[static_cast<std::size_t>(i)] > 0.0)) o.fail_value("size_m", "every size > 0");
+        }
+        p.half_extent_m = 0.5 * Eigen::Vector3d(s[0], s[1], s[2]);
+      }
+      p.id = take_id(o);
+      place(p, o, clearance, embed);
+    } else if (type == "wreck") {
+      o.only({"type", "id", "name", "material", "position", "heading_deg", "parts", "clearance_m", "embed"});
+      const Eigen::Vector2d centre = position(o, "position");
+      const std::uint16_t mat = material(o, "steel");
+      const auto parts = o.sequence("parts");
+      if (parts.empty()) o.fail("parts", "a wreck needs at least one part (a box)");
+      const std::int32_t id = take_id(o);
+      const Eigen::Vector2d fwd(std::sin(heading), std::cos(heading)), stbd(fwd.y(), -fwd.x());
+      for (const Fields& part : parts) {
+        part.only({"offset_m", "size_m", "heading_deg", "lift_m"});
+        const auto off = part.has("offset_m") ? part.numbers("offset_m", 2) : std::vector<double>{0, 0};
+        const auto s = part.numbers("size_m", 3);
+        if (!(s[0] > 0 && s[1] > 0 && s[2] > 0)) part.fail_value("size_m", "every size > 0");
+        ObjectPrimitive b;
+        b.shape = ObjectShape::kBox;
+        b.id = id;
+        b.material = mat;
+        b.centre_xy_m = centre + off[0] * fwd + off[1] * stbd;
+        b.heading_rad = heading + rad_from_deg(part.number("heading_deg", 0.0));
+        b.half_extent_m = 0.5 * Eigen::Vector3d(s[0], s[1], s[2]);
+        place(b, part, clearance + part.number_in("lift_m", 0.0, 0.0, 1e3), embed);
+      }
+    } else {
+      o.fail_value("type", "one of pipe, cylinder, box, rock, wreck");
+    }
+  }
+
+  // Objects from a vector layer: each feature's attributes are read as the keys of an inline
+  // object; a Point gives `position`, a LineString a pipe from its first to its last vertex.
+  void add_object_layer(const Fields& f) {
+    f.only({"file", "layer"});
+    const std::string path = resolve(base_dir, f.text("file"));
+    gdal::DatasetPtr ds = gdal::open_vector(path, "scene");
+    OGRLayer* layer = f.has("layer") ? ds->GetLayerByName(f.text("layer").c_str()) : ds->GetLayer(0);
+    if (!layer) f.fail("layer", "no such layer in " + path);
+    OGRSpatialReference wgs84;
+    wgs84.importFromEPSG(4326);
+    wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    const OGRSpatialReference* src = layer->GetSpatialRef();
+    std::unique_ptr<OGRCoordinateTransformation> ct;
+    if (src) {
+      ct.reset(OGRCreateCoordinateTransformation(src, &wgs84));
+      if (!ct) throw FormatError(path + ": cannot transform the layer's CRS to WGS 84");
+    }
+    int index = 0;
+    for (auto& feature : *layer) {
+      YAML::Node node;
+      for (const auto& field : *feature) {
+        if (field.IsNull() || field.IsUnset()) continue;
+        node[field.GetName()] = field.GetAsString();
+      }
+      // size_m may be given as "l,w,h" or "[l, w, h]"; turn it back into a list.
+      if (node["size_m"].IsDefined()) {
+        const std::string text = node["size_m"].as<std::string>();
+        node["size_m"] = YAML::Load(text.find('[') == std::string::npos ? "[" + text + "]" : text);
+      }
+      OGRGeometry* geom = feature->GetGeometryRef();
+      const std::string where = path + " feature " + std::to_string(index++);
+      if (!geom) throw InputError(where + ": has no geometry");
+      std::unique_ptr<OGRGeometry> g(geom->clone());
+      if (ct && g->transform(ct.get()) != OGRERR_NONE) {
+        throw InputError(where + ": cannot transform its geometry to WGS 84");
+      }
+      auto latlon = [](double lon, double lat) {
+        YAML::Node p;
+        p["lat_deg"] = lat;
+        p["lon_deg"] = lon;
+        return p;
+      };
+      const auto type = wkbFlatten(g->getGeometryType());
+      if (type == wkbPoint) {
+        const auto* pt = g->toPoint();
+        node["position"] = latlon(pt->getX(), pt->getY());
+      } else if (type == wkbLineString) {
+        const auto* ls = g->toLineString();
+        if (ls->getNumPoints() < 2) throw InputError(where + ": a pipe line needs 2 points");
+        node["start"] = latlon(ls->getX(0), ls->getY(0));
+        node["end"] = latlon(ls->getX(ls->getNumPoints() - 1), ls->getY(ls->getNumPoints() - 1));
+        if (!node["type"].IsDefined()) node["type"] = "pipe";
+      } else {
+        throw InputError(where + ": geometry " + OGRGeometryTypeToName(type) +
+                         " is not supported (Point or LineString)");
+      }
+      add_object(Fields(node, path, "feature " + std::to_string(index - 1)));
+    }
+  }
+
+  void add_polygon_rings(const std::vector<std::vector<Eigen::Vector2d>>& rings, std::uint16_t m) {
+    MaterialPolygon poly;
+    poly.rings = rings;
+    poly.material = m;
+    scene.material_map.add_polygon(std::move(poly));
+  }
+
+  void add_polygons(const Fields& f) {
+    if (f.has("file")) {
+      f.only({"file", "layer", "material", "material_field"});
+      const std::string path = resolve(base_dir, f.text("file"));
+      gdal::DatasetPtr ds = gdal::open_vector(path, "scene");
+      OGRLayer* layer = f.has("layer") ? ds->GetLayerByName(f.text("layer").c_str()) : ds->GetLayer(0);
+      if (!layer) f.fail("layer", "no such layer in " + path);
+      OGRSpatialReference target;
+      target.importFromEPSG(scene.frame.epsg());
+      target.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+      std::unique_ptr<OGRCoordinateTransformation> ct;
+      if (layer->GetSpatialRef()) ct.reset(OGRCreateCoordinateTransformation(layer->GetSpatialRef(), &target));
+      if (!ct) throw FormatError(path + ": the layer has no CRS that can be transformed to EPSG:" + std::to_string(scene.frame.epsg()));
+      const std::string field = f.text("material_field", "");
+      for (auto& feature : *layer) {
+        std::uint16_t m = 0;
+        if (!field.empty()) {
+          const int idx = feature->GetFieldIndex(field.c_str());
+          if (idx < 0) f.fail("material_field", "no field '" + field + "' in " + path);
+          try {
+            m = scene.materials.index_of(feature->GetFieldAsString(idx));
+          } catch (const InputError& e) {
+            throw InputError(path + " feature " + std::to_string(feature->GetFID()) + ": " + e.what());
+          }
+        } else {
+          m = material(f, "sand");
+        }
+        OGRGeometry* geom = feature->GetGeometryRef();
+        if (!geom) continue;
+        std::unique_ptr<OGRGeometry> g(geom->clone());
+        if (g->transform(ct.get()) != OGRERR_NONE) throw InputError(path + ": cannot transform a polygon");
+        auto add_one = [&](const OGRPolygon* poly) {
+          std::vector<std::vector<Eigen::Vector2d>> rings;
+          for (const OGRLinearRing* ring : *poly) {
+            std::vector<Eigen::Vector2d> r;
+            for (const OGRPoint& pt : *ring) r.push_back(scene.frame.local_from_projected({pt.getX(), pt.getY()}));
+            rings.push_back(std::move(r));
+          }
+          add_polygon_rings(rings, m);
+        };
+        const auto t = wkbFlatten(g->getGeometryType());
+        if (t == wkbPolygon) {
+          add_one(g->toPolygon());
+        } else if (t == wkbMultiPolygon) {
+          for (const OGRPolygon* p : *g->toMultiPolygon()) add_one(p);
+        }
+      }
+      return;
+    }
+    f.only({"material", "coordinates_deg", "holes_deg"});
+    const std::uint16_t m = material(f, "sand");
+    auto ring = [&](const YAML::Node& seq, const std::string& key) {
+      std::vector<Eigen::Vector2d> r;
+      if (!seq.IsSequence() || seq.size() < 3) f.fail_value(key, "a list of at least 3 [lat, lon] pairs");
+      for (const auto& pair : seq) {
+        if (!pair.IsSequence() || pair.size() != 2) f.fail_value(key, "[lat, lon] pairs");
+        const double lat = pair[0].as<double>(), lon = pair[1].as<double>();
+        r.push_back(scene.frame.local_from_geodetic({rad_from_deg(lat), rad_from_deg(lon), 0.0}));
+      }
+      return r;
+    };
+    std::vector<std::vector<Eigen::Vector2d>> rings{ring(f.node()["coordinates_deg"], "coordinates_deg")};
+    if (f.has("holes_deg")) {
+      for (const auto& h : f.node()["holes_deg"]) rings.push_back(ring(h, "holes_deg"));
+    }
+    add_polygon_rings(rings, m);
+  }
+
+  // A classification raster, warped (nearest neighbour) onto the scene's UTM zone.
+  void set_classification(const Fields& f) {
+    f.only({"file", "band", "classes"});
+    const std::string path = resolve(base_dir, f.text("file"));
+    gdal::DatasetPtr src = gdal::open_raster(path, "scene");
+    const Fields classes = f.child("classes");
+    std::map<long, std::uint16_t> lut;
+    for (const auto& kv : classes.node()) {
+      long value = 0;
+      if (!YAML::convert<long>::decode(kv.first, value)) classes.fail(kv.first.Scalar(), "class values are integers");
+      try {
+        lut[value] = scene.materials.index_of(kv.second.as<std::string>());
+      } catch (const InputError& e) {
+        classes.fail(kv.first.Scalar(), e.what());
+      }
+    }
+    if (!src->GetSpatialRef()) throw FormatError("scene: " + path + ": classification raster has no CRS");
+    const int band_no = static_cast<int>(f.integer("band", 1));
+    if (band_no < 1 || band_no > src->GetRasterCount()) f.fail_value("band", "an existing band");
+    // Warp (nearest neighbour) onto the bathymetry's own nodes: classes line up with the DEM
+    // cells whatever the raster's CRS and resolution.
+    ClassRaster r;
+    r.geometry = scene.bathymetry.geometry();
+    const GridGeometry& g = r.geometry;
+    const Eigen::Vector4d bb = scene.bathymetry.bounds();
+    const Eigen::Vector2d lo = scene.frame.projected_from_local({bb[0] - 0.5 * g.dx_m, bb[1] - 0.5 * std::abs(g.dy_m)});
+    const Eigen::Vector2d hi = scene.frame.projected_from_local({bb[2] + 0.5 * g.dx_m, bb[3] + 0.5 * std::abs(g.dy_m)});
+    auto num = [](double v) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.17g", v);
+      return std::string(buf);
+    };
+    const std::vector<std::string> args = {
+        "-of", "MEM", "-t_srs", "EPSG:" + std::to_string(scene.frame.epsg()), "-r", "near",
+        "-ot", "Int32", "-dstnodata", "-2147483648",
+        "-te", num(lo.x()), num(lo.y()), num(hi.x()), num(hi.y()),
+        "-ts", std::to_string(g.cols), std::to_string(g.rows)};
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    // The band, as an in-memory VRT (gdalwarp of GDAL 3.6 has no -b).
+    const std::string band_arg = std::to_string(band_no);
+    const char* tr_args[] = {"-of", "VRT", "-b", band_arg.c_str(), nullptr};
+    GDALTranslateOptions* to = GDALTranslateOptionsNew(const_cast<char**>(tr_args), nullptr);
+    gdal::DatasetPtr one_band(GDALDataset::FromHandle(
+        GDALTranslate("", GDALDataset::ToHandle(src.get()), to, nullptr)));
+    GDALTranslateOptionsFree(to);
+    if (!one_band) throw FormatError("scene: " + path + ": cannot select band " + band_arg);
+    GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(argv.data(), nullptr);
+    if (!wo) throw Error("scene: internal error: bad warp options: " + gdal::last_error_message());
+    GDALDatasetH src_h = GDALDataset::ToHandle(one_band.get());
+    int usage_error = 0;
+    GDALDatasetH out = GDALWarp("", nullptr, 1, &src_h, wo, &usage_error);
+    GDALWarpAppOptionsFree(wo);
+    if (!out) throw FormatError("scene: " + path + ": cannot warp the classification raster: " + gdal::last_error_message());
+    gdal::DatasetPtr w(GDALDataset::FromHandle(out));
+    std::vector<std::int32_t> values(g.size());
+    if (w->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, w->GetRasterXSize(), w->GetRasterYSize(), values.data(),
+                                      w->GetRasterXSize(), w->GetRasterYSize(), GDT_Int32, 0, 0) != CE_None) {
+      throw FormatError("scene: " + path + ": cannot read: " + gdal::last_error_message());
+    }
+    // -te/-ts produce a north-up raster; flip rows if the DEM runs south-up.
+    if (g.dy_m > 0) {
+      for (std::size_t row = 0; row < g.rows / 2; ++row) {
+        std::swap_ranges(values.begin() + static_cast<std::ptrdiff_t>(row * g.cols),
+                         values.begin() + static_cast<std::ptrdiff_t>((row + 1) * g.cols),
+                         values.begin() + static_cast<std::ptrdiff_t>((g.rows - 1 - row) * g.cols));
+      }
+    }
+    r.classes.resize(values.size());
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const auto it = lut.find(values[i]);
+      r.classes[i] = it == lut.end() ? ClassRaster::kNoClass : it->second;
+    }
+    scene.material_map.set_raster(std::move(r));
+  }
+};
+
+bathy::Component parse_component(const Fields& c) {
+  const std::string type = c.text("type");
+  if (type == "plane") {
+    c.only({"type", "slope_deg", "downslope_azimuth_deg"});
+    return bathy::Plane::from_dip(rad_from_deg(c.number_in("slope_deg", 0.0, 0.0, 89.0)),
+                                  rad_from_deg(c.number("downslope_azimuth_deg", 90.0)));
+  }
+  if (type == "ripples") {
+    c.only({"type", "wavelength_m", "amplitude_m", "crest_azimuth_deg", "asymmetry"});
+    bathy::Ripples r;
+    r.wavelength_m = c.number_in("wavelength_m", r.wavelength_m, 0.0, 1e6, true);
+    r.amplitude_m = c.number_in("amplitude_m", r.amplitude_m, 0.0, 1e3);
+    r.crest_azimuth_rad = rad_from_deg(c.number("crest_azimuth_deg", 0.0));
+    r.asymmetry = c.number_in("asymmetry", 0.0, 0.0, 0.95);
+    return r;
+  }
+  if (type == "fbm") {
+    c.only({"type", "rms_m", "wavelength_m", "octaves", "persistence", "seed_offset"});
+    bathy::Fbm f;
+    f.rms_m = c.number_in("rms_m", f.rms_m, 0.0, 1e3);
+    f.base_wavelength_m = c.number_in("wavelength_m", f.base_wavelength_m, 0.0, 1e6, true);
+    f.octaves = static_cast<int>(c.number_in("octaves", f.octaves, 1, 24));
+    f.persistence = c.number_in("persistence", f.persistence, 0.0, 1.0, true);
+    f.seed_offset = c.seed("seed_offset", 0);
+    return f;
+  }
+  if (type == "seamount") {
+    c.only({"type", "east_m", "north_m", "height_m", "radius_m"});
+    bathy::Seamount s;
+    s.centre_x_m = c.number("east_m", 0.0);
+    s.centre_y_m = c.number("north_m", 0.0);
+    s.height_m = c.number("height_m", s.height_m);
+    s.radius_m = c.number_in("radius_m", s.radius_m, 0.0, 1e6, true);
+    return s;
+  }
+  if (type == "scarp") {
+    c.only({"type", "east_m", "north_m", "azimuth_deg", "height_m", "width_m"});
+    bathy::Scarp s;
+    s.x_m = c.number("east_m", 0.0);
+    s.y_m = c.number("north_m", 0.0);
+    s.azimuth_rad = rad_from_deg(c.number("azimuth_deg", 0.0));
+    s.height_m = c.number("height_m", s.height_m);
+    s.width_m = c.number_in("width_m", s.width_m, 0.0, 1e6, true);
+    return s;
+  }
+  c.fail_value("type", "one of plane, ripples, fbm, seamount, scarp");
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
+  const Fields top(yaml::load_file(path), path, "");
+  top.only({"name", "description", "seed", "bathymetry", "materials", "seabed", "objects", "survey",
+            "sonar", "noise", "render", "output", "derived"});
+  const fs::path base_dir = fs::path(path).parent_path();
+
+  // Bathymetry: from a raster, or generated.
+  const Fields b = top.child("bathymetry");
+  b.only({"file", "depth_positive_down", "band", "generate"});
+  if (b.has("file") == b.has("generate")) b.fail("", "give exactly one of file or generate");
+  std::optional<Scene> built;
+  if (b.has("file")) {
+    GridReadOptions ro;
+    ro.depth_positive_down = b.boolean("depth_positive_down", false);
+    ro.band = static_cast<int>(b.integer("band", 1));
+    LoadedGrid lg = [&] {
+      try {
+        return read_height_grid(resolve(base_dir, b.text("file")), ro);
+      } catch (const InputError& e) {
+        b.fail("", e.what());
+      }
+    }();
+    built.emplace(lg.frame);
+    built->bathymetry = std::move(lg.grid);
+  } else {
+    const Fields g = b.child("generate");
+    g.only({"centre", "size_m", "cell_m", "depth_m", "seed", "components"});
+    const Fields c = g.child("centre");
+    c.only({"lat_deg", "lon_deg"});
+    const Geodetic centre{rad_from_deg(c.number_in("lat_deg", 0.0, -90.0, 90.0)),
+                          rad_from_deg(c.number_in("lon_deg", 0.0, -180.0, 360.0)), 0.0};
+    built.emplace(GeoFrame::around(centre));
+    const Eigen::Vector2d xy = built->frame.local_from_geodetic(centre);
+    const auto size = g.numbers("size_m", 2);
+    BathyGenSpec spec;
+    try {
+      spec.geometry = BathyGenSpec::centred_geometry(xy.x(), xy.y(), size[0], size[1],
+                                                     g.number_in("cell_m", 0.0, 0.0, 1e5, true));
+    } catch (const InputError& e) {
+      g.fail("", e.what());
+    }
+    spec.depth_m = g.number_in("depth_m", spec.depth_m, 0.0, 12000.0, true);
+    spec.seed = g.seed("seed", top.seed("seed", 1));
+    spec.num_threads = options.num_threads;
+    for (const Fields& comp : g.sequence("components")) {
+      bathy::Component cc = parse_component(comp);
+      // Positions of seamounts and scarps are metres from the grid centre.
+      if (auto* s = std::get_if<bathy::Seamount>(&cc)) {
+        s->centre_x_m += xy.x();
+        s->centre_y_m += xy.y();
+      } else if (auto* sc = std::get_if<bathy::Scarp>(&cc)) {
+        sc->x_m += xy.x();
+        sc->y_m += xy.y();
+      } else if (auto* pl = std::get_if<bathy::Plane>(&cc)) {
+        pl->ref_x_m = xy.x();
+        pl->ref_y_m = xy.y();
+      }
+      spec.components.push_back(cc);
+    }
+    try {
+      built->bathymetry = generate_bathymetry(spec);
+    } catch (const InputError& e) {
+      g.fail("", e.what());
+    }
+  }
+  Scene& scene = *built;
+  scene.name = top.text("name", fs::path(path).stem().string());
+  const Eigen::Vector4d bb = scene.bathymetry.bounds();
+  Builder builder{scene, base_dir, {0.5 * (bb[0] + bb[2]), 0.5 * (bb[1] + bb[3])}, {}, 1};
+
+  // Materials: the built-in table, overridden or extended.
+  for (const Fields& m : top.sequence("materials")) {
+    m.only({"name", "lambert_mu_db", "reflectivity", "texture_shape"});
+    const std::string name = m.text("name");
+    Material mat = scene.materials.contains(name) ? scene.materials[scene.materials.index_of(name)]
+                                                  : Material{name, 0.01, 0.5, 0.0};
+    if (m.has("lambert_mu_db")) mat.lambert_mu = std::pow(10.0, m.number_in("lambert_mu_db", 0, -100, 0) / 10.0);
+    mat.paper_reflectivity = m.number_in("reflectivity", mat.paper_reflectivity, 0.0, 1.0);
+    mat.texture_shape_nu = m.number_in("texture_shape", mat.texture_shape_nu, 0.0, 1e6);
+    scene.materials.set(mat);
+  }
+
+  // Seabed materials.
+  scene.material_map = MaterialMap(scene.materials.index_of("sand"));
+  if (top.has("seabed")) {
+    const Fields s = top.child("seabed");
+    s.only({"material", "classification", "polygons"});
+    scene.material_map.set_default(builder.material(s, "sand"));
+    if (s.has("classification")) builder.set_classification(s.child("classification"));
+    for (const Fields& p : s.sequence("polygons")) builder.add_polygons(p);
+  }
+
+  // Objects.
+  for (const Fields& o : top.sequence("objects")) {
+    if (o.has("file")) {
+      builder.add_object_layer(o);
+    } else {
+      builder.add_object(o);
+    }
+  }
+  scene.objects.build_index();
+  return std::move(*built);
+}
+
+}  // namespace sonarsynth

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: MIT
+#include "yaml_fields.hpp"
+
+#include <filesystem>
+#include <sstream>
+
+namespace sonarsynth::yaml {
+
+namespace {
+std::string scalar_text(const YAML::Node& n) {
+  if (!n.IsDefined() || n.IsNull()) return "null";
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  std::ostringstream os;
+  os << YAML::Dump(n);
+  std::string s = os.str();
+  for (char& c : s) {
+    if (c == '\n') c = ' ';
+  }
+  return s.size() > 60 ? s.substr(0, 57) + "..." : s;
+}
+}  // namespace
+
+void Fields::fail(const std::string& key, const std::string& msg) const {
+  throw InputError(file_ + ": " + (key.empty() ? path_ : key_path(key)) + ": " + msg);
+}
+
+void Fields::fail_value(const std::string& key, const std::string& constraint) const {
+  throw InputError(file_ + ": " + key_path(key) + " = " + scalar_text(node_[key]) +
+                   ". Violated constraint: " + constraint);
+}
+
+Fields Fields::child(const std::string& key) const {
+  if (!has(key)) fail(key, "missing");
+  if (!node_[key].IsMap()) fail_value(key, "a map of keys");
+  return Fields(node_[key], file_, key_path(key));
+}
+
+std::vector<Fields> Fields::sequence(const std::string& key) const {
+  std::vector<Fields> out;
+  if (!has(key)) return out;
+  const YAML::Node seq = node_[key];
+  if (!seq.IsSequence()) fail_value(key, "a list");
+  for (std::size_t i = 0; i < seq.size(); ++i) {
+    out.emplace_back(seq[i], file_, key_path(key) + "[" + std::to_string(i) + "]");
+  }
+  return out;
+}
+
+double Fields::number(const std::string& key) const {
+  if (!has(key)) fail(key, "missing (a number is required)");
+  double v = 0;
+  if (!node_[key].IsScalar() || !YAML::convert<double>::decode(node_[key], v) || !std::isfinite(v)) {
+    fail_value(key, "a finite number");
+  }
+  return v;
+}
+
+double Fields::number_in(const std::string& key, double fallback, double lo, double hi,
+                         bool lo_exclusive) const {
+  const double v = number(key, fallback);
+  if ((lo_exclusive ? !(v > lo) : !(v >= lo)) || !(v <= hi)) {
+    std::ostringstream c;
+    c << (lo_exclusive ? "> " : ">= ") << lo;
+    if (std::isfinite(hi)) c << " and <= " << hi;
+    fail_value(key, key + " " + c.str());
+  }
+  return v;
+}
+
+std::int64_t Fields::integer(const std::string& key, std::int64_t fallback) const {
+  if (!has(key)) return fallback;
+  std::int64_t v = 0;
+  if (!node_[key].IsScalar() || !YAML::convert<std::int64_t>::decode(node_[key], v)) {
+    fail_value(key, "an integer");
+  }
+  return v;
+}
+
+std::uint64_t Fields::seed(const std::string& key, std::uint64_t fallback) const {
+  if (!has(key)) return fallback;
+  std::uint64_t v = 0;
+  if (!node_[key].IsScalar() || !YAML::convert<std::uint64_t>::decode(node_[key], v)) {
+    fail_value(key, "a non-negative integer");
+  }
+  return v;
+}
+
+bool Fields::boolean(const std::string& key, bool fallback) const {
+  if (!has(key)) return fallback;
+  bool v = false;
+  if (!node_[key].IsScalar() || !YAML::convert<bool>::decode(node_[key], v)) {
+    fail_value(key, "true or false");
+  }
+  return v;
+}
+
+std::string Fields::text(const std::string& key) const {
+  if (!has(key)) fail(key, "missing (a string is required)");
+  if (!node_[key].IsScalar()) fail_value(key, "a string");
+  return node_[key].Scalar();
+}
+
+std::vector<double> Fields::numbers(const std::string& key, std::size_t count) const {
+  if (!has(key)) fail(key, "missing (a list of " + std::to_string(count) + " numbers is required)");
+  const YAML::Node seq = node_[key];
+  std::vector<double> out;
+  if (seq.IsSequence() && seq.size() == count) {
+    for (std::size_t i = 0; i < count; ++i) {
+      double v = 0;
+      if (!seq[i].IsScalar() || !YAML::convert<double>::decode(seq[i], v) || !std::isfinite(v)) break;
+      out.push_back(v);
+    }
+  }
+  if (out.size() != count) fail_value(key, "a list of " + std::to_string(count) + " numbers");
+  return out;
+}
+
+void Fields::only(const std::set<std::string>& allowed) const {
+  if (!node_.IsMap()) fail("", "expected a map of keys");
+  for (const auto& kv : node_) {
+    const std::string k = kv.first.as<std::string>();
+    if (!allowed.count(k)) {
+      std::string known;
+      for (const auto& a : allowed) known += (known.empty() ? "" : ", ") + a;
+      fail(k, "unknown key (known here: " + known + ")");
+    }
+  }
+}
+
+YAML::Node load_file(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw FormatError(path + ": no such file");
+  }
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw FormatError(path + ": malformed YAML at line " + std::to_string(e.mark.line + 1) +
+                      ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg);
+  }
+}
+
+}  // namespace sonarsynth::yaml

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: MIT
+// Internal to sonarsynth::formats: typed access to YAML nodes with errors that name the file,
+// the key path and the bad value ("scene.yaml: objects[2].diameter_m = -1. Violated ...").
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "sonarsynth/error.hpp"
+
+namespace sonarsynth::yaml {
+
+class Fields {
+ public:
+  Fields(YAML::Node node, std::string file, std::string path)
+      : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
+
+  const YAML::Node& node() const { return node_; }
+  const std::string& file() const { return file_; }
+  /// "a.b" key path of this node ("" at the document root).
+  const std::string& path() const { return path_; }
+  std::string key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+  bool has(const std::string& key) const { return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull(); }
+  Fields child(const std::string& key) const;
+  /// Elements of a sequence under `key` (empty if absent); throws if it is not a sequence.
+  std::vector<Fields> sequence(const std::string& key) const;
+
+  [[noreturn]] void fail(const std::string& key, const std::string& msg) const;
+  [[noreturn]] void fail_value(const std::string& key, const std::string& constraint) const;
+
+  double number(const std::string& key) const;
+  double number(const std::string& key, double fallback) const { return has(key) ? number(key) : fallback; }
+  /// A number that must satisfy lo <= v <= hi (inclusive), or lo < v when `lo_exclusive`.
+  double number_in(const std::string& key, double fallback, double lo, double hi, bool lo_exclusive = false) const;
+  std::int64_t integer(const std::string& key, std::int64_t fallback) const;
+  std::uint64_t seed(const std::string& key, std::uint64_t fallback) const;
+  bool boolean(const std::string& key, bool fallback) const;
+  std::string text(const std::string& key) const;
+  std::string text(const std::string& key, const std::string& fallback) const { return has(key) ? text(key) : fallback; }
+  /// A fixed-length list of numbers, e.g. size_m: [480, 0.5, 0.5].
+  std::vector<double> numbers(const std::string& key, std::size_t count) const;
+  /// Throws naming the first key of this map that is not in `allowed` (catches typos).
+  void only(const std::set<std::string>& allowed) const;
+
+ private:
+  YAML::Node node_;
+  std::string file_;
+  std::string path_;
+};
+
+/// Loads a YAML file; throws FormatError naming the file (and line) when it is malformed.
+YAML::Node load_file(const std::string& path);
+
+}  // namespace sonarsynth::yaml

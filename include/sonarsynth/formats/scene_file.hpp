@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+
+#include "sonarsynth/scene.hpp"
+
+namespace sonarsynth {
+
+/// Options for load_scene().
+struct SceneLoadOptions {
+  unsigned num_threads = 0;  ///< for bathymetry generation; 0 = hardware concurrency
+};
+
+/// Reads a scene file (YAML, format in docs/scene-format.md) and builds the Scene: bathymetry
+/// read through GDAL or generated, materials, the seabed material map (default, classification
+/// raster, polygons inline or from vector files) and objects (inline or from GeoJSON/Shapefile
+/// layers), every geographic position turned into the local frame with GeographicLib.
+/// Relative file paths are relative to the scene file's directory. The sections `survey`,
+/// `sonar`, `noise`, `render` and `output` are left to the simulator.
+///
+/// Throws InputError / FormatError naming the file, the key path and the bad value.
+Scene load_scene(const std::string& path, const SceneLoadOptions& options = {});
+
+}  // namespace sonarsynth
