@@ -508,9 +508,11 @@ void SideParams::validate() const {
   }
   vertical_beam.validate();
   if (!(std::isfinite(beam_axis_depression_rad) &&
-        std::abs(beam_axis_depression_rad) <= 1.5707963267948966 + 1e-12)) {
+        std::abs(beam_axis_depression_rad) <= 3.141592653589793)) {
+    // Beyond +-pi/2 (a tilted beam plus a large roll) the axis points past nadir or backwards
+    // above the horizon; the off-axis angle stays well defined.
     bad("beam_axis_depression_rad = " + std::to_string(beam_axis_depression_rad) +
-        ". Violated constraint: -pi/2 <= beam_axis_depression_rad <= pi/2");
+        ". Violated constraint: -pi <= beam_axis_depression_rad <= pi");
   }
   if (materials.empty()) bad("materials is empty. Violated constraint: materials.size() >= 1");
   for (const Material& m : materials) m.validate();

@@ -25,7 +25,7 @@ struct SideParams {
   /// Vertical beam (one-way intensity, weighted two-way = squared).
   VerticalBeamPattern vertical_beam;
   /// Depression of the vertical beam axis below the horizontal in the beam plane, radians,
-  /// [-pi/2, pi/2] (tilt; the caller adds the roll towards this side).
+  /// [-pi, pi] (tilt; the caller adds the roll towards this side).
   double beam_axis_depression_rad = 0.349065850398866;  // 20 deg
   BackscatterModel backscatter = BackscatterModel::lambert;
   /// Material table indexed by BeamProfile::material; non-empty.

@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sonarsynth/height_grid.hpp"
+
+namespace sonarsynth {
+
+/// UTC time with microsecond resolution.
+using UtcTime = std::chrono::sys_time<std::chrono::microseconds>;
+
+/// Smooth, seeded attitude and heave disturbances: each channel is a sum of three sinusoids of
+/// periods period_s x {1, 0.62, 1.43} with hashed phases, scaled to the given amplitude (peak of
+/// the sum <= amplitude). Zero amplitudes cost nothing.
+struct Disturbance {
+  double roll_amplitude_rad = 0.0;   ///< >= 0
+  double pitch_amplitude_rad = 0.0;  ///< >= 0
+  double yaw_amplitude_rad = 0.0;    ///< >= 0
+  double heave_amplitude_m = 0.0;    ///< >= 0
+  double period_s = 8.0;             ///< dominant period, seconds, > 0
+  bool any() const {
+    return roll_amplitude_rad > 0 || pitch_amplitude_rad > 0 || yaw_amplitude_rad > 0 ||
+           heave_amplitude_m > 0;
+  }
+};
+
+/// How the vehicle moves. The survey lines are followed by the navigation reference point (the
+/// ship for a towed fish, the AUV itself otherwise); the transducers sit `layback_m` behind it
+/// along the track and then at `lever_arm_m` in the body frame.
+struct VehicleConfig {
+  enum class DepthMode {
+    kAltitude,  ///< terrain following: sensor at altitude_m above the seabed under it
+    kDepth,     ///< constant depth: sensor at z = -depth_m (bathymetry datum = sea surface)
+  };
+  double speed_m_s = 2.0;  ///< speed along the lines, m/s, > 0
+  DepthMode depth_mode = DepthMode::kAltitude;
+  double altitude_m = 10.0;  ///< kAltitude: height above the seabed, metres, > 0
+  double depth_m = 10.0;     ///< kDepth: depth below the surface, metres, >= 0
+  double layback_m = 0.0;    ///< towfish distance behind the navigation reference, metres, >= 0
+  /// Transducer offset from the towpoint/reference in the body frame: (forward, starboard,
+  /// down), metres.
+  Eigen::Vector3d lever_arm_m = Eigen::Vector3d::Zero();
+  Disturbance disturbance;
+  /// Time between two lines (the turn), seconds; < 0 = computed as (straight distance between
+  /// the line end and the next start + pi * turn_radius_m) / speed.
+  double turn_time_s = -1.0;
+  double turn_radius_m = 25.0;  ///< for the computed turn time, metres, >= 0
+
+  void validate() const;
+};
+
+/// One survey line: a polyline of waypoints in the local frame, followed at constant speed.
+struct SurveyLine {
+  std::string name;
+  std::vector<Eigen::Vector2d> waypoints_xy_m;  ///< >= 2 distinct points
+  double length_m() const;
+};
+
+/// The pose of the transducers at one ping (local frame).
+struct PingPose {
+  std::size_t line = 0;  ///< index of the survey line
+  std::size_t ping_in_line = 0;
+  std::uint64_t ping_index = 0;  ///< global ping number (0-based, over all lines)
+  UtcTime time_utc{};
+  Eigen::Vector2d sensor_xy_m = Eigen::Vector2d::Zero();  ///< transducers, local frame
+  double sensor_z_m = 0.0;  ///< transducers' height, same datum as the bathymetry
+  Eigen::Vector2d reference_xy_m = Eigen::Vector2d::Zero();  ///< navigation reference (ship)
+  double heading_rad = 0.0;  ///< grid azimuth of the body x axis, clockwise from grid north
+  double pitch_rad = 0.0;    ///< + nose up
+  double roll_rad = 0.0;     ///< + starboard down
+  double heave_m = 0.0;      ///< + up
+  double altitude_m = 0.0;   ///< transducers above the seabed under them (NaN if unknown)
+  double speed_m_s = 0.0;
+};
+
+/// A survey: lines, the vehicle, the ping timing. Poses are a pure function of the ping index,
+/// so pings can be rendered in any order or in parallel.
+class Survey {
+ public:
+  /// ping_period_s > 0; start_time is the first ping of the first line.
+  Survey(std::vector<SurveyLine> lines, VehicleConfig vehicle, double ping_period_s,
+         UtcTime start_time, std::uint64_t seed);
+
+  std::size_t line_count() const { return lines_.size(); }
+  const SurveyLine& line(std::size_t i) const { return lines_.at(i); }
+  std::size_t pings_in_line(std::size_t line) const { return ping_counts_.at(line); }
+  std::uint64_t total_pings() const { return first_ping_.back(); }
+  double ping_period_s() const { return ping_period_s_; }
+  const VehicleConfig& vehicle() const { return vehicle_; }
+
+  /// Pose of global ping `index` (0 <= index < total_pings()) over `seabed`.
+  PingPose pose(std::uint64_t index, const HeightGrid& seabed) const;
+
+ private:
+  // Position and grid azimuth at distance s along a line (clamped to the line).
+  void along_line(std::size_t line, double s_m, Eigen::Vector2d& xy, double& azimuth_rad) const;
+
+  std::vector<SurveyLine> lines_;
+  VehicleConfig vehicle_;
+  double ping_period_s_;
+  UtcTime start_time_;
+  std::uint64_t seed_;
+  std::vector<std::size_t> ping_counts_;
+  std::vector<std::uint64_t> first_ping_;  // global index of each line's first ping (+ total)
+  std::vector<double> line_start_time_s_;  // seconds after start_time
+  std::vector<std::vector<double>> cumulative_m_;  // per line: distance at each waypoint
+  double fallback_seabed_z_ = 0.0;
+};
+
+}  // namespace sonarsynth

@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/survey.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/keyed_random.hpp"
+
+namespace sonarsynth {
+namespace {
+
+void require(bool ok, const std::string& what, double value, const char* constraint) {
+  if (!ok) {
+    throw InputError("vehicle: " + what + " = " + std::to_string(value) +
+                     ". Violated constraint: " + constraint);
+  }
+}
+
+// Sum of three sinusoids with hashed phases; |value| <= amplitude.
+double disturbance(double amplitude, double period_s, double t_s, std::uint64_t seed,
+                   std::uint64_t channel) {
+  if (amplitude <= 0.0) return 0.0;
+  static constexpr double kPeriods[3] = {1.0, 0.62, 1.43};
+  static constexpr double kWeights[3] = {0.5, 0.3, 0.2};
+  double v = 0.0;
+  for (std::uint64_t k = 0; k < 3; ++k) {
+    const double phase = 2.0 * kPi * uniform_from_bits(keyed_hash(seed, channel, 1000 + k));
+    v += kWeights[k] * std::sin(2.0 * kPi * t_s / (period_s * kPeriods[k]) + phase);
+  }
+  return amplitude * v;
+}
+
+}  // namespace
+
+void VehicleConfig::validate() const {
+  require(speed_m_s > 0.0 && std::isfinite(speed_m_s), "speed_m_s", speed_m_s, "speed_m_s > 0");
+  require(altitude_m > 0.0 && std::isfinite(altitude_m), "altitude_m", altitude_m,
+          "altitude_m > 0");
+  require(depth_m >= 0.0 && std::isfinite(depth_m), "depth_m", depth_m, "depth_m >= 0");
+  require(layback_m >= 0.0 && std::isfinite(layback_m), "layback_m", layback_m, "layback_m >= 0");
+  require(turn_radius_m >= 0.0, "turn_radius_m", turn_radius_m, "turn_radius_m >= 0");
+  require(disturbance.period_s > 0.0, "disturbance.period_s", disturbance.period_s, "period_s > 0");
+  for (double a : {disturbance.roll_amplitude_rad, disturbance.pitch_amplitude_rad,
+                   disturbance.yaw_amplitude_rad, disturbance.heave_amplitude_m}) {
+    require(a >= 0.0 && std::isfinite(a), "disturbance amplitude", a, "amplitude >= 0");
+  }
+  require(disturbance.roll_amplitude_rad < kPi / 2, "disturbance.roll",
+          disturbance.roll_amplitude_rad, "roll amplitude < 90 deg");
+  require(disturbance.pitch_amplitude_rad < kPi / 2, "disturbance.pitch",
+          disturbance.pitch_amplitude_rad, "pitch amplitude < 90 deg");
+  if (!lever_arm_m.allFinite()) throw InputError("vehicle: lever_arm_m is not finite");
+}
+
+double SurveyLine::length_m() const {
+  double len = 0.0;
+  for (std::size_t i = 1; i < waypoints_xy_m.size(); ++i) {
+    len += (waypoints_xy_m[i] - waypoints_xy_m[i - 1]).norm();
+  }
+  return len;
+}
+
+Survey::Survey(std::vector<SurveyLine> lines, VehicleConfig vehicle, double ping_period_s,
+               UtcTime start_time, std::uint64_t seed)
+    : lines_(std::move(lines)),
+      vehicle_(vehicle),
+      ping_period_s_(ping_period_s),
+      start_time_(start_time),
+      seed_(seed) {
+  vehicle_.validate();
+  if (!(ping_period_s > 0.0) || !std::isfinite(ping_period_s)) {
+    throw InputError("survey: ping_period_s = " + std::to_string(ping_period_s) +
+                     ". Violated constraint: ping_period_s > 0");
+  }
+  if (lines_.empty()) throw InputError("survey: no survey lines");
+  first_ping_.push_back(0);
+  double t = 0.0;
+  for (std::size_t i = 0; i < lines_.size(); ++i) {
+    const SurveyLine& l = lines_[i];
+    if (l.waypoints_xy_m.size() < 2) {
+      throw InputError("survey: line '" + l.name + "' has " +
+                       std::to_string(l.waypoints_xy_m.size()) +
+                       " waypoints. Violated constraint: >= 2 waypoints");
+    }
+    std::vector<double> cum{0.0};
+    for (std::size_t k = 1; k < l.waypoints_xy_m.size(); ++k) {
+      const double d = (l.waypoints_xy_m[k] - l.waypoints_xy_m[k - 1]).norm();
+      if (!(d > 0.0)) {
+        throw InputError("survey: line '" + l.name + "' repeats waypoint " + std::to_string(k) +
+                         ". Violated constraint: consecutive waypoints differ");
+      }
+      cum.push_back(cum.back() + d);
+    }
+    const double spacing = vehicle_.speed_m_s * ping_period_s_;
+    const auto n = static_cast<std::size_t>(std::floor(cum.back() / spacing)) + 1;
+    cumulative_m_.push_back(std::move(cum));
+    ping_counts_.push_back(n);
+    first_ping_.push_back(first_ping_.back() + n);
+    line_start_time_s_.push_back(t);
+    t += static_cast<double>(n) * ping_period_s_;
+    if (i + 1 < lines_.size()) {
+      const double gap = (lines_[i + 1].waypoints_xy_m.front() - l.waypoints_xy_m.back()).norm();
+      t += vehicle_.turn_time_s >= 0.0 ? vehicle_.turn_time_s
+                                       : (gap + kPi * vehicle_.turn_radius_m) / vehicle_.speed_m_s;
+    }
+  }
+}
+
+void Survey::along_line(std::size_t line, double s_m, Eigen::Vector2d& xy,
+                        double& azimuth_rad) const {
+  const auto& cum = cumulative_m_[line];
+  const auto& wp = lines_[line].waypoints_xy_m;
+  // Before the start (layback at the first ping) the line is extended backwards straight.
+  std::size_t k = 1;
+  while (k + 1 < cum.size() && s_m > cum[k]) ++k;
+  const Eigen::Vector2d a = wp[k - 1], b = wp[k];
+  const Eigen::Vector2d u = (b - a) / (cum[k] - cum[k - 1]);
+  xy = a + (s_m - cum[k - 1]) * u;
+  azimuth_rad = std::atan2(u.x(), u.y());
+}
+
+PingPose Survey::pose(std::uint64_t index, const HeightGrid& seabed) const {
+  if (index >= total_pings()) throw InputError("survey: ping index out of range");
+  const auto it = std::upper_bound(first_ping_.begin(), first_ping_.end(), index);
+  const std::size_t line = static_cast<std::size_t>(it - first_ping_.begin()) - 1;
+  PingPose p;
+  p.line = line;
+  p.ping_in_line = static_cast<std::size_t>(index - first_ping_[line]);
+  p.ping_index = index;
+  const double t_s =
+      line_start_time_s_[line] + static_cast<double>(p.ping_in_line) * ping_period_s_;
+  p.time_utc = start_time_ + std::chrono::microseconds(std::llround(t_s * 1e6));
+  p.speed_m_s = vehicle_.speed_m_s;
+
+  const double s = static_cast<double>(p.ping_in_line) * vehicle_.speed_m_s * ping_period_s_;
+  double az_ref = 0.0, az_fish = 0.0;
+  along_line(line, s, p.reference_xy_m, az_ref);
+  Eigen::Vector2d fish_xy;
+  along_line(line, s - vehicle_.layback_m, fish_xy, az_fish);
+
+  const Disturbance& d = vehicle_.disturbance;
+  p.heading_rad = az_fish + disturbance(d.yaw_amplitude_rad, d.period_s, t_s, seed_, 1);
+  p.pitch_rad = disturbance(d.pitch_amplitude_rad, d.period_s, t_s, seed_, 2);
+  p.roll_rad = disturbance(d.roll_amplitude_rad, d.period_s, t_s, seed_, 3);
+  p.heave_m = disturbance(d.heave_amplitude_m, d.period_s, t_s, seed_, 4);
+
+  // Lever arm: body (forward, starboard) rotated by the heading; down subtracts from z.
+  const Eigen::Vector2d fwd(std::sin(p.heading_rad), std::cos(p.heading_rad));
+  const Eigen::Vector2d stbd(fwd.y(), -fwd.x());
+  p.sensor_xy_m = fish_xy + vehicle_.lever_arm_m.x() * fwd + vehicle_.lever_arm_m.y() * stbd;
+
+  const double seabed_z = seabed.height_m(p.sensor_xy_m.x(), p.sensor_xy_m.y());
+  if (vehicle_.depth_mode == VehicleConfig::DepthMode::kAltitude) {
+    // Terrain following; over a hole or off the grid, keep the altitude over the seabed's
+    // nearest valid height behind the sensor (searched along the track, deterministic).
+    double z = seabed_z;
+    for (int k = 1; std::isnan(z) && k <= 200; ++k) {
+      const Eigen::Vector2d q = p.sensor_xy_m - 0.5 * k * fwd;
+      z = seabed.height_m(q.x(), q.y());
+    }
+    if (std::isnan(z)) {
+      const auto [lo, hi] = seabed.height_range();
+      z = 0.5 * (lo + hi);
+    }
+    p.sensor_z_m = z + vehicle_.altitude_m + p.heave_m - vehicle_.lever_arm_m.z();
+  } else {
+    p.sensor_z_m = -vehicle_.depth_m + p.heave_m - vehicle_.lever_arm_m.z();
+  }
+  p.altitude_m = p.sensor_z_m - seabed_z;
+  return p;
+}
+
+}  // namespace sonarsynth

@@ -1,0 +1,343 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/simulator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "sonarsynth/bathy_gen.hpp"
+#include "sonarsynth/error.hpp"
+
+namespace sonarsynth {
+namespace {
+
+// Scene on a grid of `cell` m spacing over [x0, x0 + size] x [y0, y0 + size], heights from f.
+Scene make_scene(double x0, double y0, double size, double cell,
+                 const std::function<double(double, double)>& f) {
+  Scene scene(GeoFrame(31, true, 500000.0, 5000000.0));
+  const auto n = static_cast<std::size_t>(std::llround(size / cell)) + 1;
+  GridGeometry g{x0, y0 + size, cell, -cell, n, n};
+  std::vector<float> z(g.size());
+  for (std::size_t r = 0; r < n; ++r) {
+    for (std::size_t c = 0; c < n; ++c) {
+      z[r * n + c] = static_cast<float>(
+          f(g.x_of_col(static_cast<double>(c)), g.y_of_row(static_cast<double>(r))));
+    }
+  }
+  scene.bathymetry = HeightGrid(g, std::move(z));
+  scene.material_map = MaterialMap(scene.materials.index_of("sand"));
+  return scene;
+}
+
+// Noise-free, physically plain configuration whose output is the linear intensity itself.
+SimulationConfig plain_config() {
+  SimulationConfig c;
+  c.sonar.max_range_m = 40.0;
+  c.sonar.samples_per_channel = 800;
+  c.physics.absorption = false;
+  c.physics.beam_pattern = false;
+  c.noise.model = NoiseConfig::Model::kNone;
+  c.output.tvg = TvgLaw::none;
+  c.output.gain_db = 0.0;
+  c.output.round_to_integer = false;
+  c.output.max_value = 1e30;
+  c.threads = 1;
+  return c;
+}
+
+PingPose pose_at(const Scene& s, Eigen::Vector2d xy, double heading, double altitude) {
+  PingPose p;
+  p.sensor_xy_m = xy;
+  p.heading_rad = heading;
+  p.sensor_z_m = s.bathymetry.height_m(xy.x(), xy.y()) + altitude;
+  p.altitude_m = altitude;
+  return p;
+}
+
+struct CollectSink : PingSink {
+  std::vector<RenderedPing> pings;
+  std::vector<std::size_t> begun, ended;
+  void begin_line(std::size_t l) override { begun.push_back(l); }
+  void ping(const RenderedPing& p) override { pings.push_back(p); }
+  void end_line(std::size_t l) override { ended.push_back(l); }
+};
+
+TEST(Simulator, FlatSeabedThroughTheWholePipelineMatchesTheClosedForm) {
+  // sonar-physics.md §3.2: E[r1, r2] = (mu beta / H^2)(F(r2) - F(r1)), F = s - s^3/3,
+  // s = sqrt(1 - H^2 / r^2); the paper model uses mu = R.
+  const Scene scene = make_scene(-60, -60, 120, 1.0, [](double, double) { return -30.0; });
+  const SimulationConfig cfg = plain_config();
+  const double H = 10.01;
+  Simulator sim(scene, cfg, H);
+  auto ws = sim.make_workspace();
+  RenderedPing out;
+  sim.render_ping(pose_at(scene, {0.3, 0.2}, 0.4, H), *ws, out);
+  const double mu = scene.materials[scene.materials.index_of("sand")].paper_reflectivity;
+  const double beta = cfg.sonar.beta_eff_rad();
+  const double dr = cfg.sonar.sample_spacing_m();
+  auto F = [&](double r) {
+    if (r <= H) return 0.0;
+    const double s = std::sqrt(1.0 - H * H / (r * r));
+    return s - s * s * s / 3.0;
+  };
+  for (const SideOutput* side : {&out.port, &out.starboard}) {
+    ASSERT_EQ(side->samples.size(), 800u);
+    for (std::size_t i = 0; i < 800; ++i) {
+      const double r1 = static_cast<double>(i) * dr, r2 = r1 + dr;
+      const double expected = mu * beta / (H * H) * (F(r2) - F(r1));
+      // float32 output: relative 1e-6 of the value (plus float rounding of tiny values).
+      EXPECT_NEAR(side->samples[i], expected, 2e-6 * expected + 1e-30) << i;
+    }
+  }
+}
+
+TEST(Simulator, SameSeedSameOutputWhateverTheThreadCount) {
+  const Scene scene = make_scene(-100, -100, 200, 0.5, [](double x, double y) {
+    return -20.0 + 0.3 * std::sin(x / 3.0) * std::cos(y / 4.0);
+  });
+  SimulationConfig cfg;  // speckle, texture, TVG, quantisation: everything on
+  cfg.sonar.max_range_m = 30.0;
+  cfg.sonar.samples_per_channel = 512;
+  SurveyLine line{"L", {{-40.0, 0.0}, {40.0, 5.0}}};
+  VehicleConfig v;
+  v.speed_m_s = 5.0;
+  v.disturbance.roll_amplitude_rad = 0.02;
+  Survey survey({line}, v, 0.05, UtcTime{}, 3);
+  std::vector<std::vector<float>> first;
+  for (unsigned threads : {1u, 2u, 3u}) {
+    cfg.threads = threads;
+    Simulator sim(scene, cfg, v.altitude_m);
+    CollectSink sink;
+    sim.run(survey, sink);
+    ASSERT_EQ(sink.pings.size(), survey.total_pings());
+    EXPECT_EQ(sink.begun, std::vector<std::size_t>{0});
+    EXPECT_EQ(sink.ended, std::vector<std::size_t>{0});
+    std::vector<std::vector<float>> all;
+    for (const auto& p : sink.pings) {
+      all.push_back(p.port.samples);
+      all.push_back(p.starboard.samples);
+    }
+    if (first.empty()) {
+      first = all;
+    } else {
+      EXPECT_TRUE(all == first) << threads << " threads differ";
+    }
+  }
+  // A different seed changes the speckle.
+  cfg.seed = 99;
+  Simulator sim(scene, cfg, v.altitude_m);
+  CollectSink sink;
+  sim.run(survey, sink);
+  EXPECT_NE(sink.pings[5].starboard.samples, first[11]);
+}
+
+TEST(Simulator, MirroringTheSceneSwapsPortAndStarboard) {
+  // A seabed sloping across track and a box on the starboard side; mirrored about the track
+  // (y -> -y, heading east), port and starboard must swap exactly.
+  auto f = [](double, double y) { return -15.0 + 0.05 * y + 0.2 * std::sin(y / 2.0); };
+  auto g = [&](double x, double y) { return f(x, -y); };
+  Scene a = make_scene(-50, -50, 100, 0.5, f);
+  Scene b = make_scene(-50, -50, 100, 0.5, g);
+  for (Scene* s : {&a, &b}) {
+    ObjectPrimitive box;
+    box.shape = ObjectShape::kBox;
+    box.id = 5;
+    box.material = s->materials.index_of("steel");
+    box.centre_xy_m = {0.0, s == &a ? -18.0 : 18.0};  // starboard of an eastward track is -y
+    box.half_extent_m = {2.0, 1.0, 0.8};
+    box.heading_rad = 0.3 * (s == &a ? 1 : -1);
+    box.place_on_seabed(s->bathymetry, 0.0, 0.0, "box");
+    s->objects.add(box);
+    s->objects.build_index();
+  }
+  SimulationConfig cfg = plain_config();
+  cfg.physics.beam_pattern = true;
+  Simulator sa(a, cfg, 8.0), sb(b, cfg, 8.0);
+  auto wa = sa.make_workspace(), wb = sb.make_workspace();
+  RenderedPing pa, pb;
+  const double east = kPi / 2;
+  sa.render_ping(pose_at(a, {0.0, 0.0}, east, 8.0), *wa, pa);
+  sb.render_ping(pose_at(b, {0.0, 0.0}, east, 8.0), *wb, pb);
+  double energy = 0;
+  for (std::size_t i = 0; i < pa.starboard.samples.size(); ++i) {
+    EXPECT_NEAR(pa.starboard.samples[i], pb.port.samples[i],
+                1e-9 * pa.starboard.samples[i] + 1e-30);
+    EXPECT_NEAR(pa.port.samples[i], pb.starboard.samples[i], 1e-9 * pa.port.samples[i] + 1e-30);
+    EXPECT_EQ(pa.starboard.truth_label[i], pb.port.truth_label[i]);
+    energy += pa.starboard.samples[i];
+  }
+  EXPECT_GT(energy, 0.0);
+  // The box is seen on starboard only, with its id.
+  EXPECT_NE(std::find(pa.starboard.truth_label.begin(), pa.starboard.truth_label.end(), 5),
+            pa.starboard.truth_label.end());
+  EXPECT_EQ(std::find(pa.port.truth_label.begin(), pa.port.truth_label.end(), 5),
+            pa.port.truth_label.end());
+}
+
+TEST(Simulator, RotationAndUtmSizedTranslationLeavePingsUnchanged) {
+  // An analytic, rotation-invariant seabed (a Gaussian seamount) and a cylinder; the whole
+  // scene and pose rotated by 33 deg and moved 5e5 m east, 5e6 m north (sonar-physics.md §3.12).
+  const double rot = rad_from_deg(33.0);
+  const Eigen::Vector2d shift(5e5, 5e6);
+  auto hill = [](double x, double y) {
+    return -20.0 + 3.0 * std::exp(-(x * x + y * y) / (2 * 15.0 * 15.0));
+  };
+  auto to_rotated = [&](const Eigen::Vector2d& p) -> Eigen::Vector2d {
+    return Eigen::Vector2d(std::cos(rot) * p.x() + std::sin(rot) * p.y(),
+                           -std::sin(rot) * p.x() + std::cos(rot) * p.y()) +
+           shift;
+  };
+  auto from_rotated = [&](double x, double y) -> Eigen::Vector2d {
+    const Eigen::Vector2d q(x - shift.x(), y - shift.y());
+    return Eigen::Vector2d(std::cos(rot) * q.x() - std::sin(rot) * q.y(),
+                           std::sin(rot) * q.x() + std::cos(rot) * q.y());
+  };
+  Scene a = make_scene(-60, -60, 120, 0.1, hill);
+  Scene b = make_scene(shift.x() - 60, shift.y() - 60, 120, 0.1, [&](double x, double y) {
+    const Eigen::Vector2d p = from_rotated(x, y);
+    return hill(p.x(), p.y());
+  });
+  // Rotating a point by +rot (clockwise in x-east/y-north) adds rot to azimuths.
+  ObjectPrimitive pipe;
+  pipe.shape = ObjectShape::kCylinder;
+  pipe.id = 2;
+  pipe.half_extent_m = {15.0, 0.4, 0.4};
+  pipe.centre_xy_m = {5.0, -20.0};
+  pipe.heading_rad = 0.2;
+  pipe.place_on_seabed(a.bathymetry, 0, 0, "pipe");
+  a.objects.add(pipe);
+  a.objects.build_index();
+  ObjectPrimitive pipe_b = pipe;
+  pipe_b.centre_xy_m = to_rotated(pipe.centre_xy_m);
+  pipe_b.heading_rad = pipe.heading_rad + rot;
+  pipe_b.place_on_seabed(b.bathymetry, 0, 0, "pipe");
+  b.objects.add(pipe_b);
+  b.objects.build_index();
+
+  SimulationConfig cfg = plain_config();
+  cfg.physics.beam_pattern = true;
+  cfg.physics.absorption = true;
+  Simulator sa(a, cfg, 10.0), sb(b, cfg, 10.0);
+  auto wa = sa.make_workspace(), wb = sb.make_workspace();
+  RenderedPing pa, pb;
+  const Eigen::Vector2d xy(-3.0, 4.0);
+  sa.render_ping(pose_at(a, xy, 1.1, 10.0), *wa, pa);
+  sb.render_ping(pose_at(b, to_rotated(xy), 1.1 + rot, 10.0), *wb, pb);
+  // Bins agree within the DEM-resampling error (0.1 m grid of the same analytic surface),
+  // compared as energy in 5-sample windows to stay away from single-bin edge effects.
+  double total = 0, diff = 0;
+  for (const auto& [sa_side, sb_side] :
+       {std::pair{&pa.port, &pb.port}, std::pair{&pa.starboard, &pb.starboard}}) {
+    for (std::size_t i = 0; i + 5 <= sa_side->samples.size(); i += 5) {
+      double ea = 0, eb = 0;
+      for (std::size_t k = i; k < i + 5; ++k) {
+        ea += sa_side->samples[k];
+        eb += sb_side->samples[k];
+      }
+      total += ea;
+      diff += std::abs(ea - eb);
+    }
+  }
+  ASSERT_GT(total, 0.0);
+  EXPECT_LT(diff / total, 0.01);
+}
+
+TEST(Simulator, StableWhereMethodsFail) {
+  // Holes, the grid edge, 0.5 m and 150 m altitude, a roll that points a beam above the
+  // horizon, 1 and 65,535 samples: every output finite and within the output range.
+  Scene scene = make_scene(-50, -50, 100, 1.0,
+                           [](double x, double) { return x > 20 ? -10.0 : -10.0 + 0.05 * x; });
+  auto& z = scene.bathymetry.mutable_heights();
+  for (std::size_t i = 0; i < z.size(); i += 7) z[i] = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t samples : {std::size_t{1}, std::size_t{65535}, std::size_t{300}}) {
+    SimulationConfig cfg;
+    cfg.sonar.samples_per_channel = samples;
+    cfg.sonar.max_range_m = 60.0;
+    Simulator sim(scene, cfg, 10.0);
+    auto ws = sim.make_workspace();
+    for (double altitude : {0.5, 10.0, 150.0}) {
+      for (double roll : {0.0, rad_from_deg(80.0)}) {
+        for (const Eigen::Vector2d& xy : {Eigen::Vector2d(0, 0), Eigen::Vector2d(45, 45)}) {
+          PingPose p = pose_at(scene, xy, 0.7, altitude);
+          if (std::isnan(p.sensor_z_m)) p.sensor_z_m = -10.0 + altitude;
+          p.roll_rad = roll;
+          RenderedPing out;
+          sim.render_ping(p, *ws, out);
+          for (const SideOutput* s : {&out.port, &out.starboard}) {
+            ASSERT_EQ(s->samples.size(), samples);
+            for (float v : s->samples) {
+              ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 32767.0f) << v;
+            }
+          }
+          if (altitude == 150.0 && samples == 300) {
+            // Nothing in range: only thermal noise (the speckle model's N), no seabed truth.
+            for (auto c : out.starboard.truth_class) EXPECT_NE(c, SampleClass::seabed);
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(Simulator, RejectsInvalidConfiguration) {
+  const Scene scene = make_scene(-10, -10, 20, 1.0, [](double, double) { return -5.0; });
+  SimulationConfig cfg;
+  cfg.sonar.samples_per_channel = 0;
+  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
+  cfg = {};
+  cfg.quality.gauss_points = 9;
+  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
+  cfg = {};
+  cfg.physics.calibration_k = 0;
+  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
+  cfg = {};
+  cfg.sonar.sound_speed_m_s = 300;
+  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
+}
+
+TEST(Survey, PingTimingLaybackLeverArmAndDisturbances) {
+  const Scene scene =
+      make_scene(-100, -100, 200, 1.0, [](double x, double) { return -20.0 + 0.01 * x; });
+  VehicleConfig v;
+  v.speed_m_s = 2.0;
+  v.altitude_m = 8.0;
+  v.layback_m = 12.0;
+  v.lever_arm_m = {0.5, 0.25, 0.1};
+  v.turn_time_s = 30.0;
+  v.disturbance.roll_amplitude_rad = 0.05;
+  v.disturbance.heave_amplitude_m = 0.2;
+  const UtcTime t0 =
+      std::chrono::sys_days(std::chrono::year(2026) / 5 / 4) + std::chrono::hours(12);
+  Survey s({{"a", {{-50, 0}, {50, 0}}}, {"b", {{50, 20}, {-50, 20}}}}, v, 0.1, t0, 5);
+  // 100 m at 0.2 m per ping: 501 pings per line (both ends).
+  EXPECT_EQ(s.pings_in_line(0), 501u);
+  EXPECT_EQ(s.total_pings(), 1002u);
+  const PingPose p0 = s.pose(0, scene.bathymetry);
+  const PingPose p1 = s.pose(501, scene.bathymetry);
+  EXPECT_EQ(p1.line, 1u);
+  EXPECT_EQ(p1.time_utc - t0, std::chrono::microseconds(50'100'000 + 30'000'000));
+  // The fish trails the reference by the layback, then the lever arm (heading east: forward
+  // = +x, starboard = -y).
+  EXPECT_NEAR(p0.heading_rad, kPi / 2, 0.06);
+  EXPECT_NEAR(p0.reference_xy_m.x(), -50.0, 1e-9);
+  const double h = p0.heading_rad;
+  const Eigen::Vector2d fwd(std::sin(h), std::cos(h)), stbd(std::cos(h), -std::sin(h));
+  const Eigen::Vector2d expected = Eigen::Vector2d(-62.0, 0.0) + 0.5 * fwd + 0.25 * stbd;
+  EXPECT_NEAR((p0.sensor_xy_m - expected).norm(), 0.0, 1e-9);
+  // Terrain following: altitude above the seabed under the transducers, plus heave.
+  for (std::uint64_t i = 0; i < s.total_pings(); i += 37) {
+    const PingPose p = s.pose(i, scene.bathymetry);
+    EXPECT_NEAR(p.altitude_m, 8.0 + p.heave_m - 0.1, 1e-6);
+    EXPECT_LE(std::abs(p.roll_rad), 0.05 + 1e-12);
+    EXPECT_LE(std::abs(p.heave_m), 0.2 + 1e-12);
+  }
+  // Deterministic and smooth: the same pose twice; small change between consecutive pings.
+  EXPECT_EQ(s.pose(77, scene.bathymetry).roll_rad, s.pose(77, scene.bathymetry).roll_rad);
+  EXPECT_LT(std::abs(s.pose(78, scene.bathymetry).roll_rad - s.pose(77, scene.bathymetry).roll_rad),
+            0.01);
+  EXPECT_THROW(Survey({{"x", {{0, 0}}}}, v, 0.1, t0, 1), InputError);
+  EXPECT_THROW(Survey({{"x", {{0, 0}, {1, 1}}}}, v, 0.0, t0, 1), InputError);
+}
+
+}  // namespace
+}  // namespace sonarsynth
