@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/noise.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
@@ -17,6 +19,9 @@ constexpr std::uint64_t kStreamThermal = 4;  // 4, 5 (keyed by noise_keys)
 constexpr std::uint64_t kStreamTexture = 1u << 20;
 // Separates thermal-noise draws from speckle draws that happen to share a key value.
 constexpr std::uint64_t kThermalSalt = 0x7468657266616c21ULL;
+
+// Stream of the tables sampler's phase (keyed by noise_keys with the thermal salt).
+constexpr std::uint64_t kStreamThermalPhase = 5;
 
 void check_size(const char* what, std::size_t n, std::size_t expected) {
   if (n != expected) {
@@ -65,23 +70,17 @@ void apply_paper_noise(const PaperNoise& noise, std::span<const std::uint64_t> k
   }
 }
 
-void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
-                         std::span<const std::uint64_t> noise_keys,
-                         std::span<const double> texture_nu, std::span<double> intensity) {
-  noise.validate();
-  const std::size_t n = intensity.size();
-  check_size("keys", keys.size(), n);
-  check_size("noise_keys", noise_keys.size(), n);
-  if (!texture_nu.empty()) check_size("texture_nu", texture_nu.size(), n);
+namespace {
+
+// The reference sampler: the complex field by Box–Muller, the texture by Marsaglia–Tsang.
+void speckle_exact(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
+                   std::span<const std::uint64_t> noise_keys, std::span<const double> texture_nu,
+                   std::span<double> intensity) {
   const double half_n = 0.5 * noise.thermal_noise_power;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < intensity.size(); ++i) {
     double mean = intensity[i];
     if (!texture_nu.empty()) {
       const double nu = texture_nu[i];
-      if (!(nu >= 0.0) || !std::isfinite(nu)) {
-        throw InputError("speckle noise: texture_nu[" + std::to_string(i) +
-                         "] = " + std::to_string(nu) + ". Violated constraint: texture_nu >= 0");
-      }
       // Unit-mean Gamma(nu, 1/nu) texture (K-distribution, reference §1.6).
       if (nu > 0.0 && mean > 0.0) {
         mean *= keyed_gamma(nu, noise.seed, keys[i], kStreamTexture) / nu;
@@ -103,6 +102,93 @@ void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_
       im += b * t.n2;
     }
     intensity[i] = re * re + im * im;
+  }
+}
+
+// Texture samplers of the distinct nu values met in one call (few materials): a linear scan of
+// a short list avoids the process-wide cache's lock per sample.
+class TextureTables {
+ public:
+  const UnitGammaTable* find(double nu) {
+    for (const Entry& e : entries_) {
+      if (e.nu == nu) return e.table;
+    }
+    const UnitGammaTable* t = nu <= UnitGammaTable::kMaxShape ? &UnitGammaTable::get(nu) : nullptr;
+    entries_.push_back({nu, t});
+    return t;
+  }
+
+ private:
+  struct Entry {
+    double nu;
+    const UnitGammaTable* table;  // nullptr: beyond the tables, keyed_gamma
+  };
+  std::vector<Entry> entries_;
+};
+
+// The tables sampler (see SpeckleSampler::tables for the method). E_s and E_n use the words
+// hash(seed, key) themselves, T and the phase keyed_hash(seed, key, stream) with the per-call
+// parts hoisted out of the loop.
+void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
+                    std::span<const std::uint64_t> noise_keys, std::span<const double> texture_nu,
+                    std::span<double> intensity) {
+  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
+  const double n_power = noise.thermal_noise_power;
+  const std::uint64_t seed_s = splitmix64(noise.seed);
+  const std::uint64_t seed_n = splitmix64(noise.seed ^ kThermalSalt);
+  const std::uint64_t stream_texture = splitmix64(kStreamTexture);
+  const std::uint64_t stream_phase = splitmix64(kStreamThermalPhase);
+  const bool textured = !texture_nu.empty();
+  TextureTables tables;
+  double last_nu = 0.0;
+  const UnitGammaTable* last_table = nullptr;
+  for (std::size_t i = 0; i < intensity.size(); ++i) {
+    double a = intensity[i];  // A = I T E_s
+    if (a > 0.0) {
+      const std::uint64_t hk = hash_combine(seed_s, keys[i]);
+      a *= exp1(hk);  // hk = hash(seed, key): already a full splitmix64 output
+      const double nu = textured ? texture_nu[i] : 0.0;
+      if (nu > 0.0) {
+        if (nu != last_nu) {
+          last_nu = nu;
+          last_table = tables.find(nu);
+        }
+        a *= last_table != nullptr ? (*last_table)(splitmix64(hk ^ stream_texture))
+                                   : keyed_gamma(nu, noise.seed, keys[i], kStreamTexture) / nu;
+      }
+    }
+    if (n_power > 0.0) {
+      const std::uint64_t hn = hash_combine(seed_n, noise_keys[i]);
+      const double b = n_power * exp1(hn);
+      const double c = cos_uniform_phase_from_bits(splitmix64(hn ^ stream_phase));
+      // |s + n|^2 >= 0; the max() only removes rounding below zero when A ~ B, cos ~ -1.
+      a = std::max(0.0, a + b + 2.0 * std::sqrt(a * b) * c);
+    }
+    intensity[i] = a;
+  }
+}
+
+}  // namespace
+
+void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
+                         std::span<const std::uint64_t> noise_keys,
+                         std::span<const double> texture_nu, std::span<double> intensity) {
+  noise.validate();
+  const std::size_t n = intensity.size();
+  check_size("keys", keys.size(), n);
+  check_size("noise_keys", noise_keys.size(), n);
+  if (!texture_nu.empty()) check_size("texture_nu", texture_nu.size(), n);
+  for (std::size_t i = 0; i < texture_nu.size(); ++i) {
+    const double nu = texture_nu[i];
+    if (!(nu >= 0.0) || !std::isfinite(nu)) {
+      throw InputError("speckle noise: texture_nu[" + std::to_string(i) +
+                       "] = " + std::to_string(nu) + ". Violated constraint: texture_nu >= 0");
+    }
+  }
+  if (noise.sampler == SpeckleSampler::exact) {
+    speckle_exact(noise, keys, noise_keys, texture_nu, intensity);
+  } else {
+    speckle_tables(noise, keys, noise_keys, texture_nu, intensity);
   }
 }
 

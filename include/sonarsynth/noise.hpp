@@ -18,6 +18,22 @@ struct PaperNoise {
   void validate() const;
 };
 
+/// How apply_speckle_noise draws its variates (same distribution either way).
+enum class SpeckleSampler : std::uint8_t {
+  /// Default, fast. The detected sum of the frozen speckle field s (|s|^2 = A) and the fresh
+  /// noise field n (|n|^2 = B), both circular complex Gaussian and independent, is
+  ///   I' = |s + n|^2 = A + B + 2 sqrt(A B) cos(dphi),
+  /// with A = I T E_s, B = N E_n, E_s, E_n ~ Exp(1) and the phase difference dphi ~ U(0, 2 pi)
+  /// independent of A and B (the phases of circular Gaussians are uniform and independent of
+  /// their moduli): exact in distribution, also jointly over pings (s frozen, n fresh). E_s, E_n
+  /// and T come from UnitGammaTable (tabulated inverse CDF, error bounded in the tests), cos by
+  /// a polynomial (error < 1e-15); no Box–Muller, no rejection. B is skipped when N = 0.
+  tables,
+  /// Reference: Box–Muller pairs (keyed_normal_pair) and Marsaglia–Tsang Gamma (keyed_gamma)
+  /// per sample, exactly as the formula below.
+  exact,
+};
+
 /// Physical noise (reference §1.6): per sample the complex circular Gaussian field
 ///   z = sqrt(I T / 2) (n1 + i n2) + sqrt(N / 2) (n3 + i n4),  output I' = |z|^2,
 /// with T ~ Gamma(nu, 1/nu) (unit-mean texture: K-distributed intensity, SI = 1 + 2/nu) when
@@ -26,6 +42,7 @@ struct PaperNoise {
 struct SpeckleNoise {
   double thermal_noise_power = 0.0;  ///< N, mean noise intensity, same units as I, >= 0
   std::uint64_t seed = 0;
+  SpeckleSampler sampler = SpeckleSampler::tables;
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
