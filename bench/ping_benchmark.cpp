@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+// Whole per-ping pipeline (issue 3 target: >= 4,000 pings/s on 2 threads): the founding paper's
+// pipe scene (samples/paper_pipes.yaml, 0.25 m grid), the default SimulationConfig (2 x 4096
+// samples at 75 m, shadows, sonar equation, speckle with K texture and thermal noise, truth on),
+// one 400 m line 40 m inside the square of pipes. Reports pings/s (median of the runs) for each
+// thread count and the per-stage CPU split returned by Simulator::run.
+//
+// Usage: ping_benchmark [scene.yaml] [--runs N] [--threads a,b,...] [--length-m L] [--no-truth]
+//                       [--noise none|paper|speckle]
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/simulator.hpp"
+
+#ifndef SONARSYNTH_SAMPLES_DIR
+#define SONARSYNTH_SAMPLES_DIR "samples"
+#endif
+
+namespace {
+
+using namespace sonarsynth;
+
+// Consumes the pings and folds every sample into a checksum (identical for any thread count).
+struct ChecksumSink : PingSink {
+  std::uint64_t pings = 0;
+  double sum = 0.0;
+  void ping(const RenderedPing& p) override {
+    ++pings;
+    for (const float v : p.port.samples) sum += v;
+    for (const float v : p.starboard.samples) sum += v;
+  }
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int run(int argc, char** argv) {
+  std::string path = SONARSYNTH_SAMPLES_DIR "/paper_pipes.yaml";
+  int runs = 5;
+  std::vector<unsigned> thread_counts = {1, 2};
+  double length_m = 400.0;
+  SimulationConfig cfg;  // defaults: speckle + texture, 4096 samples, 75 m, shadows, truth
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::runtime_error("missing value after " + a);
+      return argv[++i];
+    };
+    if (a == "--runs") {
+      runs = std::max(1, std::stoi(next()));
+    } else if (a == "--threads") {
+      thread_counts.clear();
+      std::stringstream ss(next());
+      std::string tok;
+      while (std::getline(ss, tok, ','))
+        thread_counts.push_back(static_cast<unsigned>(std::stoul(tok)));
+    } else if (a == "--length-m") {
+      length_m = std::stod(next());
+    } else if (a == "--no-truth") {
+      cfg.truth = false;
+    } else if (a == "--noise") {
+      const std::string m = next();
+      cfg.noise.model = m == "none"    ? NoiseConfig::Model::kNone
+                        : m == "paper" ? NoiseConfig::Model::kPaper
+                                       : NoiseConfig::Model::kSpeckle;
+    } else {
+      path = a;
+    }
+  }
+
+  const Scene scene = load_scene(path);
+  const auto bb = scene.bathymetry.bounds();
+  const Eigen::Vector2d c(0.5 * (bb[0] + bb[2]), 0.5 * (bb[1] + bb[3]));
+  // The scene's pipes form a square of half-side 240 m around the grid centre; the line runs
+  // along its southern side, 40 m inside.
+  SurveyLine line;
+  line.name = "south";
+  line.waypoints_xy_m = {c + Eigen::Vector2d(-0.5 * length_m, -200.0),
+                         c + Eigen::Vector2d(0.5 * length_m, -200.0)};
+  VehicleConfig vehicle;
+  vehicle.speed_m_s = 2.0;
+  vehicle.altitude_m = 10.0;
+  const Survey survey({line}, vehicle, cfg.sonar.effective_ping_period_s(), UtcTime{}, 1);
+
+  std::printf("scene %s, %llu pings of 2 x %zu samples, %g m range, truth %s\n", path.c_str(),
+              static_cast<unsigned long long>(survey.total_pings()), cfg.sonar.samples_per_channel,
+              cfg.sonar.max_range_m, cfg.truth ? "on" : "off");
+  for (const unsigned threads : thread_counts) {
+    cfg.threads = threads;
+    const Simulator sim(scene, cfg, 10.0);
+    std::vector<double> rate, profile_us, render_us, noise_us;
+    double checksum = 0.0;
+    for (int r = 0; r < runs; ++r) {
+      ChecksumSink sink;
+      const auto t0 = std::chrono::steady_clock::now();
+      const RenderTimings tm = sim.run(survey, sink);
+      const double dt =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const auto n = static_cast<double>(sink.pings);
+      rate.push_back(n / dt);
+      profile_us.push_back(tm.profile_s / n * 1e6);
+      render_us.push_back(tm.render_s / n * 1e6);
+      noise_us.push_back(tm.noise_s / n * 1e6);
+      checksum = sink.sum;
+    }
+    std::printf(
+        "threads %u: %8.0f pings/s (median of %d; min %.0f, max %.0f) | CPU per ping (both "
+        "sides): profile %7.1f us, render %7.1f us, noise+tvg %7.1f us | checksum %.17g\n",
+        threads, median(rate), runs, *std::min_element(rate.begin(), rate.end()),
+        *std::max_element(rate.begin(), rate.end()), median(profile_us), median(render_us),
+        median(noise_us), checksum);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ping_benchmark: %s\n", e.what());
+    return 1;
+  }
+}
