@@ -11,5 +11,6 @@ namespace sonarsynth::cli {
 // Add yours here and in main.cpp's table.
 int run_version(const std::vector<std::string>& args);
 int run_bathy(const std::vector<std::string>& args);
+int run_info(const std::vector<std::string>& args);
 
 }  // namespace sonarsynth::cli

@@ -17,6 +17,7 @@ namespace {
 const std::vector<sc::Command>& commands() {
   static const std::vector<sc::Command> table = {
       {"version", "print the version and exit", sc::run_version},
+      {"info", "describe an XTF file (header, channels, pings, nav, anomalies)", sc::run_info},
       {"bathy", "generate bathymetry (plane, ripples, fBm, seamount, scarp) as a GeoTIFF",
        sc::run_bathy},
   };
