@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/formats/mosaic_writer.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <sstream>
+
+#include "raster_util.hpp"
+#include "sonarsynth/display_scale.hpp"
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/atomic_file.hpp"
+
+namespace sonarsynth {
+namespace {
+
+constexpr const char* kWho = "mosaic writer";
+
+using KeyValues = std::vector<std::pair<std::string, std::string>>;
+
+void set_default(KeyValues& kv, const std::string& key, const std::string& value) {
+  for (const auto& [k, v] : kv) {
+    if (k == key) return;
+  }
+  kv.emplace_back(key, value);
+}
+
+std::vector<int> overview_factors(const GridGeometry& g) {
+  std::vector<int> f;
+  const std::size_t largest = std::max(g.cols, g.rows);
+  for (std::size_t factor = 2; largest / (factor / 2) > 256; factor *= 2) {
+    f.push_back(static_cast<int>(factor));
+  }
+  return f;
+}
+
+void write_intensity(const std::string& path, const std::string& temp, const GeoFrame& frame,
+                     const MosaicImage& image, const MosaicWriteOptions& options) {
+  const GridGeometry& g = image.geometry;
+  const int bands = options.count_band ? 2 : 1;
+  gdal::DatasetPtr mem = raster::create_mem(g.cols, g.rows, bands, GDT_Float32, kWho, path);
+  raster::set_georeferencing(*mem, frame, g, kWho, path);
+  for (const auto& [k, v] : options.metadata) mem->SetMetadataItem(k.c_str(), v.c_str());
+  GDALRasterBand* b1 = mem->GetRasterBand(1);
+  b1->SetNoDataValue(std::numeric_limits<double>::quiet_NaN());
+  b1->SetDescription("backscatter (linear intensity)");
+  raster::write_band(*mem, 1, image.intensity.data(), GDT_Float32, kWho, path);
+  if (options.count_band) {
+    std::vector<float> count(image.count.begin(), image.count.end());
+    GDALRasterBand* b2 = mem->GetRasterBand(2);
+    b2->SetDescription("count");
+    raster::write_band(*mem, 2, count.data(), GDT_Float32, kWho, path);
+  }
+  KeyValues co = options.creation_options;  // user options win over the defaults below
+  const char* driver = "COG";
+  if (options.format == MosaicRasterFormat::gtiff) {
+    driver = "GTiff";
+    std::vector<int> factors = overview_factors(g);
+    if (!factors.empty()) {
+      std::vector<int> bands_list{1, 2};
+      if (mem->BuildOverviews("AVERAGE", static_cast<int>(factors.size()), factors.data(), bands,
+                              bands_list.data(), nullptr, nullptr) != CE_None) {
+        throw FormatError(std::string(kWho) + ": " + path +
+                          ": cannot build overviews: " + gdal::last_error_message());
+      }
+      set_default(co, "COPY_SRC_OVERVIEWS", "YES");
+    }
+    set_default(co, "TILED", "YES");
+    set_default(co, "BLOCKXSIZE", "512");
+    set_default(co, "BLOCKYSIZE", "512");
+  } else {
+    set_default(co, "BLOCKSIZE", "512");
+    set_default(co, "OVERVIEW_RESAMPLING", "AVERAGE");
+  }
+  set_default(co, "COMPRESS", "DEFLATE");
+  set_default(co, "PREDICTOR", "3");
+  set_default(co, "BIGTIFF", "IF_SAFER");
+  raster::copy_to_file(*mem, driver, temp, co, kWho, path);
+}
+
+void write_rgb(const std::string& path, const std::string& temp, const GeoFrame& frame,
+               const MosaicImage& image, const MosaicWriteOptions& options) {
+  const GridGeometry& g = image.geometry;
+  const DisplayRange range =
+      robust_db_range(image.intensity, options.lo_percentile, options.hi_percentile);
+  const std::size_t n = g.size();
+  std::vector<std::uint8_t> rgba(4 * n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = range.value(image.intensity[i]);
+    if (std::isnan(v)) continue;
+    const Rgb8 c = colormap(options.colormap, v);
+    rgba[i] = c.r;
+    rgba[n + i] = c.g;
+    rgba[2 * n + i] = c.b;
+    rgba[3 * n + i] = 255;
+  }
+  gdal::DatasetPtr mem = raster::create_mem(g.cols, g.rows, 4, GDT_Byte, kWho, path);
+  const bool png = raster::lower_extension(path) == ".png";
+  if (!png) raster::set_georeferencing(*mem, frame, g, kWho, path);
+  std::ostringstream scale;
+  scale << "10 log10(linear) from " << range.lo_db << " dB (0) to " << range.hi_db
+        << " dB (1), percentiles " << options.lo_percentile << " / " << options.hi_percentile;
+  if (!png) mem->SetMetadataItem("SONARSYNTH_DISPLAY_SCALE", scale.str().c_str());
+  const GDALColorInterp interp[4] = {GCI_RedBand, GCI_GreenBand, GCI_BlueBand, GCI_AlphaBand};
+  for (int b = 0; b < 4; ++b) {
+    mem->GetRasterBand(b + 1)->SetColorInterpretation(interp[b]);
+    raster::write_band(*mem, b + 1, rgba.data() + static_cast<std::size_t>(b) * n, GDT_Byte, kWho,
+                       path);
+  }
+  KeyValues co;
+  if (!png)
+    co = {{"TILED", "YES"}, {"COMPRESS", "DEFLATE"}, {"PHOTOMETRIC", "RGB"}, {"ALPHA", "YES"}};
+  raster::copy_to_file(*mem, png ? "PNG" : "GTiff", temp, co, kWho, path);
+}
+
+void write_labels(const std::string& path, const std::string& temp, const GeoFrame& frame,
+                  const MosaicImage& image) {
+  const GridGeometry& g = image.geometry;
+  gdal::DatasetPtr mem = raster::create_mem(g.cols, g.rows, 1, GDT_Int32, kWho, path);
+  raster::set_georeferencing(*mem, frame, g, kWho, path);
+  GDALRasterBand* b = mem->GetRasterBand(1);
+  b->SetNoDataValue(static_cast<double>(MosaicImage::kNoLabel));
+  b->SetDescription("truth label (nearest to nadir)");
+  raster::write_band(*mem, 1, image.labels.data(), GDT_Int32, kWho, path);
+  raster::copy_to_file(*mem, "GTiff", temp,
+                       {{"TILED", "YES"}, {"COMPRESS", "DEFLATE"}, {"BIGTIFF", "IF_SAFER"}}, kWho,
+                       path);
+}
+
+}  // namespace
+
+void MosaicWriteOptions::validate() const {
+  if (!(lo_percentile >= 0.0 && lo_percentile < hi_percentile && hi_percentile <= 100.0)) {
+    std::ostringstream os;
+    os << "mosaic writer: lo_percentile = " << lo_percentile
+       << ", hi_percentile = " << hi_percentile
+       << ". Violated constraint: 0 <= lo_percentile < hi_percentile <= 100";
+    throw InputError(os.str());
+  }
+}
+
+std::string default_rgb_path(const std::string& mosaic_path) {
+  std::filesystem::path p(mosaic_path);
+  return (p.parent_path() / (p.stem().string() + "_rgb.tif")).string();
+}
+
+void write_mosaic(const std::string& path, const GeoFrame& frame, const MosaicImage& image,
+                  const MosaicWriteOptions& options) {
+  options.validate();
+  const GridGeometry& g = image.geometry;
+  if (image.intensity.size() != g.size() || image.count.size() != g.size()) {
+    throw InputError(std::string(kWho) + ": " + path + ": image buffers do not match the grid");
+  }
+  gdal::ensure_registered();
+  // Claim every output first (existing files without overwrite fail before anything is written).
+  AtomicOutput main_out(path, options.overwrite);
+  std::optional<AtomicOutput> rgb_out;
+  std::optional<AtomicOutput> labels_out;
+  if (!options.rgb_path.empty()) rgb_out.emplace(options.rgb_path, options.overwrite);
+  const bool labels = !options.labels_path.empty() && !image.labels.empty();
+  if (labels) labels_out.emplace(options.labels_path, options.overwrite);
+
+  write_intensity(path, main_out.temp_path().string(), frame, image, options);
+  if (rgb_out) write_rgb(options.rgb_path, rgb_out->temp_path().string(), frame, image, options);
+  if (labels_out) write_labels(options.labels_path, labels_out->temp_path().string(), frame, image);
+  main_out.commit();
+  if (rgb_out) rgb_out->commit();
+  if (labels_out) labels_out->commit();
+}
+
+}  // namespace sonarsynth

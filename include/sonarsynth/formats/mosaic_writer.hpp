@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sonarsynth/colormap.hpp"
+#include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/mosaic.hpp"
+
+namespace sonarsynth {
+
+enum class MosaicRasterFormat {
+  cog,    ///< Cloud-Optimized GeoTIFF (GDAL COG driver)
+  gtiff,  ///< plain tiled GeoTIFF with internal overviews
+};
+
+/// How write_mosaic() writes a MosaicImage and its companions.
+struct MosaicWriteOptions {
+  MosaicRasterFormat format = MosaicRasterFormat::cog;
+  bool count_band = false;  ///< add band 2 "count" (float32, exact below 2^24)
+  bool overwrite = false;   ///< replace existing files
+  /// Driver creation options; they override the defaults (COG: BLOCKSIZE=512,
+  /// COMPRESS=DEFLATE, PREDICTOR=3, OVERVIEW_RESAMPLING=AVERAGE, BIGTIFF=IF_SAFER; GTiff:
+  /// TILED=YES, BLOCKXSIZE=BLOCKYSIZE=512, COMPRESS=DEFLATE, PREDICTOR=3, BIGTIFF=IF_SAFER).
+  std::vector<std::pair<std::string, std::string>> creation_options;
+  /// Dataset metadata items (e.g. the command line).
+  std::vector<std::pair<std::string, std::string>> metadata;
+
+  /// 8-bit display copy, RGBA (alpha 0 = nodata): GeoTIFF, or PNG if the name ends in .png
+  /// (not georeferenced). Empty = none. The dB of the linear value between the
+  /// [lo_percentile, hi_percentile] percentiles of the finite values is mapped to [0, 1] and
+  /// through `colormap`.
+  std::string rgb_path;
+  Colormap colormap = Colormap::black_brown_yellow;
+  double lo_percentile = 1.0;
+  double hi_percentile = 99.0;
+  /// Truth mosaic (int32 GeoTIFF on the same grid, nodata INT32_MIN) if the image has labels.
+  /// Empty = none.
+  std::string labels_path;
+
+  /// Throws InputError naming the violated constraint.
+  void validate() const;
+};
+
+/// Writes the mosaic as float32 in the frame's EPSG CRS (326zz/327zz), NaN nodata,
+/// AREA_OR_POINT=Area with the geotransform origin at the corner of the top-left pixel, band
+/// description "backscatter (linear intensity)", average overviews (of linear values) down to
+/// < 256 pixels. Every output is written under a temporary name and renamed only when all are
+/// complete; on error nothing is left under the final names. Throws FormatError naming the
+/// path, InputError for bad options.
+void write_mosaic(const std::string& path, const GeoFrame& frame, const MosaicImage& image,
+                  const MosaicWriteOptions& options = {});
+
+/// "<dir>/<stem>_rgb.tif" for "<dir>/<stem>.<ext>".
+std::string default_rgb_path(const std::string& mosaic_path);
+
+}  // namespace sonarsynth

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "sonarsynth/colormap.hpp"
+#include "sonarsynth/render_side.hpp"
+
+namespace sonarsynth {
+
+/// How a waterfall image is scaled and written.
+struct WaterfallOptions {
+  Colormap colormap = Colormap::black_brown_yellow;  ///< grey writes one band, else RGB
+  /// Resample each side to ground range on a flat bottom (columns = ground range, same spacing
+  /// as the slant samples; the water column disappears).
+  bool slant_correct = false;
+  /// Scaling: dB of the linear value mapped to [0, 1] between these percentiles of the image...
+  double lo_percentile = 1.0;
+  double hi_percentile = 99.0;
+  /// ...or between fixed dB values when fixed_db is true.
+  bool fixed_db = false;
+  double lo_db = 0.0;
+  double hi_db = 90.0;
+  bool overwrite = false;
+  /// Largest image (columns x rows) held in memory.
+  std::size_t max_pixels = std::size_t{1} << 28;
+
+  /// Throws InputError naming the violated constraint.
+  void validate() const;
+};
+
+/// Rows of a port | starboard waterfall in linear units: row = ping, columns = port FAR -> NEAR
+/// then starboard NEAR -> FAR (nadir between columns n-1 and n); shorter sides are padded with
+/// NaN (nodata, drawn black).
+class Waterfall {
+ public:
+  explicit Waterfall(WaterfallOptions options = {});
+  /// Appends one ping; samples NEAR -> FAR. With slant_correct, altitude_m > 0 is required
+  /// (otherwise the row is added uncorrected) and slant_range_m is the range of the last sample.
+  void add_ping(std::span<const float> port, std::span<const float> starboard, double slant_range_m,
+                double altitude_m);
+  std::size_t rows() const { return rows_.size(); }
+  /// 2 x the longest side added so far.
+  std::size_t cols() const { return 2 * side_; }
+  /// Linear image, row-major, NaN = nodata.
+  std::vector<float> image() const;
+  /// Writes PNG (name ending .png) or GeoTIFF without georeferencing (.tif/.tiff) under a
+  /// temporary name, renamed when complete. Throws FormatError naming the path.
+  void write(const std::string& path) const;
+
+ private:
+  WaterfallOptions options_;
+  std::size_t side_ = 0;
+  std::size_t pixels_ = 0;
+  struct Row {
+    std::vector<float> port;       ///< near -> far
+    std::vector<float> starboard;  ///< near -> far
+  };
+  std::vector<Row> rows_;
+};
+
+struct WaterfallResult {
+  std::size_t rows = 0;
+  std::size_t cols = 0;
+  std::size_t pings_no_samples = 0;
+};
+
+/// Waterfall of an XTF file (all pings with port or starboard samples, navigation not needed).
+/// Throws FormatError for an unreadable file or one without sonar channels.
+WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
+                                    const std::string& image_path,
+                                    const WaterfallOptions& options = {});
+
+/// Per-sample truth aligned with the XTF samples (same rows and columns as the waterfall of
+/// the same pings): band 1 class (SampleClass value, 255 = padding), band 2 object id (0 seabed,
+/// -1 none), band 3 grazing angle in degrees (NaN none). Written as a float32 GeoTIFF without
+/// georeferencing (ids exact below 2^24).
+class TruthWaterfall {
+ public:
+  /// Spans NEAR -> FAR; the three spans of a side must have the same size.
+  void add_ping(std::span<const SampleClass> port_class, std::span<const SampleClass> stbd_class,
+                std::span<const std::int32_t> port_id, std::span<const std::int32_t> stbd_id,
+                std::span<const float> port_grazing_rad, std::span<const float> stbd_grazing_rad);
+  std::size_t rows() const { return rows_.size(); }
+  std::size_t cols() const { return 2 * side_; }
+  void write(const std::string& path, bool overwrite = false) const;
+
+ private:
+  struct Row {
+    std::vector<float> port[3];  ///< class, id, grazing (deg); near -> far
+    std::vector<float> starboard[3];
+  };
+  std::size_t side_ = 0;
+  std::vector<Row> rows_;
+};
+
+}  // namespace sonarsynth

@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/mosaic.hpp"
+
+namespace sonarsynth {
+
+/// How mosaic_xtf() grids XTF files.
+struct XtfMosaicOptions {
+  double pixel_size_m = 0.25;  ///< square pixel side, metres, > 0
+  MosaicOptions gridding;      ///< rule, taper...
+  /// false (default): SensorX/Ycoordinate is the towfish position (XTF convention, AUVs).
+  /// true: it is the tow point; the fish is placed Layback metres behind it along -heading.
+  bool apply_layback = false;
+  /// Pings with altitude <= 0: estimate it from the first bottom return (first sample reaching
+  /// half the ping's maximum, averaged over port and starboard, as MB-System's bottom pick);
+  /// false = skip them. Ignored with a bathymetry grid and a usable altitude.
+  bool bottom_pick = true;
+
+  /// Throws InputError naming the violated constraint.
+  void validate() const;
+};
+
+/// The mosaic and what happened to every ping.
+struct XtfMosaicResult {
+  GeoFrame frame{1, true, 0.0, 0.0};  ///< UTM/UPS zone of the data (or of the bathymetry)
+  MosaicImage image;
+  std::size_t files = 0;
+  std::size_t pings = 0;                ///< sonar packets read
+  std::size_t pings_gridded = 0;        ///< pings that contributed samples
+  std::size_t pings_no_navigation = 0;  ///< skipped: zero/invalid/non-geographic position
+  std::size_t pings_no_samples = 0;     ///< skipped: no port/starboard channel
+  std::size_t pings_no_altitude = 0;    ///< skipped: altitude <= 0 and no bottom pick
+  std::size_t pings_bottom_picked = 0;  ///< altitude estimated from the first return
+  std::uint64_t samples_placed = 0;
+  std::uint64_t fill_points = 0;
+  std::uint64_t reader_anomalies = 0;  ///< total over files, reported by xtf::Reader
+};
+
+/// Mosaics XTF files (any vendor's) into one grid in the UTM/UPS zone of the centroid of their
+/// valid sensor positions (with `bathymetry`: its frame, and slant->ground against it).
+/// Two passes over the files: navigation and extent, then gridding; one ping in memory at a time.
+/// Heading: SensorHeading (true, converted to grid azimuth with the meridian convergence);
+/// altitude: SensorPrimaryAltitude; pitch: SensorPitch. Intensities are gridded as stored
+/// (linear units), never in dB.
+/// Throws FormatError naming the file for unreadable files, files without any port/starboard
+/// channel, or no ping with valid navigation in any file; InputError for bad options.
+XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
+                           const XtfMosaicOptions& options = {},
+                           const LoadedGrid* bathymetry = nullptr);
+
+/// Slant range of the first bottom return of a side (first sample >= half the side's maximum),
+/// metres; NaN if the side is empty or has no positive sample.
+double first_return_range_m(const std::vector<float>& samples_near_to_far, double slant_range_m);
+
+}  // namespace sonarsynth

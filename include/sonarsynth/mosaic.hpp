@@ -1,0 +1,158 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "sonarsynth/height_grid.hpp"
+
+namespace sonarsynth {
+
+/// How overlapping samples are combined in a mosaic pixel. All rules work on linear intensity
+/// (never dB: a dB average of single-look speckle is 2.5 dB low).
+enum class MosaicRule {
+  /// Weighted mean sum(w I) / sum(w). w is a swath taper: w = sin^2(pi/2 * u / f) over the
+  /// nearest fraction f of the swath (u = ground range / swath width), the same mirrored over the
+  /// farthest fraction f, 1 in between, and never below kMinMosaicWeight — nadir (low grazing
+  /// resolution, water-column leakage) and the far edge (low SNR) yield to the mid swath of an
+  /// overlapping line, as CARIS' "Swath" weighting does.
+  weighted_mean,
+  max,      ///< the strongest sample ("shine-through")
+  nearest,  ///< the sample with the smallest ground range (nearest to nadir); first on ties
+};
+
+/// Floor of the swath taper, so pixels seen only near nadir or at the far edge keep a value.
+inline constexpr double kMinMosaicWeight = 0.01;
+
+/// Mosaic gridding parameters.
+struct MosaicOptions {
+  MosaicRule rule = MosaicRule::weighted_mean;
+  /// Fraction of the swath tapered at each end for weighted_mean, in [0, 0.5].
+  double taper_fraction = 0.1;
+  /// Samples coarser than this many pixels across track are filled in between (linear
+  /// interpolation of the intensity along the ground line), in (0, 1].
+  double fill_step_px = 0.5;
+  /// Fill between consecutive pings too (along track): points are interpolated between the
+  /// previous and the current ping's ground lines at equal ground range wherever they are more
+  /// than fill_step_px apart, unless the sensor moved more than max_ping_gap_m or turned more
+  /// than max_ping_turn_rad (a new line, a turn or a data gap: no fill).
+  bool along_track_fill = true;
+  double max_ping_gap_m = 5.0;      ///< > 0
+  double max_ping_turn_rad = 0.35;  ///< > 0 (20 degrees)
+  /// Subdivisions of each grid cell of the bathymetry profile (HeightGrid::profile), >= 1.
+  int profile_subdivisions = 2;
+
+  /// Throws InputError naming the violated constraint.
+  void validate() const;
+};
+
+/// One ping to grid, in the local frame of a GeoFrame. Spans are borrowed for the call only.
+struct MosaicPing {
+  Eigen::Vector2d sensor_xy_m{0.0, 0.0};  ///< sensor (towfish) position, local frame
+  /// Sensor height in the bathymetry's datum (up positive); NaN = seabed below + altitude_m.
+  /// Used only with a bathymetry grid.
+  double sensor_z_m = std::numeric_limits<double>::quiet_NaN();
+  double heading_grid_rad = 0.0;  ///< fish heading, clockwise from grid north (not COG)
+  double pitch_rad = 0.0;         ///< + nose up: the beam plane meets the seabed ahead
+  double altitude_m = 0.0;        ///< sensor height above the seabed, > 0
+  double slant_range_m = 0.0;     ///< slant range of the far edge of the last sample, > 0
+  /// Linear intensity NEAR -> FAR; sample i covers slant range [i, i+1) * slant_range_m / n.
+  std::span<const float> port;
+  std::span<const float> starboard;
+  /// Optional categorical truth per sample (same sizes as port/starboard, or empty), gridded
+  /// with the nearest-to-nadir rule whatever `rule` is.
+  std::span<const std::int32_t> port_labels;
+  std::span<const std::int32_t> starboard_labels;
+};
+
+/// What MosaicGrid::add did with one ping.
+struct MosaicAddStats {
+  std::size_t samples_placed = 0;     ///< samples mapped to the seabed and inside the grid
+  std::size_t samples_water = 0;      ///< r <= altitude (or never reaching the bathymetry)
+  std::size_t samples_outside = 0;    ///< mapped outside the grid
+  std::size_t fill_points = 0;        ///< interpolated points added between coarse samples
+  std::size_t along_fill_points = 0;  ///< interpolated points between this ping and the last
+};
+
+/// The finished mosaic: north-up grid whose nodes are pixel centres (GDAL Area pixels).
+struct MosaicImage {
+  GridGeometry geometry;
+  std::vector<float> intensity;      ///< linear; NaN where nothing was gridded
+  std::vector<std::uint32_t> count;  ///< contributions (samples + fill points) per pixel
+  /// Nearest-to-nadir truth label per pixel (empty if no ping had labels); kNoLabel = none.
+  std::vector<std::int32_t> labels;
+  static constexpr std::int32_t kNoLabel = std::numeric_limits<std::int32_t>::min();
+};
+
+/// Streaming mosaic accumulator: pings are added one at a time, memory is the grid only.
+class MosaicGrid {
+ public:
+  /// `geometry` must have dx_m > 0 and dy_m == -dx_m (north-up, square pixels). `bathymetry`
+  /// (optional, borrowed, must outlive the grid) switches slant->ground correction from flat
+  /// bottom to the seabed profile. Throws InputError for bad options or geometry.
+  MosaicGrid(GridGeometry geometry, MosaicOptions options, const HeightGrid* bathymetry = nullptr);
+
+  /// A north-up geometry of square `pixel_m` pixels covering [min, max] (local frame), pixel
+  /// edges on multiples of pixel_m. Throws InputError for a non-finite box or > 10^5 pixels a
+  /// side.
+  static GridGeometry geometry_covering(const Eigen::Vector2d& min_xy_m,
+                                        const Eigen::Vector2d& max_xy_m, double pixel_m);
+
+  /// Slant -> ground range on a flat seabed: sqrt(r^2 - A^2), NaN for r <= A (water column).
+  static double flat_ground_range_m(double slant_range_m, double altitude_m);
+
+  /// Grids one ping. Throws InputError for a ping with non-finite pose, altitude <= 0 (flat
+  /// bottom) or slant_range_m <= 0, or label spans of the wrong size.
+  MosaicAddStats add(const MosaicPing& ping);
+
+  /// The next ping starts a new line: no along-track fill between it and the previous one.
+  void break_line();
+
+  const GridGeometry& geometry() const { return geometry_; }
+  MosaicImage finish() const;
+
+ private:
+  void add_side(const MosaicPing& ping, int side, std::span<const float> values,
+                std::span<const std::int32_t> labels, const Eigen::Vector2d& start,
+                const Eigen::Vector2d& dir, MosaicAddStats& stats);
+  void ground_ranges(const MosaicPing& ping, std::size_t n, const Eigen::Vector2d& start,
+                     const Eigen::Vector2d& dir);
+  void splat(const Eigen::Vector2d& p, double ground_m, double swath_m, float value,
+             std::int32_t label, MosaicAddStats& stats);
+
+  GridGeometry geometry_;
+  MosaicOptions options_;
+  const HeightGrid* bathymetry_;
+  std::vector<double> sum_wi_;
+  std::vector<double> sum_w_;
+  std::vector<std::uint32_t> count_;
+  std::vector<float> best_;        ///< max or nearest value
+  std::vector<float> best_range_;  ///< ground range of the nearest value
+  std::vector<std::int32_t> labels_;
+  std::vector<float> label_range_;  ///< ground range of the label
+  /// A side of the last ping resampled at equal ground ranges (j + 0.5) * step (NaN = none).
+  struct GroundLine {
+    bool valid = false;
+    Eigen::Vector2d start{0.0, 0.0};
+    Eigen::Vector2d dir{0.0, 0.0};
+    Eigen::Vector2d sensor{0.0, 0.0};
+    double heading_rad = 0.0;
+    double swath_m = 0.0;
+    std::vector<float> values;
+    std::vector<std::int32_t> labels;
+  };
+  void resample_ground_line(std::span<const float> values, std::span<const std::int32_t> labels,
+                            GroundLine& line) const;
+  void fill_between(const GroundLine& a, const GroundLine& b, MosaicAddStats& stats);
+  GroundLine previous_[2];
+  GroundLine current_;
+  // Scratch reused between pings.
+  std::vector<double> ground_;
+  std::vector<ProfilePoint> profile_;
+};
+
+}  // namespace sonarsynth

@@ -1,0 +1,367 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/mosaic.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/geo_frame.hpp"
+
+namespace sonarsynth {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kMaxPixelsPerSide = 1e5;
+
+[[noreturn]] void bad(const std::string& field, double value, const std::string& constraint) {
+  std::ostringstream os;
+  os << "mosaic: " << field << " = " << value << ". Violated constraint: " << constraint;
+  throw InputError(os.str());
+}
+
+/// sin^2 taper of the swath ends, floored at kMinMosaicWeight (see MosaicRule::weighted_mean).
+double swath_weight(double ground_m, double swath_m, double taper_fraction) {
+  if (taper_fraction <= 0.0 || !(swath_m > 0.0)) return 1.0;
+  const double u = std::clamp(ground_m / swath_m, 0.0, 1.0);
+  const double t = std::min(u, 1.0 - u) / taper_fraction;
+  if (t >= 1.0) return 1.0;
+  const double s = std::sin(0.5 * kPi * t);
+  return std::max(kMinMosaicWeight, s * s);
+}
+
+}  // namespace
+
+void MosaicOptions::validate() const {
+  if (!(taper_fraction >= 0.0 && taper_fraction <= 0.5)) {
+    bad("taper_fraction", taper_fraction, "0 <= taper_fraction <= 0.5");
+  }
+  if (!(fill_step_px > 0.0 && fill_step_px <= 1.0)) {
+    bad("fill_step_px", fill_step_px, "0 < fill_step_px <= 1");
+  }
+  if (!(max_ping_gap_m > 0.0)) bad("max_ping_gap_m", max_ping_gap_m, "max_ping_gap_m > 0");
+  if (!(max_ping_turn_rad > 0.0)) {
+    bad("max_ping_turn_rad", max_ping_turn_rad, "max_ping_turn_rad > 0");
+  }
+  if (profile_subdivisions < 1) {
+    bad("profile_subdivisions", profile_subdivisions, "profile_subdivisions >= 1");
+  }
+}
+
+MosaicGrid::MosaicGrid(GridGeometry geometry, MosaicOptions options, const HeightGrid* bathymetry)
+    : geometry_(geometry), options_(options), bathymetry_(bathymetry) {
+  options_.validate();
+  geometry_.validate("mosaic");
+  if (!(geometry_.dx_m > 0.0) || geometry_.dy_m != -geometry_.dx_m) {
+    bad("geometry.dy_m", geometry_.dy_m, "north-up square pixels: dx_m > 0 and dy_m == -dx_m");
+  }
+  if (bathymetry_ && bathymetry_->empty()) bathymetry_ = nullptr;
+  const std::size_t n = geometry_.size();
+  count_.assign(n, 0);
+  switch (options_.rule) {
+    case MosaicRule::weighted_mean:
+      sum_wi_.assign(n, 0.0);
+      sum_w_.assign(n, 0.0);
+      break;
+    case MosaicRule::max:
+      best_.assign(n, -std::numeric_limits<float>::infinity());
+      break;
+    case MosaicRule::nearest:
+      best_.assign(n, std::numeric_limits<float>::quiet_NaN());
+      best_range_.assign(n, std::numeric_limits<float>::infinity());
+      break;
+  }
+}
+
+GridGeometry MosaicGrid::geometry_covering(const Eigen::Vector2d& min_xy_m,
+                                           const Eigen::Vector2d& max_xy_m, double pixel_m) {
+  if (!(pixel_m > 0.0) || !std::isfinite(pixel_m)) bad("pixel size", pixel_m, "pixel size > 0");
+  if (!min_xy_m.allFinite() || !max_xy_m.allFinite() || (max_xy_m - min_xy_m).minCoeff() < 0) {
+    bad("extent", min_xy_m.x(), "a finite box with min <= max");
+  }
+  const double left = std::floor(min_xy_m.x() / pixel_m) * pixel_m;
+  const double right = std::ceil(max_xy_m.x() / pixel_m) * pixel_m;
+  const double bottom = std::floor(min_xy_m.y() / pixel_m) * pixel_m;
+  const double top = std::ceil(max_xy_m.y() / pixel_m) * pixel_m;
+  const double cols = std::max(2.0, std::round((right - left) / pixel_m));
+  const double rows = std::max(2.0, std::round((top - bottom) / pixel_m));
+  if (cols > kMaxPixelsPerSide || rows > kMaxPixelsPerSide) {
+    bad("pixel size", pixel_m,
+        "at most 100000 pixels per side (extent " + std::to_string(right - left) + " x " +
+            std::to_string(top - bottom) + " m)");
+  }
+  GridGeometry g;
+  g.dx_m = pixel_m;
+  g.dy_m = -pixel_m;
+  g.x0_m = left + 0.5 * pixel_m;
+  g.y0_m = top - 0.5 * pixel_m;
+  g.cols = static_cast<std::size_t>(cols);
+  g.rows = static_cast<std::size_t>(rows);
+  return g;
+}
+
+double MosaicGrid::flat_ground_range_m(double slant_range_m, double altitude_m) {
+  if (!(slant_range_m > altitude_m)) return kNaN;
+  return std::sqrt((slant_range_m - altitude_m) * (slant_range_m + altitude_m));
+}
+
+MosaicAddStats MosaicGrid::add(const MosaicPing& ping) {
+  if (!ping.sensor_xy_m.allFinite()) bad("sensor_xy_m.x", ping.sensor_xy_m.x(), "finite");
+  if (!std::isfinite(ping.heading_grid_rad))
+    bad("heading_grid_rad", ping.heading_grid_rad, "finite");
+  if (!(std::abs(ping.pitch_rad) < 0.5 * kPi)) bad("pitch_rad", ping.pitch_rad, "|pitch| < pi/2");
+  if (!(ping.slant_range_m > 0.0) || !std::isfinite(ping.slant_range_m)) {
+    bad("slant_range_m", ping.slant_range_m, "slant_range_m > 0");
+  }
+  if (!(ping.altitude_m > 0.0) || !std::isfinite(ping.altitude_m)) {
+    if (!bathymetry_ || std::isnan(ping.sensor_z_m)) {
+      bad("altitude_m", ping.altitude_m, "altitude_m > 0");
+    }
+  }
+  if (!ping.port_labels.empty() && ping.port_labels.size() != ping.port.size()) {
+    bad("port_labels.size()", static_cast<double>(ping.port_labels.size()), "== port.size()");
+  }
+  if (!ping.starboard_labels.empty() && ping.starboard_labels.size() != ping.starboard.size()) {
+    bad("starboard_labels.size()", static_cast<double>(ping.starboard_labels.size()),
+        "== starboard.size()");
+  }
+  // Frame axes: x east, y north; heading clockwise from grid north.
+  const Eigen::Vector2d forward(std::sin(ping.heading_grid_rad), std::cos(ping.heading_grid_rad));
+  const Eigen::Vector2d starboard(forward.y(), -forward.x());
+  const double along_shift = std::isfinite(ping.altitude_m) && ping.altitude_m > 0
+                                 ? ping.altitude_m * std::tan(ping.pitch_rad)
+                                 : 0.0;
+  const Eigen::Vector2d start = ping.sensor_xy_m + along_shift * forward;
+  MosaicAddStats stats;
+  add_side(ping, 0, ping.port, ping.port_labels, start, -starboard, stats);
+  add_side(ping, 1, ping.starboard, ping.starboard_labels, start, starboard, stats);
+  return stats;
+}
+
+void MosaicGrid::ground_ranges(const MosaicPing& ping, std::size_t n, const Eigen::Vector2d& start,
+                               const Eigen::Vector2d& dir) {
+  ground_.assign(n, kNaN);
+  const double dr = ping.slant_range_m / static_cast<double>(n);
+  if (!bathymetry_) {
+    for (std::size_t i = 0; i < n; ++i) {
+      ground_[i] = flat_ground_range_m((static_cast<double>(i) + 0.5) * dr, ping.altitude_m);
+    }
+    return;
+  }
+  double zs = ping.sensor_z_m;
+  if (std::isnan(zs)) {
+    zs = bathymetry_->height_m(ping.sensor_xy_m.x(), ping.sensor_xy_m.y()) + ping.altitude_m;
+  }
+  if (!std::isfinite(zs)) return;  // no seabed below the sensor: nothing can be placed
+  bathymetry_->profile(start, dir, ping.slant_range_m, options_.profile_subdivisions, profile_);
+  // Slant range to each profile point; the first crossing of r is found by one forward sweep
+  // because rho is continuous from rho(0): the first crossing of a larger r comes later.
+  std::size_t k = 0;
+  const std::size_t m = profile_.size();
+  auto rho = [&](std::size_t j) { return std::hypot(profile_[j].s_m, zs - profile_[j].z_m); };
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = (static_cast<double>(i) + 0.5) * dr;
+    while (k < m && !(std::isfinite(profile_[k].z_m) && rho(k) >= r)) ++k;
+    if (k >= m) break;                                            // never reaches the seabed
+    if (k == 0 || !std::isfinite(profile_[k - 1].z_m)) continue;  // water column or hole edge
+    const double r0 = rho(k - 1);
+    const double r1 = rho(k);
+    const double t = r1 > r0 ? (r - r0) / (r1 - r0) : 1.0;
+    ground_[i] = profile_[k - 1].s_m + t * (profile_[k].s_m - profile_[k - 1].s_m);
+  }
+}
+
+void MosaicGrid::add_side(const MosaicPing& ping, int side, std::span<const float> values,
+                          std::span<const std::int32_t> labels, const Eigen::Vector2d& start,
+                          const Eigen::Vector2d& dir, MosaicAddStats& stats) {
+  const std::size_t n = values.size();
+  if (n == 0) return;
+  ground_ranges(ping, n, start, dir);
+  const double swath_m = MosaicGrid::flat_ground_range_m(
+      ping.slant_range_m, std::isfinite(ping.altitude_m) ? std::max(0.0, ping.altitude_m) : 0.0);
+  const double step_m = options_.fill_step_px * geometry_.dx_m;
+  const bool have_labels = !labels.empty();
+  std::size_t prev = n;  // index of the previous placed sample
+  for (std::size_t i = 0; i < n; ++i) {
+    const double g = ground_[i];
+    if (std::isnan(g) || !std::isfinite(values[i])) {
+      ++stats.samples_water;
+      prev = n;
+      continue;
+    }
+    if (prev < n) {
+      const double gap = g - ground_[prev];
+      if (std::abs(gap) > step_m) {
+        const auto fills = static_cast<std::size_t>(std::ceil(std::abs(gap) / step_m)) - 1;
+        for (std::size_t j = 1; j <= fills; ++j) {
+          const double t = static_cast<double>(j) / static_cast<double>(fills + 1);
+          const double gj = ground_[prev] + t * gap;
+          const auto v = static_cast<float>((1.0 - t) * values[prev] + t * values[i]);
+          const std::int32_t lab =
+              have_labels ? (t < 0.5 ? labels[prev] : labels[i]) : MosaicImage::kNoLabel;
+          const std::size_t before = stats.samples_placed;
+          splat(start + gj * dir, gj, swath_m, v, lab, stats);
+          if (stats.samples_placed > before) {
+            --stats.samples_placed;
+            ++stats.fill_points;
+          } else {
+            --stats.samples_outside;
+          }
+        }
+      }
+    }
+    splat(start + g * dir, g, swath_m, values[i], have_labels ? labels[i] : MosaicImage::kNoLabel,
+          stats);
+    prev = i;
+  }
+  if (!options_.along_track_fill) return;
+  GroundLine& last = previous_[side];
+  current_.valid = true;
+  current_.start = start;
+  current_.dir = dir;
+  current_.sensor = ping.sensor_xy_m;
+  current_.heading_rad = ping.heading_grid_rad;
+  current_.swath_m = swath_m;
+  resample_ground_line(values, labels, current_);
+  if (last.valid) fill_between(last, current_, stats);
+  std::swap(last, current_);
+}
+
+void MosaicGrid::break_line() {
+  previous_[0].valid = false;
+  previous_[1].valid = false;
+}
+
+void MosaicGrid::resample_ground_line(std::span<const float> values,
+                                      std::span<const std::int32_t> labels,
+                                      GroundLine& line) const {
+  const double step_m = options_.fill_step_px * geometry_.dx_m;
+  double reach = 0.0;
+  for (double g : ground_) {
+    if (!std::isnan(g)) reach = std::max(reach, g);
+  }
+  const auto n = static_cast<std::size_t>(std::ceil(reach / step_m));
+  line.values.assign(n, std::numeric_limits<float>::quiet_NaN());
+  line.labels.assign(labels.empty() ? 0 : n, MosaicImage::kNoLabel);
+  for (std::size_t i = 0; i + 1 < ground_.size(); ++i) {
+    const double ga = ground_[i];
+    const double gb = ground_[i + 1];
+    if (std::isnan(ga) || std::isnan(gb) || !std::isfinite(values[i]) ||
+        !std::isfinite(values[i + 1])) {
+      continue;
+    }
+    const double lo = std::min(ga, gb);
+    const double hi = std::max(ga, gb);
+    const double j0 = std::max(0.0, std::ceil(lo / step_m - 0.5));
+    for (auto j = static_cast<std::size_t>(j0); j < n; ++j) {
+      const double y = (static_cast<double>(j) + 0.5) * step_m;
+      if (y > hi) break;
+      if (!std::isnan(line.values[j])) continue;  // the first (nearest) crossing wins
+      const double t = hi > lo ? (y - ga) / (gb - ga) : 0.0;
+      line.values[j] = static_cast<float>((1.0 - t) * values[i] + t * values[i + 1]);
+      if (!labels.empty()) line.labels[j] = t < 0.5 ? labels[i] : labels[i + 1];
+    }
+  }
+}
+
+void MosaicGrid::fill_between(const GroundLine& a, const GroundLine& b, MosaicAddStats& stats) {
+  if ((b.sensor - a.sensor).norm() > options_.max_ping_gap_m) return;
+  const double turn = std::remainder(b.heading_rad - a.heading_rad, 2.0 * kPi);
+  if (std::abs(turn) > options_.max_ping_turn_rad) return;
+  const double step_m = options_.fill_step_px * geometry_.dx_m;
+  const std::size_t n = std::min(a.values.size(), b.values.size());
+  const bool have_labels = !a.labels.empty() && !b.labels.empty();
+  for (std::size_t j = 0; j < n; ++j) {
+    const float va = a.values[j];
+    const float vb = b.values[j];
+    if (std::isnan(va) || std::isnan(vb)) continue;
+    const double y = (static_cast<double>(j) + 0.5) * step_m;
+    const Eigen::Vector2d pa = a.start + y * a.dir;
+    const Eigen::Vector2d pb = b.start + y * b.dir;
+    const double d = (pb - pa).norm();
+    if (d <= step_m) continue;
+    const auto fills = static_cast<std::size_t>(std::ceil(d / step_m)) - 1;
+    for (std::size_t k = 1; k <= fills; ++k) {
+      const double t = static_cast<double>(k) / static_cast<double>(fills + 1);
+      const auto v = static_cast<float>((1.0 - t) * va + t * vb);
+      const std::int32_t lab =
+          have_labels ? (t < 0.5 ? a.labels[j] : b.labels[j]) : MosaicImage::kNoLabel;
+      const std::size_t before = stats.samples_placed;
+      splat(pa + t * (pb - pa), y, 0.5 * (a.swath_m + b.swath_m), v, lab, stats);
+      if (stats.samples_placed > before) {
+        --stats.samples_placed;
+        ++stats.along_fill_points;
+      } else {
+        --stats.samples_outside;
+      }
+    }
+  }
+}
+
+void MosaicGrid::splat(const Eigen::Vector2d& p, double ground_m, double swath_m, float value,
+                       std::int32_t label, MosaicAddStats& stats) {
+  const double c = std::floor(geometry_.col_of_x(p.x()) + 0.5);
+  const double r = std::floor(geometry_.row_of_y(p.y()) + 0.5);
+  if (!(c >= 0.0 && r >= 0.0 && c < static_cast<double>(geometry_.cols) &&
+        r < static_cast<double>(geometry_.rows))) {
+    ++stats.samples_outside;
+    return;
+  }
+  ++stats.samples_placed;
+  const std::size_t idx =
+      static_cast<std::size_t>(r) * geometry_.cols + static_cast<std::size_t>(c);
+  ++count_[idx];
+  const auto range = static_cast<float>(ground_m);
+  switch (options_.rule) {
+    case MosaicRule::weighted_mean: {
+      const double w = swath_weight(ground_m, swath_m, options_.taper_fraction);
+      sum_wi_[idx] += w * value;
+      sum_w_[idx] += w;
+      break;
+    }
+    case MosaicRule::max:
+      best_[idx] = std::max(best_[idx], value);
+      break;
+    case MosaicRule::nearest:
+      if (range < best_range_[idx]) {
+        best_range_[idx] = range;
+        best_[idx] = value;
+      }
+      break;
+  }
+  if (label != MosaicImage::kNoLabel) {
+    if (labels_.empty()) {
+      labels_.assign(geometry_.size(), MosaicImage::kNoLabel);
+      label_range_.assign(geometry_.size(), std::numeric_limits<float>::infinity());
+    }
+    if (range < label_range_[idx]) {
+      label_range_[idx] = range;
+      labels_[idx] = label;
+    }
+  }
+}
+
+MosaicImage MosaicGrid::finish() const {
+  MosaicImage out;
+  out.geometry = geometry_;
+  out.count = count_;
+  out.labels = labels_;
+  const std::size_t n = geometry_.size();
+  out.intensity.assign(n, std::numeric_limits<float>::quiet_NaN());
+  for (std::size_t i = 0; i < n; ++i) {
+    if (count_[i] == 0) continue;
+    switch (options_.rule) {
+      case MosaicRule::weighted_mean:
+        out.intensity[i] = static_cast<float>(sum_wi_[i] / sum_w_[i]);
+        break;
+      case MosaicRule::max:
+      case MosaicRule::nearest:
+        out.intensity[i] = best_[i];
+        break;
+    }
+  }
+  return out;
+}
+
+}  // namespace sonarsynth

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: MIT
+// `sonarsynth mosaic`: XTF files (ours or any vendor's) gridded into a GeoTIFF mosaic.
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/formats/mosaic_writer.hpp"
+#include "sonarsynth/formats/xtf_mosaic.hpp"
+
+namespace sonarsynth::cli {
+namespace {
+
+const char* const kUsage =
+    "usage: sonarsynth mosaic FILES.xtf... -o MOSAIC.tif [options]\n\n"
+    "Georeferences every sample of the XTF files (sensor position, fish heading converted to grid\n"
+    "north, pitch; slant->ground on a flat bottom from the altitude, or against --bathymetry) and\n"
+    "grids them in linear intensity into a float32 GeoTIFF (NaN nodata, AREA_OR_POINT=Area) in\n"
+    "the WGS 84 UTM/UPS zone of the data, Cloud-Optimized by default, plus an 8-bit RGBA display\n"
+    "copy MOSAIC_rgb.tif with the black-brown-yellow colormap. Pings without navigation are\n"
+    "skipped and counted.\n"
+    "Rules: mean = weighted mean with a sin^2 taper over the nearest and farthest 10% of the\n"
+    "swath (nadir and far edge yield to mid-swath samples); max = strongest sample\n"
+    "(shine-through); nearest = sample nearest to nadir.";
+
+MosaicRule parse_rule(const std::string& s) {
+  if (s == "mean") return MosaicRule::weighted_mean;
+  if (s == "max") return MosaicRule::max;
+  if (s == "nearest") return MosaicRule::nearest;
+  throw InputError("--rule = '" + s + "'. Violated constraint: one of mean, max, nearest");
+}
+
+}  // namespace
+
+int run_mosaic(const std::vector<std::string>& args) {
+  po::options_description opts("options");
+  std::vector<std::string> inputs, co;
+  std::string output, rule = "mean", bathymetry, format = "COG", rgb_path;
+  XtfMosaicOptions mo;
+  // clang-format off
+  opts.add_options()
+    ("input", po::value(&inputs)->composing(), "XTF files (positional)")
+    ("output,o", po::value(&output)->required(), "output GeoTIFF")
+    ("res", po::value(&mo.pixel_size_m)->default_value(0.25), "pixel size, metres, > 0")
+    ("rule", po::value(&rule)->default_value("mean"), "mean | max | nearest")
+    ("taper", po::value(&mo.gridding.taper_fraction)->default_value(0.1, "0.1"),
+     "mean: fraction of the swath tapered at nadir and at the far edge, [0, 0.5]")
+    ("bathymetry", po::value(&bathymetry),
+     "slant->ground against this elevation grid (any GDAL raster; its UTM zone is used)")
+    ("depth-positive", "--bathymetry stores depths (positive down)")
+    ("layback", "SensorX/Y is the tow point: place the fish Layback metres behind it")
+    ("no-bottom-pick", "skip pings with altitude <= 0 instead of picking the first return")
+    ("count", "add band 2: number of contributions per pixel")
+    ("of", po::value(&format)->default_value("COG"), "COG | GTiff")
+    ("co", po::value(&co)->composing(), "creation option KEY=VALUE (repeatable)")
+    ("rgb", po::value(&rgb_path), "display copy path (default MOSAIC_rgb.tif; .png allowed)")
+    ("no-rgb", "do not write the display copy")
+    ("grey", "display copy in grey instead of black-brown-yellow")
+    ("overwrite", "replace existing output files")
+    ("quiet,q", "print nothing on success (warnings still go to stderr)");
+  // clang-format on
+  po::positional_options_description positional;
+  positional.add("input", -1);
+  po::variables_map vm;
+  if (!parse(args, opts, positional, vm, kUsage)) return 0;
+  if (inputs.empty()) throw InputError("no input file. Violated constraint: at least one XTF file");
+  mo.gridding.rule = parse_rule(rule);
+  mo.apply_layback = vm.count("layback") > 0;
+  mo.bottom_pick = vm.count("no-bottom-pick") == 0;
+  mo.validate();
+
+  MosaicWriteOptions wo;
+  if (format == "COG" || format == "cog") {
+    wo.format = MosaicRasterFormat::cog;
+  } else if (format == "GTiff" || format == "gtiff") {
+    wo.format = MosaicRasterFormat::gtiff;
+  } else {
+    throw InputError("--of = '" + format + "'. Violated constraint: COG or GTiff");
+  }
+  wo.count_band = vm.count("count") > 0;
+  wo.overwrite = vm.count("overwrite") > 0;
+  wo.creation_options = parse_key_values(co, "co");
+  if (vm.count("no-rgb") == 0) wo.rgb_path = rgb_path.empty() ? default_rgb_path(output) : rgb_path;
+  wo.colormap = vm.count("grey") ? Colormap::grey : Colormap::black_brown_yellow;
+  std::string command = "sonarsynth mosaic";
+  for (const std::string& a : args) command += " " + a;
+  wo.metadata.push_back({"SONARSYNTH_COMMAND", command});
+  wo.metadata.push_back({"SONARSYNTH_MOSAIC_RULE", rule});
+  // Refuse existing outputs before the (long) gridding.
+  for (const std::string& p : {output, wo.rgb_path}) {
+    if (!p.empty() && !wo.overwrite && std::filesystem::exists(p)) {
+      throw InputError("output " + p + " already exists (use --overwrite to replace it)");
+    }
+  }
+
+  std::optional<LoadedGrid> bathy;
+  if (!bathymetry.empty()) {
+    GridReadOptions ro;
+    ro.depth_positive_down = vm.count("depth-positive") > 0;
+    bathy = read_height_grid(bathymetry, ro);
+  }
+  const std::vector<std::filesystem::path> files(inputs.begin(), inputs.end());
+  const XtfMosaicResult r = mosaic_xtf(files, mo, bathy ? &*bathy : nullptr);
+  if (r.pings_gridded == 0) {
+    throw FormatError("no ping could be gridded (" + std::to_string(r.pings) + " pings, " +
+                      std::to_string(r.pings_no_navigation) + " without navigation, " +
+                      std::to_string(r.pings_no_altitude) + " without altitude)");
+  }
+  if (r.pings_no_navigation > 0) {
+    std::cerr << "sonarsynth mosaic: warning: skipped " << r.pings_no_navigation << " of "
+              << r.pings << " pings with missing or zero navigation\n";
+  }
+  if (r.pings_no_samples > 0) {
+    std::cerr << "sonarsynth mosaic: warning: skipped " << r.pings_no_samples
+              << " pings without port/starboard samples\n";
+  }
+  if (r.pings_no_altitude > 0) {
+    std::cerr << "sonarsynth mosaic: warning: skipped " << r.pings_no_altitude
+              << " pings without altitude\n";
+  }
+  if (r.pings_bottom_picked > 0) {
+    std::cerr << "sonarsynth mosaic: warning: altitude of " << r.pings_bottom_picked
+              << " pings estimated from the first bottom return\n";
+  }
+  write_mosaic(output, r.frame, r.image, wo);
+  if (!vm.count("quiet")) {
+    const GridGeometry& g = r.image.geometry;
+    std::cout << "wrote " << output << ": " << g.cols << " x " << g.rows << " pixels of "
+              << mo.pixel_size_m << " m, EPSG:" << r.frame.epsg() << ", " << r.pings_gridded
+              << " of " << r.pings << " pings, " << r.samples_placed << " samples ("
+              << r.fill_points << " fill points)";
+    if (!wo.rgb_path.empty()) std::cout << "; display copy " << wo.rgb_path;
+    std::cout << "\n";
+  }
+  return 0;
+}
+
+}  // namespace sonarsynth::cli

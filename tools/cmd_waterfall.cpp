@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+// `sonarsynth waterfall`: port | starboard waterfall image of an XTF file.
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/waterfall.hpp"
+
+namespace sonarsynth::cli {
+
+int run_waterfall(const std::vector<std::string>& args) {
+  po::options_description opts("options");
+  std::string input, output;
+  WaterfallOptions wo;
+  // clang-format off
+  opts.add_options()
+    ("input", po::value(&input)->required(), "XTF file (positional)")
+    ("output,o", po::value(&output)->required(), "output image (.png or .tif)")
+    ("grey", "grey scale instead of the black-brown-yellow colormap")
+    ("slant-correct", "resample to ground range on a flat bottom (altitude of each ping)")
+    ("lo-db", po::value(&wo.lo_db), "fixed scaling: dB shown black (with --hi-db)")
+    ("hi-db", po::value(&wo.hi_db), "fixed scaling: dB shown at full colour (with --lo-db)")
+    ("overwrite", "replace an existing output file")
+    ("quiet,q", "print nothing on success");
+  // clang-format on
+  po::positional_options_description positional;
+  positional.add("input", 1);
+  po::variables_map vm;
+  if (!parse(args, opts, positional, vm,
+             "usage: sonarsynth waterfall FILE.xtf -o IMAGE.png [options]\n\n"
+             "Draws one row per ping: port far -> near | starboard near -> far (nadir in the\n"
+             "middle), 10 log10 of the samples between the 1st and 99th percentiles of the file\n"
+             "(or --lo-db/--hi-db) through the black-brown-yellow colormap (or --grey).")) {
+    return 0;
+  }
+  if (vm.count("lo-db") != vm.count("hi-db")) {
+    throw InputError("--lo-db and --hi-db. Violated constraint: give both or neither");
+  }
+  wo.fixed_db = vm.count("lo-db") > 0;
+  wo.colormap = vm.count("grey") ? Colormap::grey : Colormap::black_brown_yellow;
+  wo.slant_correct = vm.count("slant-correct") > 0;
+  wo.overwrite = vm.count("overwrite") > 0;
+  wo.validate();
+  const WaterfallResult r = write_xtf_waterfall(input, output, wo);
+  if (!vm.count("quiet")) {
+    std::cout << "wrote " << output << ": " << r.cols << " x " << r.rows << " pixels\n";
+  }
+  return 0;
+}
+
+}  // namespace sonarsynth::cli
