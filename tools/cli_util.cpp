@@ -36,3 +36,42 @@ std::vector<std::pair<std::string, std::string>> parse_key_values(
 }
 
 }  // namespace sonarsynth::cli
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+
+namespace sonarsynth::cli {
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+ProgressBar::ProgressBar(bool quiet, std::string unit)
+    : enabled_(!quiet && ::isatty(STDERR_FILENO)), unit_(std::move(unit)), start_s_(now_s()) {}
+
+void ProgressBar::update(std::uint64_t done, std::uint64_t total) {
+  if (!enabled_ || total == 0) return;
+  const double t = now_s();
+  if (done < total && t - last_draw_s_ < 0.1) return;
+  last_draw_s_ = t;
+  const double elapsed = t - start_s_;
+  const double rate = elapsed > 0 ? static_cast<double>(done) / elapsed : 0.0;
+  const double left = rate > 0 ? static_cast<double>(total - done) / rate : 0.0;
+  const int width = 30;
+  const int filled =
+      static_cast<int>(width * static_cast<double>(done) / static_cast<double>(total));
+  std::fprintf(stderr, "\r[%s%s] %llu/%llu %s  %.0f %s/s  %.0f s left ",
+               std::string(static_cast<std::size_t>(filled), '#').c_str(),
+               std::string(static_cast<std::size_t>(width - filled), ' ').c_str(),
+               static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
+               unit_.c_str(), rate, unit_.c_str(), left);
+  std::fflush(stderr);
+}
+
+void ProgressBar::finish() {
+  if (enabled_) std::fprintf(stderr, "\n");
+}
+
+}  // namespace sonarsynth::cli

@@ -29,3 +29,25 @@ std::vector<std::pair<std::string, std::string>> parse_key_values(
     const std::vector<std::string>& items, const char* option_name);
 
 }  // namespace sonarsynth::cli
+
+namespace sonarsynth::cli {
+
+/// A one-line progress bar on stderr ("[####    ] 1200/9604 pings  950 pings/s  9 s left"),
+/// drawn only when stderr is a terminal and not quiet.
+class ProgressBar {
+ public:
+  ProgressBar(bool quiet, std::string unit);
+  void update(std::uint64_t done, std::uint64_t total);
+  void finish();
+
+ private:
+  bool enabled_;
+  std::string unit_;
+  double start_s_;
+  double last_draw_s_ = -1.0;
+};
+
+/// Seconds since an arbitrary epoch (steady clock).
+double now_s();
+
+}  // namespace sonarsynth::cli

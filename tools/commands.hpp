@@ -10,8 +10,9 @@ namespace sonarsynth::cli {
 // One function per subcommand (tools/cmd_<name>.cpp); main.cpp lists them.
 // Add yours here and in main.cpp's table.
 int run_version(const std::vector<std::string>& args);
-int run_bathy(const std::vector<std::string>& args);
+int run_simulate(const std::vector<std::string>& args);
 int run_info(const std::vector<std::string>& args);
+int run_bathy(const std::vector<std::string>& args);
 int run_mosaic(const std::vector<std::string>& args);
 int run_waterfall(const std::vector<std::string>& args);
 

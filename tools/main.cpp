@@ -16,13 +16,15 @@ namespace {
 
 const std::vector<sc::Command>& commands() {
   static const std::vector<sc::Command> table = {
+      {"simulate", "render a scene file's survey into XTF files (+ mosaic, waterfalls, truth)",
+       sc::run_simulate},
       {"version", "print the version and exit", sc::run_version},
-      {"mosaic", "grid XTF files into a georeferenced GeoTIFF mosaic (+ RGB display copy)",
-       sc::run_mosaic},
-      {"waterfall", "draw an XTF file as a port | starboard waterfall image", sc::run_waterfall},
       {"info", "describe an XTF file (header, channels, pings, nav, anomalies)", sc::run_info},
       {"bathy", "generate bathymetry (plane, ripples, fBm, seamount, scarp) as a GeoTIFF",
        sc::run_bathy},
+      {"mosaic", "grid XTF files into a georeferenced GeoTIFF mosaic (+ RGB display copy)",
+       sc::run_mosaic},
+      {"waterfall", "draw an XTF file as a port | starboard waterfall image", sc::run_waterfall},
   };
   return table;
 }

@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/formats/survey_products.hpp"
+
+#include <cmath>
+
+#include "sonarsynth/error.hpp"
+
+namespace sonarsynth {
+
+void SurveyProductOptions::validate() const {
+  if (!(mosaic_pixel_m > 0.0) || !std::isfinite(mosaic_pixel_m)) {
+    throw InputError("products: mosaic pixel = " + std::to_string(mosaic_pixel_m) +
+                     " m. Violated constraint: pixel > 0");
+  }
+  mosaic_options.validate();
+}
+
+SurveyProducts::SurveyProducts(std::filesystem::path dir, const Scene& scene,
+                               const SonarConfig& sonar, const std::vector<SurveyLine>& lines,
+                               SurveyProductOptions options)
+    : dir_(std::move(dir)), scene_(scene), sonar_(sonar), options_(std::move(options)) {
+  options_.validate();
+  for (const SurveyLine& l : lines) names_.push_back(l.name);
+  if (options_.mosaic) {
+    Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+    for (const SurveyLine& l : lines) {
+      for (const Eigen::Vector2d& p : l.waypoints_xy_m) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+    }
+    // The swath reaches at most the slant range to either side; clip to the bathymetry.
+    const Eigen::Vector4d bb = scene.bathymetry.bounds();
+    const Eigen::Vector2d r = Eigen::Vector2d::Constant(sonar.max_range_m);
+    lo = (lo - r).cwiseMax(Eigen::Vector2d(bb[0], bb[1]));
+    hi = (hi + r).cwiseMin(Eigen::Vector2d(bb[2], bb[3]));
+    if (!(lo.x() < hi.x() && lo.y() < hi.y())) {
+      throw InputError("products: the survey lines do not overlap the bathymetry grid");
+    }
+    mosaic_ =
+        std::make_unique<MosaicGrid>(MosaicGrid::geometry_covering(lo, hi, options_.mosaic_pixel_m),
+                                     options_.mosaic_options, &scene.bathymetry);
+  }
+}
+
+void SurveyProducts::begin_line(std::size_t /*line*/) {
+  if (options_.waterfalls) waterfall_ = std::make_unique<Waterfall>();
+  if (options_.truth) truth_ = std::make_unique<TruthWaterfall>();
+  if (mosaic_) mosaic_->break_line();
+}
+
+void SurveyProducts::ping(const RenderedPing& p) {
+  const PingPose& pose = p.pose;
+  if (mosaic_) {
+    MosaicPing m;
+    m.sensor_xy_m = pose.sensor_xy_m;
+    m.sensor_z_m = pose.sensor_z_m;
+    m.heading_grid_rad = pose.heading_rad;
+    m.pitch_rad = pose.pitch_rad;
+    m.altitude_m = pose.altitude_m;
+    m.slant_range_m = sonar_.max_range_m;
+    m.port = p.port.samples;
+    m.starboard = p.starboard.samples;
+    if (options_.truth) {
+      m.port_labels = p.port.truth_label;
+      m.starboard_labels = p.starboard.truth_label;
+    }
+    mosaic_->add(m);
+  }
+  if (waterfall_)
+    waterfall_->add_ping(p.port.samples, p.starboard.samples, sonar_.max_range_m, pose.altitude_m);
+  if (truth_ && !p.port.truth_class.empty()) {
+    truth_->add_ping(p.port.truth_class, p.starboard.truth_class, p.port.truth_label,
+                     p.starboard.truth_label, p.port.truth_grazing_rad,
+                     p.starboard.truth_grazing_rad);
+  }
+}
+
+void SurveyProducts::end_line(std::size_t line) {
+  const std::string name = line < names_.size() ? names_[line] : "line" + std::to_string(line + 1);
+  if (waterfall_ && waterfall_->rows() > 0) {
+    const auto path = dir_ / (name + "_waterfall.png");
+    waterfall_->write(path.string());
+    files_.push_back(path);
+  }
+  if (truth_ && truth_->rows() > 0) {
+    const auto path = dir_ / (name + "_truth.tif");
+    truth_->write(path.string());
+    files_.push_back(path);
+  }
+  waterfall_.reset();
+  truth_.reset();
+}
+
+void SurveyProducts::finish() {
+  if (!mosaic_) return;
+  MosaicWriteOptions w = options_.write_options;
+  w.rgb_path = (dir_ / "mosaic_rgb.tif").string();
+  if (options_.truth) w.labels_path = (dir_ / "truth_mosaic.tif").string();
+  const auto path = dir_ / "mosaic.tif";
+  write_mosaic(path.string(), scene_.frame, mosaic_->finish(), w);
+  files_.push_back(path);
+  files_.push_back(w.rgb_path);
+  if (options_.truth) files_.push_back(w.labels_path);
+}
+
+}  // namespace sonarsynth

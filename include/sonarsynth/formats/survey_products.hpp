@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sonarsynth/formats/mosaic_writer.hpp"
+#include "sonarsynth/formats/waterfall.hpp"
+#include "sonarsynth/mosaic.hpp"
+#include "sonarsynth/simulator.hpp"
+
+namespace sonarsynth {
+
+/// What `simulate` derives from the rendered pings besides the XTF files.
+struct SurveyProductOptions {
+  bool mosaic = true;            ///< mosaic.tif (+ mosaic_rgb.tif, truth_mosaic.tif)
+  bool waterfalls = true;        ///< <line>_waterfall.png per line
+  bool truth = true;             ///< <line>_truth.tif per line and truth_mosaic.tif
+  double mosaic_pixel_m = 0.25;  ///< > 0
+  MosaicOptions mosaic_options;
+  MosaicWriteOptions write_options;  ///< format, creation options (paths are set here)
+  void validate() const;
+};
+
+/// A ping sink that grids every ping into one survey mosaic (slant->ground against the scene's
+/// own bathymetry, in the scene's UTM frame) and collects a waterfall and a truth waterfall per
+/// line, written when the line ends. Files go to `dir`.
+class SurveyProducts : public PingSink {
+ public:
+  /// `lines` (local frame) and the sonar's range give the mosaic extent.
+  SurveyProducts(std::filesystem::path dir, const Scene& scene, const SonarConfig& sonar,
+                 const std::vector<SurveyLine>& lines, SurveyProductOptions options);
+  void begin_line(std::size_t line) override;
+  void ping(const RenderedPing& ping) override;
+  void end_line(std::size_t line) override;
+  /// Writes the mosaic files (call once, after the run).
+  void finish();
+  const std::vector<std::filesystem::path>& files() const { return files_; }
+
+ private:
+  std::filesystem::path dir_;
+  const Scene& scene_;
+  SonarConfig sonar_;
+  std::vector<std::string> names_;
+  SurveyProductOptions options_;
+  std::unique_ptr<MosaicGrid> mosaic_;
+  std::unique_ptr<Waterfall> waterfall_;
+  std::unique_ptr<TruthWaterfall> truth_;
+  std::vector<std::filesystem::path> files_;
+};
+
+}  // namespace sonarsynth
