@@ -89,8 +89,8 @@ struct Builder {
     const double heading = rad_from_deg(o.number("heading_deg", 0.0));
     ObjectPrimitive p;
     if (type == "pipe" || type == "cylinder") {
-      o.only({"type", "id", "name", "material", "position", "heading_deg", "length_m", "start", "end",
-              "diameter_m", "clearance_m", "embed"});
+      o.only({"type", "id", "name", "material", "position", "heading_deg", "length_m", "start",
+              "end", "diameter_m", "clearance_m", "embed"});
       p.shape = ObjectShape::kCylinder;
       p.material = material(o, "steel");
       const double radius = 0.5 * o.number_in("diameter_m", 0.0, 0.0, 1e3, true);
@@ -128,7 +128,8 @@ struct Builder {
       p.id = take_id(o);
       place(p, o, clearance, embed);
     } else if (type == "wreck") {
-      o.only({"type", "id", "name", "material", "position", "heading_deg", "parts", "clearance_m", "embed"});
+      o.only({"type", "id", "name", "material", "position", "heading_deg", "parts", "clearance_m",
+              "embed"});
       const Eigen::Vector2d centre = position(o, "position");
       const std::uint16_t mat = material(o, "steel");
       const auto parts = o.sequence("parts");
@@ -137,7 +138,8 @@ struct Builder {
       const Eigen::Vector2d fwd(std::sin(heading), std::cos(heading)), stbd(fwd.y(), -fwd.x());
       for (const Fields& part : parts) {
         part.only({"offset_m", "size_m", "heading_deg", "lift_m"});
-        const auto off = part.has("offset_m") ? part.numbers("offset_m", 2) : std::vector<double>{0, 0};
+        const auto off =
+            part.has("offset_m") ? part.numbers("offset_m", 2) : std::vector<double>{0, 0};
         const auto s = part.numbers("size_m", 3);
         if (!(s[0] > 0 && s[1] > 0 && s[2] > 0)) part.fail_value("size_m", "every size > 0");
         ObjectPrimitive b;
@@ -160,7 +162,8 @@ struct Builder {
     f.only({"file", "layer"});
     const std::string path = resolve(base_dir, f.text("file"));
     gdal::DatasetPtr ds = gdal::open_vector(path, "scene");
-    OGRLayer* layer = f.has("layer") ? ds->GetLayerByName(f.text("layer").c_str()) : ds->GetLayer(0);
+    OGRLayer* layer =
+        f.has("layer") ? ds->GetLayerByName(f.text("layer").c_str()) : ds->GetLayer(0);
     if (!layer) f.fail("layer", "no such layer in " + path);
     OGRSpatialReference wgs84;
     wgs84.importFromEPSG(4326);
@@ -226,14 +229,18 @@ struct Builder {
       f.only({"file", "layer", "material", "material_field"});
       const std::string path = resolve(base_dir, f.text("file"));
       gdal::DatasetPtr ds = gdal::open_vector(path, "scene");
-      OGRLayer* layer = f.has("layer") ? ds->GetLayerByName(f.text("layer").c_str()) : ds->GetLayer(0);
+      OGRLayer* layer =
+          f.has("layer") ? ds->GetLayerByName(f.text("layer").c_str()) : ds->GetLayer(0);
       if (!layer) f.fail("layer", "no such layer in " + path);
       OGRSpatialReference target;
       target.importFromEPSG(scene.frame.epsg());
       target.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
       std::unique_ptr<OGRCoordinateTransformation> ct;
-      if (layer->GetSpatialRef()) ct.reset(OGRCreateCoordinateTransformation(layer->GetSpatialRef(), &target));
-      if (!ct) throw FormatError(path + ": the layer has no CRS that can be transformed to EPSG:" + std::to_string(scene.frame.epsg()));
+      if (layer->GetSpatialRef())
+        ct.reset(OGRCreateCoordinateTransformation(layer->GetSpatialRef(), &target));
+      if (!ct)
+        throw FormatError(path + ": the layer has no CRS that can be transformed to EPSG:" +
+                          std::to_string(scene.frame.epsg()));
       const std::string field = f.text("material_field", "");
       for (auto& feature : *layer) {
         std::uint16_t m = 0;
@@ -243,7 +250,8 @@ struct Builder {
           try {
             m = scene.materials.index_of(feature->GetFieldAsString(idx));
           } catch (const InputError& e) {
-            throw InputError(path + " feature " + std::to_string(feature->GetFID()) + ": " + e.what());
+            throw InputError(path + " feature " + std::to_string(feature->GetFID()) + ": " +
+                             e.what());
           }
         } else {
           m = material(f, "sand");
@@ -251,12 +259,14 @@ struct Builder {
         OGRGeometry* geom = feature->GetGeometryRef();
         if (!geom) continue;
         std::unique_ptr<OGRGeometry> g(geom->clone());
-        if (g->transform(ct.get()) != OGRERR_NONE) throw InputError(path + ": cannot transform a polygon");
+        if (g->transform(ct.get()) != OGRERR_NONE)
+          throw InputError(path + ": cannot transform a polygon");
         auto add_one = [&](const OGRPolygon* poly) {
           std::vector<std::vector<Eigen::Vector2d>> rings;
           for (const OGRLinearRing* ring : *poly) {
             std::vector<Eigen::Vector2d> r;
-            for (const OGRPoint& pt : *ring) r.push_back(scene.frame.local_from_projected({pt.getX(), pt.getY()}));
+            for (const OGRPoint& pt : *ring)
+              r.push_back(scene.frame.local_from_projected({pt.getX(), pt.getY()}));
             rings.push_back(std::move(r));
           }
           add_polygon_rings(rings, m);
@@ -274,7 +284,8 @@ struct Builder {
     const std::uint16_t m = material(f, "sand");
     auto ring = [&](const YAML::Node& seq, const std::string& key) {
       std::vector<Eigen::Vector2d> r;
-      if (!seq.IsSequence() || seq.size() < 3) f.fail_value(key, "a list of at least 3 [lat, lon] pairs");
+      if (!seq.IsSequence() || seq.size() < 3)
+        f.fail_value(key, "a list of at least 3 [lat, lon] pairs");
       for (const auto& pair : seq) {
         if (!pair.IsSequence() || pair.size() != 2) f.fail_value(key, "[lat, lon] pairs");
         const double lat = pair[0].as<double>(), lon = pair[1].as<double>();
@@ -282,7 +293,8 @@ struct Builder {
       }
       return r;
     };
-    std::vector<std::vector<Eigen::Vector2d>> rings{ring(f.node()["coordinates_deg"], "coordinates_deg")};
+    std::vector<std::vector<Eigen::Vector2d>> rings{
+        ring(f.node()["coordinates_deg"], "coordinates_deg")};
     if (f.has("holes_deg")) {
       for (const auto& h : f.node()["holes_deg"]) rings.push_back(ring(h, "holes_deg"));
     }
@@ -298,14 +310,16 @@ struct Builder {
     std::map<long, std::uint16_t> lut;
     for (const auto& kv : classes.node()) {
       long value = 0;
-      if (!YAML::convert<long>::decode(kv.first, value)) classes.fail(kv.first.Scalar(), "class values are integers");
+      if (!YAML::convert<long>::decode(kv.first, value))
+        classes.fail(kv.first.Scalar(), "class values are integers");
       try {
         lut[value] = scene.materials.index_of(kv.second.as<std::string>());
       } catch (const InputError& e) {
         classes.fail(kv.first.Scalar(), e.what());
       }
     }
-    if (!src->GetSpatialRef()) throw FormatError("scene: " + path + ": classification raster has no CRS");
+    if (!src->GetSpatialRef())
+      throw FormatError("scene: " + path + ": classification raster has no CRS");
     const int band_no = static_cast<int>(f.integer("band", 1));
     if (band_no < 1 || band_no > src->GetRasterCount()) f.fail_value("band", "an existing band");
     // Warp (nearest neighbour) onto the bathymetry's own nodes: classes line up with the DEM
@@ -314,18 +328,33 @@ struct Builder {
     r.geometry = scene.bathymetry.geometry();
     const GridGeometry& g = r.geometry;
     const Eigen::Vector4d bb = scene.bathymetry.bounds();
-    const Eigen::Vector2d lo = scene.frame.projected_from_local({bb[0] - 0.5 * g.dx_m, bb[1] - 0.5 * std::abs(g.dy_m)});
-    const Eigen::Vector2d hi = scene.frame.projected_from_local({bb[2] + 0.5 * g.dx_m, bb[3] + 0.5 * std::abs(g.dy_m)});
+    const Eigen::Vector2d lo =
+        scene.frame.projected_from_local({bb[0] - 0.5 * g.dx_m, bb[1] - 0.5 * std::abs(g.dy_m)});
+    const Eigen::Vector2d hi =
+        scene.frame.projected_from_local({bb[2] + 0.5 * g.dx_m, bb[3] + 0.5 * std::abs(g.dy_m)});
     auto num = [](double v) {
       char buf[64];
       std::snprintf(buf, sizeof buf, "%.17g", v);
       return std::string(buf);
     };
-    const std::vector<std::string> args = {
-        "-of", "MEM", "-t_srs", "EPSG:" + std::to_string(scene.frame.epsg()), "-r", "near",
-        "-ot", "Int32", "-dstnodata", "-2147483648",
-        "-te", num(lo.x()), num(lo.y()), num(hi.x()), num(hi.y()),
-        "-ts", std::to_string(g.cols), std::to_string(g.rows)};
+    const std::vector<std::string> args = {"-of",
+                                           "MEM",
+                                           "-t_srs",
+                                           "EPSG:" + std::to_string(scene.frame.epsg()),
+                                           "-r",
+                                           "near",
+                                           "-ot",
+                                           "Int32",
+                                           "-dstnodata",
+                                           "-2147483648",
+                                           "-te",
+                                           num(lo.x()),
+                                           num(lo.y()),
+                                           num(hi.x()),
+                                           num(hi.y()),
+                                           "-ts",
+                                           std::to_string(g.cols),
+                                           std::to_string(g.rows)};
     std::vector<char*> argv;
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
@@ -333,8 +362,8 @@ struct Builder {
     const std::string band_arg = std::to_string(band_no);
     const char* tr_args[] = {"-of", "VRT", "-b", band_arg.c_str(), nullptr};
     GDALTranslateOptions* to = GDALTranslateOptionsNew(const_cast<char**>(tr_args), nullptr);
-    gdal::DatasetPtr one_band(GDALDataset::FromHandle(
-        GDALTranslate("", GDALDataset::ToHandle(src.get()), to, nullptr)));
+    gdal::DatasetPtr one_band(
+        GDALDataset::FromHandle(GDALTranslate("", GDALDataset::ToHandle(src.get()), to, nullptr)));
     GDALTranslateOptionsFree(to);
     if (!one_band) throw FormatError("scene: " + path + ": cannot select band " + band_arg);
     GDALWarpAppOptions* wo = GDALWarpAppOptionsNew(argv.data(), nullptr);
@@ -343,11 +372,14 @@ struct Builder {
     int usage_error = 0;
     GDALDatasetH out = GDALWarp("", nullptr, 1, &src_h, wo, &usage_error);
     GDALWarpAppOptionsFree(wo);
-    if (!out) throw FormatError("scene: " + path + ": cannot warp the classification raster: " + gdal::last_error_message());
+    if (!out)
+      throw FormatError("scene: " + path +
+                        ": cannot warp the classification raster: " + gdal::last_error_message());
     gdal::DatasetPtr w(GDALDataset::FromHandle(out));
     std::vector<std::int32_t> values(g.size());
-    if (w->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, w->GetRasterXSize(), w->GetRasterYSize(), values.data(),
-                                      w->GetRasterXSize(), w->GetRasterYSize(), GDT_Int32, 0, 0) != CE_None) {
+    if (w->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, w->GetRasterXSize(), w->GetRasterYSize(),
+                                      values.data(), w->GetRasterXSize(), w->GetRasterYSize(),
+                                      GDT_Int32, 0, 0) != CE_None) {
       throw FormatError("scene: " + path + ": cannot read: " + gdal::last_error_message());
     }
     // -te/-ts produce a north-up raster; flip rows if the DEM runs south-up.
@@ -493,7 +525,8 @@ Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
     const std::string name = m.text("name");
     Material mat = scene.materials.contains(name) ? scene.materials[scene.materials.index_of(name)]
                                                   : Material{name, 0.01, 0.5, 0.0};
-    if (m.has("lambert_mu_db")) mat.lambert_mu = std::pow(10.0, m.number_in("lambert_mu_db", 0, -100, 0) / 10.0);
+    if (m.has("lambert_mu_db"))
+      mat.lambert_mu = std::pow(10.0, m.number_in("lambert_mu_db", 0, -100, 0) / 10.0);
     mat.paper_reflectivity = m.number_in("reflectivity", mat.paper_reflectivity, 0.0, 1.0);
     mat.texture_shape_nu = m.number_in("texture_shape", mat.texture_shape_nu, 0.0, 1e6);
     scene.materials.set(mat);

@@ -49,7 +49,8 @@ std::vector<Fields> Fields::sequence(const std::string& key) const {
 double Fields::number(const std::string& key) const {
   if (!has(key)) fail(key, "missing (a number is required)");
   double v = 0;
-  if (!node_[key].IsScalar() || !YAML::convert<double>::decode(node_[key], v) || !std::isfinite(v)) {
+  if (!node_[key].IsScalar() || !YAML::convert<double>::decode(node_[key], v) ||
+      !std::isfinite(v)) {
     fail_value(key, "a finite number");
   }
   return v;
@@ -107,7 +108,8 @@ std::vector<double> Fields::numbers(const std::string& key, std::size_t count) c
   if (seq.IsSequence() && seq.size() == count) {
     for (std::size_t i = 0; i < count; ++i) {
       double v = 0;
-      if (!seq[i].IsScalar() || !YAML::convert<double>::decode(seq[i], v) || !std::isfinite(v)) break;
+      if (!seq[i].IsScalar() || !YAML::convert<double>::decode(seq[i], v) || !std::isfinite(v))
+        break;
       out.push_back(v);
     }
   }

@@ -24,9 +24,13 @@ class Fields {
   const std::string& file() const { return file_; }
   /// "a.b" key path of this node ("" at the document root).
   const std::string& path() const { return path_; }
-  std::string key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  std::string key_path(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
 
-  bool has(const std::string& key) const { return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull(); }
+  bool has(const std::string& key) const {
+    return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull();
+  }
   Fields child(const std::string& key) const;
   /// Elements of a sequence under `key` (empty if absent); throws if it is not a sequence.
   std::vector<Fields> sequence(const std::string& key) const;
@@ -35,14 +39,19 @@ class Fields {
   [[noreturn]] void fail_value(const std::string& key, const std::string& constraint) const;
 
   double number(const std::string& key) const;
-  double number(const std::string& key, double fallback) const { return has(key) ? number(key) : fallback; }
+  double number(const std::string& key, double fallback) const {
+    return has(key) ? number(key) : fallback;
+  }
   /// A number that must satisfy lo <= v <= hi (inclusive), or lo < v when `lo_exclusive`.
-  double number_in(const std::string& key, double fallback, double lo, double hi, bool lo_exclusive = false) const;
+  double number_in(const std::string& key, double fallback, double lo, double hi,
+                   bool lo_exclusive = false) const;
   std::int64_t integer(const std::string& key, std::int64_t fallback) const;
   std::uint64_t seed(const std::string& key, std::uint64_t fallback) const;
   bool boolean(const std::string& key, bool fallback) const;
   std::string text(const std::string& key) const;
-  std::string text(const std::string& key, const std::string& fallback) const { return has(key) ? text(key) : fallback; }
+  std::string text(const std::string& key, const std::string& fallback) const {
+    return has(key) ? text(key) : fallback;
+  }
   /// A fixed-length list of numbers, e.g. size_m: [480, 0.5, 0.5].
   std::vector<double> numbers(const std::string& key, std::size_t count) const;
   /// Throws naming the first key of this map that is not in `allowed` (catches typos).

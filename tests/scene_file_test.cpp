@@ -20,7 +20,8 @@ class SceneFile : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("sonarsynth_scene_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("sonarsynth_scene_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -39,7 +40,8 @@ class SceneFile : public ::testing::Test {
       ADD_FAILURE() << "no error for:\n" << yaml;
     } catch (const E& e) {
       for (const char* f : fragments) {
-        EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << "'" << f << "' not in: " << e.what();
+        EXPECT_NE(std::string(e.what()).find(f), std::string::npos)
+            << "'" << f << "' not in: " << e.what();
       }
     }
   }
@@ -151,7 +153,8 @@ objects:
   EXPECT_NEAR(2 * pipe.half_extent_m.x(), 36.97, 0.05);  // 0.0004 deg of longitude at 33.9 S
   EXPECT_NEAR(s.objects.primitives()[2].half_extent_m.x(), 1.0, 1e-12);
   // The polygon assigns gravel inside, the default mud outside.
-  const Eigen::Vector2d inside = s.frame.local_from_geodetic({rad_from_deg(-33.9001), rad_from_deg(151.3), 0});
+  const Eigen::Vector2d inside =
+      s.frame.local_from_geodetic({rad_from_deg(-33.9001), rad_from_deg(151.3), 0});
   EXPECT_EQ(s.material_map.material_at(inside.x(), inside.y()), s.materials.index_of("gravel"));
   EXPECT_EQ(s.material_map.material_at(inside.x() + 30, inside.y()), s.materials.index_of("mud"));
 }
@@ -169,7 +172,8 @@ TEST_F(SceneFile, ClassificationRasterAssignsMaterials) {
     srs.importFromEPSG(4326);
     ds->SetSpatialRef(&srs);
     std::uint8_t v[2] = {1, 2};
-    ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 2, 1, v, 2, 1, GDT_Byte, 0, 0), CE_None);
+    ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 2, 1, v, 2, 1, GDT_Byte, 0, 0),
+              CE_None);
     GDALClose(ds);
   }
   const std::string path = write("s.yaml", std::string(kFlat) + R"(
@@ -178,7 +182,8 @@ seabed:
 )");
   const Scene s = load_scene(path);
   auto at = [&](double lat, double lon) {
-    const Eigen::Vector2d p = s.frame.local_from_geodetic({rad_from_deg(lat), rad_from_deg(lon), 0});
+    const Eigen::Vector2d p =
+        s.frame.local_from_geodetic({rad_from_deg(lat), rad_from_deg(lon), 0});
     return s.materials[s.material_map.material_at(p.x(), p.y())].name;
   };
   EXPECT_EQ(at(-33.9, 151.2995), "mud");
@@ -188,28 +193,41 @@ seabed:
 
 TEST_F(SceneFile, BadInputNamesFileKeyAndValue) {
   expect_error<FormatError>("bathymetry: [unclosed", {"bad.yaml", "malformed YAML", "line"});
-  expect_error<InputError>(std::string(kFlat) + "objecs: []\n", {"bad.yaml", "objecs", "unknown key"});
-  expect_error<InputError>(std::string(kFlat) + "objects:\n  - {type: pipe, position: {east_m: 0, north_m: 0}, length_m: 10, diameter_m: -0.5}\n",
+  expect_error<InputError>(std::string(kFlat) + "objecs: []\n",
+                           {"bad.yaml", "objecs", "unknown key"});
+  expect_error<InputError>(std::string(kFlat) +
+                               "objects:\n  - {type: pipe, position: {east_m: 0, north_m: 0}, "
+                               "length_m: 10, diameter_m: -0.5}\n",
                            {"bad.yaml", "objects[0].diameter_m = '-0.5'", "Violated constraint"});
-  expect_error<InputError>(std::string(kFlat) + "objects:\n  - {type: rock, position: {east_m: 60, north_m: 0}, diameter_m: 1}\n",
-                           {"bad.yaml", "objects[0]", "outside the bathymetry grid"});
-  expect_error<InputError>(std::string(kFlat) + "objects:\n  - {type: box, material: granite, position: {east_m: 0, north_m: 0}, size_m: [1, 1, 1]}\n",
+  expect_error<InputError>(
+      std::string(kFlat) +
+          "objects:\n  - {type: rock, position: {east_m: 60, north_m: 0}, diameter_m: 1}\n",
+      {"bad.yaml", "objects[0]", "outside the bathymetry grid"});
+  expect_error<InputError>(std::string(kFlat) +
+                               "objects:\n  - {type: box, material: granite, position: {east_m: 0, "
+                               "north_m: 0}, size_m: [1, 1, 1]}\n",
                            {"objects[0].material", "unknown material 'granite'"});
-  expect_error<InputError>(std::string(kFlat) + "objects:\n  - {type: spaceship, position: {east_m: 0, north_m: 0}}\n",
-                           {"objects[0].type = 'spaceship'"});
+  expect_error<InputError>(
+      std::string(kFlat) + "objects:\n  - {type: spaceship, position: {east_m: 0, north_m: 0}}\n",
+      {"objects[0].type = 'spaceship'"});
   expect_error<InputError>(R"(
 bathymetry:
   generate: {centre: {lat_deg: 10, lon_deg: 10}, size_m: [100, 100], cell_m: 0, depth_m: 20}
-)", {"bad.yaml", "bathymetry.generate.cell_m = '0'"});
+)",
+                           {"bad.yaml", "bathymetry.generate.cell_m = '0'"});
   expect_error<InputError>(R"(
 bathymetry:
   generate: {centre: {lat_deg: 10, lon_deg: 10}, size_m: [100, 100], cell_m: -1, depth_m: 20}
-)", {"cell_m = '-1'"});
-  expect_error<InputError>("bathymetry: {file: a.tif, generate: {}}\n", {"exactly one of file or generate"});
+)",
+                           {"cell_m = '-1'"});
+  expect_error<InputError>("bathymetry: {file: a.tif, generate: {}}\n",
+                           {"exactly one of file or generate"});
   expect_error<FormatError>("bathymetry: {file: missing.tif}\n", {"missing.tif"});
-  expect_error<InputError>(std::string(kFlat) + "objects:\n  - {type: box, id: 3, position: {east_m: 0, north_m: 0}, size_m: [1, 1, 1]}\n"
-                           "  - {type: box, id: 3, position: {east_m: 5, north_m: 0}, size_m: [1, 1, 1]}\n",
-                           {"objects[1].id = '3'", "unique"});
+  expect_error<InputError>(
+      std::string(kFlat) +
+          "objects:\n  - {type: box, id: 3, position: {east_m: 0, north_m: 0}, size_m: [1, 1, 1]}\n"
+          "  - {type: box, id: 3, position: {east_m: 5, north_m: 0}, size_m: [1, 1, 1]}\n",
+      {"objects[1].id = '3'", "unique"});
   EXPECT_THROW(load_scene((dir_ / "nope.yaml").string()), FormatError);
 }
 
