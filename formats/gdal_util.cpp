@@ -3,6 +3,8 @@
 
 #include <cpl_error.h>
 #include <gdal_priv.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
 
 #include <mutex>
 
@@ -56,6 +58,35 @@ DatasetPtr open_vector(const std::string& path, const char* what) {
                       (g_last_error.empty() ? "not a vector file GDAL can read" : g_last_error));
   }
   return DatasetPtr(ds);
+}
+
+VectorLayer open_vector_layer(const std::string& path, const std::string& layer_name,
+                              int target_epsg, bool assume_wgs84, const char* what) {
+  VectorLayer v;
+  v.dataset = open_vector(path, what);
+  v.layer =
+      layer_name.empty() ? v.dataset->GetLayer(0) : v.dataset->GetLayerByName(layer_name.c_str());
+  if (!v.layer) {
+    throw FormatError(
+        std::string(what) + ": " + path + ": no layer " +
+        (layer_name.empty() ? std::string("in the file") : "named '" + layer_name + "'"));
+  }
+  const OGRSpatialReference* src = v.layer->GetSpatialRef();
+  if (!src) {
+    if (assume_wgs84) return v;
+    throw FormatError(std::string(what) + ": " + path + ": the layer has no CRS");
+  }
+  OGRSpatialReference target;
+  target.importFromEPSG(target_epsg);
+  target.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  v.to_target = {
+      OGRCreateCoordinateTransformation(src, &target),
+      [](OGRCoordinateTransformation* ct) { OGRCoordinateTransformation::DestroyCT(ct); }};
+  if (!v.to_target) {
+    throw FormatError(std::string(what) + ": " + path +
+                      ": cannot transform the layer's CRS to EPSG:" + std::to_string(target_epsg));
+  }
+  return v;
 }
 
 void close_checked(DatasetPtr ds, const std::string& path, const char* what) {

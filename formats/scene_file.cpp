@@ -24,10 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 using yaml::Fields;
 
-std::string resolve(const fs::path& base_dir, const std::string& file) {
-  const fs::path p(file);
-  return (p.is_absolute() ? p : base_dir / p).lexically_normal().string();
-}
+using yaml::resolve_path;
 
 // State shared while building one scene.
 struct Builder {
@@ -160,20 +157,11 @@ struct Builder {
   // object; a Point gives `position`, a LineString a pipe from its first to its last vertex.
   void add_object_layer(const Fields& f) {
     f.only({"file", "layer"});
-    const std::string path = resolve(base_dir, f.text("file"));
-    gdal::DatasetPtr ds = gdal::open_vector(path, "scene");
-    OGRLayer* layer =
-        f.has("layer") ? ds->GetLayerByName(f.text("layer").c_str()) : ds->GetLayer(0);
-    if (!layer) f.fail("layer", "no such layer in " + path);
-    OGRSpatialReference wgs84;
-    wgs84.importFromEPSG(4326);
-    wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    const OGRSpatialReference* src = layer->GetSpatialRef();
-    std::unique_ptr<OGRCoordinateTransformation> ct;
-    if (src) {
-      ct.reset(OGRCreateCoordinateTransformation(src, &wgs84));
-      if (!ct) throw FormatError(path + ": cannot transform the layer's CRS to WGS 84");
-    }
+    const std::string path = resolve_path(base_dir, f.text("file"));
+    // Layers without a CRS are taken as longitude/latitude.
+    gdal::VectorLayer v = gdal::open_vector_layer(path, f.text("layer", ""), 4326, true, "scene");
+    OGRLayer* layer = v.layer;
+    OGRCoordinateTransformation* ct = v.to_target.get();
     int index = 0;
     for (auto& feature : *layer) {
       YAML::Node node;
@@ -190,7 +178,7 @@ struct Builder {
       const std::string where = path + " feature " + std::to_string(index++);
       if (!geom) throw InputError(where + ": has no geometry");
       std::unique_ptr<OGRGeometry> g(geom->clone());
-      if (ct && g->transform(ct.get()) != OGRERR_NONE) {
+      if (ct && g->transform(ct) != OGRERR_NONE) {
         throw InputError(where + ": cannot transform its geometry to WGS 84");
       }
       auto latlon = [](double lon, double lat) {
@@ -227,20 +215,11 @@ struct Builder {
   void add_polygons(const Fields& f) {
     if (f.has("file")) {
       f.only({"file", "layer", "material", "material_field"});
-      const std::string path = resolve(base_dir, f.text("file"));
-      gdal::DatasetPtr ds = gdal::open_vector(path, "scene");
-      OGRLayer* layer =
-          f.has("layer") ? ds->GetLayerByName(f.text("layer").c_str()) : ds->GetLayer(0);
-      if (!layer) f.fail("layer", "no such layer in " + path);
-      OGRSpatialReference target;
-      target.importFromEPSG(scene.frame.epsg());
-      target.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-      std::unique_ptr<OGRCoordinateTransformation> ct;
-      if (layer->GetSpatialRef())
-        ct.reset(OGRCreateCoordinateTransformation(layer->GetSpatialRef(), &target));
-      if (!ct)
-        throw FormatError(path + ": the layer has no CRS that can be transformed to EPSG:" +
-                          std::to_string(scene.frame.epsg()));
+      const std::string path = resolve_path(base_dir, f.text("file"));
+      gdal::VectorLayer v =
+          gdal::open_vector_layer(path, f.text("layer", ""), scene.frame.epsg(), false, "scene");
+      OGRLayer* layer = v.layer;
+      OGRCoordinateTransformation* ct = v.to_target.get();
       const std::string field = f.text("material_field", "");
       for (auto& feature : *layer) {
         std::uint16_t m = 0;
@@ -259,7 +238,7 @@ struct Builder {
         OGRGeometry* geom = feature->GetGeometryRef();
         if (!geom) continue;
         std::unique_ptr<OGRGeometry> g(geom->clone());
-        if (g->transform(ct.get()) != OGRERR_NONE)
+        if (g->transform(ct) != OGRERR_NONE)
           throw InputError(path + ": cannot transform a polygon");
         auto add_one = [&](const OGRPolygon* poly) {
           std::vector<std::vector<Eigen::Vector2d>> rings;
@@ -304,7 +283,7 @@ struct Builder {
   // A classification raster, warped (nearest neighbour) onto the scene's UTM zone.
   void set_classification(const Fields& f) {
     f.only({"file", "band", "classes"});
-    const std::string path = resolve(base_dir, f.text("file"));
+    const std::string path = resolve_path(base_dir, f.text("file"));
     gdal::DatasetPtr src = gdal::open_raster(path, "scene");
     const Fields classes = f.child("classes");
     std::map<long, std::uint16_t> lut;
@@ -466,7 +445,7 @@ Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
     ro.band = static_cast<int>(b.integer("band", 1));
     LoadedGrid lg = [&] {
       try {
-        return read_height_grid(resolve(base_dir, b.text("file")), ro);
+        return read_height_grid(resolve_path(base_dir, b.text("file")), ro);
       } catch (const InputError& e) {
         b.fail("", e.what());
       }

@@ -307,27 +307,15 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
   for (const Fields& l : sv.sequence("lines")) {
     if (l.has("file")) {
       l.only({"file", "layer"});
-      const fs::path base = fs::path(path).parent_path();
-      const fs::path fp(l.text("file"));
-      const std::string vpath = (fp.is_absolute() ? fp : base / fp).lexically_normal().string();
-      gdal::DatasetPtr ds = gdal::open_vector(vpath, "survey");
-      OGRLayer* layer =
-          l.has("layer") ? ds->GetLayerByName(l.text("layer").c_str()) : ds->GetLayer(0);
-      if (!layer) l.fail("layer", "no such layer in " + vpath);
-      OGRSpatialReference target;
-      target.importFromEPSG(scene.frame.epsg());
-      target.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-      std::unique_ptr<OGRCoordinateTransformation> ct;
-      if (layer->GetSpatialRef())
-        ct.reset(OGRCreateCoordinateTransformation(layer->GetSpatialRef(), &target));
-      if (!ct)
-        throw FormatError(vpath + ": survey lines need a CRS that transforms to EPSG:" +
-                          std::to_string(scene.frame.epsg()));
+      const std::string vpath = yaml::resolve_path(fs::path(path).parent_path(), l.text("file"));
+      gdal::VectorLayer vl =
+          gdal::open_vector_layer(vpath, l.text("layer", ""), scene.frame.epsg(), false, "survey");
+      OGRLayer* layer = vl.layer;
       for (auto& feature : *layer) {
         OGRGeometry* g = feature->GetGeometryRef();
         if (!g || wkbFlatten(g->getGeometryType()) != wkbLineString) continue;
         std::unique_ptr<OGRGeometry> gc(g->clone());
-        if (gc->transform(ct.get()) != OGRERR_NONE)
+        if (gc->transform(vl.to_target.get()) != OGRERR_NONE)
           throw FormatError(vpath + ": cannot transform a line");
         SurveyLine line;
         const int name_idx = feature->GetFieldIndex("name");

@@ -129,6 +129,11 @@ void Fields::only(const std::set<std::string>& allowed) const {
   }
 }
 
+std::string resolve_path(const std::filesystem::path& base_dir, const std::string& file) {
+  const std::filesystem::path p(file);
+  return (p.is_absolute() ? p : base_dir / p).lexically_normal().string();
+}
+
 YAML::Node load_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {

@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <optional>
 #include <set>
 #include <string>
@@ -62,6 +63,9 @@ class Fields {
   std::string file_;
   std::string path_;
 };
+
+/// `file` relative to `base_dir` unless absolute, normalised.
+std::string resolve_path(const std::filesystem::path& base_dir, const std::string& file);
 
 /// Loads a YAML file; throws FormatError naming the file (and line) when it is malformed.
 YAML::Node load_file(const std::string& path);

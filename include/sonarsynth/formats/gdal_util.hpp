@@ -5,6 +5,8 @@
 #include <string>
 
 class GDALDataset;
+class OGRLayer;
+class OGRCoordinateTransformation;
 
 namespace sonarsynth::gdal {
 
@@ -22,6 +24,20 @@ DatasetPtr open_raster(const std::string& path, const char* what,
                        const char* const* open_options = nullptr);
 /// Opens a vector dataset read-only; throws FormatError naming the path.
 DatasetPtr open_vector(const std::string& path, const char* what);
+/// One layer of a vector file, with the transformation of its geometries into a target CRS.
+struct VectorLayer {
+  DatasetPtr dataset;
+  OGRLayer* layer = nullptr;  ///< owned by `dataset`
+  /// Layer CRS -> EPSG:target (x = easting/longitude, y = northing/latitude); null when the layer
+  /// has no CRS and `assume_wgs84` was given (coordinates are taken as longitude, latitude).
+  std::unique_ptr<OGRCoordinateTransformation, void (*)(OGRCoordinateTransformation*)> to_target{
+      nullptr, nullptr};
+};
+/// Opens `layer_name` (empty = the first layer) of a vector file and prepares the transformation
+/// into EPSG:`target_epsg` in traditional GIS axis order. Throws FormatError naming the path for
+/// a missing file or layer, or a CRS that cannot be transformed (or none, unless assume_wgs84).
+VectorLayer open_vector_layer(const std::string& path, const std::string& layer_name,
+                              int target_epsg, bool assume_wgs84, const char* what);
 /// Closes a dataset that was written, turning a failed close (e.g. a full disk while flushing)
 /// into a FormatError naming the path.
 void close_checked(DatasetPtr ds, const std::string& path, const char* what);
