@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: MIT
+#include "bench_metrics.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace bench {
+
+void ErrorStats::add(const std::vector<double>& got, const std::vector<double>& ref,
+                     std::size_t block) {
+  for (std::size_t b0 = 0; b0 < ref.size(); b0 += block) {
+    const std::size_t b1 = std::min(ref.size(), b0 + block);
+    std::vector<double> lit;
+    for (std::size_t i = b0; i < b1; ++i)
+      if (ref[i] > 0.0) lit.push_back(ref[i]);
+    if (lit.empty()) continue;
+    const double floor = kFloorRel * median(lit);
+    for (std::size_t i = b0; i < b1; ++i) {
+      if (!std::isfinite(got[i]) || got[i] < 0.0) ++nonfinite;
+      if (!(ref[i] >= floor)) continue;
+      const bool edge =
+          (i > b0 && !(ref[i - 1] >= floor)) || (i + 1 < b1 && !(ref[i + 1] >= floor));
+      double e = kCapDb;
+      if (std::isfinite(got[i]) && got[i] > 1e-4 * ref[i]) {
+        e = std::min(kCapDb, std::abs(10.0 * std::log10(got[i] / ref[i])));
+      } else {
+        ++empty;
+      }
+      if (edge) {
+        edge_sum_sq_db += e * e;
+        edge_worst_db = std::max(edge_worst_db, e);
+        ++edge_bins;
+      } else {
+        sum_sq_db += e * e;
+        worst_db = std::max(worst_db, e);
+        ++bins;
+      }
+    }
+  }
+}
+
+double ErrorStats::rms_db() const {
+  return bins ? std::sqrt(sum_sq_db / static_cast<double>(bins)) : 0.0;
+}
+double ErrorStats::edge_rms_db() const {
+  return edge_bins ? std::sqrt(edge_sum_sq_db / static_cast<double>(edge_bins)) : 0.0;
+}
+double ErrorStats::all_rms_db() const {
+  const std::size_t n = bins + edge_bins;
+  return n ? std::sqrt((sum_sq_db + edge_sum_sq_db) / static_cast<double>(n)) : 0.0;
+}
+double ErrorStats::empty_fraction() const {
+  const std::size_t n = bins + edge_bins;
+  return n ? static_cast<double>(empty) / static_cast<double>(n) : 0.0;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double peak_rss_mib() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux: KiB
+}
+
+std::vector<bool> pareto_front(const std::vector<double>& x, const std::vector<double>& y) {
+  std::vector<bool> front(x.size(), true);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = 0; j < x.size(); ++j)
+      if (j != i && x[j] <= x[i] && y[j] <= y[i] && (x[j] < x[i] || y[j] < y[i])) {
+        front[i] = false;
+        break;
+      }
+  return front;
+}
+
+std::FILE* open_csv(const std::string& path, const char* header) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw std::runtime_error("cannot write " + path);
+  std::fprintf(f, "%s\n", header);
+  return f;
+}
+
+}  // namespace bench

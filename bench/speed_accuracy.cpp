@@ -1,0 +1,238 @@
+// SPDX-License-Identifier: MIT
+// Speed vs accuracy of every quality knob of the renderer, of a sub-sampled profile and of
+// uniform-angle ray casting, on (a) a flat seabed against the closed form (sonar-physics.md
+// §3.2), (b) a rough natural seabed and (c) the paper's pipe scene against a converged reference
+// (exact clipping, 0.02 m DEM, 4 sub-segments per cell, 5 Gauss points, 15 along-track planes,
+// 128 object segments). One thread; time per ping = both sides, profile extraction included,
+// median of --runs runs over the track's pings. Writes <out>/speed_accuracy_<scene>.csv.
+//
+// Usage: speed_accuracy [--out DIR] [--pings N] [--runs R] [--scenes flat,rough,paper] [--tiny]
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_metrics.hpp"
+#include "bench_render.hpp"
+#include "bench_scenes.hpp"
+
+#ifndef SONARSYNTH_SAMPLES_DIR
+#define SONARSYNTH_SAMPLES_DIR "samples"
+#endif
+
+namespace {
+
+using namespace sonarsynth;
+using namespace bench;
+
+double big_f(double r, double p) {
+  if (r <= p) return 0.0;
+  const double s = std::sqrt(1.0 - (p * p) / (r * r));
+  return s - s * s * s / 3.0;
+}
+
+std::vector<Method> methods(bool tiny) {
+  std::vector<Method> out;
+  const Method d = default_method();
+  out.push_back(d);
+  auto var = [&](const std::string& family, const std::string& label, auto&& edit) {
+    Method m = d;
+    m.family = family;
+    m.label = label;
+    m.is_default = false;
+    edit(m);
+    out.push_back(m);
+  };
+  for (const int g : {1, 3, 5})
+    var("gauss", "gauss=" + std::to_string(g), [g](Method& m) { m.gauss_points = g; });
+  for (const int s : {2, 4, 8})
+    var("subdiv", "subdiv=" + std::to_string(s),
+        [s](Method& m) { m.profile.grid_subdivisions = s; });
+  for (const int k : {3, 5, 9, 15})
+    var("planes", "planes=" + std::to_string(k), [k](Method& m) { m.along_track_planes = k; });
+  for (const int o : {4, 8, 32, 64})
+    var("objseg", "objseg=" + std::to_string(o), [o](Method& m) { m.profile.object_segments = o; });
+  for (const double c : {0.02, 0.05, 0.1, 0.5, 1.0, 2.0}) {
+    std::ostringstream l;
+    l << "cell=" << c;
+    var("cell", l.str(), [c](Method& m) { m.cell_m = c; });
+  }
+  for (const int n : {2, 4, 8})
+    var("decimate", "decimate=" + std::to_string(n), [n](Method& m) { m.decimate = n; });
+  for (const std::size_t r : {1000u, 3000u, 10000u, 30000u, 100000u})
+    var("rays", "rays=" + std::to_string(r), [r](Method& m) { m.rays = r; });
+  var("rays", "rays=30000+cell=0.05", [](Method& m) {
+    m.rays = 30000;
+    m.cell_m = 0.05;
+  });
+  if (tiny) out.resize(4);
+  return out;
+}
+
+Method reference_method() {
+  Method m;
+  m.family = "reference";
+  m.label = "reference";
+  m.cell_m = 0.02;
+  m.profile.grid_subdivisions = 4;
+  m.profile.object_segments = 128;
+  m.gauss_points = 5;
+  m.along_track_planes = 15;
+  return m;
+}
+
+void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, bool tiny) {
+  const std::string yaml = SONARSYNTH_SAMPLES_DIR "/paper_pipes.yaml";
+  const Track track = track_for(kind, pings);
+  std::map<double, Scene> scenes;
+  auto scene_at = [&](double cell) -> const Scene& {
+    auto it = scenes.find(cell);
+    if (it == scenes.end()) it = scenes.emplace(cell, make_scene(kind, cell, track, yaml)).first;
+    return it->second;
+  };
+  const SimulationConfig cfg = bench_config(kind);
+  const Scene& base = scene_at(0.25);
+  const Simulator sim(base, cfg, track.altitude_m);
+  const SideParams& side = sim.side_params();
+  const std::size_t n = side.samples;
+  const std::vector<PingPose> poses = track_poses(base, track);
+
+  // Reference energies per ping.
+  std::vector<std::vector<double>> ref(poses.size());
+  PingWorkspace ws;
+  if (kind == SceneKind::flat) {
+    const double coef = side.calibration_k *
+                        backscatter_coefficient(
+                            side.backscatter, side.materials[base.material_map.default_material()]);
+    const double h = kFlatAltitudeM, dr = side.sample_spacing_m;
+    for (auto& r : ref) {
+      r.assign(2 * n, 0.0);
+      for (std::size_t i = 0; i < n; ++i) {
+        const double e =
+            coef * side.beta_eff_rad / (h * h) *
+            (big_f(static_cast<double>(i + 1) * dr, h) - big_f(static_cast<double>(i) * dr, h));
+        r[i] = r[n + i] = e;
+      }
+    }
+  } else {
+    Method rm = reference_method();
+    if (tiny) rm.cell_m = 0.1;
+    const Scene& rs = scene_at(rm.cell_m);
+    const std::vector<PingPose> rposes = track_poses(rs, track);
+    const double t0 = now_s();
+    for (std::size_t p = 0; p < poses.size(); ++p)
+      render_ping_energy(rs, side, cfg.sonar, rposes[p], rm, ws, ref[p]);
+    std::printf("%s: reference %.1f ms/ping\n", to_string(kind),
+                1e3 * (now_s() - t0) / static_cast<double>(poses.size()));
+  }
+
+  // The same sensor positions for every method: heights from the reference DEM.
+  const std::vector<PingPose> use_poses =
+      kind == SceneKind::flat ? poses : track_poses(scene_at(tiny ? 0.1 : 0.02), track);
+  struct Row {
+    Method m;
+    double time_ms;
+    ErrorStats e;
+  };
+  std::vector<Row> rows;
+  std::vector<double> got;
+  for (const Method& m : methods(tiny)) {
+    const Scene& sc = scene_at(m.cell_m);
+    Row row{m, 0.0, {}};
+    for (std::size_t p = 0; p < use_poses.size(); ++p) {
+      render_ping_energy(sc, side, cfg.sonar, use_poses[p], m, ws, got);
+      row.e.add(got, ref[p], n);
+    }
+    rows.push_back(row);
+  }
+  // Timing: runs outer, methods inner, so that drifts of the machine load hit every method alike.
+  std::vector<std::vector<double>> times(rows.size());
+  for (int r = 0; r < runs; ++r) {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const Scene& sc = scene_at(rows[i].m.cell_m);
+      const double t0 = now_s();
+      for (const PingPose& pose : use_poses)
+        render_ping_energy(sc, side, cfg.sonar, pose, rows[i].m, ws, got);
+      times[i].push_back((now_s() - t0) / static_cast<double>(use_poses.size()));
+    }
+  }
+  std::vector<double> x, y;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    Row& row = rows[i];
+    row.time_ms = 1e3 * median(times[i]);
+    std::printf(
+        "%s %-22s %9.3f ms/ping  rms %7.3f dB  worst %7.2f dB  edge rms %6.2f  all rms "
+        "%7.3f  empty %.3f\n",
+        to_string(kind), row.m.label.c_str(), row.time_ms, row.e.rms_db(), row.e.worst_db,
+        row.e.edge_rms_db(), row.e.all_rms_db(), row.e.empty_fraction());
+    x.push_back(row.time_ms);
+    y.push_back(row.e.all_rms_db());
+  }
+  const std::vector<bool> front = pareto_front(x, y);
+  std::FILE* f = open_csv(out_dir + "/speed_accuracy_" + to_string(kind) + ".csv",
+                          "scene,family,label,cell_m,subdiv,gauss,planes,objseg,decimate,rays,"
+                          "time_ms,rms_db,worst_db,edge_rms_db,edge_worst_db,empty_frac,nonfinite,"
+                          "pareto,default,bins,edge_bins,all_rms_db");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    std::fprintf(
+        f, "%s,%s,%s,%g,%d,%d,%d,%d,%d,%zu,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%zu,%d,%d,%zu,%zu,%.5g\n",
+        to_string(kind), r.m.family.c_str(), r.m.label.c_str(), r.m.cell_m,
+        r.m.profile.grid_subdivisions, r.m.gauss_points, r.m.along_track_planes,
+        r.m.profile.object_segments, r.m.decimate, r.m.rays, r.time_ms, r.e.rms_db(), r.e.worst_db,
+        r.e.edge_rms_db(), r.e.edge_worst_db, r.e.empty_fraction(), r.e.nonfinite, front[i] ? 1 : 0,
+        r.m.is_default ? 1 : 0, r.e.bins, r.e.edge_bins, r.e.all_rms_db());
+  }
+  std::fclose(f);
+}
+
+int run(int argc, char** argv) {
+  std::string out = ".";
+  int pings = 10, runs = 5;
+  bool tiny = false;
+  std::vector<SceneKind> kinds = {SceneKind::flat, SceneKind::rough, SceneKind::paper};
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::runtime_error("missing value after " + a);
+      return argv[++i];
+    };
+    if (a == "--out") {
+      out = next();
+    } else if (a == "--pings") {
+      pings = std::stoi(next());
+    } else if (a == "--runs") {
+      runs = std::stoi(next());
+    } else if (a == "--tiny") {
+      tiny = true;
+      pings = 2;
+      runs = 1;
+    } else if (a == "--scenes") {
+      kinds.clear();
+      std::stringstream ss(next());
+      std::string tok;
+      while (std::getline(ss, tok, ','))
+        kinds.push_back(tok == "flat"    ? SceneKind::flat
+                        : tok == "rough" ? SceneKind::rough
+                                         : SceneKind::paper);
+    } else {
+      throw std::runtime_error("unknown argument " + a);
+    }
+  }
+  for (const SceneKind k : kinds) run_scene(k, out, pings, runs, tiny);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "speed_accuracy: %s\n", e.what());
+    return 1;
+  }
+}
