@@ -2,6 +2,7 @@
 #include "sonarsynth/render_side.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -48,6 +49,39 @@ constexpr GaussRule kRules[5] = {
                0.47862867049936646804, 0.23692688505618908751}),
 };
 
+// exp(x) without a libm call (Tang's table method, ACM TOMS 15(2):144-157, 1989): x = (64 m +
+// j) ln2 / 64 + r with |r| <= ln2 / 128, exp(x) = 2^m 2^(j/64) exp(r), exp(r) by its Taylor
+// polynomial to r^5 (first omitted term < 0.0055^6 / 720 < 4e-17): a few ulp, against ~1e-6
+// needed. k = 64 m + j = nearest integer to 64 x / ln2 by the round-to-nearest shifter 1.5 2^52
+// (its low mantissa bits hold k); ln2 / 64 is split in a 32-bit head (k ln2_hi exact for
+// |k| < 2^21) and a tail; 2^m is added to the exponent field of the table entry 2^(j/64).
+struct Exp2Table {
+  std::uint64_t bits[64];
+  Exp2Table() {
+    for (int j = 0; j < 64; ++j) {
+      bits[j] = std::bit_cast<std::uint64_t>(std::exp2(static_cast<double>(j) / 64.0));
+    }
+  }
+};
+const Exp2Table kExp2Table;
+
+inline double exp_table(double x) {
+  if (!(x > -700.0 && x < 700.0)) return std::exp(x);                 // far tails, NaN: libm
+  constexpr double kInvLn2x64 = 92.332482616893656877;                // 64 / ln 2
+  constexpr double kLn2HiOver64 = 6.93147180369123816490e-01 / 64.0;  // fdlibm ln2_hi / 64
+  constexpr double kLn2LoOver64 = 1.90821492927058770002e-10 / 64.0;  // fdlibm ln2_lo / 64
+  constexpr double kShifter = 0x1.8p52;
+  const double shifted = x * kInvLn2x64 + kShifter;
+  const std::uint64_t k = std::bit_cast<std::uint64_t>(shifted);  // low bits: k mod 2^51
+  const double kd = shifted - kShifter;                           // k, exactly
+  const double r = (x - kd * kLn2HiOver64) - kd * kLn2LoOver64;
+  const double p =
+      1.0 + r * (1.0 + r * (0.5 + r * (1.0 / 6.0 + r * (1.0 / 24.0 + r * (1.0 / 120.0)))));
+  // m = floor(k / 64) in the exponent field: (k >> 6) << 52 modulo 2^64 (k < 0 wraps, |m| < 1100).
+  const std::uint64_t scaled = kExp2Table.bits[k & 63] + ((k >> 6) << 52);
+  return std::bit_cast<double>(scaled) * p;
+}
+
 // Slant-range bins of width dr: bin j = [j dr, (j + 1) dr), j = 0 .. n - 1.
 struct UniformGrid {
   double dr;
@@ -91,14 +125,14 @@ struct Integrand {
 struct Facet {
   double ay, az, uy, uz;  // start and direction
   double len_m;           // |u|
-  double ny, nz;          // upward unit normal (-u_z, u_y) / |u|
   double a, tm0, p2;      // r(t)^2 = a (t - tm0)^2 + p2 (p = distance of the facet's line)
-  double coef;            // K beta_eff sigma-coefficient of the facet's material
+  // K beta_eff sigma-coefficient of the material times c0^2, where c0 = -n . (P - S) = cross /
+  // |u| is constant along the facet (n is normal to u): cos(incidence) = c0 / r at every point.
+  double coef;
   // Depression of P(t) - S relative to that of w = A - S: theta(t) = theta_a - atan(x),
   // x = t cross / (w2 + t wu) (angle between w and w + t u), see depression().
   double theta_a, w2, wu, cross;
-  std::int32_t label;
-  std::uint16_t material;
+  std::int32_t index;  // facet index in the profile
   double range(double t) const {
     const double d = t - tm0;
     return std::sqrt(std::max(0.0, a * d * d + p2));
@@ -128,11 +162,9 @@ struct Facet {
 struct Workspace {
   double* energy;
   double* best;
-  double* best_cos;
+  std::int32_t* best_facet;
   double* best_y;
-  double* best_z;
-  std::int32_t* best_label;
-  std::uint16_t* best_material;
+  double* best_dz;
 };
 
 // Longest sub-piece integrated by one Gauss rule, relative to its distance from the sensor:
@@ -151,11 +183,9 @@ inline double gauss_sum(const Facet& f, const Integrand& in, double q0, double d
     const double r2 = py * py + dz * dz;
     if (!(r2 > 0.0)) continue;
     const double r = std::sqrt(r2);
-    const double cos_inc = -(f.ny * py + f.nz * dz) / r;
-    if (!(cos_inc > 0.0)) continue;
-    // sigma / coef = cos^2(phi); along-track extent r beta (beta in coef).
-    double v = rule.w[g] * cos_inc * cos_inc * r;
-    if (in.spreading) v /= r2 * r2;
+    // sigma = coef' cos^2(phi) = coef' c0^2 / r^2 (c0^2 in f.coef); along-track extent r beta
+    // (beta in coef): w r / r^2 (/ r^4 with spreading).
+    double v = rule.w[g] / (in.spreading ? r2 * r2 * r : r);
     // Gaussian beam and absorption share one exp().
     double expo = 0.0;
     if (in.gauss_coef > 0.0) {
@@ -165,7 +195,7 @@ inline double gauss_sum(const Facet& f, const Integrand& in, double q0, double d
       v *= in.beam->two_way(f.depression(t, py, dz) - in.axis_rad);
     }
     if (in.kappa_per_m > 0.0) expo -= in.kappa_per_m * r;
-    if (expo != 0.0) v *= std::exp(expo);
+    if (expo != 0.0) v *= exp_table(expo);
     sum += v;
   }
   return sum;
@@ -196,13 +226,10 @@ inline void integrate(const Facet& f, const Integrand& in, double q0, double q1,
   ws.energy[j] += e;
   if constexpr (kTruth) {
     if (e > ws.best[j]) {
-      const double r = std::sqrt(rmid2);
       ws.best[j] = e;
-      ws.best_cos[j] = r > 0.0 ? std::clamp(-(f.ny * my + f.nz * mz) / r, 0.0, 1.0) : 0.0;
+      ws.best_facet[j] = f.index;
       ws.best_y[j] = my;
-      ws.best_z[j] = mz + in.sensor_z_m;
-      ws.best_label[j] = f.label;
-      ws.best_material[j] = f.material;
+      ws.best_dz[j] = mz;
     }
   }
 }
@@ -317,9 +344,8 @@ void validate_profile(const BeamProfile& p, std::size_t n_materials) {
 template <bool kTruth, class Grid>
 bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, SideEcho& out) {
   auto& w = out.workspace;
-  const Workspace ws{w.fine_energy.data(),  w.best_energy.data(), w.best_cos_inc.data(),
-                     w.best_y_m.data(),     w.best_z_m.data(),    w.best_label.data(),
-                     w.best_material.data()};
+  const Workspace ws{w.fine_energy.data(), w.best_energy.data(), w.best_facet.data(),
+                     w.best_y_m.data(), w.best_dz_m.data()};
   const VerticalBeamShape shape = par.vertical_beam.shape;
   const double w3 = par.vertical_beam.width_3db_rad;
   // Two-way Gaussian: (exp(-4 ln2 (off/W)^2))^2 = exp(-8 ln2 off^2 / W^2), reference §1.3.
@@ -377,22 +403,21 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     }
     if (!(f.a > 0.0)) continue;  // zero-length facet
     f.len_m = std::sqrt(f.a);
-    f.ny = -f.uz / f.len_m;
-    f.nz = f.uy / f.len_m;
     const double wy = ya, wz = za - hs;  // w = A - S
     f.tm0 = -(wy * f.uy + wz * f.uz) / f.a;
     const double cross = wy * f.uz - wz * f.uy;
+    const double c0 = cross / f.len_m;  // cos(incidence) r, > 0 iff the facet faces the sensor
     f.p2 = cross * cross / f.a;
     f.cross = cross;
     f.w2 = wy * wy + wz * wz;
     f.wu = wy * f.uy + wz * f.uz;
     f.theta_a = std::atan2(-wz, wy);
-    const std::size_t fi = i;
-    f.label = prof.label[fi];
-    f.material = prof.material[fi];
-    f.coef = kb * backscatter_coefficient(par.backscatter, par.materials[f.material]);
+    f.index = static_cast<std::int32_t>(i);
+    f.coef =
+        kb * backscatter_coefficient(par.backscatter, par.materials[prof.material[i]]) * c0 * c0;
     if constexpr (kTruth) mark_shadow(f, grid, h0, h1, w.shadowed);
-    if (!(t1 > t0)) continue;
+    // Lit part only; a facet seen from behind or edge-on (c0 <= 0) returns nothing.
+    if (!(t1 > t0) || !(c0 > 0.0)) continue;
     const double tm = std::clamp(f.tm0, t0, t1);
     render_piece<kTruth>(f, in, grid, t0, tm, -1.0, ws);
     render_piece<kTruth>(f, in, grid, tm, t1, +1.0, ws);
@@ -402,7 +427,8 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
 
 // Sample i <- fine bins [first(i), last(i)] (clipped at 0).
 template <bool kTruth, class Window>
-void gather(const SideParams& par, bool any_valid, Window window, SideEcho& out) {
+void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Window window,
+            SideEcho& out) {
   auto& w = out.workspace;
   const std::size_t ns = par.samples;
   const std::ptrdiff_t nf = static_cast<std::ptrdiff_t>(w.fine_energy.size());
@@ -415,6 +441,10 @@ void gather(const SideParams& par, bool any_valid, Window window, SideEcho& out)
       }
     }
   }
+  std::int32_t facet = -1;  // facet of the cached normal, label and material
+  double ny = 0.0, nz = 0.0;
+  std::int32_t label = 0;
+  std::uint16_t material = 0;
   for (std::size_t i = 0; i < ns; ++i) {
     const auto [j0, j1] = window(static_cast<std::ptrdiff_t>(i));
     double sum = 0.0;
@@ -434,13 +464,29 @@ void gather(const SideParams& par, bool any_valid, Window window, SideEcho& out)
     out.intensity[i] = sum;
     if constexpr (kTruth) {
       if (jbest >= 0) {
+        // The dominant sub-piece's midpoint (my, mz) relative to the sensor; the normal of its
+        // facet is computed once per run of samples sharing the facet.
         const auto b = static_cast<std::size_t>(jbest);
-        out.truth_class[i] = w.best_label[b] > 0 ? SampleClass::object : SampleClass::seabed;
-        out.truth_label[i] = w.best_label[b];
-        out.truth_material[i] = w.best_material[b];
-        out.truth_grazing_rad[i] = std::asin(w.best_cos_inc[b]);
-        out.truth_ground_y_m[i] = w.best_y_m[b];
-        out.truth_ground_z_m[i] = w.best_z_m[b];
+        const std::int32_t fi = w.best_facet[b];
+        if (fi != facet) {
+          facet = fi;
+          const auto k = static_cast<std::size_t>(fi);
+          const double uy = prof.y_m[k + 1] - prof.y_m[k], uz = prof.z_m[k + 1] - prof.z_m[k];
+          const double len = std::sqrt(uy * uy + uz * uz);
+          ny = -uz / len;  // upward unit normal
+          nz = uy / len;
+          label = prof.label[k];
+          material = prof.material[k];
+        }
+        const double my = w.best_y_m[b], mz = w.best_dz_m[b];
+        const double r = std::sqrt(my * my + mz * mz);
+        const double cos_inc = r > 0.0 ? std::clamp(-(ny * my + nz * mz) / r, 0.0, 1.0) : 0.0;
+        out.truth_class[i] = label > 0 ? SampleClass::object : SampleClass::seabed;
+        out.truth_label[i] = label;
+        out.truth_material[i] = material;
+        out.truth_grazing_rad[i] = std::asin(cos_inc);
+        out.truth_ground_y_m[i] = my;
+        out.truth_ground_z_m[i] = mz + prof.sensor_z_m;
       } else {
         out.truth_class[i] = shadow                             ? SampleClass::shadow
                              : (j1 < first_return && any_valid) ? SampleClass::water_column
@@ -474,11 +520,9 @@ void render_impl(const BeamProfile& prof, const SideParams& par, SideEcho& out) 
   w.fine_energy.assign(nf, 0.0);
   if constexpr (kTruth) {
     w.best_energy.assign(nf, 0.0);
-    w.best_cos_inc.resize(nf);
+    w.best_facet.resize(nf);
     w.best_y_m.resize(nf);
-    w.best_z_m.resize(nf);
-    w.best_label.resize(nf);
-    w.best_material.resize(nf);
+    w.best_dz_m.resize(nf);
     w.shadowed.assign(nf, 0);
     out.truth_class.resize(par.samples);
     out.truth_label.resize(par.samples);
@@ -492,7 +536,7 @@ void render_impl(const BeamProfile& prof, const SideParams& par, SideEcho& out) 
     const SplitGrid grid{dr, 1.0 / dr, f, 2 * ns};
     const bool any = sweep<kTruth>(prof, par, grid, out);
     gather<kTruth>(
-        par, any,
+        prof, par, any,
         [m](std::ptrdiff_t i) {
           return std::pair<std::ptrdiff_t, std::ptrdiff_t>{2 * (i - m) + 1, 2 * i + 1};
         },
@@ -502,7 +546,7 @@ void render_impl(const BeamProfile& prof, const SideParams& par, SideEcho& out) 
     const bool any = sweep<kTruth>(prof, par, grid, out);
     const std::ptrdiff_t back = par.pulse_window_m > 0.0 ? m - 1 : 0;
     gather<kTruth>(
-        par, any,
+        prof, par, any,
         [back](std::ptrdiff_t i) {
           return std::pair<std::ptrdiff_t, std::ptrdiff_t>{i - back, i};
         },

@@ -63,15 +63,15 @@ struct SideEcho {
   std::vector<double> truth_ground_y_m;   ///< beam-plane y of the contributor, m, NaN if none
   std::vector<double> truth_ground_z_m;   ///< height z of the contributor, m, NaN if none
 
-  /// Scratch space of the renderer (fine bins, per-bin dominance); not an output.
+  /// Scratch space of the renderer (fine bins, per-bin dominance); not an output. Per fine bin
+  /// the dominant sub-piece is recorded as its profile facet and midpoint only; its grazing
+  /// angle, label and material are derived once per sample when gathering.
   struct Workspace {
     std::vector<double> fine_energy;
     std::vector<double> best_energy;
-    std::vector<double> best_cos_inc;
-    std::vector<double> best_y_m;
-    std::vector<double> best_z_m;
-    std::vector<std::int32_t> best_label;
-    std::vector<std::uint16_t> best_material;
+    std::vector<std::int32_t> best_facet;  ///< profile facet index of the dominant sub-piece
+    std::vector<double> best_y_m;          ///< its midpoint's y
+    std::vector<double> best_dz_m;         ///< its midpoint's z minus the sensor height
     std::vector<std::uint8_t> shadowed;
   } workspace;
 };
