@@ -2,8 +2,12 @@
 #include "sonarsynth/simulator.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <mutex>
 #include <numeric>
 #include <thread>
 
@@ -22,8 +26,30 @@ double seconds_since(Clock::time_point t0) {
 // ground-cell keys.
 constexpr std::uint64_t kPingSampleKeyBit = 1ULL << 63;
 
-std::uint64_t ping_sample_key(std::uint64_t ping, bool starboard, std::size_t sample) {
-  return kPingSampleKeyBit | (hash_combine(hash_combine(ping, starboard ? 1 : 0), sample) >> 1);
+// Key of (ping, side, sample) = bit | hash_combine(hash_combine(ping, side), sample) >> 1, with
+// the (ping, side) part hoisted out of the loop and splitmix64(sample) precomputed:
+// hash_combine(h, i) = splitmix64(h ^ splitmix64(i)) (same values as the nested form).
+void ping_sample_keys(std::uint64_t ping, bool starboard, const std::vector<std::uint64_t>& sh,
+                      std::vector<std::uint64_t>& keys) {
+  const std::uint64_t h = hash_combine(ping, starboard ? 1 : 0);
+  keys.resize(sh.size());
+  for (std::size_t i = 0; i < sh.size(); ++i) {
+    keys[i] = kPingSampleKeyBit | (splitmix64(h ^ sh[i]) >> 1);
+  }
+}
+
+// floor(x) as int64 for finite |x| < 2^63 without a libm call (identical to std::floor there):
+// truncation, minus one for negative non-integers.
+inline std::int64_t floor_to_int(double x) {
+  const auto i = static_cast<std::int64_t>(x);
+  return static_cast<double>(i) > x ? i - 1 : i;
+}
+
+// std::round (half away from zero) of v in [0, 2^52) without a libm call: the fractional part
+// v - trunc(v) is exact, so comparing it with 1/2 reproduces round() bit for bit.
+inline double round_nonnegative(double v) {
+  const double t = static_cast<double>(static_cast<std::int64_t>(v));
+  return v - t >= 0.5 ? t + 1.0 : t;
 }
 
 }  // namespace
@@ -76,6 +102,9 @@ struct Simulator::Workspace {
   std::vector<std::uint64_t> noise_keys;
   std::vector<double> nu;
   std::vector<double> tvg_gain;  // linear TVG x quantiser gain per sample (precomputed)
+  // splitmix64(i) per sample index (precomputed): the per-ping part of the (ping, side, sample)
+  // key then costs one splitmix64 per sample (see ping_sample_keys).
+  std::vector<std::uint64_t> sample_hash;
 };
 
 Simulator::Simulator(const Scene& scene, const SimulationConfig& config,
@@ -173,6 +202,8 @@ Simulator::WorkspacePtr Simulator::make_workspace() const {
   apply_tvg(tvg_, 0.5 * side_.sample_spacing_m, side_.sample_spacing_m, ws->tvg_gain);
   const double g = std::pow(10.0, quantizer_.gain_db / 10.0);
   for (double& v : ws->tvg_gain) v *= g;
+  ws->sample_hash.resize(side_.samples);
+  for (std::size_t i = 0; i < side_.samples; ++i) ws->sample_hash[i] = splitmix64(i);
   return ws;
 }
 
@@ -191,17 +222,19 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
       config_.sonar.tilt_rad + (starboard ? pose.roll_rad : -pose.roll_rad);
   const double max_y = config_.sonar.max_range_m;
 
-  ws.accum.assign(n, 0.0);
-  const std::size_t central = plane_psi_rad_.size() / 2;
+  // Clock reads only when timings are requested.
+  const auto now = [timings] { return timings != nullptr ? Clock::now() : Clock::time_point{}; };
+  const std::size_t planes = plane_psi_rad_.size();
+  const std::size_t central = planes / 2;
   Eigen::Vector2d central_dir = across;
   bool have_truth = false;
-  for (std::size_t k = 0; k < plane_psi_rad_.size(); ++k) {
+  for (std::size_t k = 0; k < planes; ++k) {
     const double c = std::cos(plane_psi_rad_[k]), s = std::sin(plane_psi_rad_[k]);
     const Eigen::Vector2d dir(c * across.x() - s * across.y(), s * across.x() + c * across.y());
-    auto t0 = Clock::now();
+    const auto t0 = now();
     build_beam_profile(scene_, nadir, dir, max_y, pose.sensor_z_m, config_.quality.profile,
                        ws.profile, ws.scratch);
-    auto t1 = Clock::now();
+    const auto t1 = now();
     ws.params.beta_eff_rad = plane_beta_rad_[k];
     ws.params.truth = side_.truth && k == central;
     render_side(ws.profile, ws.params, ws.echo);
@@ -209,18 +242,23 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
       timings->profile_s += std::chrono::duration<double>(t1 - t0).count();
       timings->render_s += seconds_since(t1);
     }
-    for (std::size_t i = 0; i < n; ++i) ws.accum[i] += ws.echo.intensity[i];
+    // The first plane's intensity is copied (0 + x == x), later planes are added.
+    if (k == 0) {
+      ws.accum.assign(ws.echo.intensity.begin(), ws.echo.intensity.end());
+    } else {
+      for (std::size_t i = 0; i < n; ++i) ws.accum[i] += ws.echo.intensity[i];
+    }
     if (k == central) {
       central_dir = dir;
       have_truth = ws.params.truth;
     }
   }
 
-  const auto t2 = Clock::now();
+  const auto t2 = now();
   const SideEcho& e = ws.echo;  // truth of the central plane (rendered last among truth planes)
   // The echo's truth arrays hold the central plane only if it was rendered last with truth on;
   // with K > 1 planes the central one is not last, so re-render it for truth when needed.
-  if (have_truth && central + 1 != plane_psi_rad_.size()) {
+  if (have_truth && central + 1 != planes) {
     build_beam_profile(scene_, nadir, central_dir, max_y, pose.sensor_z_m, config_.quality.profile,
                        ws.profile, ws.scratch);
     ws.params.beta_eff_rad = plane_beta_rad_[central];
@@ -230,32 +268,52 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
 
   const NoiseConfig& nc = config_.noise;
   const std::uint64_t ping = pose.ping_index;
-  if (nc.model != NoiseConfig::Model::kNone) {
-    ws.noise_keys.resize(n);
-    for (std::size_t i = 0; i < n; ++i) ws.noise_keys[i] = ping_sample_key(ping, starboard, i);
-  }
   if (nc.model == NoiseConfig::Model::kPaper) {
+    ping_sample_keys(ping, starboard, ws.sample_hash, ws.noise_keys);
     PaperNoise pn;
     pn.uniform_half_width = nc.paper_uniform_half_width;
     pn.rayleigh_sigma = std::sqrt(noise_power_ / 2.0);  // Rayleigh mean power 2 sigma^2 = N
     pn.seed = config_.seed;
     apply_paper_noise(pn, ws.noise_keys, ws.accum);
   } else if (nc.model == NoiseConfig::Model::kSpeckle) {
+    ping_sample_keys(ping, starboard, ws.sample_hash, ws.noise_keys);
     // Frozen speckle: the key of a sample is the seabed cell of its dominant contributor.
+    // Neighbouring samples often fall in the same cell: its key is then reused (same value).
     const double cell =
         nc.freeze_cell_m > 0 ? nc.freeze_cell_m : config_.sonar.range_resolution_m();
+    const double nx = nadir.x(), ny = nadir.y();
+    const double dx = central_dir.x(), dy = central_dir.y();
     ws.keys.resize(n);
     ws.nu.assign(nc.texture ? n : 0, 0.0);
+    bool have_last = false;
+    std::int64_t lx = 0, ly = 0, lz = 0;
+    std::uint64_t last_key = 0;
     for (std::size_t i = 0; i < n; ++i) {
       const SampleClass cls = e.truth_class[i];
       if (cls == SampleClass::seabed || cls == SampleClass::object) {
-        const Eigen::Vector2d g = nadir + e.truth_ground_y_m[i] * central_dir;
-        const auto ix = static_cast<std::int64_t>(std::floor(g.x() / cell));
-        const auto iy = static_cast<std::int64_t>(std::floor(g.y() / cell));
-        const auto iz = static_cast<std::int64_t>(std::floor(e.truth_ground_z_m[i] / cell));
-        ws.keys[i] = ~kPingSampleKeyBit & hash_combine(hash_combine(static_cast<std::uint64_t>(ix),
+        const double gy = e.truth_ground_y_m[i];
+        const double qx = (nx + gy * dx) / cell, qy = (ny + gy * dy) / cell;
+        const double qz = e.truth_ground_z_m[i] / cell;
+        std::int64_t ix, iy, iz;
+        if (std::abs(qx) < 0x1p62 && std::abs(qy) < 0x1p62 && std::abs(qz) < 0x1p62) {
+          ix = floor_to_int(qx);
+          iy = floor_to_int(qy);
+          iz = floor_to_int(qz);
+        } else {
+          ix = static_cast<std::int64_t>(std::floor(qx));
+          iy = static_cast<std::int64_t>(std::floor(qy));
+          iz = static_cast<std::int64_t>(std::floor(qz));
+        }
+        if (!have_last || ix != lx || iy != ly || iz != lz) {
+          last_key = ~kPingSampleKeyBit & hash_combine(hash_combine(static_cast<std::uint64_t>(ix),
                                                                     static_cast<std::uint64_t>(iy)),
                                                        static_cast<std::uint64_t>(iz));
+          lx = ix;
+          ly = iy;
+          lz = iz;
+          have_last = true;
+        }
+        ws.keys[i] = last_key;
         if (nc.texture) ws.nu[i] = side_.materials[e.truth_material[i]].texture_shape_nu;
       } else {
         ws.keys[i] = ws.noise_keys[i];
@@ -270,10 +328,13 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
   // TVG and quantisation (precomputed per-sample gain).
   out.samples.resize(n);
   const double maxv = quantizer_.max_value;
+  const bool round = quantizer_.round_to_integer;
   for (std::size_t i = 0; i < n; ++i) {
     double v = ws.accum[i] * ws.tvg_gain[i];
     v = std::isfinite(v) ? std::clamp(v, 0.0, maxv) : 0.0;
-    out.samples[i] = static_cast<float>(quantizer_.round_to_integer ? std::round(v) : v);
+    // v >= 2^52 is an integer already.
+    if (round && v < 0x1p52) v = round_nonnegative(v);
+    out.samples[i] = static_cast<float>(v);
   }
 
   if (config_.truth) {
@@ -282,11 +343,13 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
     out.truth_grazing_rad.resize(n);
     out.truth_ground_x_m.resize(n);
     out.truth_ground_y_m.resize(n);
+    const double nx = nadir.x(), ny = nadir.y();
+    const double dx = central_dir.x(), dy = central_dir.y();
     for (std::size_t i = 0; i < n; ++i) {
       out.truth_grazing_rad[i] = static_cast<float>(e.truth_grazing_rad[i]);
-      const Eigen::Vector2d g = nadir + e.truth_ground_y_m[i] * central_dir;  // NaN stays NaN
-      out.truth_ground_x_m[i] = g.x();
-      out.truth_ground_y_m[i] = g.y();
+      const double gy = e.truth_ground_y_m[i];  // NaN stays NaN
+      out.truth_ground_x_m[i] = nx + gy * dx;
+      out.truth_ground_y_m[i] = ny + gy * dy;
     }
   }
   if (timings) timings->noise_s += seconds_since(t2);
@@ -305,46 +368,125 @@ RenderTimings Simulator::run(
   const unsigned threads =
       config_.threads > 0 ? config_.threads : std::max(1u, std::thread::hardware_concurrency());
   const std::uint64_t total = survey.total_pings();
-  const std::uint64_t block = 16ULL * threads;
+  const std::uint64_t block = 32ULL * threads;
   std::vector<WorkspacePtr> workspaces;
   std::vector<RenderTimings> timings(threads);
   for (unsigned t = 0; t < threads; ++t) workspaces.push_back(make_workspace());
-  std::vector<RenderedPing> pings(block);
-  std::size_t current_line = static_cast<std::size_t>(-1);
-  for (std::uint64_t first = 0; first < total; first += block) {
-    const std::uint64_t count = std::min(block, total - first);
-    // Static round-robin partition: ping first + i goes to thread i % threads. Every ping is a
-    // pure function of its index, so the result is the same for any thread count.
-    std::vector<std::exception_ptr> errors(threads);
-    auto work = [&](unsigned t) {
-      try {
-        for (std::uint64_t i = t; i < count; i += threads) {
-          render_ping(survey.pose(first + i, scene_.bathymetry), *workspaces[t], pings[i],
-                      &timings[t]);
-        }
-      } catch (...) {
-        errors[t] = std::current_exception();
+  // Two buffers: the calling thread hands block b to the sink while the helpers already render
+  // block b + 1 (it then joins them).
+  std::vector<RenderedPing> pings[2] = {std::vector<RenderedPing>(std::min(block, total)),
+                                        std::vector<RenderedPing>(std::min(block, total))};
+  std::vector<std::exception_ptr> errors(threads);
+
+  // The block being rendered: pings [first, first + count) into pings[buf]. Each ping is claimed
+  // through an atomic counter (dynamic load balance) and stored at its own index; every ping is
+  // a pure function of its index, so the output is the same for any thread count or schedule.
+  struct Job {
+    std::uint64_t first = 0, count = 0;
+    int buf = 0;
+    std::atomic<std::uint64_t> next{0};
+  } job;
+  auto work = [&](unsigned t) {
+    try {
+      for (std::uint64_t i = job.next.fetch_add(1); i < job.count; i = job.next.fetch_add(1)) {
+        render_ping(survey.pose(job.first + i, scene_.bathymetry), *workspaces[t],
+                    pings[job.buf][i], &timings[t]);
       }
-    };
-    if (threads == 1) {
-      work(0);
-    } else {
-      std::vector<std::jthread> pool;
-      for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work, t);
+    } catch (...) {
+      if (!errors[t]) errors[t] = std::current_exception();
+      job.next.store(job.count);  // the others stop claiming pings
     }
+  };
+
+  // Persistent helper threads 1 .. threads - 1, woken once per block (condition variables).
+  std::mutex mutex;
+  std::condition_variable wake, done;
+  std::uint64_t generation = 0;
+  unsigned busy = 0;
+  bool stop = false;
+  std::vector<std::jthread> helpers;
+  for (unsigned t = 1; t < threads; ++t) {
+    helpers.emplace_back([&, t] {
+      std::uint64_t seen = 0;
+      while (true) {
+        {
+          std::unique_lock lock(mutex);
+          wake.wait(lock, [&] { return stop || generation != seen; });
+          if (stop) return;
+          seen = generation;
+        }
+        work(t);
+        {
+          const std::lock_guard lock(mutex);
+          --busy;
+        }
+        done.notify_one();
+      }
+    });
+  }
+  // Before the jthreads join (also when the sink throws): no more pings claimed, helpers woken
+  // for exit.
+  struct Stopper {
+    Job& job;
+    std::mutex& m;
+    std::condition_variable& cv;
+    bool& stop;
+    ~Stopper() {
+      job.next.store(job.count);
+      {
+        const std::lock_guard lock(m);
+        stop = true;
+      }
+      cv.notify_all();
+    }
+  } stopper{job, mutex, wake, stop};
+  auto start = [&](std::uint64_t first, int buf) {
+    const std::lock_guard lock(mutex);
+    job.first = first;
+    job.count = std::min(block, total - first);
+    job.buf = buf;
+    job.next.store(0);
+    busy = threads - 1;
+    ++generation;
+  };
+  auto finish = [&] {
+    work(0);
+    std::unique_lock lock(mutex);
+    done.wait(lock, [&] { return busy == 0; });
     for (auto& e : errors) {
       if (e) std::rethrow_exception(e);
     }
+  };
+
+  std::size_t current_line = static_cast<std::size_t>(-1);
+  auto emit = [&](const std::vector<RenderedPing>& buf, std::uint64_t first, std::uint64_t count) {
     for (std::uint64_t i = 0; i < count; ++i) {
-      const std::size_t line = pings[i].pose.line;
+      const std::size_t line = buf[i].pose.line;
       if (line != current_line) {
         if (current_line != static_cast<std::size_t>(-1)) sink.end_line(current_line);
         sink.begin_line(line);
         current_line = line;
       }
-      sink.ping(pings[i]);
+      sink.ping(buf[i]);
     }
     if (progress) progress(first + count, total);
+  };
+
+  if (total > 0) {
+    start(0, 0);
+    wake.notify_all();
+    finish();
+  }
+  for (std::uint64_t first = 0; first < total; first += block) {
+    const std::uint64_t count = std::min(block, total - first);
+    const int buf = static_cast<int>((first / block) % 2);
+    const std::uint64_t next_first = first + block;
+    if (next_first < total) {
+      start(next_first, 1 - buf);
+      wake.notify_all();
+    }
+    emit(pings[buf], first, count);
+    if (next_first < total) finish();
   }
   if (current_line != static_cast<std::size_t>(-1)) sink.end_line(current_line);
   RenderTimings sum;
