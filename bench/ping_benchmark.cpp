@@ -6,14 +6,18 @@
 // thread count and the per-stage CPU split returned by Simulator::run.
 //
 // Usage: ping_benchmark [scene.yaml] [--runs N] [--threads a,b,...] [--length-m L] [--no-truth]
-//                       [--noise none|paper|speckle]
+//                       [--noise none|paper|speckle] [--dump FILE]
+// --dump writes every ping of the last run (samples, truth class, label, grazing angle) as raw
+// little-endian arrays, for bit-level comparison of two builds.
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -32,10 +36,24 @@ using namespace sonarsynth;
 struct ChecksumSink : PingSink {
   std::uint64_t pings = 0;
   double sum = 0.0;
+  std::ofstream* dump = nullptr;
   void ping(const RenderedPing& p) override {
     ++pings;
     for (const float v : p.port.samples) sum += v;
     for (const float v : p.starboard.samples) sum += v;
+    if (dump != nullptr) {
+      for (const SideOutput* s : {&p.port, &p.starboard}) {
+        write(s->samples);
+        write(s->truth_class);
+        write(s->truth_label);
+        write(s->truth_grazing_rad);
+      }
+    }
+  }
+  template <class T>
+  void write(const std::vector<T>& v) {
+    dump->write(reinterpret_cast<const char*>(v.data()),
+                static_cast<std::streamsize>(v.size() * sizeof(T)));
   }
 };
 
@@ -50,6 +68,7 @@ int run(int argc, char** argv) {
   int runs = 5;
   std::vector<unsigned> thread_counts = {1, 2};
   double length_m = 400.0;
+  std::string dump_path;
   SimulationConfig cfg;  // defaults: speckle + texture, 4096 samples, 75 m, shadows, truth
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -69,6 +88,8 @@ int run(int argc, char** argv) {
       length_m = std::stod(next());
     } else if (a == "--no-truth") {
       cfg.truth = false;
+    } else if (a == "--dump") {
+      dump_path = next();
     } else if (a == "--noise") {
       const std::string m = next();
       cfg.noise.model = m == "none"    ? NoiseConfig::Model::kNone
@@ -103,6 +124,12 @@ int run(int argc, char** argv) {
     double checksum = 0.0;
     for (int r = 0; r < runs; ++r) {
       ChecksumSink sink;
+      std::ofstream dump;
+      if (!dump_path.empty() && r + 1 == runs) {
+        dump.open(dump_path, std::ios::binary);
+        if (!dump) throw std::runtime_error("cannot write " + dump_path);
+        sink.dump = &dump;
+      }
       const auto t0 = std::chrono::steady_clock::now();
       const RenderTimings tm = sim.run(survey, sink);
       const double dt =
