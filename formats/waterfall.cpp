@@ -142,7 +142,9 @@ void Waterfall::write(const std::string& path) const {
                        path);
   }
   std::vector<std::pair<std::string, std::string>> co;
-  if (driver == "GTiff") co = {{"COMPRESS", "DEFLATE"}, {"TILED", "YES"}};
+  // Fast compression: waterfalls are large and written once per line.
+  if (driver == "GTiff") co = {{"COMPRESS", "ZSTD"}, {"ZSTD_LEVEL", "1"}, {"TILED", "YES"}};
+  if (driver == "PNG") co = {{"ZLEVEL", "1"}};
   raster::copy_to_file(*mem, driver.c_str(), out.temp_path().string(), co, kWho, path);
   out.commit();
 }
@@ -224,9 +226,10 @@ void TruthWaterfall::write(const std::string& path, bool overwrite) const {
     if (b == 2) gb->SetNoDataValue(std::numeric_limits<double>::quiet_NaN());
     raster::write_band(*mem, b + 1, band.data(), GDT_Float32, kWho, path);
   }
-  raster::copy_to_file(*mem, "GTiff", out.temp_path().string(),
-                       {{"COMPRESS", "DEFLATE"}, {"TILED", "YES"}, {"BIGTIFF", "IF_SAFER"}}, kWho,
-                       path);
+  raster::copy_to_file(
+      *mem, "GTiff", out.temp_path().string(),
+      {{"COMPRESS", "ZSTD"}, {"ZSTD_LEVEL", "1"}, {"TILED", "YES"}, {"BIGTIFF", "IF_SAFER"}}, kWho,
+      path);
   out.commit();
 }
 
