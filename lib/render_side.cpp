@@ -10,6 +10,13 @@
 
 #include "sonarsynth/error.hpp"
 
+// Two Gauss points per SSE2 instruction (GCC/Clang vector extensions; SSE2 is part of the
+// x86-64 baseline). Other targets use the scalar path, same formulas.
+#if defined(__GNUC__) && defined(__SSE2__)
+#include <emmintrin.h>
+#define SONARSYNTH_GAUSS_PAIRS 1
+#endif
+
 namespace sonarsynth {
 namespace {
 
@@ -82,6 +89,84 @@ inline double exp_table(double x) {
   return std::bit_cast<double>(scaled) * p;
 }
 
+#ifdef SONARSYNTH_GAUSS_PAIRS
+using V2d = double __attribute__((vector_size(16)));
+using V2u = std::uint64_t __attribute__((vector_size(16)));
+
+inline V2d sqrt2(V2d x) {
+  return reinterpret_cast<V2d>(_mm_sqrt_pd(reinterpret_cast<__m128d>(x)));
+}
+
+// exp_table on two lanes: the same operations lane by lane (bit-identical results), only the
+// table look-up is scalar.
+[[gnu::always_inline]] inline V2d exp_table2(V2d x) {
+  const auto ok = (x > -700.0) & (x < 700.0);
+  if (!(ok[0] != 0 && ok[1] != 0)) return V2d{exp_table(x[0]), exp_table(x[1])};
+  constexpr double kInvLn2x64 = 92.332482616893656877;
+  constexpr double kLn2HiOver64 = 6.93147180369123816490e-01 / 64.0;
+  constexpr double kLn2LoOver64 = 1.90821492927058770002e-10 / 64.0;
+  constexpr double kShifter = 0x1.8p52;
+  const V2d shifted = x * kInvLn2x64 + kShifter;
+  const V2u k = reinterpret_cast<V2u>(shifted);
+  const V2d kd = shifted - kShifter;
+  const V2d r = (x - kd * kLn2HiOver64) - kd * kLn2LoOver64;
+  const V2d p =
+      1.0 + r * (1.0 + r * (0.5 + r * (1.0 / 6.0 + r * (1.0 / 24.0 + r * (1.0 / 120.0)))));
+  const V2u table{kExp2Table.bits[k[0] & 63], kExp2Table.bits[k[1] & 63]};
+  const V2u scaled = table + ((k >> 6) << 52);
+  return reinterpret_cast<V2d>(scaled) * p;
+}
+#endif
+
+// Coefficients (-1)^k / (2k + 1) of the atan series.
+constexpr double kAtanCoef[8] = {1.0,       -1.0 / 3.0,  1.0 / 5.0,  -1.0 / 7.0,
+                                 1.0 / 9.0, -1.0 / 11.0, 1.0 / 13.0, -1.0 / 15.0};
+// Bound on the first omitted term of the truncated atan series (absolute error in radians).
+constexpr double kAtanTolerance = 1e-18;
+
+// Terms of the atan series x - x^3/3 + ... (alternating, decreasing for |x| < 1: the error is
+// below the first omitted term |x|^(2n+1) / (2n+1)) needed for |x| <= x_max, 1 .. 8.
+inline int atan_terms(double x_max) {
+  double pow = x_max * x_max * x_max;  // x^(2n+1) for n = 1
+  for (int n = 1; n < 8; ++n) {
+    if (pow / static_cast<double>(2 * n + 1) < kAtanTolerance) return n;
+    pow *= x_max * x_max;
+  }
+  return 8;
+}
+
+// p(x2) = sum_{k < n} c_k x2^k by Horner, n in 1 .. 8 (cases fall through: case m adds c_{m-2}).
+template <class T>
+inline T atan_poly(T x2, int n) {
+  T p = T{} + kAtanCoef[n - 1];
+  switch (n) {
+    case 8:
+      p = p * x2 + kAtanCoef[6];
+      [[fallthrough]];
+    case 7:
+      p = p * x2 + kAtanCoef[5];
+      [[fallthrough]];
+    case 6:
+      p = p * x2 + kAtanCoef[4];
+      [[fallthrough]];
+    case 5:
+      p = p * x2 + kAtanCoef[3];
+      [[fallthrough]];
+    case 4:
+      p = p * x2 + kAtanCoef[2];
+      [[fallthrough]];
+    case 3:
+      p = p * x2 + kAtanCoef[1];
+      [[fallthrough]];
+    case 2:
+      p = p * x2 + kAtanCoef[0];
+      [[fallthrough]];
+    default:
+      break;
+  }
+  return p;
+}
+
 // Slant-range bins of width dr: bin j = [j dr, (j + 1) dr), j = 0 .. n - 1.
 struct UniformGrid {
   double dr;
@@ -126,36 +211,52 @@ struct Facet {
   double ay, az, uy, uz;  // start and direction
   double len_m;           // |u|
   double a, tm0, p2;      // r(t)^2 = a (t - tm0)^2 + p2 (p = distance of the facet's line)
+  double inv_a;           // 1 / a
   // K beta_eff sigma-coefficient of the material times c0^2, where c0 = -n . (P - S) = cross /
   // |u| is constant along the facet (n is normal to u): cos(incidence) = c0 / r at every point.
   double coef;
   // Depression of P(t) - S relative to that of w = A - S: theta(t) = theta_a - atan(x),
   // x = t cross / (w2 + t wu) (angle between w and w + t u), see depression().
   double theta_a, w2, wu, cross;
+  double az_rel;     // az - Hs
+  double theta_off;  // theta_a - beam axis depression
+  // Terms of the atan series valid on the whole facet (1 .. 8), 0 if the series is not valid
+  // everywhere on it (then the per-point test below decides).
+  int series_terms;
   std::int32_t index;  // facet index in the profile
   double range(double t) const {
     const double d = t - tm0;
     return std::sqrt(std::max(0.0, a * d * d + p2));
   }
   // Depression atan2(-(P_z - Hs), P_y) of P(t) without atan2 per point: the angle subtended by
-  // a sub-metre facet seen from metres away is small, so atan(x) is its odd Taylor series to
-  // x^15 (|x| < 0.1: first omitted term < 0.1^17 / 17 < 1e-18); libm otherwise.
+  // a sub-metre facet seen from metres away is small, so atan(x) is its odd Taylor series,
+  // truncated per facet where the first omitted term is below kAtanTolerance (at most to x^15:
+  // |x| < 0.1, 0.1^17 / 17 < 1e-18); libm otherwise.
   double depression(double t, double py, double dz) const {
     const double den = w2 + t * wu;
     const double num = t * cross;
+    if (series_terms > 0) {
+      const double x = num / den;
+      return theta_a - x * atan_poly(x * x, series_terms);
+    }
     if (den > 0.0 && std::abs(num) < 0.1 * den) {
-      const double x = num / den, x2 = x * x;
-      constexpr double c[8] = {1.0,       -1.0 / 3.0,  1.0 / 5.0,  -1.0 / 7.0,
-                               1.0 / 9.0, -1.0 / 11.0, 1.0 / 13.0, -1.0 / 15.0};
-      double p = c[7];
-      for (int k = 6; k >= 0; --k) p = p * x2 + c[k];
-      return theta_a - x * p;
+      const double x = num / den;
+      return theta_a - x * atan_poly(x * x, 8);
     }
     return std::atan2(-dz, py);
   }
   // Parameter where r(t) = e on the branch after (+1) or before (-1) the range minimum.
   double root(double e, double branch) const {
-    return tm0 + branch * std::sqrt(std::max(0.0, (e * e - p2) / a));
+    return tm0 + branch * std::sqrt(std::max(0.0, (e * e - p2) * inv_a));
+  }
+  // Decides series_terms: x(t) = t cross / (w2 + t wu) is monotone on [0, 1] when its
+  // denominator stays positive (a Moebius map without pole there), and |num| < 0.1 den, linear
+  // on both sides, holds on [0, 1] iff it holds at both ends; so |x| <= |x(1)| on the facet.
+  void set_series_terms() {
+    const double den1 = w2 + wu;
+    series_terms = (w2 > 0.0 && den1 > 0.0 && std::abs(cross) < 0.1 * den1)
+                       ? atan_terms(std::abs(cross) / den1)
+                       : 0;
   }
 };
 
@@ -172,11 +273,48 @@ struct Workspace {
 // metres of seabed). 0.02 keeps the 2-point rule below ~1e-9 relative on a flat seabed.
 constexpr double kMaxPieceOverRange = 0.02;
 
+#ifdef SONARSYNTH_GAUSS_PAIRS
+// Two Gauss points (parameters t, weights w) of the integrand below in the lanes of one vector:
+// the same operations as gauss_sum's scalar loop lane by lane. Requires r2 > 0 in both lanes
+// (the caller checks), a Gaussian or uniform beam and, with a Gaussian beam, the atan series
+// valid on the facet (series_terms > 0).
+[[gnu::always_inline]] inline V2d gauss_pair(const Facet& f, const Integrand& in, V2d t, V2d w,
+                                             V2d r2) {
+  const V2d r = sqrt2(r2);
+  V2d v = w / (in.spreading ? r2 * r2 * r : r);
+  V2d expo = V2d{} + 0.0;
+  if (in.gauss_coef > 0.0) {
+    const V2d x = (t * f.cross) / (f.w2 + t * f.wu);
+    const V2d off = f.theta_off - x * atan_poly(x * x, f.series_terms);
+    expo -= in.gauss_coef * off * off;
+  }
+  if (in.kappa_per_m > 0.0) expo -= in.kappa_per_m * r;
+  if (in.gauss_coef > 0.0 || in.kappa_per_m > 0.0) v *= exp_table2(expo);
+  return v;
+}
+#endif
+
 // Gauss–Legendre sum over [q0, q1] (in t) of the integrand without the arc-length factor.
-inline double gauss_sum(const Facet& f, const Integrand& in, double q0, double dq) {
+[[gnu::always_inline]] inline double gauss_sum(const Facet& f, const Integrand& in, double q0,
+                                               double dq) {
   const GaussRule& rule = *in.rule;
   double sum = 0.0;
-  for (int g = 0; g < rule.n; ++g) {
+  int g = 0;
+#ifdef SONARSYNTH_GAUSS_PAIRS
+  if (in.beam == nullptr && (f.series_terms > 0 || !(in.gauss_coef > 0.0))) {
+    for (; g + 1 < rule.n; g += 2) {
+      const V2d t = q0 + V2d{rule.x[g], rule.x[g + 1]} * dq;
+      const V2d py = f.ay + t * f.uy;
+      const V2d dz = f.az_rel + t * f.uz;
+      const V2d r2 = py * py + dz * dz;
+      if (!(r2[0] > 0.0 && r2[1] > 0.0)) break;  // a point at the sensor: scalar loop
+      const V2d v = gauss_pair(f, in, t, V2d{rule.w[g], rule.w[g + 1]}, r2);
+      sum += v[0];
+      sum += v[1];
+    }
+  }
+#endif
+  for (; g < rule.n; ++g) {
     const double t = q0 + rule.x[g] * dq;
     const double py = f.ay + t * f.uy;
     const double dz = f.az + t * f.uz - in.sensor_z_m;  // P_z - Hs
@@ -403,6 +541,7 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     }
     if (!(f.a > 0.0)) continue;  // zero-length facet
     f.len_m = std::sqrt(f.a);
+    f.inv_a = 1.0 / f.a;
     const double wy = ya, wz = za - hs;  // w = A - S
     f.tm0 = -(wy * f.uy + wz * f.uz) / f.a;
     const double cross = wy * f.uz - wz * f.uy;
@@ -412,6 +551,9 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     f.w2 = wy * wy + wz * wz;
     f.wu = wy * f.uy + wz * f.uz;
     f.theta_a = std::atan2(-wz, wy);
+    f.az_rel = wz;
+    f.theta_off = f.theta_a - in.axis_rad;
+    f.set_series_terms();
     f.index = static_cast<std::int32_t>(i);
     f.coef =
         kb * backscatter_coefficient(par.backscatter, par.materials[prof.material[i]]) * c0 * c0;
@@ -441,6 +583,7 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
       }
     }
   }
+  const bool grazing = par.truth_grazing;
   std::int32_t facet = -1;  // facet of the cached normal, label and material
   double ny = 0.0, nz = 0.0;
   std::int32_t label = 0;
@@ -471,20 +614,24 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
         if (fi != facet) {
           facet = fi;
           const auto k = static_cast<std::size_t>(fi);
-          const double uy = prof.y_m[k + 1] - prof.y_m[k], uz = prof.z_m[k + 1] - prof.z_m[k];
-          const double len = std::sqrt(uy * uy + uz * uz);
-          ny = -uz / len;  // upward unit normal
-          nz = uy / len;
+          if (grazing) {
+            const double uy = prof.y_m[k + 1] - prof.y_m[k], uz = prof.z_m[k + 1] - prof.z_m[k];
+            const double len = std::sqrt(uy * uy + uz * uz);
+            ny = -uz / len;  // upward unit normal
+            nz = uy / len;
+          }
           label = prof.label[k];
           material = prof.material[k];
         }
         const double my = w.best_y_m[b], mz = w.best_dz_m[b];
-        const double r = std::sqrt(my * my + mz * mz);
-        const double cos_inc = r > 0.0 ? std::clamp(-(ny * my + nz * mz) / r, 0.0, 1.0) : 0.0;
         out.truth_class[i] = label > 0 ? SampleClass::object : SampleClass::seabed;
         out.truth_label[i] = label;
         out.truth_material[i] = material;
-        out.truth_grazing_rad[i] = std::asin(cos_inc);
+        if (grazing) {
+          const double r = std::sqrt(my * my + mz * mz);
+          const double cos_inc = r > 0.0 ? std::clamp(-(ny * my + nz * mz) / r, 0.0, 1.0) : 0.0;
+          out.truth_grazing_rad[i] = std::asin(cos_inc);
+        }
         out.truth_ground_y_m[i] = my;
         out.truth_ground_z_m[i] = mz + prof.sensor_z_m;
       } else {
@@ -493,7 +640,7 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
                                                                 : SampleClass::no_seabed;
         out.truth_label[i] = -1;
         out.truth_material[i] = 0;
-        out.truth_grazing_rad[i] = kNaN;
+        if (grazing) out.truth_grazing_rad[i] = kNaN;
         out.truth_ground_y_m[i] = kNaN;
         out.truth_ground_z_m[i] = kNaN;
       }
@@ -527,7 +674,11 @@ void render_impl(const BeamProfile& prof, const SideParams& par, SideEcho& out) 
     out.truth_class.resize(par.samples);
     out.truth_label.resize(par.samples);
     out.truth_material.resize(par.samples);
-    out.truth_grazing_rad.resize(par.samples);
+    if (par.truth_grazing) {
+      out.truth_grazing_rad.resize(par.samples);
+    } else {
+      out.truth_grazing_rad.clear();
+    }
     out.truth_ground_y_m.resize(par.samples);
     out.truth_ground_z_m.resize(par.samples);
   }

@@ -35,6 +35,9 @@ struct SideParams {
   double calibration_k = 1.0;        ///< global calibration constant K, linear, > 0
   double pulse_window_m = 0.0;       ///< c tau / 2, metres, >= 0 (0 = the sample bin itself)
   bool truth = false;                ///< fill SideEcho truth arrays
+  /// With truth: also fill truth_grazing_rad (one asin per sample); false leaves it empty (the
+  /// other truth arrays, e.g. for speckle keys and texture, are still filled).
+  bool truth_grazing = true;
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
@@ -59,9 +62,10 @@ struct SideEcho {
   std::vector<SampleClass> truth_class;
   std::vector<std::int32_t> truth_label;      ///< facet label (0 seabed, > 0 object id, -1 none)
   std::vector<std::uint16_t> truth_material;  ///< facet material (0 if none)
-  std::vector<double> truth_grazing_rad;  ///< grazing angle at the contributor, rad, NaN if none
-  std::vector<double> truth_ground_y_m;   ///< beam-plane y of the contributor, m, NaN if none
-  std::vector<double> truth_ground_z_m;   ///< height z of the contributor, m, NaN if none
+  /// Grazing angle at the contributor, rad, NaN if none (empty unless SideParams::truth_grazing).
+  std::vector<double> truth_grazing_rad;
+  std::vector<double> truth_ground_y_m;  ///< beam-plane y of the contributor, m, NaN if none
+  std::vector<double> truth_ground_z_m;  ///< height z of the contributor, m, NaN if none
 
   /// Scratch space of the renderer (fine bins, per-bin dominance); not an output. Per fine bin
   /// the dominant sub-piece is recorded as its profile facet and midpoint only; its grazing
