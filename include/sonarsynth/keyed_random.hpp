@@ -29,6 +29,20 @@ constexpr std::uint64_t keyed_hash(std::uint64_t seed, std::uint64_t key, std::u
   return hash_combine(hash_combine(splitmix64(seed), key), stream);
 }
 
+/// Output number `key` of the SplitMix64 generator with state `seed`: mix(seed + (key + 1) gamma)
+/// (same paper; the generator's own construction, which passes BigCrush for consecutive keys).
+/// One multiply and one splitmix64 per 64 keyed random bits, against two for hash_combine.
+constexpr std::uint64_t splitmix_stream(std::uint64_t seed, std::uint64_t key) {
+  return splitmix64(seed + key * 0x9e3779b97f4a7c15ULL);
+}
+
+/// 64 random bits from 32 (the high half of `bits`), for UnitGammaTable and
+/// cos_uniform_phase_from_bits: the high 32 bits kept, bit 31 set (the midpoint of the 2^-32 cell
+/// the 32 bits select, so that the derived uniform is unbiased), the rest 0.
+constexpr std::uint64_t high32_midpoint(std::uint64_t bits) {
+  return (bits & 0xffffffff00000000ULL) | 0x80000000ULL;
+}
+
 /// Uniform double in [0, 1) from the top 53 bits of a 64-bit word.
 /// (The shifted word fits in int64: the signed conversion is one instruction on x86-64.)
 constexpr double uniform_from_bits(std::uint64_t bits) {
