@@ -130,6 +130,9 @@ Simulator::Simulator(const Scene& scene, const SimulationConfig& config,
   side_.calibration_k = ph.calibration_k;
   side_.pulse_window_m = s.pulse_window_m() > s.sample_spacing_m() ? s.pulse_window_m() : 0.0;
   side_.truth = config_.truth || config_.noise.model == NoiseConfig::Model::kSpeckle;
+  // The speckle keys need only the contributor's position and material: the grazing angle (an
+  // asin per sample) only for the output truth.
+  side_.truth_grazing = config_.truth;
   side_.validate();
 
   // Along-track planes: K azimuths across +-1.25 W, weighted by the two-way horizontal pattern,
@@ -242,9 +245,10 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
       timings->profile_s += std::chrono::duration<double>(t1 - t0).count();
       timings->render_s += seconds_since(t1);
     }
-    // The first plane's intensity is copied (0 + x == x), later planes are added.
+    // The first plane's intensity is taken over (0 + x == x; the echo's buffer is swapped, not
+    // copied), later planes are added.
     if (k == 0) {
-      ws.accum.assign(ws.echo.intensity.begin(), ws.echo.intensity.end());
+      std::swap(ws.accum, ws.echo.intensity);
     } else {
       for (std::size_t i = 0; i < n; ++i) ws.accum[i] += ws.echo.intensity[i];
     }
@@ -281,6 +285,7 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
     // Neighbouring samples often fall in the same cell: its key is then reused (same value).
     const double cell =
         nc.freeze_cell_m > 0 ? nc.freeze_cell_m : config_.sonar.range_resolution_m();
+    const double inv_cell = 1.0 / cell;  // one division per side instead of three per sample
     const double nx = nadir.x(), ny = nadir.y();
     const double dx = central_dir.x(), dy = central_dir.y();
     ws.keys.resize(n);
@@ -292,8 +297,8 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
       const SampleClass cls = e.truth_class[i];
       if (cls == SampleClass::seabed || cls == SampleClass::object) {
         const double gy = e.truth_ground_y_m[i];
-        const double qx = (nx + gy * dx) / cell, qy = (ny + gy * dy) / cell;
-        const double qz = e.truth_ground_z_m[i] / cell;
+        const double qx = (nx + gy * dx) * inv_cell, qy = (ny + gy * dy) * inv_cell;
+        const double qz = e.truth_ground_z_m[i] * inv_cell;
         std::int64_t ix, iy, iz;
         if (std::abs(qx) < 0x1p62 && std::abs(qy) < 0x1p62 && std::abs(qz) < 0x1p62) {
           ix = floor_to_int(qx);
