@@ -32,6 +32,32 @@ double disturbance(double amplitude, double period_s, double t_s, std::uint64_t 
   return amplitude * v;
 }
 
+// Off the grid: the height at the nearest grid point (the position clamped into the grid),
+// or at the first valid node found in growing rings around it; 0 if there is none nearby.
+// O(1) per call: never a scan of the grid.
+double nearest_edge_height(const HeightGrid& seabed, const Eigen::Vector2d& xy) {
+  const Eigen::Vector4d b = seabed.bounds();
+  const double x = std::clamp(xy.x(), b[0], b[2]), y = std::clamp(xy.y(), b[1], b[3]);
+  const double z = seabed.height_m(x, y);
+  if (!std::isnan(z)) return z;
+  const GridGeometry& g = seabed.geometry();
+  const auto c0 = static_cast<long>(std::lround(g.col_of_x(x)));
+  const auto r0 = static_cast<long>(std::lround(g.row_of_y(y)));
+  for (long ring = 1; ring <= 16; ++ring) {
+    for (long dr = -ring; dr <= ring; ++dr) {
+      for (long dc = -ring; dc <= ring; ++dc) {
+        if (std::max(std::abs(dr), std::abs(dc)) != ring) continue;
+        const long r = r0 + dr, c = c0 + dc;
+        if (r < 0 || c < 0 || r >= static_cast<long>(g.rows) || c >= static_cast<long>(g.cols))
+          continue;
+        const float v = seabed.node(static_cast<std::size_t>(c), static_cast<std::size_t>(r));
+        if (v == v) return v;
+      }
+    }
+  }
+  return 0.0;
+}
+
 }  // namespace
 
 void VehicleConfig::validate() const {
@@ -159,10 +185,7 @@ PingPose Survey::pose(std::uint64_t index, const HeightGrid& seabed) const {
       const Eigen::Vector2d q = p.sensor_xy_m - 0.5 * k * fwd;
       z = seabed.height_m(q.x(), q.y());
     }
-    if (std::isnan(z)) {
-      const auto [lo, hi] = seabed.height_range();
-      z = 0.5 * (lo + hi);
-    }
+    if (std::isnan(z)) z = nearest_edge_height(seabed, p.sensor_xy_m);
     p.sensor_z_m = z + vehicle_.altitude_m + p.heave_m - vehicle_.lever_arm_m.z();
   } else {
     p.sensor_z_m = -vehicle_.depth_m + p.heave_m - vehicle_.lever_arm_m.z();

@@ -109,7 +109,6 @@ class Survey {
   std::vector<std::uint64_t> first_ping_;  // global index of each line's first ping (+ total)
   std::vector<double> line_start_time_s_;  // seconds after start_time
   std::vector<std::vector<double>> cumulative_m_;  // per line: distance at each waypoint
-  double fallback_seabed_z_ = 0.0;
 };
 
 }  // namespace sonarsynth
