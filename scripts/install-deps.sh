@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Installs the Debian packages sonarsynth needs, only those that are missing (non-interactive).
-# Usage: scripts/install-deps.sh [--dev]   (--dev adds the CI/developer tools: clang, clang-format)
+# Usage: scripts/install-deps.sh [--dev]   (--dev adds the CI/developer tools: clang, clang-format,
+# and OpenCV for the optional `sonarsynth match`)
 set -euo pipefail
 
 packages=(
@@ -10,7 +11,7 @@ packages=(
   libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
 )
 if [[ "${1:-}" == "--dev" ]]; then
-  packages+=(clang libclang-rt-dev clang-format)
+  packages+=(clang libclang-rt-dev clang-format libopencv-dev)
 fi
 
 missing=()

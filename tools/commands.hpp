@@ -15,5 +15,6 @@ int run_info(const std::vector<std::string>& args);
 int run_bathy(const std::vector<std::string>& args);
 int run_mosaic(const std::vector<std::string>& args);
 int run_waterfall(const std::vector<std::string>& args);
+int run_match(const std::vector<std::string>& args);
 
 }  // namespace sonarsynth::cli

@@ -25,6 +25,8 @@ const std::vector<sc::Command>& commands() {
       {"mosaic", "grid XTF files into a georeferenced GeoTIFF mosaic (+ RGB display copy)",
        sc::run_mosaic},
       {"waterfall", "draw an XTF file as a port | starboard waterfall image", sc::run_waterfall},
+      {"match", "feature matching between two sonar images (SIFT, BRISK, ORB, A-KAZE; OpenCV)",
+       sc::run_match},
   };
   return table;
 }
