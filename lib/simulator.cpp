@@ -189,6 +189,10 @@ Simulator::Simulator(const Scene& scene, const SimulationConfig& config,
     quantizer_.gain_db = mid > 0.0 ? 10.0 * std::log10(config_.output.max_value / 16.0 / mid) : 0.0;
   }
   quantizer_.validate();
+  // Paper noise (image domain): the mean of its Rayleigh term, sigma sqrt(pi/2), lies SNR dB
+  // below the calibrated mid-range seabed level.
+  const double mid_out = mid * std::pow(10.0, quantizer_.gain_db / 10.0);
+  paper_sigma_out_ = mid_out / (snr * std::sqrt(kPi / 2.0));
 }
 
 Simulator::~Simulator() = default;
@@ -272,11 +276,16 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
 
   const NoiseConfig& nc = config_.noise;
   const std::uint64_t ping = pose.ping_index;
+  bool scaled = false;  // accum already in output units (TVG and gain applied)
   if (nc.model == NoiseConfig::Model::kPaper) {
+    // The paper's eq. (2) is an image-domain model: applied to the TVG'd, calibrated intensity,
+    // so that its additive Rayleigh term is not amplified by the TVG at far range.
+    for (std::size_t i = 0; i < n; ++i) ws.accum[i] *= ws.tvg_gain[i];
+    scaled = true;
     ping_sample_keys(ping, starboard, ws.sample_hash, ws.noise_keys);
     PaperNoise pn;
     pn.uniform_half_width = nc.paper_uniform_half_width;
-    pn.rayleigh_sigma = std::sqrt(noise_power_ / 2.0);  // Rayleigh mean power 2 sigma^2 = N
+    pn.rayleigh_sigma = paper_sigma_out_;
     pn.seed = config_.seed;
     apply_paper_noise(pn, ws.noise_keys, ws.accum);
   } else if (nc.model == NoiseConfig::Model::kSpeckle) {
@@ -335,7 +344,7 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
   const double maxv = quantizer_.max_value;
   const bool round = quantizer_.round_to_integer;
   for (std::size_t i = 0; i < n; ++i) {
-    double v = ws.accum[i] * ws.tvg_gain[i];
+    double v = scaled ? ws.accum[i] : ws.accum[i] * ws.tvg_gain[i];
     v = std::isfinite(v) ? std::clamp(v, 0.0, maxv) : 0.0;
     // v >= 2^52 is an integer already.
     if (round && v < 0x1p52) v = round_nonnegative(v);

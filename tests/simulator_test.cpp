@@ -319,6 +319,39 @@ TEST(Simulator, AlongTrackPlanesShareTheBeamAndSeeObjectsBetweenPings) {
   EXPECT_GT(d5, 0.0);
 }
 
+TEST(Simulator, PaperNoiseIsAnImageDomainModelNotAmplifiedByTheTvg) {
+  // Eq. (2), I' = I (1 + u) + r: E[I'] = I + sigma sqrt(pi/2), with the Rayleigh mean set
+  // snr_db below the calibrated mid-range level. Averaged over many pings the far-range mean
+  // must stay within that offset of the noise-free far-range mean (applied before the TVG, the
+  // Rayleigh term would be amplified by 30 log R + 2 alpha R and saturate the far range).
+  const Scene scene = make_scene(-100, -100, 200, 0.5, [](double, double) { return -20.0; });
+  SimulationConfig cfg;
+  cfg.sonar.max_range_m = 60.0;
+  cfg.sonar.samples_per_channel = 600;
+  cfg.output.round_to_integer = false;
+  cfg.noise.snr_at_max_range_db = 20.0;
+  auto far_and_mid_means = [&](NoiseConfig::Model model) {
+    cfg.noise.model = model;
+    Simulator sim(scene, cfg, 10.0);
+    auto ws = sim.make_workspace();
+    double far = 0, mid = 0;
+    for (int k = 0; k < 200; ++k) {
+      PingPose p = pose_at(scene, {0.0, -50.0 + 0.5 * k}, 0.0, 10.0);
+      p.ping_index = static_cast<std::uint64_t>(k);
+      RenderedPing out;
+      sim.render_ping(p, *ws, out);
+      for (std::size_t i = 540; i < 600; ++i) far += out.starboard.samples[i];
+      for (std::size_t i = 270; i < 330; ++i) mid += out.starboard.samples[i];
+    }
+    return std::pair{far / (200 * 60), mid / (200 * 60)};
+  };
+  const auto [far_clean, mid_clean] = far_and_mid_means(NoiseConfig::Model::kNone);
+  const auto [far_noisy, mid_noisy] = far_and_mid_means(NoiseConfig::Model::kPaper);
+  const double offset = mid_clean / 100.0;  // sigma sqrt(pi/2) = mid level / 10^(20/10)
+  EXPECT_NEAR(mid_noisy, mid_clean + offset, 0.03 * mid_clean);
+  EXPECT_NEAR(far_noisy, far_clean + offset, 0.03 * mid_clean);
+}
+
 TEST(Simulator, RejectsInvalidConfiguration) {
   const Scene scene = make_scene(-10, -10, 20, 1.0, [](double, double) { return -5.0; });
   SimulationConfig cfg;

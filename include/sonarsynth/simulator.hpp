@@ -46,8 +46,10 @@ struct NoiseConfig {
   };
   Model model = Model::kSpeckle;
   double paper_uniform_half_width = 0.3;  ///< a of eq. (2), [0, 1]
-  /// Paper Rayleigh sigma and the speckle model's thermal noise are set by the signal-to-noise
-  /// ratio of a flat seabed of the default material at maximum range, dB.
+  /// Signal-to-noise ratio, dB. Speckle model: thermal noise power (added before detection and
+  /// before TVG) is this far below a flat seabed of the default material at maximum range.
+  /// Paper model (image domain, after TVG): the mean of the Rayleigh term is this far below the
+  /// calibrated mid-range seabed level.
   double snr_at_max_range_db = 20.0;
   bool texture = true;  ///< K-distribution texture from the materials' shape nu
   /// Size of the seabed cells whose speckle is frozen (the same for every ping that sees them),
@@ -152,6 +154,7 @@ class Simulator {
   Tvg tvg_;
   Quantizer quantizer_;
   double noise_power_ = 0.0;
+  double paper_sigma_out_ = 0.0;        // Rayleigh sigma of the paper noise, output units
   std::vector<double> plane_psi_rad_;   // along-track planes: azimuth offsets
   std::vector<double> plane_beta_rad_;  // and their share of beta_eff
 };
