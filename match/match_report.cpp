@@ -7,33 +7,16 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "sonarsynth/formats/json_text.hpp"
+
 namespace sonarsynth::match {
 namespace {
 
 std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char ch : s) {
-    const auto c = static_cast<unsigned char>(ch);
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (c < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      out += buf;
-    } else {
-      out += ch;
-    }
-  }
-  return out + "\"";
+  return json::string_literal(s);
 }
-
 std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
+  return json::number(v);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "sonarsynth/formats/json_text.hpp"
 #include "sonarsynth/formats/xtf/summary.hpp"
 
 namespace sonarsynth::cli {
@@ -15,41 +16,10 @@ namespace {
 namespace xtf = sonarsynth::xtf;
 
 std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char ch : s) {
-    const auto c = static_cast<unsigned char>(ch);
-    switch (ch) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (c < 0x20 || c >= 0x7F) {  // keep the output ASCII (file strings may be any bytes)
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += ch;
-        }
-    }
-  }
-  return out + "\"";
+  return json::string_literal(s);
 }
-
 std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
+  return json::number(v);
 }
 
 std::string json_range(const xtf::ValueRange& r) {
