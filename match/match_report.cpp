@@ -10,16 +10,7 @@
 #include "sonarsynth/formats/json_text.hpp"
 
 namespace sonarsynth::match {
-namespace {
-
-std::string json_string(const std::string& s) {
-  return json::string_literal(s);
-}
-std::string json_number(double v) {
-  return json::number(v);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::string format_table(const MatchReport& report) {
   std::ostringstream os;
@@ -52,44 +43,45 @@ std::string format_table(const MatchReport& report) {
 std::string format_json(const MatchReport& report) {
   const MatchOptions& o = report.options;
   std::ostringstream os;
-  os << "{\n  \"image_a\": {\"source\": " << json_string(report.image_a)
+  os << "{\n  \"image_a\": {\"source\": " << json::string_literal(report.image_a)
      << ", \"width\": " << report.width_a << ", \"height\": " << report.height_a << "},\n"
-     << "  \"image_b\": {\"source\": " << json_string(report.image_b)
+     << "  \"image_b\": {\"source\": " << json::string_literal(report.image_b)
      << ", \"width\": " << report.width_b << ", \"height\": " << report.height_b << "},\n"
      << "  \"georeferenced\": " << (report.georeferenced ? "true" : "false") << ",\n"
-     << "  \"options\": {\"ratio\": " << json_number(o.ratio)
-     << ", \"model\": " << json_string(model_name(o.model))
-     << ", \"ransac_threshold_px\": " << json_number(o.ransac_threshold_px)
+     << "  \"options\": {\"ratio\": " << json::number(o.ratio)
+     << ", \"model\": " << json::string_literal(model_name(o.model))
+     << ", \"ransac_threshold_px\": " << json::number(o.ransac_threshold_px)
      << ", \"ransac_iterations\": " << o.ransac_iterations
-     << ", \"ransac_confidence\": " << json_number(o.ransac_confidence)
+     << ", \"ransac_confidence\": " << json::number(o.ransac_confidence)
      << ", \"max_features\": " << o.max_features << ", \"mask_margin_px\": " << o.mask_margin_px
-     << ", \"tolerance_m\": " << json_number(report.tolerance_m) << "},\n  \"results\": [";
+     << ", \"tolerance_m\": " << json::number(report.tolerance_m) << "},\n  \"results\": [";
   for (std::size_t i = 0; i < report.rows.size(); ++i) {
     const MatchRow& row = report.rows[i];
     const DetectorResult& r = row.result;
-    os << (i ? "," : "") << "\n    {\"prefilter\": " << json_string(prefilter_name(row.prefilter))
-       << ", \"detector\": " << json_string(detector_name(r.detector))
+    os << (i ? "," : "")
+       << "\n    {\"prefilter\": " << json::string_literal(prefilter_name(row.prefilter))
+       << ", \"detector\": " << json::string_literal(detector_name(r.detector))
        << ", \"keypoints_a\": " << r.keypoints_a << ", \"keypoints_b\": " << r.keypoints_b
        << ", \"matches\": " << r.matches << ", \"inliers\": " << r.inliers
-       << ", \"inlier_ratio\": " << json_number(r.inlier_ratio) << ", \"transform\": ";
+       << ", \"inlier_ratio\": " << json::number(r.inlier_ratio) << ", \"transform\": ";
     if (r.transform) {
       os << "[";
       for (int k = 0; k < 9; ++k)
-        os << (k ? ", " : "") << json_number((*r.transform)(k / 3, k % 3));
+        os << (k ? ", " : "") << json::number((*r.transform)(k / 3, k % 3));
       os << "]";
     } else {
       os << "null";
     }
     if (row.accuracy) {
-      os << ", \"transform_rms_m\": " << json_number(row.accuracy->transform_rms_m)
-         << ", \"transform_max_m\": " << json_number(row.accuracy->transform_max_m)
-         << ", \"match_rms_m\": " << json_number(row.accuracy->match_rms_m)
+      os << ", \"transform_rms_m\": " << json::number(row.accuracy->transform_rms_m)
+         << ", \"transform_max_m\": " << json::number(row.accuracy->transform_max_m)
+         << ", \"match_rms_m\": " << json::number(row.accuracy->match_rms_m)
          << ", \"correct_inliers\": " << row.accuracy->correct_inliers;
     } else {
       os << ", \"transform_rms_m\": null, \"transform_max_m\": null, \"match_rms_m\": null, "
             "\"correct_inliers\": null";
     }
-    os << ", \"seconds\": " << json_number(r.seconds) << "}";
+    os << ", \"seconds\": " << json::number(r.seconds) << "}";
   }
   os << "\n  ]\n}\n";
   return os.str();

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/formats/gdal_grid.hpp"
 
 namespace sonarsynth {
@@ -28,12 +29,8 @@ class BathyCliTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
-  // Runs `sonarsynth bathy <args>` (output silenced); returns the exit status.
-  static int run(const std::string& args) {
-    const std::string cmd = std::string(SONARSYNTH_CLI) + " bathy " + args + " >/dev/null 2>&1";
-    const int status = std::system(cmd.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
+  // Runs `sonarsynth bathy <args>`; returns the exit status.
+  int run(const std::string& args) const { return test::run_cli("bathy " + args, dir_).exit_code; }
   std::size_t file_count() const {
     std::size_t n = 0;
     for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_test_util.hpp"
 #include "mosaic_test_util.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
@@ -30,13 +31,9 @@ class MosaicCliTest : public ::testing::Test {
 
   /// Runs `sonarsynth <args>`; returns the exit status and keeps stderr in err_.
   int run(const std::string& args) {
-    const std::string err_file = path("stderr.txt");
-    const std::string cmd = std::string(SONARSYNTH_CLI) + " " + args + " >/dev/null 2>" + err_file;
-    const int status = std::system(cmd.c_str());
-    std::ifstream in(err_file);
-    err_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    fs::remove(err_file);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    const test::CliResult r = test::run_cli(args, dir_);
+    err_ = r.err;
+    return r.exit_code;
   }
   /// Files in the directory other than the inputs.
   std::size_t outputs() const {

@@ -2,12 +2,10 @@
 // `sonarsynth info`: text and --json output for the real Marine Sonic file, and a non-zero exit
 // with a clear message for files that are not XTF.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <string>
 
+#include "cli_test_util.hpp"
 #include "xtf_test_util.hpp"
 
 namespace {
@@ -21,16 +19,8 @@ struct CliRun {
 };
 
 CliRun run_cli(const std::string& args) {
-  const std::string cmd = std::string("'") + SONARSYNTH_CLI + "' " + args + " 2>&1";
-  CliRun r;
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buf{};
-  std::size_t n = 0;
-  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-  return r;
+  const sonarsynth::test::CliResult r = sonarsynth::test::run_cli(args, fs::temp_directory_path());
+  return {r.exit_code, r.out + r.err};
 }
 
 TEST(XtfInfoCli, TextReportsTheFiguresOfTheRealFile) {

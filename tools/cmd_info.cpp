@@ -15,16 +15,9 @@ namespace {
 
 namespace xtf = sonarsynth::xtf;
 
-std::string json_string(const std::string& s) {
-  return json::string_literal(s);
-}
-std::string json_number(double v) {
-  return json::number(v);
-}
-
 std::string json_range(const xtf::ValueRange& r) {
   if (r.count == 0) return "null";
-  return "{\"min\": " + json_number(r.min) + ", \"max\": " + json_number(r.max) + "}";
+  return "{\"min\": " + json::number(r.min) + ", \"max\": " + json::number(r.max) + "}";
 }
 
 std::string text_range(const xtf::ValueRange& r, int precision = 3) {
@@ -53,15 +46,16 @@ const char* channel_type_name(std::uint8_t t) {
 
 void print_json(const xtf::FileSummary& s, std::ostream& os) {
   const xtf::XtfFileHeader& h = s.header;
-  os << "{\n  \"file\": " << json_string(s.name) << ",\n  \"size_bytes\": " << s.file_size
+  os << "{\n  \"file\": " << json::string_literal(s.name) << ",\n  \"size_bytes\": " << s.file_size
      << ",\n  \"header\": {\"FileFormat\": " << int{h.FileFormat}
-     << ", \"SystemType\": " << int{h.SystemType}
-     << ", \"RecordingProgramName\": " << json_string(xtf::to_string(h.RecordingProgramName))
-     << ", \"RecordingProgramVersion\": " << json_string(xtf::to_string(h.RecordingProgramVersion))
-     << ", \"SonarName\": " << json_string(xtf::to_string(h.SonarName))
+     << ", \"SystemType\": " << int{h.SystemType} << ", \"RecordingProgramName\": "
+     << json::string_literal(xtf::to_string(h.RecordingProgramName))
+     << ", \"RecordingProgramVersion\": "
+     << json::string_literal(xtf::to_string(h.RecordingProgramVersion))
+     << ", \"SonarName\": " << json::string_literal(xtf::to_string(h.SonarName))
      << ", \"SonarType\": " << h.SonarType
-     << ", \"NoteString\": " << json_string(xtf::to_string(h.NoteString))
-     << ", \"ThisFileName\": " << json_string(xtf::to_string(h.ThisFileName))
+     << ", \"NoteString\": " << json::string_literal(xtf::to_string(h.NoteString))
+     << ", \"ThisFileName\": " << json::string_literal(xtf::to_string(h.ThisFileName))
      << ", \"NavUnits\": " << h.NavUnits
      << ", \"NumberOfSonarChannels\": " << h.NumberOfSonarChannels
      << ", \"NumberOfBathymetryChannels\": " << h.NumberOfBathymetryChannels << "},\n";
@@ -70,20 +64,20 @@ void print_json(const xtf::FileSummary& s, std::ostream& os) {
     const xtf::XtfChanInfo& c = s.chan_info[i];
     os << (i ? ",\n    " : "\n    ") << "{\"index\": " << i
        << ", \"TypeOfChannel\": " << int{c.TypeOfChannel}
-       << ", \"type\": " << json_string(channel_type_name(c.TypeOfChannel))
+       << ", \"type\": " << json::string_literal(channel_type_name(c.TypeOfChannel))
        << ", \"SubChannelNumber\": " << int{c.SubChannelNumber}
        << ", \"CorrectionFlags\": " << c.CorrectionFlags << ", \"UniPolar\": " << c.UniPolar
        << ", \"BytesPerSample\": " << c.BytesPerSample
        << ", \"SampleFormat\": " << int{c.SampleFormat} << ", \"Reserved\": " << c.Reserved
-       << ", \"ChannelName\": " << json_string(xtf::to_string(c.ChannelName))
-       << ", \"Frequency\": " << json_number(c.Frequency) << "}";
+       << ", \"ChannelName\": " << json::string_literal(xtf::to_string(c.ChannelName))
+       << ", \"Frequency\": " << json::number(c.Frequency) << "}";
   }
   os << "\n  ],\n  \"packet_counts\": {";
   bool first = true;
   for (const auto& [type, count] : s.packet_counts) {
-    os << (first ? "" : ", ") << json_string(std::to_string(type))
-       << ": {\"name\": " << json_string(xtf::header_type_name(type)) << ", \"count\": " << count
-       << "}";
+    os << (first ? "" : ", ") << json::string_literal(std::to_string(type))
+       << ": {\"name\": " << json::string_literal(xtf::header_type_name(type))
+       << ", \"count\": " << count << "}";
     first = false;
   }
   os << "},\n  \"pings\": " << s.pings
@@ -92,20 +86,20 @@ void print_json(const xtf::FileSummary& s, std::ostream& os) {
   first = true;
   for (const auto& [number, c] : s.channels) {
     os << (first ? "\n    " : ",\n    ") << "{\"ChannelNumber\": " << number
-       << ", \"type\": " << json_string(channel_type_name(c.type_of_channel))
+       << ", \"type\": " << json::string_literal(channel_type_name(c.type_of_channel))
        << ", \"pings\": " << c.pings << ", \"samples\": " << json_range(c.samples)
        << ", \"slant_range_m\": " << json_range(c.slant_range_m) << "}";
     first = false;
   }
   os << "\n  ],\n  \"time\": {\"first\": "
-     << (s.first_time ? json_string(xtf::iso8601(*s.first_time)) : "null")
-     << ", \"last\": " << (s.last_time ? json_string(xtf::iso8601(*s.last_time)) : "null")
+     << (s.first_time ? json::string_literal(xtf::iso8601(*s.first_time)) : "null")
+     << ", \"last\": " << (s.last_time ? json::string_literal(xtf::iso8601(*s.last_time)) : "null")
      << ", \"duration_s\": "
      << (s.first_time
-             ? json_number(std::chrono::duration<double>(*s.last_time - *s.first_time).count())
+             ? json::number(std::chrono::duration<double>(*s.last_time - *s.first_time).count())
              : "null")
      << "},\n  \"navigation\": {\"units\": "
-     << json_string(h.NavUnits == 3 ? "degrees" : (h.NavUnits == 0 ? "metres" : "unknown"))
+     << json::string_literal(h.NavUnits == 3 ? "degrees" : (h.NavUnits == 0 ? "metres" : "unknown"))
      << ", \"x\": " << json_range(s.sensor_x) << ", \"y\": " << json_range(s.sensor_y)
      << ", \"pings_without_position\": " << s.pings - s.pings_with_valid_nav
      << "},\n  \"ping_attitude\": {\"heading_deg\": " << json_range(s.heading_deg)
@@ -118,14 +112,17 @@ void print_json(const xtf::FileSummary& s, std::ostream& os) {
      << ", \"pitch_deg\": " << json_range(s.attitude_pitch_deg)
      << ", \"roll_deg\": " << json_range(s.attitude_roll_deg) << "},\n  \"anomaly_counts\": {";
   for (std::size_t k = 0; k < xtf::kAnomalyKindCount; ++k) {
-    os << (k ? ", " : "") << json_string(xtf::anomaly_kind_name(static_cast<xtf::AnomalyKind>(k)))
-       << ": " << s.anomaly_counts[k];
+    os << (k ? ", " : "")
+       << json::string_literal(xtf::anomaly_kind_name(static_cast<xtf::AnomalyKind>(k))) << ": "
+       << s.anomaly_counts[k];
   }
   os << "},\n  \"anomalies\": [";
   for (std::size_t i = 0; i < s.anomalies.size(); ++i) {
     const xtf::Anomaly& a = s.anomalies[i];
-    os << (i ? ",\n    " : "\n    ") << "{\"kind\": " << json_string(xtf::anomaly_kind_name(a.kind))
-       << ", \"offset\": " << a.offset << ", \"message\": " << json_string(a.message) << "}";
+    os << (i ? ",\n    " : "\n    ")
+       << "{\"kind\": " << json::string_literal(xtf::anomaly_kind_name(a.kind))
+       << ", \"offset\": " << a.offset << ", \"message\": " << json::string_literal(a.message)
+       << "}";
   }
   os << (s.anomalies.empty() ? "]\n}\n" : "\n  ]\n}\n");
 }
