@@ -234,8 +234,9 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
   const std::size_t planes = plane_psi_rad_.size();
   const std::size_t central = planes / 2;
   Eigen::Vector2d central_dir = across;
-  bool have_truth = false;
-  for (std::size_t k = 0; k < planes; ++k) {
+  // The central plane is rendered last, so its truth is what the echo holds afterwards.
+  for (std::size_t idx = 0; idx < planes; ++idx) {
+    const std::size_t k = (idx + central + 1) % planes;
     const double c = std::cos(plane_psi_rad_[k]), s = std::sin(plane_psi_rad_[k]);
     const Eigen::Vector2d dir(c * across.x() - s * across.y(), s * across.x() + c * across.y());
     const auto t0 = now();
@@ -251,28 +252,18 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
     }
     // The first plane's intensity is taken over (0 + x == x; the echo's buffer is swapped, not
     // copied), later planes are added.
-    if (k == 0) {
+    if (idx == 0) {
       std::swap(ws.accum, ws.echo.intensity);
     } else {
       for (std::size_t i = 0; i < n; ++i) ws.accum[i] += ws.echo.intensity[i];
     }
     if (k == central) {
       central_dir = dir;
-      have_truth = ws.params.truth;
     }
   }
 
   const auto t2 = now();
-  const SideEcho& e = ws.echo;  // truth of the central plane (rendered last among truth planes)
-  // The echo's truth arrays hold the central plane only if it was rendered last with truth on;
-  // with K > 1 planes the central one is not last, so re-render it for truth when needed.
-  if (have_truth && central + 1 != planes) {
-    build_beam_profile(scene_, nadir, central_dir, max_y, pose.sensor_z_m, config_.quality.profile,
-                       ws.profile, ws.scratch);
-    ws.params.beta_eff_rad = plane_beta_rad_[central];
-    ws.params.truth = true;
-    render_side(ws.profile, ws.params, ws.echo);
-  }
+  const SideEcho& e = ws.echo;  // truth of the central plane (rendered last)
 
   const NoiseConfig& nc = config_.noise;
   const std::uint64_t ping = pose.ping_index;

@@ -294,10 +294,19 @@ TEST(Simulator, AlongTrackPlanesShareTheBeamAndSeeObjectsBetweenPings) {
     auto ws = sim.make_workspace();
     RenderedPing out;
     sim.render_ping(pose, *ws, out);
-    return out.starboard.samples;
+    return out.starboard;
   };
-  const auto one = render(scene, 1), five = render(scene, 5);
+  const SideOutput one_out = render(scene, 1), five_out = render(scene, 5);
+  const auto& one = one_out.samples;
+  const auto& five = five_out.samples;
   for (std::size_t i = 0; i < one.size(); ++i) EXPECT_NEAR(five[i], one[i], 1e-9 * one[i] + 1e-30);
+  // Truth comes from the central plane, which on a flat seabed is the single plane's.
+  ASSERT_EQ(five_out.truth_class.size(), one.size());
+  EXPECT_TRUE(five_out.truth_class == one_out.truth_class);
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    const double a = five_out.truth_ground_x_m[i], b = one_out.truth_ground_x_m[i];
+    EXPECT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << i;  // NaN: no contributor
+  }
   ObjectPrimitive post;
   post.shape = ObjectShape::kBox;
   post.id = 4;
@@ -307,7 +316,7 @@ TEST(Simulator, AlongTrackPlanesShareTheBeamAndSeeObjectsBetweenPings) {
   post.place_on_seabed(scene.bathymetry, 0, 0, "post");
   scene.objects.add(post);
   scene.objects.build_index();
-  const auto one_post = render(scene, 1), five_post = render(scene, 5);
+  const auto one_post = render(scene, 1).samples, five_post = render(scene, 5).samples;
   const std::size_t bin =
       static_cast<std::size_t>(std::sqrt(30.0 * 30.0 + 8.0 * 8.0) / cfg.sonar.sample_spacing_m());
   double d1 = 0, d5 = 0;  // extra energy near the post's top range
