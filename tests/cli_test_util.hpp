@@ -3,6 +3,7 @@
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -19,10 +20,13 @@ struct CliResult {
 };
 
 /// Runs `sonarsynth <args>` (SONARSYNTH_CLI) through the shell, capturing stdout and stderr in
-/// files under `scratch_dir`.
+/// files under `scratch_dir`, named by process id and call so that tests running in parallel
+/// (ctest -j) never share them.
 inline CliResult run_cli(const std::string& args, const std::filesystem::path& scratch_dir) {
-  const auto out_file = scratch_dir / ".cli_stdout.txt";
-  const auto err_file = scratch_dir / ".cli_stderr.txt";
+  static int calls = 0;
+  const std::string tag = std::to_string(::getpid()) + "-" + std::to_string(calls++);
+  const auto out_file = scratch_dir / (".cli_stdout-" + tag + ".txt");
+  const auto err_file = scratch_dir / (".cli_stderr-" + tag + ".txt");
   const std::string cmd = std::string(SONARSYNTH_CLI) + " " + args + " >" + out_file.string() +
                           " 2>" + err_file.string() + " </dev/null";
   const int status = std::system(cmd.c_str());
