@@ -75,11 +75,13 @@ double peak_rss_mib() {
   return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux: KiB
 }
 
-std::vector<bool> pareto_front(const std::vector<double>& x, const std::vector<double>& y) {
-  std::vector<bool> front(x.size(), true);
-  for (std::size_t i = 0; i < x.size(); ++i)
-    for (std::size_t j = 0; j < x.size(); ++j)
-      if (j != i && x[j] <= x[i] && y[j] <= y[i] && (x[j] < x[i] || y[j] < y[i])) {
+std::vector<bool> pareto_front(const std::vector<double>& time, const std::vector<double>& error,
+                               double time_tolerance) {
+  std::vector<bool> front(time.size(), true);
+  for (std::size_t i = 0; i < time.size(); ++i)
+    for (std::size_t j = 0; j < time.size(); ++j)
+      if (j != i && time[j] <= time[i] && error[j] <= error[i] &&
+          (error[j] < error[i] || time[j] < (1.0 - time_tolerance) * time[i])) {
         front[i] = false;
         break;
       }

@@ -43,8 +43,12 @@ double now_s();
 /// Peak resident set size of this process, MiB (getrusage).
 double peak_rss_mib();
 
-/// Indices of the points on the lower-left Pareto front of (x, y) (smaller is better in both).
-std::vector<bool> pareto_front(const std::vector<double>& x, const std::vector<double>& y);
+/// Points on the lower-left Pareto front of (time, error) (smaller is better in both). Errors
+/// are exact; times are measurements: j dominates i when error_j <= error_i, time_j <= time_i
+/// and either error_j < error_i or time_j < (1 - time_tolerance) time_i, so two settings of equal
+/// error whose times differ by less than the measurement noise are both on the front.
+std::vector<bool> pareto_front(const std::vector<double>& time, const std::vector<double>& error,
+                               double time_tolerance = 0.0);
 
 /// Opens `path` for writing (directories must exist); throws std::runtime_error on failure.
 std::FILE* open_csv(const std::string& path, const char* header);

@@ -7,14 +7,14 @@ namespace bench {
 
 using namespace sonarsynth;
 
-Method default_method() {
+Method default_method(int along_track_planes) {
   Method m;
   m.family = "exact";
   m.label = "default";
   const QualityConfig q;
   m.profile = q.profile;
   m.gauss_points = q.gauss_points;
-  m.along_track_planes = q.along_track_planes;
+  m.along_track_planes = along_track_planes;
   m.cell_m = 0.25;
   m.is_default = true;
   return m;
@@ -61,23 +61,9 @@ void render_ping_energy(const Scene& scene, const SideParams& side, const SonarC
                         std::vector<double>& out) {
   const std::size_t n = side.samples;
   out.assign(2 * n, 0.0);
-  // Along-track planes exactly as Simulator: K azimuths across +-1.25 W, weights b_h^2 sharing
-  // beta_eff.
-  std::vector<double> psi, beta;
-  const int k_planes = m.along_track_planes;
-  if (k_planes == 1) {
-    psi = {0.0};
-    beta = {side.beta_eff_rad};
-  } else {
-    const double step = 2.5 * sonar.horizontal_beam_width_rad / k_planes;
-    double wsum = 0.0;
-    for (int k = 0; k < k_planes; ++k) {
-      psi.push_back((k - 0.5 * (k_planes - 1)) * step);
-      beta.push_back(sonar.horizontal_two_way(psi.back()));
-      wsum += beta.back();
-    }
-    for (double& b : beta) b *= side.beta_eff_rad / wsum;
-  }
+  // Along-track planes exactly as Simulator.
+  const AlongTrackPlanes planes =
+      make_along_track_planes(sonar, m.along_track_planes, side.beta_eff_rad);
   ws.params = side;
   ws.params.truth = false;
   ws.params.gauss_points = m.gauss_points;
@@ -86,12 +72,12 @@ void render_ping_energy(const Scene& scene, const SideParams& side, const SonarC
   for (int s = 0; s < 2; ++s) {
     const Eigen::Vector2d across = s == 1 ? stbd : Eigen::Vector2d(-stbd);
     ws.params.beam_axis_depression_rad = sonar.tilt_rad;
-    for (std::size_t k = 0; k < psi.size(); ++k) {
-      const double c = std::cos(psi[k]), sn = std::sin(psi[k]);
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+      const double c = std::cos(planes.azimuth_rad[k]), sn = std::sin(planes.azimuth_rad[k]);
       const Eigen::Vector2d dir(c * across.x() - sn * across.y(), sn * across.x() + c * across.y());
       build_beam_profile(scene, pose.sensor_xy_m, dir, sonar.max_range_m, pose.sensor_z_m,
                          m.profile, ws.profile, ws.scratch);
-      ws.params.beta_eff_rad = beta[k];
+      ws.params.beta_eff_rad = planes.beta_eff_rad[k];
       render_profile(ws.profile, ws.params, m, ws, ws.echo);
       for (std::size_t i = 0; i < n; ++i)
         out[static_cast<std::size_t>(s) * n + i] += ws.echo.intensity[i];

@@ -27,8 +27,10 @@ struct Method {
   bool is_default = false;
 };
 
-/// The library's default quality (QualityConfig{}) at the paper's 0.25 m DEM.
-Method default_method();
+/// The library's default quality (QualityConfig{}) at the paper's 0.25 m DEM, with the
+/// along-track plane count the Simulator chose for the scene (QualityConfig's default is
+/// automatic; benches rendering a single beam plane pass 1).
+Method default_method(int along_track_planes = 1);
 
 /// Reusable buffers of render_ping_energy().
 struct PingWorkspace {

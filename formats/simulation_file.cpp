@@ -194,14 +194,19 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
     }
     if (f.has("quality")) {
       const Fields q = f.child("quality");
-      q.only({"grid_subdivisions", "object_segments", "gauss_points", "along_track_planes"});
+      q.only({"grid_subdivisions", "object_segments", "gauss_points", "along_track_planes",
+              "along_track_tolerance_db"});
       cfg.quality.profile.grid_subdivisions =
           static_cast<int>(q.number_in("grid_subdivisions", 1, 1, 64));
       cfg.quality.profile.object_segments =
           static_cast<int>(q.number_in("object_segments", 16, 2, 256));
       cfg.quality.gauss_points = static_cast<int>(q.number_in("gauss_points", 2, 1, 5));
-      cfg.quality.along_track_planes =
-          static_cast<int>(q.number_in("along_track_planes", 1, 1, 64));
+      if (q.has("along_track_planes") && q.text("along_track_planes") != "auto") {
+        cfg.quality.along_track_planes =
+            static_cast<int>(q.number_in("along_track_planes", 1, 1, 64));
+      }
+      cfg.quality.along_track_tolerance_db =
+          q.number_in("along_track_tolerance_db", 1.0, 0.0, 40.0, true);
     }
   }
   if (overrides.quality) {
@@ -209,10 +214,12 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
     if (q == "fast") {
       cfg.quality.gauss_points = 1;
       cfg.quality.profile.object_segments = 8;
+      cfg.quality.along_track_planes = 1;
     } else if (q == "high") {
       cfg.quality.profile.grid_subdivisions = 4;
       cfg.quality.gauss_points = 3;
-      cfg.quality.along_track_planes = 5;
+      cfg.quality.along_track_planes = QualityConfig::kAutoPlanes;
+      cfg.quality.along_track_tolerance_db = 0.25;
     } else if (q != "default") {
       throw InputError("--quality = '" + q + "'. Violated constraint: fast, default or high");
     }
@@ -385,7 +392,12 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
     qn["grid_subdivisions"] = q.profile.grid_subdivisions;
     qn["object_segments"] = q.profile.object_segments;
     qn["gauss_points"] = q.gauss_points;
-    qn["along_track_planes"] = q.along_track_planes;
+    if (q.along_track_planes == QualityConfig::kAutoPlanes) {
+      qn["along_track_planes"] = "auto";
+    } else {
+      qn["along_track_planes"] = q.along_track_planes;
+    }
+    qn["along_track_tolerance_db"] = q.along_track_tolerance_db;
   }
   YAML::Node d;
   d["note"] = "values derived by sonarsynth for this run (informational; ignored on input)";
@@ -396,6 +408,12 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
   d["ping_period_s"] = setup.config.sonar.effective_ping_period_s();
   d["sample_spacing_m"] = setup.config.sonar.sample_spacing_m();
   d["beta_eff_deg"] = deg_from_rad(setup.config.sonar.beta_eff_rad());
+  const AlongTrackChoice& at = sim.along_track();
+  d["along_track_planes"] = at.planes;
+  if (at.automatic) {
+    d["along_track_estimated_error_db"] = at.estimated_error_db;
+    d["along_track_pilot_pings"] = at.pilot_pings;
+  }
   root["derived"] = d;
   YAML::Emitter e;
   e << root;

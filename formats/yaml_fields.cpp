@@ -119,8 +119,14 @@ std::vector<double> Fields::numbers(const std::string& key, std::size_t count) c
 
 void Fields::only(const std::set<std::string>& allowed) const {
   if (!node_.IsMap()) fail("", "expected a map of keys");
+  std::set<std::string> seen;
   for (const auto& kv : node_) {
     const std::string k = kv.first.as<std::string>();
+    // YAML forbids duplicate keys but yaml-cpp keeps the first silently: the second would be
+    // ignored without a word.
+    if (!seen.insert(k).second) {
+      fail(k, "duplicate key (line " + std::to_string(kv.first.Mark().line + 1) + ")");
+    }
     if (!allowed.count(k)) {
       std::string known;
       for (const auto& a : allowed) known += (known.empty() ? "" : ", ") + a;

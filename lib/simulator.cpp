@@ -60,10 +60,91 @@ void QualityConfig::validate() const {
     throw InputError("quality: gauss_points = " + std::to_string(gauss_points) +
                      ". Violated constraint: 1 <= gauss_points <= 5");
   }
-  if (along_track_planes < 1 || along_track_planes > 64) {
+  if (along_track_planes != kAutoPlanes && (along_track_planes < 1 || along_track_planes > 64)) {
     throw InputError("quality: along_track_planes = " + std::to_string(along_track_planes) +
-                     ". Violated constraint: 1 <= along_track_planes <= 64");
+                     ". Violated constraint: 1 <= along_track_planes <= 64 (or auto)");
   }
+  if (!(along_track_tolerance_db > 0.0) || !std::isfinite(along_track_tolerance_db)) {
+    throw InputError(
+        "quality: along_track_tolerance_db = " + std::to_string(along_track_tolerance_db) +
+        ". Violated constraint: along_track_tolerance_db > 0");
+  }
+}
+
+AlongTrackPlanes make_along_track_planes(const SonarConfig& sonar, int count, double beta_eff_rad) {
+  if (count < 1) throw InputError("along-track planes: count < 1");
+  AlongTrackPlanes p;
+  if (count == 1) {
+    p.azimuth_rad = {0.0};
+    p.beta_eff_rad = {beta_eff_rad};
+    return p;
+  }
+  const double step = 2.5 * sonar.horizontal_beam_width_rad / count;
+  double wsum = 0.0;
+  for (int k = 0; k < count; ++k) {
+    const double psi = (k - 0.5 * (count - 1)) * step;
+    p.azimuth_rad.push_back(psi);
+    p.beta_eff_rad.push_back(sonar.horizontal_two_way(psi));
+    wsum += p.beta_eff_rad.back();
+  }
+  for (double& b : p.beta_eff_rad) b *= beta_eff_rad / wsum;
+  return p;
+}
+
+std::vector<PingPose> pilot_poses(const Survey& survey, const HeightGrid& seabed,
+                                  std::size_t count) {
+  std::vector<PingPose> out;
+  const std::uint64_t total = survey.total_pings();
+  if (total == 0 || count == 0) return out;
+  const std::uint64_t n = std::min<std::uint64_t>(count, total);
+  for (std::uint64_t k = 0; k < n; ++k) {
+    // Centres of n equal shares of the survey.
+    out.push_back(survey.pose((2 * k + 1) * total / (2 * n), seabed));
+  }
+  return out;
+}
+
+std::vector<PingPose> pilot_poses(const HeightGrid& seabed, double altitude_m, double margin_m,
+                                  std::size_t count) {
+  std::vector<PingPose> out;
+  if (seabed.empty() || count == 0) return out;
+  const GridGeometry& g = seabed.geometry();
+  // Column/row interval [lo, hi] kept `margin_m` from the edges where the grid is wide enough
+  // (else its middle), so that the beams of the pilot pings stay on the grid.
+  const auto inset = [margin_m](double cell, std::size_t nodes) {
+    const double span = static_cast<double>(nodes - 1);
+    const double m = std::min(margin_m / std::abs(cell), 0.5 * span);
+    return std::pair{m, span - m};
+  };
+  const auto [c_lo, c_hi] = inset(g.dx_m, g.cols);
+  const auto [r_lo, r_hi] = inset(g.dy_m, g.rows);
+  const auto side = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(count))));
+  constexpr std::uint64_t kPilotSeed = 0x70696c6f74ULL;  // "pilot": independent of the run's seed
+  constexpr int kAttempts = 8;
+  for (std::size_t k = 0; k < count; ++k) {
+    const double cu = static_cast<double>(k % side), cv = static_cast<double>(k / side);
+    for (int a = 0; a < kAttempts; ++a) {
+      const std::uint64_t key = hash_combine(k, static_cast<std::uint64_t>(a));
+      const double u =
+          (cu + uniform_from_bits(keyed_hash(kPilotSeed, key, 0))) / static_cast<double>(side);
+      const double v =
+          (cv + uniform_from_bits(keyed_hash(kPilotSeed, key, 1))) / static_cast<double>(side);
+      const double x = g.x_of_col(c_lo + u * (c_hi - c_lo));
+      const double y = g.y_of_row(r_lo + v * (r_hi - r_lo));
+      const double z = seabed.height_m(x, y);
+      if (!std::isfinite(z)) continue;
+      PingPose p;
+      p.ping_index = k;
+      p.sensor_xy_m = Eigen::Vector2d(x, y);
+      p.reference_xy_m = p.sensor_xy_m;
+      p.heading_rad = 2.0 * kPi * uniform_from_bits(keyed_hash(kPilotSeed, key, 2));
+      p.altitude_m = altitude_m;
+      p.sensor_z_m = z + altitude_m;
+      out.push_back(p);
+      break;
+    }
+  }
+  return out;
 }
 
 void SimulationConfig::validate() const {
@@ -108,7 +189,7 @@ struct Simulator::Workspace {
 };
 
 Simulator::Simulator(const Scene& scene, const SimulationConfig& config,
-                     double reference_altitude_m)
+                     double reference_altitude_m, const std::vector<PingPose>& pilot)
     : scene_(scene), config_(config) {
   config_.validate();
   if (scene.bathymetry.empty()) throw InputError("simulator: the scene has no bathymetry");
@@ -134,25 +215,6 @@ Simulator::Simulator(const Scene& scene, const SimulationConfig& config,
   // asin per sample) only for the output truth.
   side_.truth_grazing = config_.truth;
   side_.validate();
-
-  // Along-track planes: K azimuths across +-1.25 W, weighted by the two-way horizontal pattern,
-  // sharing beta_eff exactly.
-  const int k_planes = config_.quality.along_track_planes;
-  if (k_planes == 1) {
-    plane_psi_rad_ = {0.0};
-    plane_beta_rad_ = {side_.beta_eff_rad};
-  } else {
-    const double span = 2.5 * s.horizontal_beam_width_rad;
-    const double step = span / k_planes;
-    double wsum = 0.0;
-    for (int k = 0; k < k_planes; ++k) {
-      const double psi = (k - 0.5 * (k_planes - 1)) * step;
-      plane_psi_rad_.push_back(psi);
-      plane_beta_rad_.push_back(s.horizontal_two_way(psi));
-      wsum += plane_beta_rad_.back();
-    }
-    for (double& b : plane_beta_rad_) b *= side_.beta_eff_rad / wsum;
-  }
 
   tvg_.law = config_.output.tvg;
   tvg_.absorption_db_per_m = alpha_db_per_m_;
@@ -193,6 +255,98 @@ Simulator::Simulator(const Scene& scene, const SimulationConfig& config,
   // below the calibrated mid-range seabed level.
   const double mid_out = mid * std::pow(10.0, quantizer_.gain_db / 10.0);
   paper_sigma_out_ = mid_out / (snr * std::sqrt(kPi / 2.0));
+
+  if (config_.quality.along_track_planes == QualityConfig::kAutoPlanes) {
+    along_track_ = choose_along_track_planes(
+        pilot.empty() ? pilot_poses(scene.bathymetry, reference_altitude_m, s.max_range_m) : pilot);
+  } else {
+    along_track_.planes = config_.quality.along_track_planes;
+  }
+  planes_ = make_along_track_planes(s, along_track_.planes, side_.beta_eff_rad);
+}
+
+namespace {
+
+// RMS over lit bins of |10 log10(a / b)|, in the bench's metric (docs/benchmarks.md): a bin is
+// lit when either value exceeds 1e-3 x the median of the positive values of `b` on that side; a
+// bin lit in one and below 1e-4 of the other counts as 40 dB.
+class DbDifference {
+ public:
+  void add(const std::vector<double>& a, const std::vector<double>& b) {
+    positive_.clear();
+    for (const double v : b)
+      if (v > 0.0) positive_.push_back(v);
+    if (positive_.empty()) return;
+    const auto mid = positive_.begin() + static_cast<std::ptrdiff_t>(positive_.size() / 2);
+    std::nth_element(positive_.begin(), mid, positive_.end());
+    const double lit = 1e-3 * *mid;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const double x = a[i], y = b[i];
+      if (!(x > lit || y > lit)) continue;
+      const double d = x <= 1e-4 * y || y <= 1e-4 * x ? kCapDb : std::abs(10.0 * std::log10(x / y));
+      sum_sq_ += d * d;
+      ++bins_;
+    }
+  }
+  bool empty() const { return bins_ == 0; }
+  double rms_db() const {
+    return bins_ > 0 ? std::sqrt(sum_sq_ / static_cast<double>(bins_)) : 0.0;
+  }
+
+ private:
+  static constexpr double kCapDb = 40.0;
+  std::vector<double> positive_;
+  double sum_sq_ = 0.0;
+  std::size_t bins_ = 0;
+};
+
+}  // namespace
+
+AlongTrackChoice Simulator::choose_along_track_planes(const std::vector<PingPose>& pilot) const {
+  const auto t0 = Clock::now();
+  static constexpr int kLevels[] = {1, 3, 5, 9, 15};
+  constexpr std::size_t kCount = sizeof(kLevels) / sizeof(kLevels[0]);
+  const WorkspacePtr ws = make_workspace();
+  // Noise-free energies of every pilot ping side at one plane count.
+  auto energies = [&](int count) {
+    const AlongTrackPlanes planes =
+        make_along_track_planes(config_.sonar, count, side_.beta_eff_rad);
+    std::vector<std::vector<double>> e;
+    for (const PingPose& pose : pilot) {
+      for (const bool starboard : {false, true}) {
+        render_planes(pose, starboard, planes, false, *ws, nullptr);
+        e.push_back(ws->accum);
+      }
+    }
+    return e;
+  };
+  AlongTrackChoice choice;
+  choice.automatic = true;
+  std::vector<std::vector<double>> coarse = energies(kLevels[0]);
+  for (std::size_t p = 0; p < pilot.size(); ++p) {
+    const bool lit =
+        std::any_of(coarse[2 * p].begin(), coarse[2 * p].end(), [](double v) { return v > 0.0; }) ||
+        std::any_of(coarse[2 * p + 1].begin(), coarse[2 * p + 1].end(),
+                    [](double v) { return v > 0.0; });
+    if (lit) ++choice.pilot_pings;
+  }
+  choice.planes = kLevels[0];
+  if (choice.pilot_pings > 0) {
+    for (std::size_t j = 0; j + 1 < kCount; ++j) {
+      std::vector<std::vector<double>> fine = energies(kLevels[j + 1]);
+      DbDifference diff;
+      for (std::size_t i = 0; i < fine.size(); ++i) diff.add(coarse[i], fine[i]);
+      choice.estimated_error_db = diff.rms_db();
+      choice.planes = kLevels[j];
+      if (choice.estimated_error_db <= config_.quality.along_track_tolerance_db) break;
+      choice.planes = kLevels[j + 1];
+      coarse = std::move(fine);
+    }
+  } else {
+    choice.estimated_error_db = 0.0;
+  }
+  choice.pilot_s = seconds_since(t0);
+  return choice;
 }
 
 Simulator::~Simulator() = default;
@@ -214,16 +368,19 @@ Simulator::WorkspacePtr Simulator::make_workspace() const {
   return ws;
 }
 
-void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspace& ws,
-                                   SideOutput& out, RenderTimings* timings) const {
+Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool starboard,
+                                                 const AlongTrackPlanes& planes, bool truth,
+                                                 Workspace& ws, RenderTimings* timings) const {
   const std::size_t n = side_.samples;
   const Eigen::Vector2d fwd(std::sin(pose.heading_rad), std::cos(pose.heading_rad));
   const Eigen::Vector2d stbd(fwd.y(), -fwd.x());
   const Eigen::Vector2d across = starboard ? stbd : Eigen::Vector2d(-stbd);
+  SideGeometry geo;
   // Pitch tilts the beam plane: on a flat seabed its ground line moves along-track by
   // altitude * tan(pitch) (nose up -> ahead).
   const double alt = std::isfinite(pose.altitude_m) ? pose.altitude_m : 0.0;
-  const Eigen::Vector2d nadir = pose.sensor_xy_m + alt * std::tan(pose.pitch_rad) * fwd;
+  geo.nadir_xy_m = pose.sensor_xy_m + alt * std::tan(pose.pitch_rad) * fwd;
+  geo.central_dir = across;
   // Roll (+ starboard down) depresses the starboard beam and raises the port one.
   ws.params.beam_axis_depression_rad =
       config_.sonar.tilt_rad + (starboard ? pose.roll_rad : -pose.roll_rad);
@@ -231,20 +388,19 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
 
   // Clock reads only when timings are requested.
   const auto now = [timings] { return timings != nullptr ? Clock::now() : Clock::time_point{}; };
-  const std::size_t planes = plane_psi_rad_.size();
-  const std::size_t central = planes / 2;
-  Eigen::Vector2d central_dir = across;
+  const std::size_t count = planes.size();
+  const std::size_t central = count / 2;
   // The central plane is rendered last, so its truth is what the echo holds afterwards.
-  for (std::size_t idx = 0; idx < planes; ++idx) {
-    const std::size_t k = (idx + central + 1) % planes;
-    const double c = std::cos(plane_psi_rad_[k]), s = std::sin(plane_psi_rad_[k]);
+  for (std::size_t idx = 0; idx < count; ++idx) {
+    const std::size_t k = (idx + central + 1) % count;
+    const double c = std::cos(planes.azimuth_rad[k]), s = std::sin(planes.azimuth_rad[k]);
     const Eigen::Vector2d dir(c * across.x() - s * across.y(), s * across.x() + c * across.y());
     const auto t0 = now();
-    build_beam_profile(scene_, nadir, dir, max_y, pose.sensor_z_m, config_.quality.profile,
+    build_beam_profile(scene_, geo.nadir_xy_m, dir, max_y, pose.sensor_z_m, config_.quality.profile,
                        ws.profile, ws.scratch);
     const auto t1 = now();
-    ws.params.beta_eff_rad = plane_beta_rad_[k];
-    ws.params.truth = side_.truth && k == central;
+    ws.params.beta_eff_rad = planes.beta_eff_rad[k];
+    ws.params.truth = truth && k == central;
     render_side(ws.profile, ws.params, ws.echo);
     if (timings) {
       timings->profile_s += std::chrono::duration<double>(t1 - t0).count();
@@ -257,10 +413,18 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
     } else {
       for (std::size_t i = 0; i < n; ++i) ws.accum[i] += ws.echo.intensity[i];
     }
-    if (k == central) {
-      central_dir = dir;
-    }
+    if (k == central) geo.central_dir = dir;
   }
+  return geo;
+}
+
+void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspace& ws,
+                                   SideOutput& out, RenderTimings* timings) const {
+  const std::size_t n = side_.samples;
+  const auto now = [timings] { return timings != nullptr ? Clock::now() : Clock::time_point{}; };
+  const SideGeometry geo = render_planes(pose, starboard, planes_, side_.truth, ws, timings);
+  const Eigen::Vector2d& nadir = geo.nadir_xy_m;
+  const Eigen::Vector2d& central_dir = geo.central_dir;
 
   const auto t2 = now();
   const SideEcho& e = ws.echo;  // truth of the central plane (rendered last)

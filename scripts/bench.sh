@@ -51,9 +51,9 @@ fi
 } > "$out/machine.txt"
 
 if want speed; then
-  "$bin/speed_accuracy" --out "$out" --pings 10 --runs 5 | tee "$out/speed_accuracy.log"
+  "$bin/speed_accuracy" --out "$out" --pings 10 --runs 15 --min-time 0.03 | tee "$out/speed_accuracy.log"
   for s in flat rough paper; do
-    gnuplot -e "csv='$out/speed_accuracy_$s.csv'; png='$out/bench_speed_accuracy_$s.png'; ttl='Speed vs accuracy: $s scene (10 pings, median of 5 runs)'" "$plots/speed_accuracy.gp"
+    gnuplot -e "csv='$out/speed_accuracy_$s.csv'; png='$out/bench_speed_accuracy_$s.png'; ttl='Speed vs accuracy: $s scene (10 pings, median of 15 runs)'" "$plots/speed_accuracy.gp"
   done
 fi
 
@@ -111,9 +111,11 @@ fi
     f="$out/speed_accuracy_$s.csv"
     [[ -f $f ]] || continue
     echo "#### speed vs accuracy: $s"
-    echo "| method | ms/ping | RMS dB (all lit bins) | RMS dB (interior) | worst dB (interior) | RMS dB (edge) | empty | Pareto | default |"
-    echo "|---|---:|---:|---:|---:|---:|---:|:-:|:-:|"
-    awk -F, 'NR>1 {printf "| %s | %.3f | %.3g | %.3g | %.3g | %.3g | %.3f | %s | %s |\n", $3, $11, $22, $12, $13, $14, $16, ($18?"x":""), ($19?"x":"")}' "$f"
+    a="$out/auto_planes_$s.csv"
+    [[ -f $a ]] && awk -F, 'NR>1 {printf "Default along-track planes (auto): %s, estimated error %.3g dB (tolerance %s dB) from %s pilot pings in %.1f ms.\n\n", $2, $3, $4, $5, $6}' "$a"
+    echo "| method | planes | ms/ping | time IQR | RMS dB (all lit bins) | RMS dB (interior) | worst dB (interior) | RMS dB (edge) | empty | Pareto (5 %) | Pareto (strict) | default |"
+    echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|:-:|:-:|:-:|"
+    awk -F, 'NR>1 {printf "| %s | %s | %.3f | %.0f %% | %.3g | %.3g | %.3g | %.3g | %.3f | %s | %s | %s |\n", $3, $7, $11, 100*$24, $22, $12, $13, $14, $16, ($18?"x":""), ($23?"x":""), ($19?"x":"")}' "$f"
     echo
   done
   for w in altitude slope grazing dem object; do

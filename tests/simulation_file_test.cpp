@@ -97,6 +97,46 @@ survey: {lines: [{name: a, waypoints: [{east_m: -50, north_m: 0}, {east_m: 50, n
   EXPECT_EQ(s.config.threads, 1u);
 }
 
+TEST_F(SimulationFile, AlongTrackPlanesAreAutomaticByDefaultOrACount) {
+  std::string scene = kScene;
+  scene.erase(scene.find("render:"), scene.find("noise:") - scene.find("render:"));
+  const std::string survey = scene +
+                             "survey: {lines: [{name: a, waypoints: [{east_m: 0, north_m: 0}, "
+                             "{east_m: 9, north_m: 0}]}]}\n";
+  auto load = [&](const std::string& render, const SimulationOverrides& ov = {}) {
+    return load_simulation(write("q.yaml", survey + render), ov).config.quality;
+  };
+  QualityConfig q = load("");
+  EXPECT_EQ(q.along_track_planes, QualityConfig::kAutoPlanes);
+  EXPECT_DOUBLE_EQ(q.along_track_tolerance_db, 1.0);
+  q = load("render: {quality: {along_track_planes: auto, along_track_tolerance_db: 0.5}}\n");
+  EXPECT_EQ(q.along_track_planes, QualityConfig::kAutoPlanes);
+  EXPECT_DOUBLE_EQ(q.along_track_tolerance_db, 0.5);
+  EXPECT_EQ(load("render: {quality: {along_track_planes: 7}}\n").along_track_planes, 7);
+  SimulationOverrides fast;
+  fast.quality = "fast";
+  EXPECT_EQ(load("", fast).along_track_planes, 1);
+  SimulationOverrides high;
+  high.quality = "high";
+  q = load("render: {quality: {along_track_planes: 2}}\n", high);
+  EXPECT_EQ(q.along_track_planes, QualityConfig::kAutoPlanes);
+  EXPECT_DOUBLE_EQ(q.along_track_tolerance_db, 0.25);
+  for (const auto& [render, fragment] :
+       {std::pair<std::string, std::string>{"render: {quality: {along_track_planes: many}}\n",
+                                            "render.quality.along_track_planes = 'many'"},
+        {"render: {quality: {along_track_planes: 0}}\n", "render.quality.along_track_planes = '0'"},
+        {"render: {quality: {along_track_tolerance_db: 0}}\n",
+         "render.quality.along_track_tolerance_db = '0'"},
+        {"render: {shadows: true}\nrender: {shadows: false}\n", "render: duplicate key (line"}}) {
+    try {
+      load(render);
+      ADD_FAILURE() << "no error for " << render;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST_F(SimulationFile, TimesRoundTripAndBadValuesAreNamed) {
   EXPECT_EQ(format_utc(parse_utc("2026-11-21T09:34:00Z", "t")), "2026-11-21T09:34:00.000000Z");
   EXPECT_EQ(format_utc(parse_utc("2024-02-29T23:59:59.999999Z", "t")),

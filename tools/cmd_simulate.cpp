@@ -77,7 +77,8 @@ int run_simulate(const std::vector<std::string>& args) {
   SimulationSetup setup = load_simulation(scene_path, ov);
   OutputDirectory out(out_dir, overwrite);
   const Survey survey = setup.make_survey();
-  Simulator sim(setup.scene, setup.config, setup.reference_altitude_m);
+  Simulator sim(setup.scene, setup.config, setup.reference_altitude_m,
+                pilot_poses(survey, setup.scene.bathymetry));
 
   xtf::WriterOptions xo;
   xo.overwrite = true;  // inside our own fresh temporary directory
@@ -139,7 +140,15 @@ int run_simulate(const std::vector<std::string>& args) {
               << "  per ping (CPU): profile " << std::setprecision(1) << 1e6 * timings.profile_s / n
               << " us, render " << 1e6 * timings.render_s / n << " us, noise+scaling "
               << 1e6 * timings.noise_s / n << " us\n";
-    std::cout << "  mosaic written in " << std::setprecision(2) << mosaic_s << " s\n";
+    const AlongTrackChoice& at = sim.along_track();
+    std::cout << "  along-track planes: " << at.planes;
+    if (at.automatic) {
+      std::cout << " (auto from " << at.pilot_pings << " pilot pings: estimated error "
+                << std::setprecision(2) << at.estimated_error_db << " dB, tolerance "
+                << setup.config.quality.along_track_tolerance_db << " dB, " << std::setprecision(0)
+                << 1e3 * at.pilot_s << " ms)";
+    }
+    std::cout << "\n  mosaic written in " << std::setprecision(2) << mosaic_s << " s\n";
     for (const auto& f : xtf_out.files()) {
       std::cout << "  " << (out.final_dir() / f.filename()).string() << "\n";
     }

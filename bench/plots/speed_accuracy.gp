@@ -15,7 +15,7 @@ set multiplot layout 1,2 title ttl
 set xlabel "time per ping, both sides, 1 thread (ms)"
 set ylabel "RMS error per bin, all lit bins (dB)"
 plot for [f in families] fam(f) using 11:(fl($22)) with points pt 7 ps 1.2 title f, \
-     front using 11:(fl($22)) with lines lw 2 lc rgb "black" dt 2 title "Pareto front", \
+     front using 11:(fl($22)) with lines lw 2 lc rgb "black" dt 2 title "Pareto front (times within 5 % tie)", \
      dflt using 11:(fl($22)) with points pt 6 ps 3.5 lw 2 lc rgb "red" title "default"
 set ylabel "worst bin (dB, empty bins count 40 dB)"
 plot for [f in families] fam(f) using 11:(fl($13)) with points pt 7 ps 1.2 title f, \

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -32,10 +33,49 @@ struct PhysicsConfig {
 
 /// Speed/accuracy knobs of the renderer.
 struct QualityConfig {
+  /// along_track_planes value that lets the Simulator choose the count (see below).
+  static constexpr int kAutoPlanes = 0;
   ProfileOptions profile;
-  int gauss_points = 2;        ///< [1, 5]
-  int along_track_planes = 1;  ///< K planes across the horizontal beam, [1, 64]
+  int gauss_points = 2;  ///< [1, 5]
+  /// K beam planes across the horizontal beam, [1, 64], or kAutoPlanes (the default): the fewest
+  /// of 1, 3, 5, 9, 15 planes whose estimated along-track error, the RMS dB difference per lit
+  /// bin against the next count over a few pilot pings, is at most along_track_tolerance_db. A
+  /// smooth seabed gets one plane; one rough on the scale of the beam's along-track footprint
+  /// gets as many as it needs.
+  int along_track_planes = kAutoPlanes;
+  double along_track_tolerance_db = 1.0;  ///< auto only, > 0
   void validate() const;
+};
+
+/// K along-track beam planes: azimuths from the across-track direction, evenly across +-1.25
+/// horizontal beam widths (0 for K = 1), and their shares of `beta_eff_rad`, weighted by the
+/// two-way horizontal pattern and summing to it exactly.
+struct AlongTrackPlanes {
+  std::vector<double> azimuth_rad;
+  std::vector<double> beta_eff_rad;
+  std::size_t size() const { return azimuth_rad.size(); }
+};
+AlongTrackPlanes make_along_track_planes(const SonarConfig& sonar, int count, double beta_eff_rad);
+
+/// Pilot pings for the automatic plane count: `count` pings spread evenly over the survey.
+std::vector<PingPose> pilot_poses(const Survey& survey, const HeightGrid& seabed,
+                                  std::size_t count = 16);
+/// Without a survey: `count` poses stratified over the grid kept `margin_m` (the sonar's range)
+/// inside its edges where it is large enough (one per cell of a square layout, deterministic
+/// jitter, holes skipped), deterministic random headings, `altitude_m` above the seabed.
+std::vector<PingPose> pilot_poses(const HeightGrid& seabed, double altitude_m, double margin_m,
+                                  std::size_t count = 16);
+
+/// How the along-track plane count was chosen.
+struct AlongTrackChoice {
+  int planes = 1;
+  bool automatic = false;
+  /// Automatic only: RMS dB difference per lit bin between the chosen count and the next one
+  /// over the pilot pings (an estimate of the chosen count's error; for the largest count, the
+  /// difference between the two largest); NaN otherwise.
+  double estimated_error_db = std::numeric_limits<double>::quiet_NaN();
+  std::size_t pilot_pings = 0;  ///< pilot pings that had lit bins
+  double pilot_s = 0.0;         ///< wall time of the choice, seconds
 };
 
 struct NoiseConfig {
@@ -117,7 +157,10 @@ struct RenderTimings {
 /// (absorption, gain, noise level) once; render_ping() is then a pure function of the pose.
 class Simulator {
  public:
-  Simulator(const Scene& scene, const SimulationConfig& config, double reference_altitude_m);
+  /// `pilot` = poses for the automatic along-track plane count (pilot_poses(survey, ...) for a
+  /// survey); empty = pilot_poses(scene.bathymetry, reference_altitude_m, max range).
+  Simulator(const Scene& scene, const SimulationConfig& config, double reference_altitude_m,
+            const std::vector<PingPose>& pilot = {});
   ~Simulator();
   Simulator(const Simulator&) = delete;
   Simulator& operator=(const Simulator&) = delete;
@@ -142,10 +185,19 @@ class Simulator {
   double thermal_noise_power() const { return noise_power_; }
   const SimulationConfig& config() const { return config_; }
   const SideParams& side_params() const { return side_; }
+  const AlongTrackChoice& along_track() const { return along_track_; }
 
  private:
   void render_side_output(const PingPose& pose, bool starboard, Workspace& ws, SideOutput& out,
                           RenderTimings* timings) const;
+  /// Sums the planes' noise-free intensities of one side into ws.accum; the echo is left
+  /// holding the central plane (rendered last, with truth if `truth`).
+  struct SideGeometry {
+    Eigen::Vector2d nadir_xy_m, central_dir;
+  };
+  SideGeometry render_planes(const PingPose& pose, bool starboard, const AlongTrackPlanes& planes,
+                             bool truth, Workspace& ws, RenderTimings* timings) const;
+  AlongTrackChoice choose_along_track_planes(const std::vector<PingPose>& pilot) const;
 
   const Scene& scene_;
   SimulationConfig config_;
@@ -154,9 +206,9 @@ class Simulator {
   Tvg tvg_;
   Quantizer quantizer_;
   double noise_power_ = 0.0;
-  double paper_sigma_out_ = 0.0;        // Rayleigh sigma of the paper noise, output units
-  std::vector<double> plane_psi_rad_;   // along-track planes: azimuth offsets
-  std::vector<double> plane_beta_rad_;  // and their share of beta_eff
+  double paper_sigma_out_ = 0.0;  // Rayleigh sigma of the paper noise, output units
+  AlongTrackPlanes planes_;
+  AlongTrackChoice along_track_;
 };
 
 }  // namespace sonarsynth
