@@ -119,7 +119,12 @@ int run(int argc, char** argv) {
               cfg.sonar.max_range_m, cfg.truth ? "on" : "off");
   for (const unsigned threads : thread_counts) {
     cfg.threads = threads;
-    const Simulator sim(scene, cfg, 10.0);
+    // The automatic along-track plane count from pilot pings of the survey, as `simulate` does
+    // (its one-off cost is reported, not included in pings/s).
+    const Simulator sim(scene, cfg, 10.0, pilot_poses(survey, scene.bathymetry));
+    std::printf("along-track planes %d (auto: %s, estimated error %.3f dB, pilot %.1f ms)\n",
+                sim.along_track().planes, sim.along_track().automatic ? "yes" : "no",
+                sim.along_track().estimated_error_db, 1e3 * sim.along_track().pilot_s);
     std::vector<double> rate, profile_us, render_us, noise_us;
     double checksum = 0.0;
     for (int r = 0; r < runs; ++r) {

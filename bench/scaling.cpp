@@ -75,8 +75,11 @@ Survey line_survey(const Eigen::Vector2d& start, double length_m, int lines,
 }
 
 // Median pings/s over `runs` runs.
-double pings_per_s(const Scene& scene, const SimulationConfig& c, const Survey& survey, int runs) {
-  const Simulator sim(scene, c, 10.0);
+double pings_per_s(const Scene& scene, const SimulationConfig& c, const Survey& survey, int runs,
+                   int* planes_out = nullptr) {
+  // Pilot pings of the automatic along-track plane count from the survey, as `simulate` does.
+  const Simulator sim(scene, c, 10.0, pilot_poses(survey, scene.bathymetry));
+  if (planes_out) *planes_out = sim.along_track().planes;
   std::vector<double> rate;
   for (int r = 0; r < runs; ++r) {
     ChecksumSink sink;
@@ -99,7 +102,7 @@ Eigen::Vector2d paper_line_start(double length_m) {
 }
 
 void mode_samples(int runs, bool header, bool tiny) {
-  if (header) std::printf("samples,threads,pings,pings_per_s\n");
+  if (header) std::printf("samples,threads,planes,pings,pings_per_s\n");
   const std::vector<std::size_t> counts =
       tiny ? std::vector<std::size_t>{512}
            : std::vector<std::size_t>{512, 1024, 2048, 4096, 8192, 16384};
@@ -109,15 +112,17 @@ void mode_samples(int runs, bool header, bool tiny) {
       c.sonar.samples_per_channel = n;
       const double len = tiny ? 10.0 : 200.0;
       const Survey s = line_survey(paper_line_start(len), len, 1, c);
-      std::printf("%zu,%u,%llu,%.1f\n", n, t, static_cast<unsigned long long>(s.total_pings()),
-                  pings_per_s(paper(), c, s, runs));
+      int planes = 0;
+      const double rate = pings_per_s(paper(), c, s, runs, &planes);
+      std::printf("%zu,%u,%d,%llu,%.1f\n", n, t, planes,
+                  static_cast<unsigned long long>(s.total_pings()), rate);
       std::fflush(stdout);
     }
   }
 }
 
 void mode_objects(int runs, bool header, bool tiny) {
-  if (header) std::printf("objects,threads,pings,pings_per_s\n");
+  if (header) std::printf("objects,threads,planes_setting,planes,pings,pings_per_s\n");
   const double len = tiny ? 10.0 : 200.0;
   const Eigen::Vector2d start = paper_line_start(len);
   for (const int count :
@@ -149,12 +154,19 @@ void mode_objects(int runs, bool header, bool tiny) {
       s.objects.add(o);
     }
     s.objects.build_index();
-    for (const unsigned t : {1u, 2u}) {
-      const SimulationConfig c = standard_config(t);
-      const Survey sv = line_survey(start, len, 1, c);
-      std::printf("%d,%u,%llu,%.1f\n", count, t, static_cast<unsigned long long>(sv.total_pings()),
-                  pings_per_s(s, c, sv, runs));
-      std::fflush(stdout);
+    // The default (automatic plane count: objects smaller than the along-track footprint and
+    // their shadows need more planes) and one plane (the cost of the objects themselves).
+    for (const int setting : {QualityConfig::kAutoPlanes, 1}) {
+      for (const unsigned t : {1u, 2u}) {
+        SimulationConfig c = standard_config(t);
+        c.quality.along_track_planes = setting;
+        const Survey sv = line_survey(start, len, 1, c);
+        int planes = 0;
+        const double rate = pings_per_s(s, c, sv, runs, &planes);
+        std::printf("%d,%u,%s,%d,%llu,%.1f\n", count, t, setting == 1 ? "1" : "auto", planes,
+                    static_cast<unsigned long long>(sv.total_pings()), rate);
+        std::fflush(stdout);
+      }
     }
   }
 }

@@ -270,10 +270,13 @@ void sweep_object(const std::string& dir, bool tiny) {
     Scene with = make_scene(SceneKind::flat, 0.25, tr, "");
     with.objects.add(rock);
     with.objects.build_index();
-    const Simulator sim(with, cfg, h);
+    const std::vector<PingPose> poses = track_poses(with, tr);
+    // The default quality chooses its along-track plane count from the sweep's pings.
+    const Simulator sim(with, cfg, h, poses);
+    std::printf("object %g m: default chose %d along-track plane(s), estimated error %.3f dB\n", d,
+                sim.along_track().planes, sim.along_track().estimated_error_db);
     const SideParams& side = sim.side_params();
     const std::size_t n = side.samples;
-    const std::vector<PingPose> poses = track_poses(with, tr);
     // Window of bins (starboard half) around the rock and its shadow.
     const double z_top = d, y_b = 40.0 + 0.5 * d;
     const double r0 = std::hypot(40.0 - 0.5 * d - 1.0, h);
@@ -301,6 +304,11 @@ void sweep_object(const std::string& dir, bool tiny) {
     m.is_default = false;
     m.along_track_planes = 5;
     ms.push_back({m, &with});
+    m.label = "default (auto planes)";
+    m.is_default = true;
+    m.along_track_planes = sim.along_track().planes;
+    ms.push_back({m, &with});
+    m.is_default = false;
     m.family = "rays";
     m.label = "rays=30000";
     m.along_track_planes = 1;

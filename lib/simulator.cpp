@@ -337,6 +337,7 @@ AlongTrackChoice Simulator::choose_along_track_planes(const std::vector<PingPose
       DbDifference diff;
       for (std::size_t i = 0; i < fine.size(); ++i) diff.add(coarse[i], fine[i]);
       choice.estimated_error_db = diff.rms_db();
+      choice.estimates_db.push_back(choice.estimated_error_db);
       choice.planes = kLevels[j];
       if (choice.estimated_error_db <= config_.quality.along_track_tolerance_db) break;
       choice.planes = kLevels[j + 1];

@@ -9,12 +9,15 @@ set logscale x 2
 set xlabel "samples per channel"
 set ylabel "pings/s"
 thr(t) = sprintf("< awk -F, 'NR>1 && $2==%d' %s/scaling_samples.csv", t, dir)
-plot for [t=1:2] thr(t) using 1:4 with linespoints pt 7 title sprintf("%d thread(s)", t)
+plot for [t=1:2] thr(t) using 1:5 with linespoints pt 7 title sprintf("%d thread(s)", t)
 unset logscale x
 set logscale x 10
 set xlabel "objects in the scene (0 plotted at 1)"
-tho(t) = sprintf("< awk -F, 'NR>1 && $2==%d' %s/scaling_objects.csv", t, dir)
-plot for [t=1:2] tho(t) using ($1 < 1 ? 1 : $1):4 with linespoints pt 7 title sprintf("%d thread(s)", t)
+set logscale y 10
+tho(t, p) = sprintf("< awk -F, 'NR>1 && $2==%d && $3==\"%s\"' %s/scaling_objects.csv", t, p, dir)
+plot for [t=1:2] tho(t, "auto") using ($1 < 1 ? 1 : $1):6 with linespoints pt 7 title sprintf("default (auto planes), %d thread(s)", t), \
+     for [t=1:2] tho(t, "1") using ($1 < 1 ? 1 : $1):6 with linespoints pt 6 dt 2 title sprintf("1 plane, %d thread(s)", t)
+unset logscale y
 set xlabel "grid cells"
 set ylabel "pings/s (2 threads)"
 set y2label "peak RSS (MiB)"

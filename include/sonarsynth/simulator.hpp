@@ -74,6 +74,8 @@ struct AlongTrackChoice {
   /// over the pilot pings (an estimate of the chosen count's error; for the largest count, the
   /// difference between the two largest); NaN otherwise.
   double estimated_error_db = std::numeric_limits<double>::quiet_NaN();
+  /// Automatic only: the estimate of each count tried (1, 3, 5, ... against the next).
+  std::vector<double> estimates_db;
   std::size_t pilot_pings = 0;  ///< pilot pings that had lit bins
   double pilot_s = 0.0;         ///< wall time of the choice, seconds
 };
