@@ -7,7 +7,10 @@
 #include <algorithm>
 #include <cctype>
 #include <climits>
+#include <cstring>
+#include <exception>
 #include <filesystem>
+#include <vector>
 
 #include "sonarsynth/error.hpp"
 
@@ -20,17 +23,164 @@ namespace {
                     (gdal_msg.empty() ? "" : ": " + gdal_msg));
 }
 
-}  // namespace
-
-gdal::DatasetPtr create_mem(std::size_t cols, std::size_t rows, int bands, GDALDataType type,
-                            const char* who, const std::string& path) {
-  gdal::ensure_registered();
+void check_size(std::size_t cols, std::size_t rows, const char* who, const std::string& path) {
   if (cols == 0 || rows == 0 || cols > static_cast<std::size_t>(INT_MAX) ||
       rows > static_cast<std::size_t>(INT_MAX)) {
     fail(who, path,
          "image of " + std::to_string(cols) + " x " + std::to_string(rows) +
              " pixels cannot be written");
   }
+}
+
+// BANDMAP_TYPE (GDAL >= 3.7) is int* unless GDAL_BANDMAP_TYPE_CONST_SAFE is defined.
+#ifdef BANDMAP_TYPE
+using BandMap = BANDMAP_TYPE;
+#else
+using BandMap = int*;
+#endif
+
+/// A plain read: no resampling, no fractional window.
+bool plain_read(GDALRWFlag flag, int x0, int y0, int nx, int ny, int buf_nx, int buf_ny,
+                const GDALRasterIOExtraArg* extra) {
+  const bool integer_window =
+      !extra || !extra->bFloatingPointWindowValidity ||
+      (extra->dfXOff == x0 && extra->dfYOff == y0 && extra->dfXSize == nx && extra->dfYSize == ny);
+  return flag == GF_Read && buf_nx == nx && buf_ny == ny && integer_window;
+}
+
+/// A read-only dataset whose rows come from a RowSource when GDAL reads them: plain reads bypass
+/// GDAL's block cache (which would otherwise keep up to GDAL_CACHEMAX of the image) and only the
+/// current row of all bands is held. Rows are meant to be read top to bottom, as CreateCopy
+/// does; reading an earlier row rewinds the source. An exception thrown by the source becomes a
+/// GDAL error, so that the read (and the copy) fails with its message.
+class StreamingDataset final : public GDALDataset {
+ public:
+  StreamingDataset(int cols, int rows, int bands, GDALDataType type, RowSource& source);
+
+  /// Copies rows [y0, y0 + ny) x columns [x0, x0 + nx) of `band_count` bands (1-based numbers
+  /// in `band_map`) to `out` with the given spacing (bytes) and buffer type.
+  CPLErr read(int x0, int y0, int nx, int ny, int band_count, const int* band_map, void* out,
+              GDALDataType out_type, GSpacing pixel_space, GSpacing line_space,
+              GSpacing band_space);
+
+ protected:
+  CPLErr IRasterIO(GDALRWFlag flag, int x0, int y0, int nx, int ny, void* data, int buf_nx,
+                   int buf_ny, GDALDataType buf_type, int band_count, BandMap band_map,
+                   GSpacing pixel_space, GSpacing line_space, GSpacing band_space,
+                   GDALRasterIOExtraArg* extra) override;
+
+ private:
+  /// Row y of all bands, or nullptr after a GDAL error.
+  const unsigned char* row(int y);
+
+  RowSource& source_;
+  GDALDataType type_;
+  std::size_t band_bytes_;  ///< one band of one row
+  std::vector<unsigned char> row_;
+  int have_ = -1;  ///< row held in row_
+  int next_ = 0;   ///< row the source produces next
+};
+
+class StreamingBand final : public GDALRasterBand {
+ public:
+  StreamingBand(StreamingDataset* ds, int band, GDALDataType type, int cols, int rows) {
+    poDS = ds;
+    nBand = band;
+    eDataType = type;
+    nRasterXSize = cols;
+    nRasterYSize = rows;
+    nBlockXSize = cols;  // a block is one row
+    nBlockYSize = 1;
+    eAccess = GA_ReadOnly;
+  }
+
+ protected:
+  CPLErr IReadBlock(int /*x_block*/, int y_block, void* data) override {
+    return dataset().read(0, y_block, nRasterXSize, 1, 1, &nBand, data, eDataType,
+                          GDALGetDataTypeSizeBytes(eDataType), 0, 0);
+  }
+  CPLErr IRasterIO(GDALRWFlag flag, int x0, int y0, int nx, int ny, void* data, int buf_nx,
+                   int buf_ny, GDALDataType buf_type, GSpacing pixel_space, GSpacing line_space,
+                   GDALRasterIOExtraArg* extra) override {
+    if (plain_read(flag, x0, y0, nx, ny, buf_nx, buf_ny, extra)) {
+      return dataset().read(x0, y0, nx, ny, 1, &nBand, data, buf_type, pixel_space, line_space, 0);
+    }
+    // Resampled reads (overviews, thumbnails) go through the blocks; writes fail there.
+    return GDALRasterBand::IRasterIO(flag, x0, y0, nx, ny, data, buf_nx, buf_ny, buf_type,
+                                     pixel_space, line_space, extra);
+  }
+
+ private:
+  StreamingDataset& dataset() { return *static_cast<StreamingDataset*>(poDS); }
+};
+
+StreamingDataset::StreamingDataset(int cols, int rows, int bands, GDALDataType type,
+                                   RowSource& source)
+    : source_(source),
+      type_(type),
+      band_bytes_(static_cast<std::size_t>(cols) *
+                  static_cast<std::size_t>(GDALGetDataTypeSizeBytes(type))) {
+  nRasterXSize = cols;
+  nRasterYSize = rows;
+  eAccess = GA_ReadOnly;
+  for (int b = 1; b <= bands; ++b) SetBand(b, new StreamingBand(this, b, type, cols, rows));
+  row_.resize(band_bytes_ * static_cast<std::size_t>(bands));
+}
+
+const unsigned char* StreamingDataset::row(int y) {
+  if (y == have_) return row_.data();
+  try {
+    if (y < next_) {
+      source_.rewind();
+      next_ = 0;
+    }
+    have_ = -1;
+    for (; next_ <= y; ++next_) source_.next(row_.data());
+    have_ = y;
+    return row_.data();
+  } catch (const std::exception& e) {
+    next_ = nRasterYSize;  // start again (rewind) at the next request
+    CPLError(CE_Failure, CPLE_AppDefined, "%s", e.what());
+    return nullptr;
+  }
+}
+
+CPLErr StreamingDataset::read(int x0, int y0, int nx, int ny, int band_count, const int* band_map,
+                              void* out, GDALDataType out_type, GSpacing pixel_space,
+                              GSpacing line_space, GSpacing band_space) {
+  const std::size_t pixel_bytes = band_bytes_ / static_cast<std::size_t>(nRasterXSize);
+  for (int j = 0; j < ny; ++j) {
+    const unsigned char* r = row(y0 + j);
+    if (!r) return CE_Failure;
+    for (int k = 0; k < band_count; ++k) {
+      const unsigned char* src = r + static_cast<std::size_t>(band_map[k] - 1) * band_bytes_ +
+                                 static_cast<std::size_t>(x0) * pixel_bytes;
+      GDALCopyWords(src, type_, static_cast<int>(pixel_bytes),
+                    static_cast<unsigned char*>(out) + j * line_space + k * band_space, out_type,
+                    static_cast<int>(pixel_space), nx);
+    }
+  }
+  return CE_None;
+}
+
+CPLErr StreamingDataset::IRasterIO(GDALRWFlag flag, int x0, int y0, int nx, int ny, void* data,
+                                   int buf_nx, int buf_ny, GDALDataType buf_type, int band_count,
+                                   BandMap band_map, GSpacing pixel_space, GSpacing line_space,
+                                   GSpacing band_space, GDALRasterIOExtraArg* extra) {
+  if (plain_read(flag, x0, y0, nx, ny, buf_nx, buf_ny, extra)) {
+    return read(x0, y0, nx, ny, band_count, band_map, data, buf_type, pixel_space, line_space,
+                band_space);
+  }
+  return GDALDataset::IRasterIO(flag, x0, y0, nx, ny, data, buf_nx, buf_ny, buf_type, band_count,
+                                band_map, pixel_space, line_space, band_space, extra);
+}
+
+}  // namespace
+
+gdal::DatasetPtr create_mem(std::size_t cols, std::size_t rows, int bands, GDALDataType type,
+                            const char* who, const std::string& path) {
+  gdal::ensure_registered();
+  check_size(cols, rows, who, path);
   GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
   if (!mem) fail(who, path, "GDAL has no MEM driver");
   GDALDataset* ds =
@@ -77,6 +227,56 @@ void copy_to_file(GDALDataset& src, const char* driver_name, const std::string& 
   gdal::close_checked(gdal::DatasetPtr(out), final_path, who);
   // Some drivers (PNG) write an .aux.xml side-car for what they cannot store; drop it.
   std::error_code ec;
+  std::filesystem::remove(temp_path + ".aux.xml", ec);
+}
+
+void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int bands,
+                    GDALDataType type, const char* driver_name, const std::string& temp_path,
+                    const std::vector<std::pair<std::string, std::string>>& creation_options,
+                    const std::vector<std::string>& descriptions, const char* who,
+                    const std::string& final_path) {
+  gdal::ensure_registered();
+  check_size(cols, rows, who, final_path);
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name);
+  if (!driver) fail(who, final_path, std::string("GDAL has no ") + driver_name + " driver");
+  auto describe = [&](GDALDataset& ds) {
+    for (std::size_t b = 0; b < descriptions.size(); ++b) {
+      ds.GetRasterBand(static_cast<int>(b) + 1)->SetDescription(descriptions[b].c_str());
+    }
+  };
+  if (!CPLFetchBool(driver->GetMetadata(), GDAL_DCAP_CREATE, false)) {
+    gdal::DatasetPtr src(
+        new StreamingDataset(static_cast<int>(cols), static_cast<int>(rows), bands, type, source));
+    describe(*src);
+    copy_to_file(*src, driver_name, temp_path, creation_options, who, final_path);
+    return;
+  }
+  CPLStringList co;
+  for (const auto& [k, v] : creation_options) co.SetNameValue(k.c_str(), v.c_str());
+  CPLErrorReset();
+  gdal::DatasetPtr ds(driver->Create(temp_path.c_str(), static_cast<int>(cols),
+                                     static_cast<int>(rows), bands, type, co.List()));
+  if (!ds) fail(who, final_path, std::string("cannot create ") + driver_name);
+  describe(*ds);
+  int block_cols = 0, block_rows = 0;
+  ds->GetRasterBand(1)->GetBlockSize(&block_cols, &block_rows);
+  const auto flush_every = static_cast<std::size_t>(std::max(1, block_rows));
+  const auto type_bytes = static_cast<GSpacing>(GDALGetDataTypeSizeBytes(type));
+  const GSpacing band_bytes = type_bytes * static_cast<GSpacing>(cols);
+  std::vector<unsigned char> row(static_cast<std::size_t>(band_bytes) *
+                                 static_cast<std::size_t>(bands));
+  for (std::size_t r = 0; r < rows; ++r) {
+    source.next(row.data());
+    if (ds->RasterIO(GF_Write, 0, static_cast<int>(r), static_cast<int>(cols), 1, row.data(),
+                     static_cast<int>(cols), 1, type, bands, nullptr, type_bytes, band_bytes,
+                     band_bytes, nullptr) != CE_None) {
+      fail(who, final_path, "cannot write row " + std::to_string(r));
+    }
+    // A completed row of blocks goes to the file and leaves the cache.
+    if ((r + 1) % flush_every == 0 || r + 1 == rows) ds->FlushCache(false);
+  }
+  gdal::close_checked(std::move(ds), final_path, who);
+  std::error_code ec;  // as in copy_to_file()
   std::filesystem::remove(temp_path + ".aux.xml", ec);
 }
 

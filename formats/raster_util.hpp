@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Private helpers of the raster writers (mosaic, waterfall): in-memory datasets copied to a
-// file through any GDAL driver.
+// Private helpers of the raster writers (mosaic, waterfall): in-memory or streamed datasets
+// copied to a file through any GDAL driver.
 
 #include <gdal_priv.h>
 
@@ -18,6 +18,30 @@ namespace sonarsynth::raster {
 /// An empty MEM dataset; throws FormatError("<who>: ... <path>") on failure.
 gdal::DatasetPtr create_mem(std::size_t cols, std::size_t rows, int bands, GDALDataType type,
                             const char* who, const std::string& path);
+
+/// The rows of an image, produced in order for stream_to_file().
+class RowSource {
+ public:
+  virtual ~RowSource() = default;
+  /// Writes the next row (the first after construction or rewind()) to `out`: band b (from 0)
+  /// at `out` + b x cols pixels of the dataset's type.
+  virtual void next(void* out) = 0;
+  /// Starts again at the first row.
+  virtual void rewind() = 0;
+};
+
+/// Writes the `rows` rows of `source` to `temp_path` through driver `driver` (creation options as
+/// for copy_to_file(); `descriptions`, if not empty, one per band) without holding the image:
+/// a driver that can create files (GTiff) gets the rows one at a time and each completed row of
+/// blocks is flushed, so GDAL's block cache does not fill up with the image; others (PNG) get a
+/// CreateCopy from a dataset whose reads are served row by row from `source`, bypassing the
+/// block cache. Closes the file and checks for errors like copy_to_file(). An exception thrown
+/// by `source` propagates (GTiff) or fails the copy with its message (PNG).
+void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int bands,
+                    GDALDataType type, const char* driver, const std::string& temp_path,
+                    const std::vector<std::pair<std::string, std::string>>& creation_options,
+                    const std::vector<std::string>& descriptions, const char* who,
+                    const std::string& final_path);
 
 /// Writes a whole band from a row-major buffer of `type`.
 void write_band(GDALDataset& ds, int band, const void* data, GDALDataType type, const char* who,

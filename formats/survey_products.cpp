@@ -44,8 +44,13 @@ SurveyProducts::SurveyProducts(std::filesystem::path dir, const Scene& scene,
 }
 
 void SurveyProducts::begin_line(std::size_t /*line*/) {
-  if (options_.waterfalls) waterfall_ = std::make_unique<Waterfall>();
-  if (options_.truth) truth_ = std::make_unique<TruthWaterfall>();
+  // Rows are spooled next to the outputs (the same file system; the spool files are unnamed).
+  if (options_.waterfalls) {
+    WaterfallOptions wo;
+    wo.spool_dir = dir_;
+    waterfall_ = std::make_unique<Waterfall>(wo);
+  }
+  if (options_.truth) truth_ = std::make_unique<TruthWaterfall>(dir_);
   if (mosaic_) mosaic_->break_line();
 }
 

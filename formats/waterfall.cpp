@@ -3,11 +3,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <memory>
 #include <sstream>
-#include <tuple>
+#include <system_error>
+#include <utility>
+#include <vector>
 
 #include "raster_util.hpp"
+#include "row_spool.hpp"
 #include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/atomic_file.hpp"
@@ -47,18 +52,58 @@ std::string driver_for(const std::string& path, const char* who) {
                    ": unsupported extension (use .png or .tif)");
 }
 
-template <typename Row, typename Get>
-void assemble(const std::vector<Row>& rows, std::size_t side, Get get, float pad,
-              std::vector<float>& out) {
-  const std::size_t cols = 2 * side;
-  out.assign(cols * rows.size(), pad);
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    const auto& [port, stbd] = get(rows[r]);
-    float* row = out.data() + r * cols;
-    for (std::size_t i = 0; i < port.size(); ++i) row[side - 1 - i] = port[i];
-    std::copy(stbd.begin(), stbd.end(), row + side);
+/// The coloured rows of a waterfall (u8, 1 or 3 bands) from its spool.
+class ColouredRows final : public raster::RowSource {
+ public:
+  ColouredRows(const detail::SideSpool& spool, DisplayRange range, Colormap map)
+      : reader_(spool, std::span<const float>(&kNaNf, 1)),
+        range_(range),
+        map_(map),
+        linear_(spool.cols()) {}
+  void next(void* out) override {
+    if (!reader_.next(linear_)) throw FormatError("waterfall: spool file ended early");
+    const bool grey = map_ == Colormap::grey;
+    const std::size_t n = linear_.size();
+    auto* bytes = static_cast<std::uint8_t*>(out);
+    std::fill(bytes, bytes + (grey ? 1 : 3) * n, std::uint8_t{0});
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v = range_.value(linear_[i]);
+      if (std::isnan(v)) continue;  // nodata: black
+      const Rgb8 c = colormap(map_, v);
+      bytes[i] = c.r;
+      if (!grey) {
+        bytes[n + i] = c.g;
+        bytes[2 * n + i] = c.b;
+      }
+    }
   }
-}
+  void rewind() override { reader_.rewind(); }
+
+ private:
+  detail::SideSpool::Reader reader_;
+  DisplayRange range_;
+  Colormap map_;
+  std::vector<float> linear_;
+};
+
+constexpr float kTruthPads[3] = {255.0f, -1.0f, kNaNf};
+
+/// The rows of a truth waterfall (float32, 3 bands) from its spool.
+class TruthRows final : public raster::RowSource {
+ public:
+  explicit TruthRows(const detail::SideSpool& spool)
+      : reader_(spool, kTruthPads), cols_(spool.cols()) {}
+  void next(void* out) override {
+    if (!reader_.next(std::span<float>(static_cast<float*>(out), 3 * cols_))) {
+      throw FormatError("truth waterfall: spool file ended early");
+    }
+  }
+  void rewind() override { reader_.rewind(); }
+
+ private:
+  detail::SideSpool::Reader reader_;
+  std::size_t cols_;
+};
 
 }  // namespace
 
@@ -77,75 +122,79 @@ void WaterfallOptions::validate() const {
   if (!os.str().empty()) throw InputError(os.str());
 }
 
-Waterfall::Waterfall(WaterfallOptions options) : options_(options) {
+Waterfall::Waterfall(WaterfallOptions options) : options_(std::move(options)) {
   options_.validate();
+  spool_ = std::make_unique<detail::SideSpool>(options_.spool_dir, 1, "waterfall");
+}
+
+Waterfall::~Waterfall() = default;
+Waterfall::Waterfall(Waterfall&&) noexcept = default;
+Waterfall& Waterfall::operator=(Waterfall&&) noexcept = default;
+
+std::size_t Waterfall::rows() const {
+  return spool_ ? spool_->rows() : 0;
+}
+
+std::size_t Waterfall::cols() const {
+  return spool_ ? spool_->cols() : 0;
 }
 
 void Waterfall::add_ping(std::span<const float> port, std::span<const float> starboard,
                          double slant_range_m, double altitude_m) {
-  Row row;
-  const bool correct = options_.slant_correct && altitude_m > 0.0 && slant_range_m > 0.0 &&
-                       std::isfinite(altitude_m) && std::isfinite(slant_range_m);
-  if (correct) {
-    if (!port.empty()) row.port = ground_resample(port, slant_range_m, altitude_m);
-    if (!starboard.empty()) row.starboard = ground_resample(starboard, slant_range_m, altitude_m);
-  } else {
-    row.port.assign(port.begin(), port.end());
-    row.starboard.assign(starboard.begin(), starboard.end());
-  }
-  const std::size_t side = std::max({side_, port.size(), starboard.size()});
-  if (2 * side * (rows_.size() + 1) > options_.max_pixels) {
+  const std::size_t side = std::max({spool_->side(), port.size(), starboard.size()});
+  if (2 * side * (rows() + 1) > options_.max_pixels) {
     throw InputError("waterfall: image of " + std::to_string(2 * side) + " x " +
-                     std::to_string(rows_.size() + 1) +
+                     std::to_string(rows() + 1) +
                      " pixels exceeds max_pixels = " + std::to_string(options_.max_pixels));
   }
-  side_ = side;
-  rows_.push_back(std::move(row));
+  const bool correct = options_.slant_correct && altitude_m > 0.0 && slant_range_m > 0.0 &&
+                       std::isfinite(altitude_m) && std::isfinite(slant_range_m);
+  std::vector<float> port_ground, stbd_ground;
+  if (correct) {
+    if (!port.empty()) port = port_ground = ground_resample(port, slant_range_m, altitude_m);
+    if (!starboard.empty()) {
+      starboard = stbd_ground = ground_resample(starboard, slant_range_m, altitude_m);
+    }
+  }
+  spool_->append(std::span(&port, 1), std::span(&starboard, 1));
 }
 
 std::vector<float> Waterfall::image() const {
-  std::vector<float> out;
-  assemble(
-      rows_, side_, [](const Row& r) { return std::tie(r.port, r.starboard); }, kNaNf, out);
+  if (!spool_) return {};  // moved from
+  const std::size_t cols = this->cols();
+  std::vector<float> out(cols * rows());
+  detail::SideSpool::Reader reader(*spool_, std::span<const float>(&kNaNf, 1));
+  for (std::size_t r = 0; r < rows(); ++r) {
+    if (!reader.next(std::span(out).subspan(r * cols, cols))) break;
+  }
   return out;
 }
 
 void Waterfall::write(const std::string& path) const {
   constexpr const char* kWho = "waterfall";
   const std::string driver = driver_for(path, kWho);
-  if (rows_.empty() || side_ == 0) {
+  if (rows() == 0 || cols() == 0) {
     throw FormatError(std::string(kWho) + ": " + path + ": no ping with samples to draw");
   }
   gdal::ensure_registered();
   AtomicOutput out(path, options_.overwrite);
-  const std::vector<float> img = image();
-  const DisplayRange range =
-      options_.fixed_db ? DisplayRange{options_.lo_db, options_.hi_db}
-                        : robust_db_range(img, options_.lo_percentile, options_.hi_percentile);
-  const bool grey = options_.colormap == Colormap::grey;
-  const int bands = grey ? 1 : 3;
-  const std::size_t n = img.size();
-  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(bands) * n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double v = range.value(img[i]);
-    if (std::isnan(v)) continue;  // nodata: black
-    const Rgb8 c = colormap(options_.colormap, v);
-    bytes[i] = c.r;
-    if (!grey) {
-      bytes[n + i] = c.g;
-      bytes[2 * n + i] = c.b;
-    }
+  DisplayRange range{options_.lo_db, options_.hi_db};
+  if (!options_.fixed_db) {
+    // First pass: the subsample robust_db_range would take of the whole image.
+    DbRangeSampler sampler(cols() * rows());
+    detail::SideSpool::Reader reader(*spool_, std::span<const float>(&kNaNf, 1));
+    std::vector<float> row(cols());
+    while (reader.next(row)) sampler.add(row);
+    range = sampler.range(options_.lo_percentile, options_.hi_percentile);
   }
-  gdal::DatasetPtr mem = raster::create_mem(cols(), rows(), bands, GDT_Byte, kWho, path);
-  for (int b = 0; b < bands; ++b) {
-    raster::write_band(*mem, b + 1, bytes.data() + static_cast<std::size_t>(b) * n, GDT_Byte, kWho,
-                       path);
-  }
+  const int bands = options_.colormap == Colormap::grey ? 1 : 3;
+  ColouredRows source(*spool_, range, options_.colormap);
   std::vector<std::pair<std::string, std::string>> co;
   // Fast compression: waterfalls are large and written once per line.
   if (driver == "GTiff") co = {{"COMPRESS", "ZSTD"}, {"ZSTD_LEVEL", "1"}, {"TILED", "YES"}};
   if (driver == "PNG") co = {{"ZLEVEL", "1"}};
-  raster::copy_to_file(*mem, driver.c_str(), out.temp_path().string(), co, kWho, path);
+  raster::stream_to_file(source, cols(), rows(), bands, GDT_Byte, driver.c_str(),
+                         out.temp_path().string(), co, {}, kWho, path);
   out.commit();
 }
 
@@ -156,7 +205,17 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
   if (!options.overwrite && std::filesystem::exists(image_path)) {
     throw FormatError("waterfall: " + image_path + " already exists (use overwrite to replace it)");
   }
-  Waterfall wf(options);
+  // Spool next to the image: the file system that is to receive it, rather than a /tmp that
+  // may be in memory (unless asked otherwise, or the directory is missing: then the write
+  // reports it).
+  WaterfallOptions wo = options;
+  if (wo.spool_dir.empty()) {
+    std::filesystem::path dir = std::filesystem::path(image_path).parent_path();
+    if (dir.empty()) dir = ".";
+    std::error_code ec;
+    if (std::filesystem::is_directory(dir, ec)) wo.spool_dir = dir;
+  }
+  Waterfall wf(wo);
   WaterfallResult result;
   xtf::Reader reader(xtf_path);
   xtf::Packet packet;
@@ -179,6 +238,21 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
   return result;
 }
 
+TruthWaterfall::TruthWaterfall(const std::filesystem::path& spool_dir)
+    : spool_(std::make_unique<detail::SideSpool>(spool_dir, 3, "truth waterfall")) {}
+
+TruthWaterfall::~TruthWaterfall() = default;
+TruthWaterfall::TruthWaterfall(TruthWaterfall&&) noexcept = default;
+TruthWaterfall& TruthWaterfall::operator=(TruthWaterfall&&) noexcept = default;
+
+std::size_t TruthWaterfall::rows() const {
+  return spool_ ? spool_->rows() : 0;
+}
+
+std::size_t TruthWaterfall::cols() const {
+  return spool_ ? spool_->cols() : 0;
+}
+
 void TruthWaterfall::add_ping(std::span<const SampleClass> port_class,
                               std::span<const SampleClass> stbd_class,
                               std::span<const std::int32_t> port_id,
@@ -187,10 +261,10 @@ void TruthWaterfall::add_ping(std::span<const SampleClass> port_class,
                               std::span<const float> stbd_grazing_rad) {
   if (port_id.size() != port_class.size() || port_grazing_rad.size() != port_class.size() ||
       stbd_id.size() != stbd_class.size() || stbd_grazing_rad.size() != stbd_class.size()) {
-    throw InputError("truth waterfall: ping " + std::to_string(rows_.size()) +
+    throw InputError("truth waterfall: ping " + std::to_string(rows()) +
                      ": class, id and grazing spans of a side differ in size");
   }
-  Row row;
+  std::vector<float> values[2][3];  // side, band: class, id, grazing (deg)
   auto fill = [](std::vector<float>(&dst)[3], std::span<const SampleClass> c,
                  std::span<const std::int32_t> id, std::span<const float> g) {
     for (std::size_t i = 0; i < c.size(); ++i) {
@@ -199,37 +273,25 @@ void TruthWaterfall::add_ping(std::span<const SampleClass> port_class,
       dst[2].push_back(static_cast<float>(deg_from_rad(static_cast<double>(g[i]))));
     }
   };
-  fill(row.port, port_class, port_id, port_grazing_rad);
-  fill(row.starboard, stbd_class, stbd_id, stbd_grazing_rad);
-  side_ = std::max({side_, port_class.size(), stbd_class.size()});
-  rows_.push_back(std::move(row));
+  fill(values[0], port_class, port_id, port_grazing_rad);
+  fill(values[1], stbd_class, stbd_id, stbd_grazing_rad);
+  const std::span<const float> port[3] = {values[0][0], values[0][1], values[0][2]};
+  const std::span<const float> stbd[3] = {values[1][0], values[1][1], values[1][2]};
+  spool_->append(port, stbd);
 }
 
 void TruthWaterfall::write(const std::string& path, bool overwrite) const {
   constexpr const char* kWho = "truth waterfall";
-  if (rows_.empty() || side_ == 0) {
+  if (rows() == 0 || cols() == 0) {
     throw FormatError(std::string(kWho) + ": " + path + ": no ping to write");
   }
   gdal::ensure_registered();
   AtomicOutput out(path, overwrite);
-  gdal::DatasetPtr mem = raster::create_mem(cols(), rows(), 3, GDT_Float32, kWho, path);
-  const char* names[3] = {"class", "object id", "grazing angle (degrees)"};
-  const float pads[3] = {255.0f, -1.0f, kNaNf};
-  std::vector<float> band;
-  for (int b = 0; b < 3; ++b) {
-    const auto k = static_cast<std::size_t>(b);
-    assemble(
-        rows_, side_, [k](const Row& r) { return std::tie(r.port[k], r.starboard[k]); }, pads[b],
-        band);
-    GDALRasterBand* gb = mem->GetRasterBand(b + 1);
-    gb->SetDescription(names[b]);
-    if (b == 2) gb->SetNoDataValue(std::numeric_limits<double>::quiet_NaN());
-    raster::write_band(*mem, b + 1, band.data(), GDT_Float32, kWho, path);
-  }
-  raster::copy_to_file(
-      *mem, "GTiff", out.temp_path().string(),
-      {{"COMPRESS", "ZSTD"}, {"ZSTD_LEVEL", "1"}, {"TILED", "YES"}, {"BIGTIFF", "IF_SAFER"}}, kWho,
-      path);
+  TruthRows source(*spool_);
+  raster::stream_to_file(
+      source, cols(), rows(), 3, GDT_Float32, "GTiff", out.temp_path().string(),
+      {{"COMPRESS", "ZSTD"}, {"ZSTD_LEVEL", "1"}, {"TILED", "YES"}, {"BIGTIFF", "IF_SAFER"}},
+      {"class", "object id", "grazing angle (degrees)"}, kWho, path);
   out.commit();
 }
 

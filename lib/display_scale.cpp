@@ -18,28 +18,50 @@ double DisplayRange::value(float linear) const {
   return std::clamp((db - lo_db) / (hi_db - lo_db), 0.0, 1.0);
 }
 
-DisplayRange robust_db_range(std::span<const float> linear, double lo_percentile,
-                             double hi_percentile, std::size_t max_samples) {
+namespace {
+
+void check_percentiles(double lo_percentile, double hi_percentile) {
   if (!(lo_percentile >= 0.0 && lo_percentile < hi_percentile && hi_percentile <= 100.0)) {
     std::ostringstream os;
     os << "display scale: percentiles " << lo_percentile << ", " << hi_percentile
        << ". Violated constraint: 0 <= lo < hi <= 100";
     throw InputError(os.str());
   }
-  const std::size_t stride =
-      std::max<std::size_t>(1, linear.size() / std::max<std::size_t>(1, max_samples));
-  std::vector<double> db;
-  db.reserve(std::min(linear.size(), max_samples) + 1);
-  for (std::size_t i = 0; i < linear.size(); i += stride) {
+}
+
+}  // namespace
+
+DisplayRange robust_db_range(std::span<const float> linear, double lo_percentile,
+                             double hi_percentile, std::size_t max_samples) {
+  check_percentiles(lo_percentile, hi_percentile);
+  DbRangeSampler sampler(linear.size(), max_samples);
+  sampler.add(linear);
+  return sampler.range(lo_percentile, hi_percentile);
+}
+
+DbRangeSampler::DbRangeSampler(std::size_t count, std::size_t max_samples)
+    : stride_(std::max<std::size_t>(1, count / std::max<std::size_t>(1, max_samples))) {
+  db_.reserve(std::min(count, max_samples) + 1);
+}
+
+void DbRangeSampler::add(std::span<const float> linear) {
+  // Every stride-th value of the whole sequence: indices 0, stride, 2 stride, ...
+  const std::size_t first = (stride_ - seen_ % stride_) % stride_;
+  for (std::size_t i = first; i < linear.size(); i += stride_) {
     const float v = linear[i];
-    if (std::isfinite(v) && v > 0.0f) db.push_back(10.0 * std::log10(static_cast<double>(v)));
+    if (std::isfinite(v) && v > 0.0f) db_.push_back(10.0 * std::log10(static_cast<double>(v)));
   }
-  if (db.empty()) return {};
+  seen_ += linear.size();
+}
+
+DisplayRange DbRangeSampler::range(double lo_percentile, double hi_percentile) {
+  check_percentiles(lo_percentile, hi_percentile);
+  if (db_.empty()) return {};
   auto pick = [&](double pct) {
     const auto k =
-        static_cast<std::size_t>(std::llround(pct / 100.0 * static_cast<double>(db.size() - 1)));
-    std::nth_element(db.begin(), db.begin() + static_cast<std::ptrdiff_t>(k), db.end());
-    return db[k];
+        static_cast<std::size_t>(std::llround(pct / 100.0 * static_cast<double>(db_.size() - 1)));
+    std::nth_element(db_.begin(), db_.begin() + static_cast<std::ptrdiff_t>(k), db_.end());
+    return db_[k];
   };
   DisplayRange r{pick(lo_percentile), pick(hi_percentile)};
   if (!(r.hi_db > r.lo_db)) r.hi_db = r.lo_db + 1.0;

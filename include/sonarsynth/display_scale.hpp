@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <span>
+#include <vector>
 
 namespace sonarsynth {
 
@@ -21,5 +22,22 @@ struct DisplayRange {
 /// {0, 1} if there is no finite positive value.
 DisplayRange robust_db_range(std::span<const float> linear, double lo_percentile = 1.0,
                              double hi_percentile = 99.0, std::size_t max_samples = 1'000'000);
+
+/// robust_db_range of values that arrive in pieces (an image streamed row by row): add() the
+/// `count` values in order, then range() returns exactly what robust_db_range would on all of
+/// them, holding only the subsample (at most 2 x max_samples + 1 values, whatever `count`).
+class DbRangeSampler {
+ public:
+  explicit DbRangeSampler(std::size_t count, std::size_t max_samples = 1'000'000);
+  /// The next values of the sequence.
+  void add(std::span<const float> linear);
+  /// Throws InputError unless 0 <= lo_percentile < hi_percentile <= 100.
+  DisplayRange range(double lo_percentile, double hi_percentile);
+
+ private:
+  std::size_t stride_;
+  std::size_t seen_ = 0;  ///< values added so far
+  std::vector<double> db_;
+};
 
 }  // namespace sonarsynth

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -12,6 +13,10 @@
 #include "sonarsynth/render_side.hpp"
 
 namespace sonarsynth {
+
+namespace detail {
+class SideSpool;
+}
 
 /// How a waterfall image is scaled and written.
 struct WaterfallOptions {
@@ -27,8 +32,11 @@ struct WaterfallOptions {
   double lo_db = 0.0;
   double hi_db = 90.0;
   bool overwrite = false;
-  /// Largest image (columns x rows) held in memory.
+  /// Largest image (columns x rows) accepted: add_ping throws InputError beyond it.
   std::size_t max_pixels = std::size_t{1} << 28;
+  /// Where the rows wait for write() (an unnamed temporary file, see Waterfall); empty = the
+  /// system's temporary directory.
+  std::filesystem::path spool_dir;
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
@@ -37,31 +45,36 @@ struct WaterfallOptions {
 /// Rows of a port | starboard waterfall in linear units: row = ping, columns = port FAR -> NEAR
 /// then starboard NEAR -> FAR (nadir between columns n-1 and n); shorter sides are padded with
 /// NaN (nodata, drawn black).
+///
+/// Memory does not grow with the number of rows: each row goes to a temporary file in
+/// options.spool_dir (unlinked as soon as it is created, so nothing is left behind; its space
+/// is freed when the Waterfall is destroyed) and write() streams the rows from it into the image
+/// file. The file takes 4 bytes per sample plus 16 per row.
 class Waterfall {
  public:
+  /// Throws InputError for invalid options, FormatError if the spool file cannot be created.
   explicit Waterfall(WaterfallOptions options = {});
+  ~Waterfall();
+  Waterfall(Waterfall&&) noexcept;
+  Waterfall& operator=(Waterfall&&) noexcept;
   /// Appends one ping; samples NEAR -> FAR. With slant_correct, altitude_m > 0 is required
   /// (otherwise the row is added uncorrected) and slant_range_m is the range of the last sample.
   void add_ping(std::span<const float> port, std::span<const float> starboard, double slant_range_m,
                 double altitude_m);
-  std::size_t rows() const { return rows_.size(); }
+  std::size_t rows() const;
   /// 2 x the longest side added so far.
-  std::size_t cols() const { return 2 * side_; }
-  /// Linear image, row-major, NaN = nodata.
+  std::size_t cols() const;
+  /// Linear image, row-major, NaN = nodata (read back from the spool file: cols x rows floats).
   std::vector<float> image() const;
   /// Writes PNG (name ending .png) or GeoTIFF without georeferencing (.tif/.tiff) under a
-  /// temporary name, renamed when complete. Throws FormatError naming the path.
+  /// temporary name, renamed when complete. Throws FormatError naming the path. The percentile
+  /// scaling is robust_db_range of the whole image (read from the spool in a first pass); the
+  /// rows are then coloured and written one at a time.
   void write(const std::string& path) const;
 
  private:
   WaterfallOptions options_;
-  std::size_t side_ = 0;
-  std::size_t pixels_ = 0;
-  struct Row {
-    std::vector<float> port;       ///< near -> far
-    std::vector<float> starboard;  ///< near -> far
-  };
-  std::vector<Row> rows_;
+  std::unique_ptr<detail::SideSpool> spool_;
 };
 
 struct WaterfallResult {
@@ -71,7 +84,8 @@ struct WaterfallResult {
 };
 
 /// Waterfall of an XTF file (all pings with port or starboard samples, navigation not needed).
-/// Throws FormatError for an unreadable file or one without sonar channels.
+/// Throws FormatError for an unreadable file or one without sonar channels. Without a
+/// spool_dir in `options`, the rows are spooled in the directory of `image_path`.
 WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
                                     const std::string& image_path,
                                     const WaterfallOptions& options = {});
@@ -79,24 +93,26 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
 /// Per-sample truth aligned with the XTF samples (same rows and columns as the waterfall of
 /// the same pings): band 1 class (SampleClass value, 255 = padding), band 2 object id (0 seabed,
 /// -1 none), band 3 grazing angle in degrees (NaN none). Written as a float32 GeoTIFF without
-/// georeferencing (ids exact below 2^24).
+/// georeferencing (ids exact below 2^24). Rows are spooled to an unnamed temporary file in
+/// `spool_dir` like those of Waterfall (12 bytes per sample).
 class TruthWaterfall {
  public:
+  /// `spool_dir` empty = the system's temporary directory. Throws FormatError if the spool file
+  /// cannot be created.
+  explicit TruthWaterfall(const std::filesystem::path& spool_dir = {});
+  ~TruthWaterfall();
+  TruthWaterfall(TruthWaterfall&&) noexcept;
+  TruthWaterfall& operator=(TruthWaterfall&&) noexcept;
   /// Spans NEAR -> FAR; the three spans of a side must have the same size.
   void add_ping(std::span<const SampleClass> port_class, std::span<const SampleClass> stbd_class,
                 std::span<const std::int32_t> port_id, std::span<const std::int32_t> stbd_id,
                 std::span<const float> port_grazing_rad, std::span<const float> stbd_grazing_rad);
-  std::size_t rows() const { return rows_.size(); }
-  std::size_t cols() const { return 2 * side_; }
+  std::size_t rows() const;
+  std::size_t cols() const;
   void write(const std::string& path, bool overwrite = false) const;
 
  private:
-  struct Row {
-    std::vector<float> port[3];  ///< class, id, grazing (deg); near -> far
-    std::vector<float> starboard[3];
-  };
-  std::size_t side_ = 0;
-  std::vector<Row> rows_;
+  std::unique_ptr<detail::SideSpool> spool_;  ///< bands: class, id, grazing (deg)
 };
 
 }  // namespace sonarsynth

@@ -1,0 +1,401 @@
+// SPDX-License-Identifier: MIT
+// Streamed waterfalls: rows spooled to an unnamed temporary file come back as the image that
+// assembling them in memory gives, the written PNG/GeoTIFF hold the expected colours (percentile
+// scaling identical to robust_db_range of the whole image), the truth waterfall keeps its
+// layout and padding, and the spool file never shows up and is released with its owner.
+#include "sonarsynth/formats/waterfall.hpp"
+
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "mosaic_test_util.hpp"
+#include "sonarsynth/colormap.hpp"
+#include "sonarsynth/display_scale.hpp"
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/geo_frame.hpp"
+
+namespace sonarsynth {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+/// One ping: port and starboard samples NEAR -> FAR.
+struct Ping {
+  std::vector<float> port;
+  std::vector<float> stbd;
+};
+
+/// Pings with side lengths varying from 0 to `max_side` (the longest reached only at ping
+/// `pings` / 2, so the width grows after rows were spooled), speckle-like values with some
+/// zeros and NaNs.
+std::vector<Ping> random_pings(int pings, std::size_t max_side, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<std::size_t> len(0, max_side - 1);
+  std::exponential_distribution<float> speckle(0.5f);
+  std::uniform_int_distribution<int> special(0, 99);
+  auto side = [&](std::size_t n) {
+    std::vector<float> v(n);
+    for (float& x : v) {
+      const int s = special(rng);
+      x = s == 0 ? 0.0f : s == 1 ? kNaN : 1e-3f + speckle(rng);
+    }
+    return v;
+  };
+  std::vector<Ping> out(static_cast<std::size_t>(pings));
+  for (int i = 0; i < pings; ++i) {
+    const std::size_t np = i == pings / 2 ? max_side : len(rng);
+    const std::size_t ns = i % 7 == 3 ? 0 : len(rng);
+    out[static_cast<std::size_t>(i)] = {side(np), side(ns)};
+  }
+  return out;
+}
+
+/// The waterfall layout computed directly: 2 x longest side columns, port FAR -> NEAR then
+/// starboard NEAR -> FAR, `pad` elsewhere.
+std::vector<float> expected_image(const std::vector<Ping>& pings, std::size_t* cols, float pad) {
+  std::size_t side = 0;
+  for (const Ping& p : pings) side = std::max({side, p.port.size(), p.stbd.size()});
+  *cols = 2 * side;
+  std::vector<float> img(*cols * pings.size(), pad);
+  for (std::size_t r = 0; r < pings.size(); ++r) {
+    for (std::size_t i = 0; i < pings[r].port.size(); ++i) {
+      img[r * *cols + side - 1 - i] = pings[r].port[i];
+    }
+    for (std::size_t i = 0; i < pings[r].stbd.size(); ++i) {
+      img[r * *cols + side + i] = pings[r].stbd[i];
+    }
+  }
+  return img;
+}
+
+bool same_float(float a, float b) {
+  return (std::isnan(a) && std::isnan(b)) || a == b;
+}
+
+/// Band-sequential u8 colours of a linear image: black for NaN.
+std::vector<std::uint8_t> colourise(const std::vector<float>& img, DisplayRange range,
+                                    Colormap map) {
+  const bool grey = map == Colormap::grey;
+  const std::size_t n = img.size();
+  std::vector<std::uint8_t> out((grey ? 1 : 3) * n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = range.value(img[i]);
+    if (std::isnan(v)) continue;
+    const Rgb8 c = colormap(map, v);
+    out[i] = c.r;
+    if (!grey) {
+      out[n + i] = c.g;
+      out[2 * n + i] = c.b;
+    }
+  }
+  return out;
+}
+
+/// All bands of a raster as band-sequential u8 (empty if unreadable); the driver's name.
+std::vector<std::uint8_t> read_bytes(const std::string& path, int* cols, int* rows,
+                                     std::string* driver) {
+  GDALAllRegister();
+  GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
+  if (!ds) return {};
+  *cols = ds->GetRasterXSize();
+  *rows = ds->GetRasterYSize();
+  *driver = ds->GetDriver()->GetDescription();
+  const int bands = ds->GetRasterCount();
+  const std::size_t n = static_cast<std::size_t>(*cols) * static_cast<std::size_t>(*rows);
+  std::vector<std::uint8_t> out(n * static_cast<std::size_t>(bands));
+  for (int b = 0; b < bands; ++b) {
+    if (ds->GetRasterBand(b + 1)->RasterIO(GF_Read, 0, 0, *cols, *rows,
+                                           out.data() + static_cast<std::size_t>(b) * n, *cols,
+                                           *rows, GDT_Byte, 0, 0, nullptr) != CE_None) {
+      out.clear();
+      break;
+    }
+  }
+  GDALClose(ds);
+  return out;
+}
+
+/// Open descriptors of this process on files in `dir` (as /proc/self/fd shows them; a spool
+/// file reads "<dir>/<name> (deleted)").
+std::vector<std::string> open_files_in(const fs::path& dir) {
+  const std::string prefix = fs::canonical(dir).string() + "/";
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator("/proc/self/fd")) {
+    std::error_code ec;
+    const std::string target = fs::read_symlink(e.path(), ec).string();
+    if (!ec && target.rfind(prefix, 0) == 0) out.push_back(target);
+  }
+  return out;
+}
+
+TEST(DbRangeSampler, EqualsRobustDbRangeForAnyChunking) {
+  std::mt19937 rng(5);
+  std::lognormal_distribution<float> value(0.0f, 2.0f);
+  std::uniform_int_distribution<int> special(0, 49);
+  const std::size_t max_samples = 1000;
+  for (const std::size_t n : {0u, 1u, 999u, 1000u, 1001u, 1999u, 2000u, 2501u, 10007u}) {
+    std::vector<float> v(n);
+    for (float& x : v) {
+      const int s = special(rng);
+      x = s == 0 ? kNaN : s == 1 ? 0.0f : s == 2 ? -1.0f : value(rng);
+    }
+    const DisplayRange want = robust_db_range(v, 2.0, 97.0, max_samples);
+    for (const std::size_t chunk : {std::size_t{1}, std::size_t{7}, max_samples, n + 1}) {
+      DbRangeSampler s(n, max_samples);
+      for (std::size_t i = 0; i < n; i += chunk) {
+        s.add(std::span<const float>(v).subspan(i, std::min(chunk, n - i)));
+      }
+      const DisplayRange got = s.range(2.0, 97.0);
+      EXPECT_EQ(got.lo_db, want.lo_db) << "n = " << n << ", chunk = " << chunk;
+      EXPECT_EQ(got.hi_db, want.hi_db) << "n = " << n << ", chunk = " << chunk;
+    }
+  }
+  DbRangeSampler s(10);
+  EXPECT_THROW(s.range(50.0, 50.0), InputError);
+}
+
+// Many rows of varying side lengths (the width grows after rows were spooled): the streamed
+// image is the one assembled in memory, bit for bit.
+TEST(Waterfall, StreamedImageEqualsInMemoryAssembly) {
+  const auto dir = test::mosaic_temp_dir("wf_stream");
+  const std::vector<Ping> pings = random_pings(500, 300, 1);
+  WaterfallOptions o;
+  o.spool_dir = dir;
+  Waterfall wf(o);
+  for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 50.0, 10.0);
+  std::size_t cols = 0;
+  const std::vector<float> want = expected_image(pings, &cols, kNaN);
+  EXPECT_EQ(wf.rows(), pings.size());
+  EXPECT_EQ(wf.cols(), cols);
+  const std::vector<float> got = wf.image();
+  ASSERT_EQ(got.size(), want.size());
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < want.size(); ++i) bad += !same_float(got[i], want[i]);
+  EXPECT_EQ(bad, 0u);
+  // Slant correction resamples each side to the same number of samples.
+  o.slant_correct = true;
+  Waterfall ground(o);
+  for (const Ping& p : pings) ground.add_ping(p.port, p.stbd, 50.0, 10.0);
+  EXPECT_EQ(ground.rows(), pings.size());
+  EXPECT_EQ(ground.cols(), cols);
+  fs::remove_all(dir);
+}
+
+// A small image written as PNG and GeoTIFF, grey and coloured: the bytes read back are the
+// colours of the expected image under robust_db_range (percentiles) or the fixed window.
+TEST(Waterfall, PngAndTifHoldTheExpectedColours) {
+  const auto dir = test::mosaic_temp_dir("wf_bytes");
+  const std::vector<Ping> pings = random_pings(9, 6, 2);
+  std::size_t cols = 0;
+  const std::vector<float> img = expected_image(pings, &cols, kNaN);
+  for (const Colormap map : {Colormap::grey, Colormap::black_brown_yellow}) {
+    for (const bool fixed : {false, true}) {
+      WaterfallOptions o;
+      o.colormap = map;
+      o.lo_percentile = 5.0;
+      o.hi_percentile = 90.0;
+      o.fixed_db = fixed;
+      o.lo_db = -3.0;
+      o.hi_db = 6.0;
+      o.spool_dir = dir;
+      Waterfall wf(o);
+      for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
+      const DisplayRange range = fixed ? DisplayRange{-3.0, 6.0} : robust_db_range(img, 5.0, 90.0);
+      const std::vector<std::uint8_t> want = colourise(img, range, map);
+      for (const std::string ext : {".png", ".tif"}) {
+        const std::string path =
+            (dir / ("w" + std::to_string(static_cast<int>(map)) + std::to_string(fixed) + ext))
+                .string();
+        wf.write(path);
+        int c = 0, r = 0;
+        std::string driver;
+        const std::vector<std::uint8_t> got = read_bytes(path, &c, &r, &driver);
+        EXPECT_EQ(driver, ext == ".png" ? "PNG" : "GTiff");
+        EXPECT_EQ(static_cast<std::size_t>(c), cols);
+        EXPECT_EQ(static_cast<std::size_t>(r), pings.size());
+        EXPECT_EQ(got, want) << path;
+      }
+    }
+  }
+  // Nothing but the outputs in the directory (no temporary names left).
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    EXPECT_EQ(e.path().filename().string().front(), 'w') << e.path();
+    ++files;
+  }
+  EXPECT_EQ(files, 8u);
+  fs::remove_all(dir);
+}
+
+// An image large enough (2.4 M pixels) for robust_db_range to subsample it: the streamed
+// scaling (first pass over the spool) takes the same subsample, so the PNG has exactly the
+// colours of the in-memory scaling.
+TEST(Waterfall, PercentileScalingEqualsRobustDbRangeOfTheWholeImage) {
+  const auto dir = test::mosaic_temp_dir("wf_scale");
+  const std::vector<Ping> pings = random_pings(2000, 600, 3);
+  std::size_t cols = 0;
+  const std::vector<float> img = expected_image(pings, &cols, kNaN);
+  ASSERT_GT(img.size(), 2'000'000u);  // robust_db_range takes every other value at most
+  WaterfallOptions o;
+  o.colormap = Colormap::grey;
+  o.spool_dir = dir;
+  Waterfall wf(o);
+  for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
+  const std::string path = (dir / "big.png").string();
+  wf.write(path);
+  int c = 0, r = 0;
+  std::string driver;
+  const std::vector<std::uint8_t> got = read_bytes(path, &c, &r, &driver);
+  const std::vector<std::uint8_t> want = colourise(img, robust_db_range(img), Colormap::grey);
+  ASSERT_EQ(got.size(), want.size());
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < want.size(); ++i) bad += got[i] != want[i];
+  EXPECT_EQ(bad, 0u);
+  fs::remove_all(dir);
+}
+
+// The truth waterfall of many rows of varying lengths: each band is the in-memory assembly with
+// its padding (class 255, id -1, grazing NaN); band names are kept.
+TEST(TruthWaterfall, StreamedBandsEqualInMemoryAssembly) {
+  const auto dir = test::mosaic_temp_dir("truth_stream");
+  std::mt19937 rng(4);
+  std::uniform_int_distribution<std::size_t> len(0, 299);
+  std::uniform_int_distribution<int> cls(0, 4), id(-1, 1000);
+  std::uniform_real_distribution<float> graz(0.0f, 1.5f);
+  TruthWaterfall t(dir);
+  std::vector<Ping> band[3];  // class, id, grazing (deg)
+  for (int i = 0; i < 700; ++i) {
+    const std::size_t n[2] = {i == 350 ? 300 : len(rng), i % 5 == 0 ? 0 : len(rng)};
+    std::vector<SampleClass> c[2];
+    std::vector<std::int32_t> d[2];
+    std::vector<float> g[2];
+    for (int s = 0; s < 2; ++s) {
+      for (std::size_t k = 0; k < n[s]; ++k) {
+        c[s].push_back(static_cast<SampleClass>(cls(rng)));
+        d[s].push_back(id(rng));
+        g[s].push_back(k % 11 == 0 ? kNaN : graz(rng));
+      }
+    }
+    t.add_ping(c[0], c[1], d[0], d[1], g[0], g[1]);
+    for (int b = 0; b < 3; ++b) band[b].emplace_back();
+    for (int s = 0; s < 2; ++s) {
+      for (std::size_t k = 0; k < n[s]; ++k) {
+        const float v[3] = {static_cast<float>(static_cast<std::uint8_t>(c[s][k])),
+                            static_cast<float>(d[s][k]),
+                            static_cast<float>(static_cast<double>(g[s][k]) * 180.0 / kPi)};
+        for (int b = 0; b < 3; ++b)
+          (s == 0 ? band[b].back().port : band[b].back().stbd).push_back(v[b]);
+      }
+    }
+  }
+  const std::string path = (dir / "truth.tif").string();
+  t.write(path);
+  const float pads[3] = {255.0f, -1.0f, kNaN};
+  const char* names[3] = {"class", "object id", "grazing angle (degrees)"};
+  GDALAllRegister();
+  GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
+  ASSERT_NE(ds, nullptr);
+  for (int b = 0; b < 3; ++b) {
+    EXPECT_STREQ(ds->GetRasterBand(b + 1)->GetDescription(), names[b]);
+    std::size_t cols = 0;
+    const std::vector<float> want = expected_image(band[b], &cols, pads[b]);
+    const test::Raster got = test::read_band(path, b + 1);
+    ASSERT_EQ(static_cast<std::size_t>(got.cols), cols);
+    ASSERT_EQ(static_cast<std::size_t>(got.rows), band[b].size());
+    ASSERT_EQ(got.data.size(), want.size());
+    std::size_t bad = 0;
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      bad += b == 2 ? std::abs(got.data[i] - want[i]) > 1e-4f ||
+                          std::isnan(got.data[i]) != std::isnan(want[i])
+                    : !same_float(got.data[i], want[i]);
+    }
+    EXPECT_EQ(bad, 0u) << names[b];
+  }
+  EXPECT_STREQ(ds->GetMetadataItem("COMPRESSION", "IMAGE_STRUCTURE"), "ZSTD");
+  int bx = 0, by = 0;
+  ds->GetRasterBand(1)->GetBlockSize(&bx, &by);
+  EXPECT_EQ(bx, 256);  // tiled
+  GDALClose(ds);
+  fs::remove_all(dir);
+}
+
+// The spool file is never visible in its directory, is open (unnamed) while the waterfall
+// lives, and is closed when it is destroyed, also after a write that threw; a missing spool
+// directory is an error naming it.
+TEST(Waterfall, SpoolFileIsUnnamedAndReleased) {
+  const auto spool = test::mosaic_temp_dir("wf_spool");
+  const auto out = test::mosaic_temp_dir("wf_spool_out");
+  const std::vector<Ping> pings = random_pings(50, 40, 6);
+  auto dir_is_empty = [&] { return fs::directory_iterator(spool) == fs::directory_iterator(); };
+  {
+    WaterfallOptions o;
+    o.spool_dir = spool;
+    Waterfall wf(o);
+    TruthWaterfall t(spool);
+    const std::vector<SampleClass> c(10, SampleClass::seabed);
+    const std::vector<std::int32_t> id(10, 0);
+    const std::vector<float> g(10, 0.5f);
+    for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
+    t.add_ping(c, c, id, id, g, g);
+    EXPECT_TRUE(dir_is_empty());
+    const std::vector<std::string> open = open_files_in(spool);
+    ASSERT_EQ(open.size(), 2u);
+    for (const std::string& f : open) EXPECT_NE(f.find(" (deleted)"), std::string::npos) << f;
+    wf.write((out / "w.png").string());
+    t.write((out / "t.tif").string());
+    EXPECT_TRUE(dir_is_empty());
+    // Writes that throw: an existing output, a bad extension, a missing directory.
+    EXPECT_THROW(wf.write((out / "w.png").string()), FormatError);
+    EXPECT_THROW(wf.write((out / "w.jpg").string()), InputError);
+    EXPECT_THROW(t.write((out / "t.tif").string()), FormatError);
+    EXPECT_THROW(t.write((out / "missing" / "t.tif").string()), FormatError);
+    EXPECT_TRUE(dir_is_empty());
+    // Still readable after the writes (each write reads the spool from the start).
+    EXPECT_EQ(wf.image().size(), wf.rows() * wf.cols());
+    wf.write((out / "w2.tif").string());
+  }
+  EXPECT_TRUE(open_files_in(spool).empty());
+  EXPECT_TRUE(dir_is_empty());
+  std::vector<std::string> outputs;
+  for (const auto& e : fs::directory_iterator(out)) outputs.push_back(e.path().filename());
+  std::sort(outputs.begin(), outputs.end());
+  EXPECT_EQ(outputs, (std::vector<std::string>{"t.tif", "w.png", "w2.tif"}));
+  WaterfallOptions o;
+  o.spool_dir = spool / "missing";
+  try {
+    Waterfall wf(o);
+    ADD_FAILURE() << "no error for a missing spool directory";
+  } catch (const FormatError& e) {
+    EXPECT_NE(std::string(e.what()).find((spool / "missing").string()), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(TruthWaterfall(spool / "missing"), FormatError);
+  fs::remove_all(spool);
+  fs::remove_all(out);
+}
+
+// max_pixels still bounds the image: the ping that would exceed it is refused and not added.
+TEST(Waterfall, MaxPixelsGuardsTheOutputSize) {
+  WaterfallOptions o;
+  o.max_pixels = 100;
+  Waterfall wf(o);
+  const std::vector<float> side(10, 1.0f);
+  for (int i = 0; i < 5; ++i) wf.add_ping(side, side, 0.0, 0.0);
+  EXPECT_THROW(wf.add_ping(side, side, 0.0, 0.0), InputError);
+  EXPECT_EQ(wf.rows(), 5u);
+  EXPECT_EQ(wf.cols(), 20u);
+}
+
+}  // namespace
+}  // namespace sonarsynth
