@@ -26,7 +26,7 @@ done
 if [[ ! -f "$build/build.ninja" && ! -f "$build/Makefile" ]]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release
 fi
-cmake --build "$build" --target speed_accuracy stability scaling sonarsynth_cli
+cmake --build "$build" --target speed_accuracy stability scaling xtf_throughput sonarsynth_cli
 mkdir -p "$out"
 bin="$build/bench"
 plots="$root/bench/plots"
@@ -104,6 +104,9 @@ if want e2e; then
     done
   done
   rm -rf "$out/e2e_run"
+  # The XTF write stage on its own: a file of the paper survey's size (8,004 pings of 2 x 4096
+  # u16 samples) written and read back, median of 5 runs.
+  "$bin/xtf_throughput" 8004 4096 5 | tee "$out/e2e_xtf.txt"
 fi
 # Markdown tables of every CSV (pasted into docs/benchmarks.md).
 {
@@ -127,6 +130,13 @@ fi
            for(i=1;i<=nx;i++){printf "| %s |", xs[i]; for(j=1;j<=nl;j++) printf " %s |", v[xs[i],lb[j]]; printf "\n"}}' "$f"
     echo
   done
+  if [[ -f "$out/e2e_xtf.txt" ]]; then
+    echo "#### e2e_xtf (xtf_throughput 8004 4096 5)"
+    echo '```'
+    cat "$out/e2e_xtf.txt"
+    echo '```'
+    echo
+  fi
   for f in scaling_samples scaling_objects scaling_grid scaling_length e2e; do
     [[ -f "$out/$f.csv" ]] || continue
     echo "#### $f"
