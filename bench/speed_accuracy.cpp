@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "analytic/flat_seabed.hpp"
 #include "bench_metrics.hpp"
 #include "bench_render.hpp"
 #include "bench_scenes.hpp"
@@ -35,11 +36,7 @@ namespace {
 using namespace sonarsynth;
 using namespace bench;
 
-double big_f(double r, double p) {
-  if (r <= p) return 0.0;
-  const double s = std::sqrt(1.0 - (p * p) / (r * r));
-  return s - s * s * s / 3.0;
-}
+using sonarsynth::analytic::flat_seabed_F;
 
 std::vector<Method> methods(bool tiny, int default_planes) {
   std::vector<Method> out;
@@ -133,9 +130,9 @@ void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, 
     for (auto& r : ref) {
       r.assign(2 * n, 0.0);
       for (std::size_t i = 0; i < n; ++i) {
-        const double e =
-            coef * side.beta_eff_rad / (h * h) *
-            (big_f(static_cast<double>(i + 1) * dr, h) - big_f(static_cast<double>(i) * dr, h));
+        const double e = coef * side.beta_eff_rad / (h * h) *
+                         (flat_seabed_F(static_cast<double>(i + 1) * dr, h) -
+                          flat_seabed_F(static_cast<double>(i) * dr, h));
         r[i] = r[n + i] = e;
       }
     }

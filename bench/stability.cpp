@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "analytic/flat_seabed.hpp"
 #include "bench_metrics.hpp"
 #include "bench_render.hpp"
 #include "bench_scenes.hpp"
@@ -32,11 +33,7 @@ constexpr double kDeg = kPi / 180.0;
 constexpr double kMu = 0.01;
 constexpr double kBeta = 0.0087;
 
-double big_f(double r, double p) {
-  if (r <= p) return 0.0;
-  const double s = std::sqrt(1.0 - (p * p) / (r * r));
-  return s - s * s * s / 3.0;
-}
+using sonarsynth::analytic::flat_seabed_F;
 
 SideParams base_params(double range_m, std::size_t samples) {
   SideParams p;
@@ -124,8 +121,8 @@ void sweep_altitude(const std::string& dir, bool tiny) {
     std::vector<double> ref(p.samples);
     for (std::size_t i = 0; i < p.samples; ++i)
       ref[i] = kMu * kBeta / (h * h) *
-               (big_f(static_cast<double>(i + 1) * p.sample_spacing_m, h) -
-                big_f(static_cast<double>(i) * p.sample_spacing_m, h));
+               (flat_seabed_F(static_cast<double>(i + 1) * p.sample_spacing_m, h) -
+                flat_seabed_F(static_cast<double>(i) * p.sample_spacing_m, h));
     const BeamProfile prof = plane_profile(h, 0.0, 151.0, 0.25);
     for (const Method& m : profile_methods(tiny)) compare(f, "altitude", h0, m, prof, p, ref);
   }
@@ -146,9 +143,9 @@ void sweep_slope(const std::string& dir, bool tiny) {
       // Far branch from max(p, H if falling away) outward; rising: the near branch doubles
       // the bins between p and H (layover, §3.5).
       const double start = s > 0.0 ? pp : h;
-      double e = big_f(r2, pp) - big_f(std::max(r1, start), pp);
+      double e = flat_seabed_F(r2, pp) - flat_seabed_F(std::max(r1, start), pp);
       if (r2 <= start) e = 0.0;
-      if (s > 0.0) e += big_f(std::min(r2, h), pp) - big_f(std::min(r1, h), pp);
+      if (s > 0.0) e += flat_seabed_F(std::min(r2, h), pp) - flat_seabed_F(std::min(r1, h), pp);
       ref[i] = kMu * kBeta / (pp * pp) * std::max(0.0, e);
     }
     const BeamProfile prof = plane_profile(h, s, 76.0, 0.25);

@@ -25,33 +25,11 @@ void render_side_rays(const BeamProfile& profile, const SideParams& params, std:
                       SideEcho& out) {
   params.validate();
   if (rays == 0) throw InputError("rays = 0. Violated constraint: rays >= 1");
+  validate_beam_profile(profile, params.materials.size(), "render_side_rays");
   const std::size_t n = profile.nodes();
-  if (profile.z_m.size() != n ||
-      (n > 0 && (profile.label.size() != n - 1 || profile.material.size() != n - 1))) {
-    throw InputError(
-        "BeamProfile sizes disagree. Violated constraint: z_m.size() == y_m.size()"
-        " and label/material sizes == nodes - 1");
-  }
   out.intensity.assign(params.samples, 0.0);
-  out.truth_class.clear();
-  out.truth_label.clear();
-  out.truth_material.clear();
-  out.truth_grazing_rad.clear();
-  out.truth_ground_y_m.clear();
-  out.truth_ground_z_m.clear();
+  out.clear_truth();
   if (n < 2) return;
-  for (std::size_t i = 0; i + 1 < n; ++i) {
-    if (profile.y_m[i + 1] < profile.y_m[i] || profile.y_m[i] < 0.0) {
-      throw InputError(
-          "BeamProfile y_m not non-decreasing from 0. Violated constraint: "
-          "0 <= y_m[i] <= y_m[i + 1]");
-    }
-    if (profile.material[i] >= params.materials.size()) {
-      throw InputError(
-          "BeamProfile material index out of the table. Violated constraint: "
-          "material[i] < materials.size()");
-    }
-  }
 
   const double hs = profile.sensor_z_m;
   // Horizon in depression angle: h[i] = max over nodes j <= i of the depression is the wrong

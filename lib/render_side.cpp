@@ -441,44 +441,6 @@ void mark_shadow(const Facet& f, const Grid& grid, double h0, double h1,
   for (std::ptrdiff_t j = j0; j <= j1; ++j) shadowed[static_cast<std::size_t>(j)] = 1;
 }
 
-void fail(const std::string& msg) {
-  throw InputError("render_side: " + msg);
-}
-
-void validate_profile(const BeamProfile& p, std::size_t n_materials) {
-  const std::size_t n = p.y_m.size();
-  if (p.z_m.size() != n) {
-    fail("profile z_m.size() = " + std::to_string(p.z_m.size()) +
-         ". Violated constraint: z_m.size() == y_m.size() = " + std::to_string(n));
-  }
-  const std::size_t facets = n == 0 ? 0 : n - 1;
-  if (p.label.size() != facets || p.material.size() != facets) {
-    fail("profile label.size() = " + std::to_string(p.label.size()) +
-         ", material.size() = " + std::to_string(p.material.size()) +
-         ". Violated constraint: label.size() == material.size() == nodes - 1 = " +
-         std::to_string(facets));
-  }
-  if (!std::isfinite(p.sensor_z_m)) {
-    fail("profile sensor_z_m = " + std::to_string(p.sensor_z_m) +
-         ". Violated constraint: sensor_z_m finite");
-  }
-  double prev = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double y = p.y_m[i];
-    if (!(std::isfinite(y) && y >= prev)) {
-      fail("profile y_m[" + std::to_string(i) + "] = " + std::to_string(y) +
-           ". Violated constraint: 0 <= y_m[i-1] <= y_m[i], finite");
-    }
-    prev = y;
-  }
-  for (std::size_t i = 0; i < facets; ++i) {
-    if (p.material[i] >= n_materials) {
-      fail("profile material[" + std::to_string(i) + "] = " + std::to_string(p.material[i]) +
-           ". Violated constraint: material < materials.size() = " + std::to_string(n_materials));
-    }
-  }
-}
-
 template <bool kTruth, class Grid>
 bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, SideEcho& out) {
   auto& w = out.workspace;
@@ -748,19 +710,51 @@ void SideParams::validate() const {
   }
 }
 
+void validate_beam_profile(const BeamProfile& p, std::size_t n_materials, const char* who) {
+  const auto fail = [who](const std::string& msg) {
+    throw InputError(std::string(who) + ": " + msg);
+  };
+  const std::size_t n = p.y_m.size();
+  if (p.z_m.size() != n) {
+    fail("profile z_m.size() = " + std::to_string(p.z_m.size()) +
+         ". Violated constraint: z_m.size() == y_m.size() = " + std::to_string(n));
+  }
+  const std::size_t facets = n == 0 ? 0 : n - 1;
+  if (p.label.size() != facets || p.material.size() != facets) {
+    fail("profile label.size() = " + std::to_string(p.label.size()) +
+         ", material.size() = " + std::to_string(p.material.size()) +
+         ". Violated constraint: label.size() == material.size() == nodes - 1 = " +
+         std::to_string(facets));
+  }
+  if (!std::isfinite(p.sensor_z_m)) {
+    fail("profile sensor_z_m = " + std::to_string(p.sensor_z_m) +
+         ". Violated constraint: sensor_z_m finite");
+  }
+  double prev = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double y = p.y_m[i];
+    if (!(std::isfinite(y) && y >= prev)) {
+      fail("profile y_m[" + std::to_string(i) + "] = " + std::to_string(y) +
+           ". Violated constraint: 0 <= y_m[i-1] <= y_m[i], finite");
+    }
+    prev = y;
+  }
+  for (std::size_t i = 0; i < facets; ++i) {
+    if (p.material[i] >= n_materials) {
+      fail("profile material[" + std::to_string(i) + "] = " + std::to_string(p.material[i]) +
+           ". Violated constraint: material < materials.size() = " + std::to_string(n_materials));
+    }
+  }
+}
+
 void render_side(const BeamProfile& profile, const SideParams& params, SideEcho& out) {
   params.validate();
-  validate_profile(profile, params.materials.size());
+  validate_beam_profile(profile, params.materials.size(), "render_side");
   if (params.truth) {
     render_impl<true>(profile, params, out);
   } else {
     render_impl<false>(profile, params, out);
-    out.truth_class.clear();
-    out.truth_label.clear();
-    out.truth_material.clear();
-    out.truth_grazing_rad.clear();
-    out.truth_ground_y_m.clear();
-    out.truth_ground_z_m.clear();
+    out.clear_truth();
   }
 }
 

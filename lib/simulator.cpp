@@ -323,12 +323,11 @@ AlongTrackChoice Simulator::choose_along_track_planes(const std::vector<PingPose
   AlongTrackChoice choice;
   choice.automatic = true;
   std::vector<std::vector<double>> coarse = energies(kLevels[0]);
+  const auto lit = [](const std::vector<double>& e) {
+    return std::any_of(e.begin(), e.end(), [](double v) { return v > 0.0; });
+  };
   for (std::size_t p = 0; p < pilot.size(); ++p) {
-    const bool lit =
-        std::any_of(coarse[2 * p].begin(), coarse[2 * p].end(), [](double v) { return v > 0.0; }) ||
-        std::any_of(coarse[2 * p + 1].begin(), coarse[2 * p + 1].end(),
-                    [](double v) { return v > 0.0; });
-    if (lit) ++choice.pilot_pings;
+    if (lit(coarse[2 * p]) || lit(coarse[2 * p + 1])) ++choice.pilot_pings;
   }
   choice.planes = kLevels[0];
   if (choice.pilot_pings > 0) {

@@ -8,7 +8,10 @@
 
 #include <cmath>
 #include <cstddef>
+#include <string>
+#include <utility>
 
+#include "analytic/flat_seabed.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {
@@ -17,11 +20,7 @@ namespace {
 constexpr double kMu = 0.01;
 constexpr double kBeta = 0.02;
 
-double big_f(double r, double p) {
-  if (r <= p) return 0.0;
-  const double s = std::sqrt(1.0 - (p * p) / (r * r));
-  return s - s * s * s / 3.0;
-}
+using analytic::flat_seabed_F;
 
 SideParams flat_params(double dr, std::size_t samples) {
   SideParams p;
@@ -48,9 +47,9 @@ double band_error(const SideEcho& e, double dr, double h, double r1, double r2) 
   const auto i1 = static_cast<std::size_t>(r1 / dr), i2 = static_cast<std::size_t>(r2 / dr);
   double got = 0.0;
   for (std::size_t i = i1; i < i2; ++i) got += e.intensity[i];
-  const double want =
-      kMu * kBeta / (h * h) *
-      (big_f(static_cast<double>(i2) * dr, h) - big_f(static_cast<double>(i1) * dr, h));
+  const double want = kMu * kBeta / (h * h) *
+                      (flat_seabed_F(static_cast<double>(i2) * dr, h) -
+                       flat_seabed_F(static_cast<double>(i1) * dr, h));
   return std::abs(got - want) / want;
 }
 
@@ -97,6 +96,36 @@ TEST(RayRenderer, NothingBeforeFirstReturnAndRejectsZeroRays) {
   render_side_rays(flat_profile(h, 30.0), p, 5000, e);
   for (std::size_t i = 0; i < static_cast<std::size_t>(h / dr); ++i) ASSERT_EQ(e.intensity[i], 0.0);
   EXPECT_THROW(render_side_rays(flat_profile(h, 30.0), p, 0, e), InputError);
+}
+
+TEST(RayRenderer, RejectsTheProfilesTheExactRendererRejects) {
+  // Both renderers share one profile check: the same bad profiles fail both, naming the field.
+  const SideParams p = flat_params(0.05, 400);
+  SideEcho e;
+  BeamProfile backwards = flat_profile(10.0, 30.0);
+  backwards.y_m[0] = 40.0;  // y_m no longer non-decreasing (40, then 30)
+  BeamProfile bad_material = flat_profile(10.0, 30.0);
+  bad_material.material[0] = 7;  // one material in the table
+  BeamProfile short_z = flat_profile(10.0, 30.0);
+  short_z.z_m.pop_back();
+  for (const auto& [profile, field] :
+       {std::pair{&backwards, "y_m["}, {&bad_material, "material["}, {&short_z, "z_m.size()"}}) {
+    for (const bool rays : {true, false}) {
+      try {
+        if (rays) {
+          render_side_rays(*profile, p, 1000, e);
+        } else {
+          render_side(*profile, p, e);
+        }
+        ADD_FAILURE() << field << " accepted";
+      } catch (const InputError& err) {
+        EXPECT_NE(std::string(err.what()).find(field), std::string::npos) << err.what();
+        EXPECT_NE(std::string(err.what()).find(rays ? "render_side_rays:" : "render_side:"),
+                  std::string::npos)
+            << err.what();
+      }
+    }
+  }
 }
 
 }  // namespace

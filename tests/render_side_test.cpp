@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "analytic/flat_seabed.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {
@@ -18,15 +19,10 @@ constexpr double kPiT = 3.14159265358979323846;
 constexpr double kMu = 0.01;
 constexpr double kBeta = 0.02;
 
-// F(r) = s - s^3/3, s = sqrt(1 - p^2/r^2) (0 for r <= p): reference §3.2.
-double big_f(double r, double p) {
-  if (r <= p) return 0.0;
-  const double s = std::sqrt(1.0 - (p * p) / (r * r));
-  return s - s * s * s / 3.0;
-}
+using analytic::flat_seabed_F;
 // Closed-form flat-seabed energy in the slant-range interval [r1, r2], altitude h.
 double flat_energy(double r1, double r2, double h, double mu = kMu, double beta = kBeta) {
-  return mu * beta / (h * h) * (big_f(r2, h) - big_f(r1, h));
+  return analytic::flat_seabed_energy(r1, r2, h, mu, beta);
 }
 
 SideParams base_params(double dr, std::size_t samples) {
@@ -179,7 +175,7 @@ TEST(RenderSide, FlatSeabedWithGaussianBeamAndAbsorptionMatchesIncidenceIntegral
 
 TEST(RenderSide, EnergyConservationIndependentOfBinSizeAndNodeSpacing) {
   const double h = 10.0, r_max = 100.0;
-  const double want = kMu * kBeta / (h * h) * big_f(r_max, h);
+  const double want = kMu * kBeta / (h * h) * flat_seabed_F(r_max, h);
   for (const double dr : {0.02, 0.05, 0.25}) {
     for (const double dy : {0.05, 1.0}) {
       const SideParams p = base_params(dr, static_cast<std::size_t>(std::lround(r_max / dr)));
@@ -215,7 +211,7 @@ TEST(RenderSide, PulseWindowSampleIsEnergyOfTrailingWindow) {
 
 // Single-branch energy of a plane at perpendicular distance p over [r1, r2] (§3.5).
 double branch_energy(double r1, double r2, double p) {
-  return kMu * kBeta / (p * p) * (big_f(r2, p) - big_f(std::max(r1, p), p));
+  return kMu * kBeta / (p * p) * (flat_seabed_F(r2, p) - flat_seabed_F(std::max(r1, p), p));
 }
 
 TEST(RenderSide, SlopedPlanesIncludingLayoverFold) {
@@ -243,7 +239,7 @@ TEST(RenderSide, SlopedPlanesIncludingLayoverFold) {
       } else {
         // Falling away: only r >= H exists on this side.
         want = r2 > h ? kMu * kBeta / (p_dist * p_dist) *
-                            (big_f(r2, p_dist) - big_f(std::max(r1, h), p_dist))
+                            (flat_seabed_F(r2, p_dist) - flat_seabed_F(std::max(r1, h), p_dist))
                       : 0.0;
       }
       if (want == 0.0) {

@@ -66,6 +66,15 @@ struct SideEcho {
   std::vector<double> truth_grazing_rad;
   std::vector<double> truth_ground_y_m;  ///< beam-plane y of the contributor, m, NaN if none
   std::vector<double> truth_ground_z_m;  ///< height z of the contributor, m, NaN if none
+  /// Empties every truth vector (keeping their capacity).
+  void clear_truth() {
+    truth_class.clear();
+    truth_label.clear();
+    truth_material.clear();
+    truth_grazing_rad.clear();
+    truth_ground_y_m.clear();
+    truth_ground_z_m.clear();
+  }
 
   /// Scratch space of the renderer (fine bins, per-bin dominance); not an output. Per fine bin
   /// the dominant sub-piece is recorded as its profile facet and midpoint only; its grazing
@@ -79,6 +88,11 @@ struct SideEcho {
     std::vector<std::uint8_t> shadowed;
   } workspace;
 };
+
+/// Checks what every renderer of a beam-plane profile relies on: z_m, label and material sizes
+/// agree with y_m, y_m finite and non-decreasing from 0, sensor_z_m finite, material indices below
+/// `material_count`. Throws InputError("<who>: ...") naming the field and value.
+void validate_beam_profile(const BeamProfile& profile, std::size_t material_count, const char* who);
 
 /// Renders one side of one ping: exact horizon sweep with facet clipping, split of every facet
 /// at its slant-range minimum and at every bin boundary (quadratic roots), Gauss–Legendre
