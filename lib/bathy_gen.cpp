@@ -11,6 +11,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/keyed_random.hpp"
+#include "worker_threads.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -247,7 +248,7 @@ HeightGrid generate_bathymetry(const BathyGenSpec& spec) {
   spec.validate();
   const GridGeometry& g = spec.geometry;
   std::vector<float> heights(g.size());
-  unsigned threads = spec.num_threads ? spec.num_threads : std::thread::hardware_concurrency();
+  unsigned threads = detail::worker_thread_count(spec.num_threads);
   threads = std::max(
       1u, std::min<unsigned>(threads, static_cast<unsigned>(std::min<std::size_t>(g.rows, 256))));
 
@@ -265,24 +266,31 @@ HeightGrid generate_bathymetry(const BathyGenSpec& spec) {
       }
     }
   };
-  if (threads == 1) {
-    work(0);
-  } else {
-    std::vector<std::thread> pool;
-    std::vector<std::exception_ptr> errors(threads);
-    for (unsigned t = 0; t < threads; ++t) {
-      pool.emplace_back([&, t] {
-        try {
-          work(t);
-        } catch (...) {
-          errors[t] = std::current_exception();
-        }
-      });
+  // Thread t computes its own interleaved rows; a thread the system refuses to start (pids
+  // limit) has its share computed here instead, so the result never depends on the count.
+  std::vector<std::exception_ptr> errors(threads);
+  auto guarded = [&](unsigned t) {
+    try {
+      work(t);
+    } catch (...) {
+      errors[t] = std::current_exception();
     }
-    for (auto& th : pool) th.join();
-    for (auto& e : errors) {
-      if (e) std::rethrow_exception(e);
+  };
+  std::vector<unsigned> here = {0};
+  {
+    std::vector<std::jthread> pool;
+    for (unsigned t = 1; t < threads; ++t) {
+      std::jthread th = detail::try_start_thread([&guarded, t] { guarded(t); });
+      if (th.joinable()) {
+        pool.push_back(std::move(th));
+      } else {
+        here.push_back(t);
+      }
     }
+    for (const unsigned t : here) guarded(t);
+  }  // joins the pool
+  for (auto& e : errors) {
+    if (e) std::rethrow_exception(e);
   }
   return HeightGrid(g, std::move(heights));
 }

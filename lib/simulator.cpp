@@ -13,6 +13,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
+#include "worker_threads.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -534,18 +535,17 @@ void Simulator::render_ping(const PingPose& pose, Workspace& ws, RenderedPing& o
 RenderTimings Simulator::run(
     const Survey& survey, PingSink& sink,
     const std::function<void(std::uint64_t, std::uint64_t)>& progress) const {
-  const unsigned threads =
-      config_.threads > 0 ? config_.threads : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned requested_threads = detail::worker_thread_count(config_.threads);
   const std::uint64_t total = survey.total_pings();
-  const std::uint64_t block = 32ULL * threads;
+  const std::uint64_t block = 32ULL * requested_threads;
   std::vector<WorkspacePtr> workspaces;
-  std::vector<RenderTimings> timings(threads);
-  for (unsigned t = 0; t < threads; ++t) workspaces.push_back(make_workspace());
+  std::vector<RenderTimings> timings(requested_threads);
+  for (unsigned t = 0; t < requested_threads; ++t) workspaces.push_back(make_workspace());
   // Two buffers: the calling thread hands block b to the sink while the helpers already render
   // block b + 1 (it then joins them).
   std::vector<RenderedPing> pings[2] = {std::vector<RenderedPing>(std::min(block, total)),
                                         std::vector<RenderedPing>(std::min(block, total))};
-  std::vector<std::exception_ptr> errors(threads);
+  std::vector<std::exception_ptr> errors(requested_threads);
 
   // The block being rendered: pings [first, first + count) into pings[buf]. Each ping is claimed
   // through an atomic counter (dynamic load balance) and stored at its own index; every ping is
@@ -574,8 +574,25 @@ RenderTimings Simulator::run(
   unsigned busy = 0;
   bool stop = false;
   std::vector<std::jthread> helpers;
-  for (unsigned t = 1; t < threads; ++t) {
-    helpers.emplace_back([&, t] {
+  // Declared after `helpers`, so destroyed before them (also when the sink throws or a helper
+  // cannot be started): no more pings claimed, helpers woken for exit, then joined.
+  struct Stopper {
+    Job& job;
+    std::mutex& m;
+    std::condition_variable& cv;
+    bool& stop;
+    ~Stopper() {
+      job.next.store(job.count);
+      {
+        const std::lock_guard lock(m);
+        stop = true;
+      }
+      cv.notify_all();
+    }
+  } stopper{job, mutex, wake, stop};
+  helpers.reserve(requested_threads);
+  for (unsigned t = 1; t < requested_threads; ++t) {
+    std::jthread h = detail::try_start_thread([&, t] {
       std::uint64_t seen = 0;
       while (true) {
         {
@@ -592,23 +609,12 @@ RenderTimings Simulator::run(
         done.notify_one();
       }
     });
+    // The system refused a thread (pids limit): go on with those that started; the output
+    // does not depend on the count.
+    if (!h.joinable()) break;
+    helpers.push_back(std::move(h));
   }
-  // Before the jthreads join (also when the sink throws): no more pings claimed, helpers woken
-  // for exit.
-  struct Stopper {
-    Job& job;
-    std::mutex& m;
-    std::condition_variable& cv;
-    bool& stop;
-    ~Stopper() {
-      job.next.store(job.count);
-      {
-        const std::lock_guard lock(m);
-        stop = true;
-      }
-      cv.notify_all();
-    }
-  } stopper{job, mutex, wake, stop};
+  const unsigned threads = static_cast<unsigned>(helpers.size()) + 1;
   auto start = [&](std::uint64_t first, int buf) {
     const std::lock_guard lock(mutex);
     job.first = first;

@@ -75,3 +75,16 @@ void ProgressBar::finish() {
 }
 
 }  // namespace sonarsynth::cli
+
+namespace sonarsynth::cli {
+
+unsigned checked_thread_count(long long value, long long min_value) {
+  if (value < min_value || value > kMaxThreadsOption) {
+    throw InputError("--threads = " + std::to_string(value) +
+                     ". Violated constraint: " + std::to_string(min_value) +
+                     " <= threads <= " + std::to_string(kMaxThreadsOption));
+  }
+  return static_cast<unsigned>(value);
+}
+
+}  // namespace sonarsynth::cli

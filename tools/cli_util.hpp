@@ -51,3 +51,14 @@ class ProgressBar {
 double now_s();
 
 }  // namespace sonarsynth::cli
+
+namespace sonarsynth::cli {
+
+/// Largest --threads accepted; the renderers start at most four threads per core anyway.
+inline constexpr long long kMaxThreadsOption = 1024;
+
+/// Checks a --threads value read as a signed integer (so that "-1" is not read as 4294967295):
+/// throws InputError "--threads = V. Violated constraint: ..." unless min_value <= V <= 1024.
+unsigned checked_thread_count(long long value, long long min_value);
+
+}  // namespace sonarsynth::cli

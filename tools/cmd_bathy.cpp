@@ -64,7 +64,7 @@ int run_bathy(const std::vector<std::string>& args) {
   std::string output, size;
   double lat_deg = 0, lon_deg = 0, cell_m = 0, depth_m = 20.0;
   std::uint64_t seed = 0;
-  unsigned threads = 0;
+  long long threads = 0;
   std::vector<std::string> slopes, ripples, fbms, seamounts, scarps, co;
   // clang-format off
   opts.add_options()
@@ -122,7 +122,7 @@ int run_bathy(const std::vector<std::string>& args) {
   BathyGenSpec spec;
   spec.depth_m = depth_m;
   spec.seed = seed;
-  spec.num_threads = threads;
+  spec.num_threads = checked_thread_count(threads, 0);
   spec.geometry = BathyGenSpec::centred_geometry(c.x(), c.y(), wh[0], wh[1], cell_m);
   for (const std::string& s : slopes) {
     const auto v = parse_numbers("slope", s, 1, 2, "DEG[,AZ] numbers");
