@@ -1,38 +1,176 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/output_dir.hpp"
 
+#include <fcntl.h>
+#include <stdio.h>
 #include <unistd.h>
 
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
 #include <string>
 #include <system_error>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/version.hpp"
 
 namespace sonarsynth {
 namespace fs = std::filesystem;
 
-OutputDirectory::OutputDirectory(fs::path final_dir, bool overwrite)
-    : final_(std::move(final_dir)), overwrite_(overwrite) {
-  if (final_.filename().empty()) final_ = final_.parent_path();  // "out/" -> "out"
+namespace {
+
+fs::path canonical_or_lexical(const fs::path& p) {
   std::error_code ec;
-  if (fs::exists(final_, ec) && !overwrite) {
-    throw FormatError(final_.string() + ": already exists (use --overwrite to replace it)");
+  fs::path c = fs::weakly_canonical(fs::absolute(p, ec), ec);
+  if (ec) c = fs::absolute(p, ec).lexically_normal();
+  if (c.filename().empty() && c.has_relative_path()) c = c.parent_path();  // "a/b/" -> "a/b"
+  return c;
+}
+
+/// True if `inner` is `outer` or lies inside it (both canonical).
+bool is_within(const fs::path& inner, const fs::path& outer) {
+  auto i = inner.begin();
+  for (auto o = outer.begin(); o != outer.end(); ++o, ++i) {
+    if (o->empty()) continue;  // trailing separator
+    if (i == inner.end() || *i != *o) return false;
   }
-  fs::path parent = final_.parent_path();
-  if (parent.empty()) parent = ".";
+  return true;
+}
+
+std::string temp_prefix(const fs::path& final_dir, const char* tag) {
+  std::string prefix = ".";  // appended: GCC 12 warns (-Wrestrict) on "." + string
+  prefix += final_dir.filename().string();
+  prefix += '.';
+  prefix += tag;
+  prefix += '-';
+  return prefix;
+}
+
+// Temporaries of dead processes next to `final_dir`: ".NAME.part-PID" are removed;
+// ".NAME.old-PID" (an old result set aside by the two-rename fallback) is put back if the final
+// name is free, else removed.
+void clean_stale(const fs::path& parent, const fs::path& final_dir) {
+  const std::string part = temp_prefix(final_dir, "part");
+  const std::string old = temp_prefix(final_dir, "old");
+  std::error_code ec;
+  for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const long part_pid = temporary_owner_pid(name, part, "");
+    const long old_pid = temporary_owner_pid(name, old, "");
+    const long pid = part_pid > 0 ? part_pid : old_pid;
+    if (pid <= 0 || process_is_running(pid)) continue;
+    std::error_code e2;
+    if (!it->is_directory(e2) || it->is_symlink(e2)) continue;
+    if (!fs::exists(it->path() / OutputDirectory::kMarkerName, e2)) continue;  // not ours
+    if (old_pid > 0 && !fs::exists(fs::symlink_status(final_dir, e2))) {
+      fs::rename(it->path(), final_dir, e2);
+      if (!e2) continue;
+    }
+    fs::remove_all(it->path(), e2);
+  }
+}
+
+bool has_product_extension(const fs::path& p) {
+  static const std::array<const char*, 9> kExt = {".xtf", ".png",  ".tif", ".tiff", ".yaml",
+                                                  ".xml", ".json", ".ovr", ".csv"};
+  const std::string e = p.extension().string();
+  for (const char* k : kExt) {
+    if (e == k) return true;
+  }
+  return false;
+}
+
+/// Exchanges two paths atomically; false (errno set) if the file system cannot.
+bool exchange_paths(const fs::path& a, const fs::path& b) {
+#ifdef RENAME_EXCHANGE
+  return ::renameat2(AT_FDCWD, a.c_str(), AT_FDCWD, b.c_str(), RENAME_EXCHANGE) == 0;
+#else
+  (void)a;
+  (void)b;
+  errno = ENOSYS;
+  return false;
+#endif
+}
+
+}  // namespace
+
+std::string why_not_replaceable_output(const fs::path& dir) {
+  std::error_code ec;
+  bool marker = false, effective = false;
+  std::string foreign;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::path& p = it->path();
+    const std::string name = p.filename().string();
+    if (name == OutputDirectory::kMarkerName) {
+      marker = true;
+      continue;
+    }
+    if (name == "effective.yaml") effective = true;
+    std::error_code e2;
+    if (it->is_symlink(e2) || !it->is_regular_file(e2)) {
+      if (foreign.empty())
+        foreign = "it contains " + name + ", which is not a file sonarsynth writes";
+    } else if (!has_product_extension(p) && foreign.empty()) {
+      foreign = "it contains " + name + ", which is not a file sonarsynth writes";
+    }
+  }
+  if (ec) return "cannot list it: " + ec.message();
+  if (!foreign.empty()) return foreign;
+  const bool empty = fs::is_empty(dir, ec);
+  if (empty || marker || effective) return "";
+  return "it is not a sonarsynth output directory (no " +
+         std::string(OutputDirectory::kMarkerName) + " or effective.yaml)";
+}
+
+OutputDirectory::OutputDirectory(fs::path final_dir, bool overwrite,
+                                 const std::vector<fs::path>& inputs)
+    : overwrite_(overwrite) {
+  if (final_dir.empty()) throw FormatError("output directory: empty path");
+  const fs::path given = final_dir;
+  final_ = canonical_or_lexical(final_dir);
+  const std::string shown = given.string();
+  auto refuse = [&](const std::string& why) {
+    throw FormatError(shown + ": refusing to use as the output directory: " + why);
+  };
+  if (final_ == final_.root_path() || final_.filename() == "." || final_.filename() == "..") {
+    refuse("it is the root of the file system");
+  }
+  std::error_code ec;
+  const fs::path cwd = canonical_or_lexical(fs::current_path(ec));
+  if (!ec && is_within(cwd, final_)) {
+    refuse("it is the working directory or one of its parents; replacing it would delete them");
+  }
+  for (const fs::path& in : inputs) {
+    if (in.empty()) continue;
+    if (is_within(canonical_or_lexical(in), final_)) {
+      refuse("it contains the input " + in.string() + ", which replacing it would delete");
+    }
+  }
+  const fs::path parent = final_.parent_path();
   if (!fs::is_directory(parent, ec)) {
-    throw FormatError(final_.string() + ": parent directory " + parent.string() +
-                      " does not exist");
+    throw FormatError(shown + ": parent directory " + parent.string() + " does not exist");
   }
-  std::string name = ".";
-  name += final_.filename().string();
-  name += ".part-";
-  name += std::to_string(::getpid());
-  temp_ = parent / name;
+  clean_stale(parent, final_);  // may put back old results a killed run had set aside
+  const auto st = fs::symlink_status(final_, ec);
+  if (fs::exists(st)) {
+    if (!overwrite) throw FormatError(shown + ": already exists (use --overwrite to replace it)");
+    if (fs::is_symlink(st)) refuse("it is a symbolic link");
+    if (!fs::is_directory(st)) refuse("it exists and is not a directory");
+    const std::string why = why_not_replaceable_output(final_);
+    if (!why.empty()) refuse(why + "; remove or rename it yourself, or choose another name");
+  }
+  temp_ = parent / (temp_prefix(final_, "part") + std::to_string(::getpid()));
   fs::remove_all(temp_, ec);
   if (!fs::create_directory(temp_, ec)) {
     throw FormatError(temp_.string() + ": cannot create: " + ec.message());
   }
+  register_temporary(temp_);
+  std::ofstream marker(temp_ / kMarkerName);
+  marker << "sonarsynth " << kVersion
+         << " output directory: `sonarsynth simulate --overwrite` may replace it\n";
+  if (!marker) throw FormatError((temp_ / kMarkerName).string() + ": cannot write");
 }
 
 OutputDirectory::~OutputDirectory() {
@@ -40,19 +178,64 @@ OutputDirectory::~OutputDirectory() {
     std::error_code ec;
     fs::remove_all(temp_, ec);
   }
+  unregister_temporary(temp_);
 }
 
 void OutputDirectory::commit() {
   std::error_code ec;
-  if (fs::exists(final_, ec)) {
-    if (!overwrite_) throw FormatError(final_.string() + ": appeared while writing; not replaced");
-    fs::remove_all(final_, ec);
-    if (ec) throw FormatError(final_.string() + ": cannot replace: " + ec.message());
+  fs::path leftover;  // the old results, to delete after the swap
+  {
+    const TemporariesLock lock;
+    if (fs::exists(fs::symlink_status(final_, ec))) {
+      if (!overwrite_) {
+        throw FormatError(final_.string() + ": appeared while writing; not replaced");
+      }
+      const std::string why = fs::is_directory(fs::symlink_status(final_, ec))
+                                  ? why_not_replaceable_output(final_)
+                                  : std::string("it is not a directory");
+      if (!why.empty()) {
+        throw FormatError(final_.string() + ": changed while writing and is not replaced: " + why);
+      }
+      if (exchange_paths(temp_, final_)) {
+        leftover = temp_;  // now holds the old results; still registered, so an interrupt
+                           // removes it
+      } else if (errno == EINVAL || errno == ENOSYS || errno == ENOTSUP) {
+        const fs::path aside =
+            final_.parent_path() / (temp_prefix(final_, "old") + std::to_string(::getpid()));
+        register_temporary(aside);
+        fs::rename(final_, aside, ec);
+        if (ec) {
+          unregister_temporary(aside);
+          throw FormatError(final_.string() +
+                            ": cannot move the old results aside: " + ec.message());
+        }
+        fs::rename(temp_, final_, ec);
+        if (ec) {
+          std::error_code back;
+          fs::rename(aside, final_, back);
+          unregister_temporary(aside);
+          throw FormatError(final_.string() +
+                            ": cannot move the results into place: " + ec.message());
+        }
+        unregister_temporary(temp_);
+        leftover = aside;
+      } else {
+        throw FormatError(final_.string() + ": cannot replace: " + std::strerror(errno));
+      }
+    } else {
+      fs::rename(temp_, final_, ec);
+      if (ec) {
+        throw FormatError(final_.string() +
+                          ": cannot move the results into place: " + ec.message());
+      }
+      unregister_temporary(temp_);
+    }
+    committed_ = true;
   }
-  fs::rename(temp_, final_, ec);
-  if (ec)
-    throw FormatError(final_.string() + ": cannot move the results into place: " + ec.message());
-  committed_ = true;
+  if (!leftover.empty()) {
+    fs::remove_all(leftover, ec);
+    unregister_temporary(leftover);
+  }
 }
 
 }  // namespace sonarsynth

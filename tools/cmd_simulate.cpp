@@ -35,7 +35,7 @@ int run_simulate(const std::vector<std::string>& args) {
   std::uint64_t seed = 0;
   double range_m = 0;
   std::size_t samples = 0;
-  unsigned threads = 0;
+  long long threads = 0;
   double res_m = 0.25;
   std::string of = "COG";
   std::vector<std::string> co;
@@ -68,14 +68,11 @@ int run_simulate(const std::vector<std::string>& args) {
   if (vm.count("range")) ov.range_m = range_m;
   if (vm.count("samples")) ov.samples = samples;
   if (vm.count("quality")) ov.quality = quality;
-  if (vm.count("threads")) {
-    if (threads == 0) throw InputError("--threads = 0. Violated constraint: threads >= 1");
-    ov.threads = threads;
-  }
+  if (vm.count("threads")) ov.threads = checked_thread_count(threads, 1);
 
   const double t0 = now_s();
   SimulationSetup setup = load_simulation(scene_path, ov);
-  OutputDirectory out(out_dir, overwrite);
+  OutputDirectory out(out_dir, overwrite, {scene_path});
   const Survey survey = setup.make_survey();
   Simulator sim(setup.scene, setup.config, setup.reference_altitude_m,
                 pilot_poses(survey, setup.scene.bathymetry));

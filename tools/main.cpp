@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "interrupt.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/version.hpp"
 
@@ -50,6 +51,7 @@ int run_version(const std::vector<std::string>& /*args*/) {
 }  // namespace sonarsynth::cli
 
 int main(int argc, char** argv) {
+  sc::install_interrupt_cleanup();
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     print_usage(argc < 2 ? std::cerr : std::cout);
     return argc < 2 ? 2 : 0;

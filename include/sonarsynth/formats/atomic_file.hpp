@@ -9,11 +9,14 @@ namespace sonarsynth {
 ///
 /// Write to temp_path() (a hidden name in the same directory, so the rename is atomic), then call
 /// commit(). If the object is destroyed without commit() — an exception, a crash of the writer —
-/// the temporary file is removed and nothing is left that looks like a complete output.
+/// the temporary file is removed and nothing is left that looks like a complete output. While it
+/// exists the temporary file is listed for remove_pending_temporaries() (the CLI calls that on
+/// SIGINT/SIGTERM), and temporaries of the same name left by processes that no longer run (kill
+/// -9, power loss) are removed when the next AtomicOutput for that name is created.
 class AtomicOutput {
  public:
-  /// Throws FormatError if `final_path` exists and `overwrite` is false, or if its directory
-  /// does not exist.
+  /// Throws FormatError if `final_path` exists and `overwrite` is false, if it is a directory,
+  /// or if its directory does not exist.
   explicit AtomicOutput(std::filesystem::path final_path, bool overwrite = false);
   ~AtomicOutput();
   AtomicOutput(const AtomicOutput&) = delete;
@@ -30,5 +33,32 @@ class AtomicOutput {
   std::filesystem::path temp_path_;
   bool committed_ = false;
 };
+
+/// Temporary outputs (files or directories) of this process that are not committed yet.
+/// AtomicOutput and OutputDirectory register theirs; a signal handler calls
+/// remove_pending_temporaries() so that an interrupted run leaves nothing behind.
+void register_temporary(const std::filesystem::path& path);
+void unregister_temporary(const std::filesystem::path& path);
+/// Removes every registered temporary (recursively) and clears the list; never throws. Holds the
+/// lock that commits hold (lock_temporaries()), so it never runs in the middle of a commit.
+void remove_pending_temporaries() noexcept;
+
+/// The lock shared by commits and remove_pending_temporaries(): a commit that swaps directories
+/// holds it so that an interrupt sees either the state before or the state after the swap.
+class TemporariesLock {
+ public:
+  TemporariesLock();
+  ~TemporariesLock();
+  TemporariesLock(const TemporariesLock&) = delete;
+  TemporariesLock& operator=(const TemporariesLock&) = delete;
+};
+
+/// True if process `pid` is running (on this machine).
+bool process_is_running(long pid) noexcept;
+
+/// Parses the process id out of a temporary's name: ".<stem>.<tag>-<pid>[-<n>]<extension>" with
+/// the given `prefix` = ".<stem>.<tag>-"; returns -1 if `name` does not have that form.
+long temporary_owner_pid(const std::string& name, const std::string& prefix,
+                         const std::string& extension);
 
 }  // namespace sonarsynth
