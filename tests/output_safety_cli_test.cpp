@@ -151,6 +151,21 @@ TEST_F(OutputSafetyCli, OverwriteReplacesAnEarlierOutputAndReRunsOfEffectiveYaml
   EXPECT_EQ(snapshot(root_), before);
 }
 
+TEST_F(OutputSafetyCli, AProductIsNeverWrittenOverItsInput) {
+  const fs::path work = root_ / "work";
+  ASSERT_EQ(cli(work, "simulate scene.yaml -q --no-mosaic -o out").exit_code, 0);
+  const auto before = snapshot(root_);
+  for (const char* cmd : {"waterfall out/L1.xtf -q --overwrite -o out/L1.xtf",
+                          "waterfall out/L1.xtf -q --overwrite -o ./out/../out/L1.xtf",
+                          "mosaic out/L1.xtf -q --overwrite -o out/L1.xtf",
+                          "mosaic out/L1.xtf -q --overwrite -o m.tif --rgb out/L1.xtf"}) {
+    const test::CliResult r = cli(work, cmd);
+    EXPECT_EQ(r.exit_code, 1) << cmd << "\n" << r.err;
+    EXPECT_NE(r.err.find("is the input"), std::string::npos) << cmd << "\n" << r.err;
+    EXPECT_EQ(snapshot(root_), before) << cmd;
+  }
+}
+
 TEST_F(OutputSafetyCli, ThreadCountIsValidated) {
   const fs::path work = root_ / "work";
   const auto before = snapshot(root_);

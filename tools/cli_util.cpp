@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "cli_util.hpp"
 
+#include <filesystem>
 #include <iostream>
 
 #include "sonarsynth/error.hpp"
@@ -85,6 +86,26 @@ unsigned checked_thread_count(long long value, long long min_value) {
                      " <= threads <= " + std::to_string(kMaxThreadsOption));
   }
   return static_cast<unsigned>(value);
+}
+
+}  // namespace sonarsynth::cli
+
+namespace sonarsynth::cli {
+
+void refuse_output_over_input(const std::vector<std::string>& outputs,
+                              const std::vector<std::string>& inputs) {
+  namespace fs = std::filesystem;
+  for (const std::string& out : outputs) {
+    if (out.empty() || out == "-") continue;
+    std::error_code ec;
+    if (!fs::exists(out, ec)) continue;  // a new file cannot be an existing input
+    for (const std::string& in : inputs) {
+      if (!in.empty() && fs::equivalent(out, in, ec)) {
+        throw InputError("output " + out + " is the input " + in +
+                         "; refusing to replace an input with a product");
+      }
+    }
+  }
 }
 
 }  // namespace sonarsynth::cli

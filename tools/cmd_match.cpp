@@ -168,6 +168,7 @@ int run_match(const std::vector<std::string>& args) {
   const bool overwrite = vm.count("overwrite") > 0;
   // Refuse existing outputs and missing directories before the work.
   std::unique_ptr<AtomicOutput> json_out, image_out;
+  refuse_output_over_input({json_path, image_path}, {path_a, path_b});
   if (!json_path.empty() && json_path != "-") {
     json_out = std::make_unique<AtomicOutput>(json_path, overwrite);
   }

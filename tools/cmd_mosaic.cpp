@@ -91,7 +91,12 @@ int run_mosaic(const std::vector<std::string>& args) {
   for (const std::string& a : args) command += " " + a;
   wo.metadata.push_back({"SONARSYNTH_COMMAND", command});
   wo.metadata.push_back({"SONARSYNTH_MOSAIC_RULE", rule});
-  // Refuse existing outputs before the (long) gridding.
+  // Refuse existing outputs (and inputs named as outputs) before the (long) gridding.
+  {
+    std::vector<std::string> all_inputs = inputs;
+    all_inputs.push_back(bathymetry);
+    refuse_output_over_input({output, wo.rgb_path}, all_inputs);
+  }
   for (const std::string& p : {output, wo.rgb_path}) {
     if (!p.empty() && !wo.overwrite && std::filesystem::exists(p)) {
       throw InputError("output " + p + " already exists (use --overwrite to replace it)");

@@ -43,6 +43,7 @@ int run_waterfall(const std::vector<std::string>& args) {
   wo.slant_correct = vm.count("slant-correct") > 0;
   wo.overwrite = vm.count("overwrite") > 0;
   wo.validate();
+  refuse_output_over_input({output}, {input});
   const WaterfallResult r = write_xtf_waterfall(input, output, wo);
   if (!vm.count("quiet")) {
     std::cout << "wrote " << output << ": " << r.cols << " x " << r.rows << " pixels\n";
