@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Speed vs accuracy of every quality knob of the renderer, of a sub-sampled profile and of
-// uniform-angle ray casting, on (a) a flat seabed against the closed form (sonar-physics.md
+// uniform-angle ray casting, on (a) a flat seabed against the closed form (docs/physics.md
 // §3.2), (b) a rough natural seabed and (c) the paper's pipe scene against a converged reference
 // (exact clipping, 0.02 m DEM, 4 sub-segments per cell, 5 Gauss points, 15 along-track planes,
 // 128 object segments). One thread; time per ping = both sides, profile extraction included,

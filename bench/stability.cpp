@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Stability sweeps where rendering methods fail (sonar-physics.md §2.5): per-bin error in dB
+// Stability sweeps where rendering methods fail (docs/physics.md §2.5): per-bin error in dB
 // and finiteness versus altitude (0.5-100 m, flat, closed form), across-track slope (0-89 deg
 // towards and away, closed form with layover), grazing angle at far range (flat, absorption,
 // closed form by Gauss-Legendre in incidence angle), DEM cell (0.02-2 m, the §2.5 sinusoid

@@ -30,7 +30,7 @@ double francois_garrison_db_per_m(double frequency_hz, const Seawater& water) {
     throw InputError("absorption: frequency_hz = " + std::to_string(frequency_hz) +
                      ". Violated constraint: frequency_hz > 0");
   }
-  // Francois & Garrison (1982), JASA 72(3):896 and 72(6):1879; reference §1.2.
+  // Francois & Garrison (1982), JASA 72(3):896 and 72(6):1879; docs/physics.md §1.2.
   const double f = frequency_hz * 1e-3;  // kHz
   const double t = water.temperature_c;
   const double s = water.salinity_psu;

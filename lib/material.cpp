@@ -32,7 +32,7 @@ void Material::validate() const {
 
 MaterialTable MaterialTable::defaults() {
   // Lambert mu chosen so that BS at 30-45 deg grazing (mu sin^2 g, ~ -4 dB) falls at the
-  // midpoints of the ranges in sonar-physics.md §1.5: mud -35, sand -25, gravel -20, rock -15 dB.
+  // midpoints of the ranges in docs/physics.md §1.5: mud -35, sand -25, gravel -20, rock -15 dB.
   MaterialTable t;
   t.set({"mud", from_db(-31.0), 0.25, 0.0});
   t.set({"sand", from_db(-21.0), 0.5, 20.0});

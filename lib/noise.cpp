@@ -78,7 +78,7 @@ void speckle_exact(const SpeckleNoise& noise, std::span<const std::uint64_t> key
     double mean = intensity[i];
     if (!texture_nu.empty()) {
       const double nu = texture_nu[i];
-      // Unit-mean Gamma(nu, 1/nu) texture (K-distribution, reference §1.6).
+      // Unit-mean Gamma(nu, 1/nu) texture (K-distribution, docs/physics.md §1.6).
       if (nu > 0.0 && mean > 0.0) {
         mean *= keyed_gamma(nu, noise.seed, keys[i], kStreamTexture) / nu;
       }

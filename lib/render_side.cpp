@@ -22,7 +22,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// y used in tan(depression) = (Hs - z) / y at nadir (Appendix A: "if y_A == 0: y_A = eps").
+// y used in tan(depression) = (Hs - z) / y at nadir (docs/physics.md Appendix A: y_A = eps).
 constexpr double kMinTanY = 1e-9;
 
 // Gauss–Legendre rules mapped to [0, 1] (Abramowitz & Stegun, Table 25.4).
@@ -448,7 +448,7 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
                      w.best_y_m.data(), w.best_dz_m.data()};
   const VerticalBeamShape shape = par.vertical_beam.shape;
   const double w3 = par.vertical_beam.width_3db_rad;
-  // Two-way Gaussian: (exp(-4 ln2 (off/W)^2))^2 = exp(-8 ln2 off^2 / W^2), reference §1.3.
+  // Two-way Gaussian: (exp(-4 ln2 (off/W)^2))^2 = exp(-8 ln2 off^2 / W^2), docs/physics.md §1.3.
   const Integrand in{prof.sensor_z_m,
                      par.beam_axis_depression_rad,
                      (shape == VerticalBeamShape::uniform || shape == VerticalBeamShape::gaussian)
@@ -479,7 +479,7 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     double t0 = 0.0, t1 = 1.0;  // visible part
     double h0 = 0.0, h1 = 0.0;  // hidden part (truth)
     if (par.shadows) {
-      // Horizon sweep with exact clipping (reference §2.1 step 3, Appendix A).
+      // Horizon sweep with exact clipping (docs/physics.md §2.1 step 3, Appendix A).
       const double ta = (hs - za) / std::max(ya, kMinTanY);
       const double tb = (hs - zb) / std::max(yb, kMinTanY);
       const bool va = ta <= tan_h, vb = tb <= tan_h;

@@ -26,7 +26,7 @@ void Tvg::validate() const {
 
 double Tvg::gain_db(double slant_range_m) const {
   if (law == TvgLaw::none) return constant_db;
-  // 30 log10 R + 2 alpha R: seabed reverberation (area grows as r), reference §1.2.
+  // 30 log10 R + 2 alpha R: seabed reverberation (area grows as r), docs/physics.md §1.2.
   const double r = std::max(slant_range_m, min_range_m);
   return 30.0 * std::log10(r) + 2.0 * absorption_db_per_m * r + constant_db;
 }

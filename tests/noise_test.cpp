@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Speckle / texture / paper-noise statistics (sonar-physics.md §1.6, §3.10): moments within
+// Speckle / texture / paper-noise statistics (docs/physics.md §1.6, §3.10): moments within
 // 3 standard errors (delta method from the theoretical moments), KS against Exp(1).
 #include "sonarsynth/noise.hpp"
 

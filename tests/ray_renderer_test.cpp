@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The uniform-angle ray caster (a benchmark comparison method) converges to the flat-seabed
-// closed form of sonar-physics.md §3.2 as the ray count grows, and leaves near-range bins empty
+// closed form of docs/physics.md §3.2 as the ray count grows, and leaves near-range bins empty
 // when rays are few (ray-count aliasing, §2.3).
 #include "sonarsynth/ray_renderer.hpp"
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Analytic truths of sonar-physics.md §3 for the per-side renderer (items 1-8, 13, stability).
+// Analytic truths of docs/physics.md §3 for the per-side renderer (items 1-8, 13, stability).
 #include "sonarsynth/render_side.hpp"
 
 #include <gtest/gtest.h>
@@ -113,7 +113,7 @@ TEST(RenderSide, FlatSeabedClosedFormWithGaussPointsOneToFive) {
     p.gauss_points = g;
     SideEcho e;
     render_side(plane_profile(h, 0.0, 61.0, 0.5), p, e);
-    // 1-point (midpoint) rule is O(h^2): looser; 2..5 points meet the reference's 1e-6.
+    // 1-point (midpoint) rule is O(h^2): looser; 2..5 points meet 1e-6 (docs/physics.md §3).
     EXPECT_LT(worst_flat_error(e, p, h), g == 1 ? 2e-3 : 1e-6) << "gauss points " << g;
   }
 }

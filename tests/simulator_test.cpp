@@ -64,7 +64,7 @@ struct CollectSink : PingSink {
 };
 
 TEST(Simulator, FlatSeabedThroughTheWholePipelineMatchesTheClosedForm) {
-  // sonar-physics.md §3.2: E[r1, r2] = (mu beta / H^2)(F(r2) - F(r1)), F = s - s^3/3,
+  // docs/physics.md §3.2: E[r1, r2] = (mu beta / H^2)(F(r2) - F(r1)), F = s - s^3/3,
   // s = sqrt(1 - H^2 / r^2); the paper model uses mu = R.
   const Scene scene = make_scene(-60, -60, 120, 1.0, [](double, double) { return -30.0; });
   const SimulationConfig cfg = plain_config();
@@ -177,7 +177,7 @@ TEST(Simulator, MirroringTheSceneSwapsPortAndStarboard) {
 
 TEST(Simulator, RotationAndUtmSizedTranslationLeavePingsUnchanged) {
   // An analytic, rotation-invariant seabed (a Gaussian seamount) and a cylinder; the whole
-  // scene and pose rotated by 33 deg and moved 5e5 m east, 5e6 m north (sonar-physics.md §3.12).
+  // scene and pose rotated by 33 deg and moved 5e5 m east, 5e6 m north (docs/physics.md §3.12).
   const double rot = rad_from_deg(33.0);
   const Eigen::Vector2d shift(5e5, 5e6);
   auto hill = [](double x, double y) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Absorption, beam patterns, TVG / quantisation and colormap against published values and
-// closed forms (sonar-physics.md §1.2, §1.3, §3.9).
+// closed forms (docs/physics.md §1.2, §1.3, §3.9).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -22,7 +22,7 @@ double deg(double d) {
 }
 
 TEST(Absorption, FrancoisGarrisonMatchesReferenceTable) {
-  // sonar-physics.md §1.2 table (S = 35, pH = 8, z = 20 m), dB/km, within 0.2 dB/km.
+  // docs/physics.md §1.2 table (S = 35, pH = 8, z = 20 m), dB/km, within 0.2 dB/km.
   const Seawater w10{10.0, 35.0, 20.0, 8.0};
   EXPECT_NEAR(francois_garrison_db_per_m(100e3, w10) * 1e3, 33.5, 0.2);
   EXPECT_NEAR(francois_garrison_db_per_m(400e3, w10) * 1e3, 95.9, 0.2);

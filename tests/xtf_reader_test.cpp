@@ -82,7 +82,7 @@ TEST(XtfReaderReal, ScotsmanMatchesIndependentReaders) {
 }
 
 TEST(XtfReaderReal, ScotsmanPortOrderIsNormalisedNearToFar) {
-  // The reference (§2.1): the transmit bang (32767) is in the LAST stored port samples and the
+  // docs/xtf.md §2.1: the transmit bang (32767) is in the LAST stored port samples and the
   // FIRST starboard samples. After normalisation both sides start with the bang: averaged over
   // the pings, the 4 nearest samples are saturated and the 4 farthest are not.
   Reader r(kScotsman);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Every XTF record: encode writes exactly kSize bytes, decode(encode) is the identity on bytes,
-// and selected fields land at the byte offsets the spec tables give (xtf-format.md §1).
+// and selected fields land at the byte offsets the spec tables give (docs/xtf.md §1).
 #include <gtest/gtest.h>
 
 #include <cstring>

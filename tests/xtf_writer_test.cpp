@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Writer: whole-file round trips, atomic output, and one test per failure mode of the
-// reference's writer-choice matrix (xtf-format.md §4) proving our writer never produces it.
+// writer-choice matrix of docs/xtf.md §4 proving our writer never produces it.
 #include <gtest/gtest.h>
 
 #include <cmath>

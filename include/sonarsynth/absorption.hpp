@@ -16,7 +16,7 @@ struct Seawater {
 
 /// One-way absorption coefficient of sea water, dB per metre, by Francois & Garrison,
 /// JASA 72(3):896-907 and 72(6):1879-1890 (1982) (boric acid + MgSO4 relaxation + pure water;
-/// coefficients as in reference sonar-physics.md §1.2). frequency_hz > 0 (formula fitted for
+/// coefficients as in docs/physics.md §1.2). frequency_hz > 0 (formula fitted for
 /// 0.4 kHz .. 1 MHz). Throws InputError on invalid input.
 double francois_garrison_db_per_m(double frequency_hz, const Seawater& water);
 

@@ -8,7 +8,7 @@ namespace sonarsynth {
 /// Backscatter law applied per unit seabed area.
 ///
 /// lambert: sigma_b = mu sin^2(g) = mu cos^2(phi), g grazing angle, phi incidence angle from the
-///   local normal (Mackenzie 1961; reference §1.5).
+///   local normal (Mackenzie 1961; docs/physics.md §1.5).
 ///
 /// paper: the founding paper's per-ray intensity I = R K Phi cos(phi) (Gwon et al. 2017 after
 ///   Coiras et al., IEEE TIP 16(2), 2007), with equiangular rays of across-track width dtheta
@@ -18,7 +18,7 @@ namespace sonarsynth {
 ///     sigma_b dA / r^4 = sigma_b beta dtheta / (r^2 sin g).
 ///   Equating with the per-ray law R beta dtheta cos(phi) / r^2 = R beta dtheta sin(g) / r^2 gives
 ///     sigma_b = R sin^2(g) = R cos^2(phi),
-///   i.e. Lambert with mu = R (reference §1.5). The renderer therefore integrates both laws per
+///   i.e. Lambert with mu = R (§1.5). The renderer therefore integrates both laws per
 ///   area with the coefficient mu (lambert) or R (paper); K is SideParams::calibration_k and Phi
 ///   is the incident intensity carried by the sonar equation (spreading, absorption, beam).
 enum class BackscatterModel { lambert, paper };

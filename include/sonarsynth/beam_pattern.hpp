@@ -9,8 +9,8 @@ namespace sonarsynth {
 enum class VerticalBeamShape {
   uniform,          ///< b = 1 everywhere (beam pattern off)
   paper_sine_pair,  ///< two half-sine lobes meeting at the axis (Gwon et al. 2017, see below)
-  gaussian,         ///< exp(-4 ln2 (off / width_3db)^2), reference §1.3
-  sinc,             ///< [sin(x)/x]^2, x = pi (W / lambda) sin(off), reference §1.3
+  gaussian,         ///< exp(-4 ln2 (off / width_3db)^2), docs/physics.md §1.3
+  sinc,             ///< [sin(x)/x]^2, x = pi (W / lambda) sin(off), docs/physics.md §1.3
   table,            ///< one-way gain in dB vs off-axis angle, linear interpolation
 };
 
@@ -55,7 +55,7 @@ struct VerticalBeamPattern {
 };
 
 /// Effective along-track beam width of a uniform line array of length `array_length_m` used for
-/// transmit and receive (reference §1.3):
+/// transmit and receive (docs/physics.md §1.3):
 ///   beta_eff = integral over psi in [-pi/2, pi/2] of D(psi)^4 dpsi,
 ///   D(psi) = sinc(pi L sin(psi) / lambda) (one-way pressure), so D^4 = b_tx b_rx.
 /// For L >> lambda this tends to 2 lambda / (3 L) (integral of sinc^4 = 2 pi / 3). Radians.

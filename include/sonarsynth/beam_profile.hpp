@@ -7,8 +7,8 @@
 
 namespace sonarsynth {
 
-/// The seabed seen by one side of one ping, in its beam plane (2-D across-track model, reference
-/// sonar-physics.md §1.1 and §2.1).
+/// The seabed seen by one side of one ping, in its beam plane (2-D across-track model, see
+/// docs/physics.md §1.1 and §2.1).
 ///
 /// Frame: y_m is the horizontal distance from the sensor's nadir, outward on the imaged side,
 /// metres, >= 0; z_m is height (up positive), metres, in any datum shared with sensor_z_m. The

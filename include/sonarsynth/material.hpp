@@ -14,7 +14,7 @@ namespace sonarsynth {
 struct Material {
   std::string name;
   /// Lambert coefficient mu (linear, dimensionless): sigma_b = mu sin^2(grazing). Range (0, 1].
-  /// 10 log10(mu) is typically -35 dB (mud) ... -12 dB (rock); see sonar-physics.md §1.5.
+  /// 10 log10(mu) is typically -35 dB (mud) ... -12 dB (rock); see docs/physics.md §1.5.
   double lambert_mu = 0.01;
   /// Reflectivity R of the founding paper's model I = R K Phi cos(theta), range [0, 1].
   double paper_reflectivity = 0.5;
@@ -29,7 +29,7 @@ struct Material {
 class MaterialTable {
  public:
   /// The built-in classes: mud, sand, gravel, rock (seabeds) and steel, concrete (objects), with
-  /// literature-midpoint values (sonar-physics.md §1.5, +-5 dB site to site).
+  /// literature-midpoint values (docs/physics.md §1.5, +-5 dB site to site).
   static MaterialTable defaults();
 
   /// Adds or replaces a material by name; returns its index.

@@ -34,7 +34,7 @@ enum class SpeckleSampler : std::uint8_t {
   exact,
 };
 
-/// Physical noise (reference §1.6): per sample the complex circular Gaussian field
+/// Physical noise (docs/physics.md §1.6): per sample the complex circular Gaussian field
 ///   z = sqrt(I T / 2) (n1 + i n2) + sqrt(N / 2) (n3 + i n4),  output I' = |z|^2,
 /// with T ~ Gamma(nu, 1/nu) (unit-mean texture: K-distributed intensity, SI = 1 + 2/nu) when
 /// the sample's nu > 0, T = 1 otherwise (exponential intensity, SI = 1), and thermal noise of

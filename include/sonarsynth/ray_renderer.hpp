@@ -9,7 +9,7 @@
 namespace sonarsynth {
 
 /// Uniform-angle ray casting over a beam-plane profile: the method most side-scan simulators use
-/// (reference sonar-physics.md §2.3), kept as a COMPARISON method for the benchmarks, not a
+/// (docs/physics.md §2.3), kept as a COMPARISON method for the benchmarks, not a
 /// product path.
 ///
 /// `rays` rays are spread uniformly in depression angle over the angular extent of the profile

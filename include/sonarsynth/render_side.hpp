@@ -11,7 +11,7 @@
 
 namespace sonarsynth {
 
-/// Parameters of the per-side renderer (reference sonar-physics.md §1, §2.1, Appendix A).
+/// Parameters of the per-side renderer (docs/physics.md §1, §2.1, Appendix A).
 /// Sample i covers the slant-range bin [i dr, (i + 1) dr) (dr = sample_spacing_m) or, with a
 /// pulse window w > 0, the interval [(i + 1) dr - w, (i + 1) dr] (rectangular CW pulse, §1.4).
 struct SideParams {
@@ -98,7 +98,7 @@ void validate_beam_profile(const BeamProfile& profile, std::size_t material_coun
 /// at its slant-range minimum and at every bin boundary (quadratic roots), Gauss–Legendre
 /// integration in arc length of
 ///   K sigma_b(phi) b^2(theta - theta_axis) beta_eff r r^-4 10^(-2 alpha r / 10) dl
-/// on each sub-piece, contributions SUMMED per bin (Appendix A of the reference). No per-ping
+/// on each sub-piece, contributions SUMMED per bin (docs/physics.md Appendix A). No per-ping
 /// normalisation. Throws InputError if params or the profile are invalid (sizes, y order,
 /// material index).
 void render_side(const BeamProfile& profile, const SideParams& params, SideEcho& out);

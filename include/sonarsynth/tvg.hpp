@@ -6,7 +6,7 @@
 
 namespace sonarsynth {
 
-/// Time-varied gain law (reference sonar-physics.md §1.2).
+/// Time-varied gain law (docs/physics.md §1.2).
 enum class TvgLaw {
   none,       ///< G = constant_db only
   spherical,  ///< G(r) = 30 log10(r) + 2 alpha r + constant_db (seabed reverberation TVG)

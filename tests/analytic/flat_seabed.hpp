@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Closed forms of a flat seabed (reference sonar-physics.md §3.2), written independently of the
+// Closed forms of a flat seabed (docs/physics.md §3.2), written independently of the
 // renderers: the analytic truth shared by the tests and the benchmark drivers.
 #pragma once
 

@@ -2,7 +2,7 @@
 #pragma once
 
 // XTF (eXtended Triton Format) records, laid out as the Triton XTF specification (Rev. 41) and
-// /work/shared/reference/xtf-format.md §1 describe them. Each struct keeps the spec's field names
+// docs/xtf.md §1 describe them. Each struct keeps the spec's field names
 // and order, has kSize (its exact size in bytes) and encodes/decodes field by field in explicit
 // little-endian through ByteWriter/ByteReader. No struct is ever cast from raw bytes.
 // Units are those of the file (degrees, knots, decimetres...); conversion to radians and SI

@@ -16,7 +16,7 @@
 
 namespace sonarsynth::xtf {
 
-/// How samples are stored. kUint16 is the profile every common reader accepts (reference §5).
+/// How samples are stored. kUint16 is the profile every common reader accepts (docs/xtf.md §5).
 enum class SampleEncoding {
   kUint16,   ///< BytesPerSample 2, SampleFormat 3, UniPolar 1, values rounded and clamped to
              ///< 0..32767
@@ -52,7 +52,7 @@ struct WriterOptions {
   std::vector<std::string> compatibility_warnings() const;
 };
 
-/// Streaming XTF writer following the reference's recommended profile (§5): NavUnits 3
+/// Streaming XTF writer following the recommended profile of docs/xtf.md §5: NavUnits 3
 /// (X = longitude, Y = latitude), channel 0 = port (stored far -> near), channel 1 = starboard,
 /// SoundVelocity = c/2 and ComputedSoundVelocity = c, TimeDuration = SecondsPerPing =
 /// SlantRange/SoundVelocity, every packet zero-padded to 64 bytes with NumBytesThisRecord = the
