@@ -13,6 +13,7 @@ void SurveyProductOptions::validate() const {
                      " m. Violated constraint: pixel > 0");
   }
   mosaic_options.validate();
+  if (mosaic) write_options.validate();  // creation options: refused before any rendering
 }
 
 SurveyProducts::SurveyProducts(std::filesystem::path dir, const Scene& scene,
@@ -87,6 +88,12 @@ void SurveyProducts::end_line(std::size_t line) {
     const auto path = dir_ / (name + "_waterfall.png");
     waterfall_->write(path.string());
     files_.push_back(path);
+    if (waterfall_->pings_per_row() > 1) {
+      notes_.push_back(path.filename().string() + ": " + std::to_string(waterfall_->rows()) +
+                       " pings decimated along track, each row the mean of " +
+                       std::to_string(waterfall_->pings_per_row()) + " pings (image limit " +
+                       std::to_string(WaterfallOptions{}.max_pixels) + " pixels)");
+    }
   }
   if (truth_ && truth_->rows() > 0) {
     const auto path = dir_ / (name + "_truth.tif");

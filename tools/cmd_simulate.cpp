@@ -156,6 +156,7 @@ int run_simulate(const std::vector<std::string>& args) {
       std::cout << "  " << (out.final_dir() / f.filename()).string() << "\n";
     }
     std::cout << "  " << (out.final_dir() / "effective.yaml").string() << "\n";
+    for (const auto& note : products.notes()) std::cout << "  note: " << note << "\n";
     if (xtf_out.clipped_samples() > 0) {
       std::cerr << "warning: " << xtf_out.clipped_samples()
                 << " samples were clipped at the top of the sample range (lower output.gain_db)\n";

@@ -38,6 +38,8 @@ class SurveyProducts : public PingSink {
   /// Writes the mosaic files (call once, after the run).
   void finish();
   const std::vector<std::filesystem::path>& files() const { return files_; }
+  /// What the user should know about the products (e.g. a waterfall decimated along track).
+  const std::vector<std::string>& notes() const { return notes_; }
 
  private:
   std::filesystem::path dir_;
@@ -49,6 +51,7 @@ class SurveyProducts : public PingSink {
   std::unique_ptr<Waterfall> waterfall_;
   std::unique_ptr<TruthWaterfall> truth_;
   std::vector<std::filesystem::path> files_;
+  std::vector<std::string> notes_;
 };
 
 }  // namespace sonarsynth
