@@ -55,7 +55,13 @@ class Fields {
   }
   /// A fixed-length list of numbers, e.g. size_m: [480, 0.5, 0.5].
   std::vector<double> numbers(const std::string& key, std::size_t count) const;
-  /// Throws naming the first key of this map that is not in `allowed` (catches typos).
+  /// The number in `element` (an item of the list under `key`, at `index`): throws naming
+  /// "key[index]" and the value unless it is a finite number.
+  double element_number(const std::string& key, const YAML::Node& element, std::size_t index) const;
+  /// The string in the scalar `value` found under `key`; throws naming it otherwise.
+  std::string scalar_text(const std::string& key, const YAML::Node& value) const;
+  /// Throws naming the first key of this map that is not in `allowed` (catches typos), or
+  /// that is not a plain scalar (a YAML complex key such as `? [a, b]`).
   void only(const std::set<std::string>& allowed) const;
 
  private:
