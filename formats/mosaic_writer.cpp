@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/mosaic_writer.hpp"
 
+#include <cpl_error.h>
+#include <gdal_priv.h>
+
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -13,6 +16,7 @@
 #include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/formats/gdal_util.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -139,6 +143,41 @@ void MosaicWriteOptions::validate() const {
        << ", hi_percentile = " << hi_percentile
        << ". Violated constraint: 0 <= lo_percentile < hi_percentile <= 100";
     throw InputError(os.str());
+  }
+  // The display copy's format follows its name: a name ending in anything else would get a
+  // file whose contents do not match it.
+  const std::string ext = raster::lower_extension(rgb_path);
+  if (!rgb_path.empty() && ext != ".tif" && ext != ".tiff" && ext != ".png") {
+    throw InputError("mosaic writer: display copy " + rgb_path +
+                     ": unsupported extension. Violated constraint: .tif, .tiff (GeoTIFF) or "
+                     ".png (PNG)");
+  }
+  if (!creation_options.empty()) {
+    gdal::ensure_registered();
+    const char* driver_name = format == MosaicRasterFormat::gtiff ? "GTiff" : "COG";
+    GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name);
+    if (!driver) throw FormatError(std::string(kWho) + ": GDAL has no " + driver_name + " driver");
+    // GDAL reports what is wrong as warnings: collect them for the message.
+    std::string problems;
+    CPLPushErrorHandlerEx(
+        [](CPLErr, CPLErrorNum, const char* msg) {
+          auto* out = static_cast<std::string*>(CPLGetErrorHandlerUserData());
+          if (msg) *out += (out->empty() ? "" : "; ") + std::string(msg);
+        },
+        &problems);
+    for (const auto& [key, value] : creation_options) {
+      const std::string item = key + "=" + value;
+      const char* const list[] = {item.c_str(), nullptr};
+      problems.clear();
+      const int ok = GDALValidateCreationOptions(driver, const_cast<char**>(list));
+      if (!ok) {
+        CPLPopErrorHandler();
+        throw InputError(std::string(kWho) + ": creation option " + item +
+                         " is not valid for the " + driver_name + " driver" +
+                         (problems.empty() ? "" : ": " + problems));
+      }
+    }
+    CPLPopErrorHandler();
   }
 }
 
