@@ -48,6 +48,14 @@ std::string Fields::scalar_text(const std::string& key, const YAML::Node& value)
   return value.Scalar();
 }
 
+bool Fields::given(const std::string& key) const {
+  if (!node_.IsMap() || !node_[key].IsDefined()) return false;
+  if (node_[key].IsNull()) {
+    fail_value(key, "a value (leave " + key + " out for its default; null is not one)");
+  }
+  return true;
+}
+
 Fields Fields::child(const std::string& key) const {
   if (!has(key)) fail(key, "missing");
   if (!node_[key].IsMap()) fail_value(key, "a map of keys");
@@ -88,7 +96,7 @@ double Fields::number_in(const std::string& key, double fallback, double lo, dou
 }
 
 std::int64_t Fields::integer(const std::string& key, std::int64_t fallback) const {
-  if (!has(key)) return fallback;
+  if (!given(key)) return fallback;
   std::int64_t v = 0;
   if (!node_[key].IsScalar() || !YAML::convert<std::int64_t>::decode(node_[key], v)) {
     fail_value(key, "an integer");
@@ -97,7 +105,7 @@ std::int64_t Fields::integer(const std::string& key, std::int64_t fallback) cons
 }
 
 std::uint64_t Fields::seed(const std::string& key, std::uint64_t fallback) const {
-  if (!has(key)) return fallback;
+  if (!given(key)) return fallback;
   std::uint64_t v = 0;
   if (!node_[key].IsScalar() || !YAML::convert<std::uint64_t>::decode(node_[key], v)) {
     fail_value(key, "a non-negative integer");
@@ -106,7 +114,7 @@ std::uint64_t Fields::seed(const std::string& key, std::uint64_t fallback) const
 }
 
 bool Fields::boolean(const std::string& key, bool fallback) const {
-  if (!has(key)) return fallback;
+  if (!given(key)) return fallback;
   bool v = false;
   if (!node_[key].IsScalar() || !YAML::convert<bool>::decode(node_[key], v)) {
     fail_value(key, "true or false");

@@ -40,8 +40,11 @@ class Fields {
   [[noreturn]] void fail_value(const std::string& key, const std::string& constraint) const;
 
   double number(const std::string& key) const;
+  /// True if `key` is given; throws naming it if it is given as null (a null is not taken as
+  /// "use the default": leave the key out for that).
+  bool given(const std::string& key) const;
   double number(const std::string& key, double fallback) const {
-    return has(key) ? number(key) : fallback;
+    return given(key) ? number(key) : fallback;
   }
   /// A number that must satisfy lo <= v <= hi (inclusive), or lo < v when `lo_exclusive`.
   double number_in(const std::string& key, double fallback, double lo, double hi,
@@ -51,7 +54,7 @@ class Fields {
   bool boolean(const std::string& key, bool fallback) const;
   std::string text(const std::string& key) const;
   std::string text(const std::string& key, const std::string& fallback) const {
-    return has(key) ? text(key) : fallback;
+    return given(key) ? text(key) : fallback;
   }
   /// A fixed-length list of numbers, e.g. size_m: [480, 0.5, 0.5].
   std::vector<double> numbers(const std::string& key, std::size_t count) const;

@@ -187,6 +187,9 @@ TEST_F(TrustCli, MalformedYamlValuesAreNamedErrors) {
       scene("",
             "    - {name: l1, waypoints: [{east_m: 0, north_m: ~}, {east_m: 5, north_m: 0}]}\n"),
       {"bad.yaml: survey.lines[0].waypoints[0].north_m: missing"});
+  std::string null_altitude = scene();
+  null_altitude.replace(null_altitude.find("altitude_m: 5"), 13, "altitude_m: null");
+  expect_scene_error(null_altitude, {"bad.yaml: survey.altitude_m = null. Violated constraint"});
   std::string table = scene();
   table.replace(table.find("tilt_deg: 15}"), 13,
                 "tilt_deg: 15, vertical_beam: {shape: table, off_axis_deg: [0, abc, 40], "
