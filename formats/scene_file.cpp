@@ -175,8 +175,14 @@ struct Builder {
       }
       // size_m may be given as "l,w,h" or "[l, w, h]"; turn it back into a list.
       if (node["size_m"].IsDefined()) {
-        const std::string text = node["size_m"].as<std::string>();
-        node["size_m"] = YAML::Load(text.find('[') == std::string::npos ? "[" + text + "]" : text);
+        const std::string text = node["size_m"].Scalar();
+        try {
+          node["size_m"] =
+              YAML::Load(text.find('[') == std::string::npos ? "[" + text + "]" : text);
+        } catch (const YAML::Exception&) {
+          throw InputError(path + " feature " + std::to_string(index) + ": size_m = '" + text +
+                           "'. Violated constraint: \"l,w,h\" or \"[l, w, h]\"");
+        }
       }
       OGRGeometry* geom = feature->GetGeometryRef();
       const std::string where = path + " feature " + std::to_string(index++);

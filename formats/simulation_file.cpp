@@ -400,8 +400,9 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
   std::function<void(YAML::Node)> absolutize = [&](YAML::Node n) {
     if (n.IsMap()) {
       for (auto kv : n) {
-        if (kv.first.as<std::string>() == "file" && kv.second.IsScalar()) {
-          const fs::path f(kv.second.as<std::string>());
+        // Keys are not all checked (e.g. under `description`): compare only plain ones.
+        if (kv.first.IsScalar() && kv.first.Scalar() == "file" && kv.second.IsScalar()) {
+          const fs::path f(kv.second.Scalar());
           if (!f.is_absolute()) kv.second = (base / f).lexically_normal().string();
         } else {
           absolutize(kv.second);

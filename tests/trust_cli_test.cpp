@@ -210,6 +210,29 @@ TEST_F(TrustCli, MalformedYamlValuesAreNamedErrors) {
              "80000 x 80000 = 6400000000 cells", "cells <= 268435456"});
 }
 
+// Values that reach the program by other routes: a vector layer's attribute, a section whose keys
+// are not checked (copied into effective.yaml), the bathy command's grid size.
+TEST_F(TrustCli, LayerAttributesUncheckedSectionsAndBathyGridsFailByName) {
+  write("objs.geojson",
+        R"({"type": "FeatureCollection", "features": [{"type": "Feature", "properties":)"
+        R"( {"type": "box", "size_m": "[1, 2"}, "geometry": {"type": "Point", "coordinates":)"
+        R"( [151.299, -33.851]}}]})");
+  expect_scene_error(scene("objects:\n  - {file: objs.geojson}\n"),
+                     {"objs.geojson feature 0: size_m = '[1, 2'"});
+  fs::remove(dir_ / "objs.geojson");
+  // A complex key where keys are not checked is copied into effective.yaml, not an internal
+  // error after the rendering.
+  const fs::path s = write("s.yaml", scene("description: {? [a, b] : 1}\n"));
+  const auto r = test::run_cli("simulate " + s.string() + " -o " + (dir_ / "o").string() +
+                                   " -q --no-mosaic --no-truth --no-waterfall",
+                               dir_);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "o" / "effective.yaml"));
+  expect_named_error("bathy -q -o " + (dir_ / "big.tif").string() +
+                         " --lat 10 --lon 10 --size 40000x40000 --cell 0.5",
+                     {"80000 x 80000 = 6400000000 cells", "cells <= 268435456"});
+}
+
 // Command-line overrides are named by their flag, not blamed on the scene file.
 TEST_F(TrustCli, OverrideErrorsNameTheFlag) {
   expect_scene_error(scene(), {"--range (overriding sonar.range_m of ", "max_range_m"},
