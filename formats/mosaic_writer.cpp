@@ -1,9 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/mosaic_writer.hpp"
 
-#include <cpl_error.h>
-#include <gdal_priv.h>
-
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -152,33 +149,8 @@ void MosaicWriteOptions::validate() const {
                      ": unsupported extension. Violated constraint: .tif, .tiff (GeoTIFF) or "
                      ".png (PNG)");
   }
-  if (!creation_options.empty()) {
-    gdal::ensure_registered();
-    const char* driver_name = format == MosaicRasterFormat::gtiff ? "GTiff" : "COG";
-    GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name);
-    if (!driver) throw FormatError(std::string(kWho) + ": GDAL has no " + driver_name + " driver");
-    // GDAL reports what is wrong as warnings: collect them for the message.
-    std::string problems;
-    CPLPushErrorHandlerEx(
-        [](CPLErr, CPLErrorNum, const char* msg) {
-          auto* out = static_cast<std::string*>(CPLGetErrorHandlerUserData());
-          if (msg) *out += (out->empty() ? "" : "; ") + std::string(msg);
-        },
-        &problems);
-    for (const auto& [key, value] : creation_options) {
-      const std::string item = key + "=" + value;
-      const char* const list[] = {item.c_str(), nullptr};
-      problems.clear();
-      const int ok = GDALValidateCreationOptions(driver, const_cast<char**>(list));
-      if (!ok) {
-        CPLPopErrorHandler();
-        throw InputError(std::string(kWho) + ": creation option " + item +
-                         " is not valid for the " + driver_name + " driver" +
-                         (problems.empty() ? "" : ": " + problems));
-      }
-    }
-    CPLPopErrorHandler();
-  }
+  gdal::validate_creation_options(format == MosaicRasterFormat::gtiff ? "GTiff" : "COG",
+                                  creation_options, kWho);
 }
 
 std::string default_rgb_path(const std::string& mosaic_path) {

@@ -258,6 +258,9 @@ TEST_F(TrustCli, MosaicOptionErrorsAreNamedAndWriteNothing) {
   expect_named_error(base + " --bathymetry " + (dir_ / "far.tif").string(),
                      {"--bathymetry " + (dir_ / "far.tif").string(), "does not overlap the survey",
                       "no ping could be gridded"});
+  expect_named_error("bathy -q -o " + (dir_ / "b.tif").string() +
+                         " --lat 10 --lon 10 --size 20x20 --cell 1 --co COMPRESS=NOPE",
+                     {"bathy: creation option COMPRESS=NOPE is not valid for the GTiff driver"});
   // simulate refuses bad creation options before rendering anything.
   expect_scene_error(scene(), {"COMPRESS=NOPE", "COG driver"}, "--co COMPRESS=NOPE");
 }

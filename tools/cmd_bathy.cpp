@@ -12,6 +12,7 @@
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/formats/gdal_util.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::cli {
@@ -178,6 +179,7 @@ int run_bathy(const std::vector<std::string>& args) {
   GridWriteOptions wo;
   wo.overwrite = overwrite;
   wo.creation_options = parse_key_values(co, "co");
+  gdal::validate_creation_options("GTiff", wo.creation_options, "bathy");
   std::string command = "sonarsynth bathy";
   for (const std::string& a : args) command += " " + a;
   wo.metadata.push_back({"SONARSYNTH_COMMAND", command});
