@@ -12,6 +12,7 @@
 #include <fstream>
 #include <functional>
 #include <set>
+#include <sstream>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
@@ -23,6 +24,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using yaml::Fields;
+
+// Farthest a waypoint may be from the bathymetry grid's centre, metres per axis: beyond it the
+// local coordinates leave the scene's UTM zone by far.
+constexpr double kMaxWaypointOffsetM = 1e6;
 
 Eigen::Vector2d position(const Scene& scene, const Eigen::Vector2d& centre, const Fields& p) {
   p.only({"lat_deg", "lon_deg", "east_m", "north_m"});
@@ -39,10 +44,8 @@ Eigen::Vector2d position(const Scene& scene, const Eigen::Vector2d& centre, cons
     }
   }
   const Eigen::Vector2d xy = centre + Eigen::Vector2d(p.number("east_m"), p.number("north_m"));
-  // Beyond this, local coordinates leave the scene's UTM zone by far (and lose precision).
-  constexpr double kMaxOffsetM = 1e6;
   for (const char* key : {"east_m", "north_m"}) {
-    if (!(std::abs(p.number(key)) <= kMaxOffsetM)) {
+    if (!(std::abs(p.number(key)) <= kMaxWaypointOffsetM)) {
       p.fail_value(key, std::string("|") + key + "| <= 1e6 (metres from the grid centre)");
     }
   }
@@ -346,7 +349,17 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
         line.name = name_idx >= 0 ? feature->GetFieldAsString(name_idx)
                                   : "line" + std::to_string(setup.lines.size() + 1);
         for (const OGRPoint& pt : *gc->toLineString()) {
-          line.waypoints_xy_m.push_back(scene.frame.local_from_projected({pt.getX(), pt.getY()}));
+          const Eigen::Vector2d xy = scene.frame.local_from_projected({pt.getX(), pt.getY()});
+          if (!((xy - centre).cwiseAbs().maxCoeff() <= kMaxWaypointOffsetM)) {
+            std::ostringstream os;
+            os.precision(10);
+            os << vpath << ": line '" << line.name << "' vertex (" << pt.getX() << ", " << pt.getY()
+               << ") in EPSG:" << scene.frame.epsg() << " is "
+               << (xy - centre).cwiseAbs().maxCoeff()
+               << " m from the bathymetry grid's centre. Violated constraint: <= 1e6 m";
+            throw InputError(os.str());
+          }
+          line.waypoints_xy_m.push_back(xy);
         }
         setup.lines.push_back(std::move(line));
       }

@@ -199,6 +199,14 @@ TEST_F(TrustCli, MalformedYamlValuesAreNamedErrors) {
   expect_scene_error(scene("seabed:\n  polygons:\n    - {material: rock, coordinates_deg: "
                            "[[-33.851, 151.299], [null, 151.2995], [-33.8505, 151.2995]]}\n"),
                      {"bad.yaml: seabed.polygons[0].coordinates_deg[1][0] = null"});
+  write("far.geojson",
+        R"({"type": "FeatureCollection", "features": [{"type": "Feature", "properties":)"
+        R"( {"name": "far"}, "geometry": {"type": "LineString", "coordinates":)"
+        R"( [[151.299, -33.851], [166.299, -33.851]]}}]})");
+  expect_scene_error(scene("", "    - {file: far.geojson}\n"),
+                     {"far.geojson: line 'far' vertex (", ") in EPSG:32756 is",
+                      "from the bathymetry grid's centre. Violated constraint: <= 1e6 m"});
+  fs::remove(dir_ / "far.geojson");
   expect_scene_error(scene("",
                            "    - {name: l1, waypoints: [{east_m: -1e7, north_m: 0}, {east_m: "
                            "1e7, north_m: 0}]}\n"),
