@@ -175,6 +175,42 @@ TEST_F(TrustCli, WaterfallOfALongLineIsDecimatedNotRefused) {
   GDALClose(ds);
 }
 
+// simulate keeps a long line: its waterfall is decimated to ceil(pings / N) rows (the row values
+// are checked against an independent decimation in waterfall_test.cpp), the run says so, and
+// the XTF is written in full.
+TEST_F(TrustCli, SimulateDecimatesTheWaterfallOfALongLineAndKeepsTheXtf) {
+  const fs::path s = write("s.yaml", scene());
+  const auto r = test::run_cli("simulate " + s.string() + " -o " + (dir_ / "o").string() +
+                                   " --no-mosaic --no-truth --waterfall-max-pixels 40000",
+                               dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::size_t pings = 0;
+  {
+    xtf::Reader reader(dir_ / "o" / "l1.xtf");
+    xtf::Packet p;
+    while (reader.next(p)) pings += p.kind == xtf::PacketKind::kPing ? 1 : 0;
+  }
+  // 400 columns: room for 100 rows.
+  ASSERT_GT(pings, 100u);
+  const std::size_t n = (pings + 99) / 100, rows = (pings + n - 1) / n;
+  EXPECT_NE(r.out.find("l1_waterfall.png: " + std::to_string(pings) +
+                       " pings decimated along track, each row the mean of " + std::to_string(n) +
+                       " pings"),
+            std::string::npos)
+      << r.out;
+  GDALAllRegister();
+  GDALDataset* ds = GDALDataset::Open((dir_ / "o" / "l1_waterfall.png").c_str(),
+                                      GDAL_OF_RASTER | GDAL_OF_READONLY);
+  ASSERT_NE(ds, nullptr);
+  EXPECT_EQ(ds->GetRasterXSize(), 400);
+  EXPECT_EQ(static_cast<std::size_t>(ds->GetRasterYSize()), rows);
+  GDALClose(ds);
+  // A limit below one ping's row is refused before rendering.
+  expect_named_error(
+      "simulate " + s.string() + " -o " + (dir_ / "o2").string() + " -q --waterfall-max-pixels 399",
+      {"waterfall max pixels = 399", "2 x samples = 400 pixels"});
+}
+
 // YAML that used to end in an internal error (exit 3) names the file, the key path and value.
 TEST_F(TrustCli, MalformedYamlValuesAreNamedErrors) {
   expect_scene_error(scene("? [a, b]\n: 1\n"),

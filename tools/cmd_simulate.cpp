@@ -40,6 +40,7 @@ int run_simulate(const std::vector<std::string>& args) {
   std::string of = "COG";
   std::vector<std::string> co;
   bool no_mosaic = false, no_waterfall = false, no_truth = false;
+  std::size_t waterfall_max_pixels = SurveyProductOptions{}.waterfall_max_pixels;
   // clang-format off
   opts.add_options()
     ("scene", po::value(&scene_path)->required(), "scene file (YAML)")
@@ -56,6 +57,8 @@ int run_simulate(const std::vector<std::string>& args) {
     ("co", po::value(&co)->composing(), "mosaic creation option KEY=VALUE (repeatable)")
     ("no-mosaic", po::bool_switch(&no_mosaic), "skip the mosaics")
     ("no-waterfall", po::bool_switch(&no_waterfall), "skip the waterfall images")
+    ("waterfall-max-pixels", po::value(&waterfall_max_pixels),
+     "largest waterfall image; longer lines are decimated along track (default 2^28)")
     ("no-truth", po::bool_switch(&no_truth), "skip the truth products");
   // clang-format on
   po::positional_options_description pos;
@@ -105,6 +108,7 @@ int run_simulate(const std::vector<std::string>& args) {
   po_opts.waterfalls = !no_waterfall;
   po_opts.truth = !no_truth && setup.config.truth;
   po_opts.mosaic_pixel_m = res_m;
+  po_opts.waterfall_max_pixels = waterfall_max_pixels;
   if (of == "COG" || of == "cog") {
     po_opts.write_options.format = MosaicRasterFormat::cog;
   } else if (of == "GTiff" || of == "gtiff") {

@@ -19,6 +19,8 @@ struct SurveyProductOptions {
   bool waterfalls = true;        ///< <line>_waterfall.png per line
   bool truth = true;             ///< <line>_truth.tif per line and truth_mosaic.tif
   double mosaic_pixel_m = 0.25;  ///< > 0
+  /// Largest waterfall image (pixels); a longer line is decimated along track to fit.
+  std::size_t waterfall_max_pixels = WaterfallOptions{}.max_pixels;
   MosaicOptions mosaic_options;
   MosaicWriteOptions write_options;  ///< format, creation options (paths are set here)
   void validate() const;
