@@ -294,6 +294,7 @@ struct Builder {
     std::vector<std::vector<Eigen::Vector2d>> rings{
         ring(f.node()["coordinates_deg"], "coordinates_deg")};
     if (f.has("holes_deg")) {
+      if (!f.node()["holes_deg"].IsSequence()) f.fail_value("holes_deg", "a list of rings");
       for (const auto& h : f.node()["holes_deg"]) rings.push_back(ring(h, "holes_deg"));
     }
     add_polygon_rings(rings, m);

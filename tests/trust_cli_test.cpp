@@ -223,6 +223,10 @@ TEST_F(TrustCli, MalformedYamlValuesAreNamedErrors) {
       scene("",
             "    - {name: l1, waypoints: [{east_m: 0, north_m: ~}, {east_m: 5, north_m: 0}]}\n"),
       {"bad.yaml: survey.lines[0].waypoints[0].north_m: missing"});
+  expect_scene_error(scene("seabed:\n  polygons:\n    - {material: rock, coordinates_deg: "
+                           "[[-33.851, 151.299], [-33.852, 151.299], [-33.8505, 151.2995]], "
+                           "holes_deg: 5}\n"),
+                     {"bad.yaml: seabed.polygons[0].holes_deg = '5'. Violated constraint"});
   std::string null_altitude = scene();
   null_altitude.replace(null_altitude.find("altitude_m: 5"), 13, "altitude_m: null");
   expect_scene_error(null_altitude, {"bad.yaml: survey.altitude_m = null. Violated constraint"});
