@@ -287,6 +287,8 @@ TEST_F(TrustCli, OverrideErrorsNameTheFlag) {
                      "--range=0");
   expect_scene_error(scene(), {"--samples (overriding sonar.samples of ", "samples_per_channel"},
                      "--samples 0");
+  expect_scene_error(scene(), {"--seed = '-1'. Violated constraint: an integer from 0"},
+                     "--seed=-1");
 }
 
 // mosaic: a display copy whose name is not a format we write, creation options GDAL does not
