@@ -311,6 +311,9 @@ TEST_F(TrustCli, MosaicOptionErrorsAreNamedAndWriteNothing) {
   expect_named_error("bathy -q -o " + (dir_ / "b.tif").string() +
                          " --lat 10 --lon 10 --size 20x20 --cell 1 --co COMPRESS=NOPE",
                      {"bathy: creation option COMPRESS=NOPE is not valid for the GTiff driver"});
+  expect_named_error("bathy -q -o " + (dir_ / "b.tif").string() +
+                         " --lat 10 --lon 10 --size 20x20 --cell 1 --seed=-1",
+                     {"--seed = '-1'. Violated constraint"});
   // simulate refuses bad creation options before rendering anything.
   expect_scene_error(scene(), {"COMPRESS=NOPE", "COG driver"}, "--co COMPRESS=NOPE");
 }

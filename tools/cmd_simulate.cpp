@@ -2,7 +2,6 @@
 // `sonarsynth simulate SCENE.yaml -o OUTDIR`: renders the survey of a scene file and writes one
 // XTF file per survey line, the effective configuration and (when enabled) mosaic, waterfalls
 // and truth products.
-#include <charconv>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -68,16 +67,7 @@ int run_simulate(const std::vector<std::string>& args) {
   if (!parse(args, opts, pos, vm, kUsage)) return 0;
 
   SimulationOverrides ov;
-  if (vm.count("seed")) {
-    // Read as text: a number type would take "-1" as 2^64 - 1 without a word.
-    std::uint64_t v = 0;
-    const auto [end, ec] = std::from_chars(seed.data(), seed.data() + seed.size(), v);
-    if (ec != std::errc() || end != seed.data() + seed.size() || seed.empty()) {
-      throw InputError("--seed = '" + seed +
-                       "'. Violated constraint: an integer from 0 to 18446744073709551615");
-    }
-    ov.seed = v;
-  }
+  if (vm.count("seed")) ov.seed = parse_uint64(seed, "seed");
   if (vm.count("range")) ov.range_m = range_m;
   if (vm.count("samples")) ov.samples = samples;
   if (vm.count("quality")) ov.quality = quality;
