@@ -462,8 +462,14 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
   e << root;
   std::ofstream os(out_path);
   os << "# Effective configuration of a sonarsynth run: `sonarsynth simulate` on this file\n"
-        "# reproduces the run exactly (same seed, same settings).\n"
-     << e.c_str() << "\n";
+        "# reproduces the run exactly (same seed, same settings).\n";
+  if (!overrides.product_flags.empty()) {
+    os << "# The products were made with these options; give them again for the same files:\n"
+          "# product options:";
+    for (const std::string& f : overrides.product_flags) os << " " << f;
+    os << "\n";
+  }
+  os << e.c_str() << "\n";
   if (!os) throw FormatError(out_path.string() + ": cannot write");
 }
 

@@ -110,8 +110,16 @@ TEST_F(TrustCli, SeedOverrideIsReproducedByEffectiveYaml) {
         test::run_cli("simulate " + in + " -o " + (dir_ / out).string() + " -q " + flags, dir_);
     EXPECT_EQ(r.exit_code, 0) << r.err;
   };
-  run(s.string(), "a", "--seed 77 --no-waterfall");
-  run((dir_ / "a" / "effective.yaml").string(), "b", "--no-waterfall");
+  run(s.string(), "a", "--seed 77 --no-waterfall --res 0.5");
+  // The product options are not scene settings: effective.yaml lists them to be given again.
+  const std::string effective = bytes_of(dir_ / "a" / "effective.yaml");
+  const std::string tag = "# product options:";
+  const auto at = effective.find(tag);
+  ASSERT_NE(at, std::string::npos) << effective;
+  const std::string flags =
+      effective.substr(at + tag.size(), effective.find('\n', at) - at - tag.size());
+  EXPECT_EQ(flags, " --no-waterfall --res 0.5");
+  run((dir_ / "a" / "effective.yaml").string(), "b", flags);
   run(s.string(), "c", "--seed 78 --no-waterfall --no-mosaic --no-truth");
   for (const char* f : {"l1.xtf", "l1_truth.tif", "mosaic.tif", "truth_mosaic.tif"}) {
     const std::string a = bytes_of(dir_ / "a" / f), b = bytes_of(dir_ / "b" / f);
