@@ -28,6 +28,34 @@ void ensure_registered() {
   });
 }
 
+void validate_creation_options(const char* driver_name,
+                               const std::vector<std::pair<std::string, std::string>>& options,
+                               const char* who) {
+  if (options.empty()) return;
+  ensure_registered();
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name);
+  if (!driver) throw FormatError(std::string(who) + ": GDAL has no " + driver_name + " driver");
+  // GDAL says what is wrong in warnings: collect them for the message.
+  std::string problems;
+  CPLPushErrorHandlerEx(
+      [](CPLErr, CPLErrorNum, const char* msg) {
+        auto* out = static_cast<std::string*>(CPLGetErrorHandlerUserData());
+        if (msg) *out += (out->empty() ? "" : "; ") + std::string(msg);
+      },
+      &problems);
+  for (const auto& [key, value] : options) {
+    const std::string item = key + "=" + value;
+    const char* const list[] = {item.c_str(), nullptr};
+    problems.clear();
+    if (!GDALValidateCreationOptions(driver, const_cast<char**>(list))) {
+      CPLPopErrorHandler();
+      throw InputError(std::string(who) + ": creation option " + item + " is not valid for the " +
+                       driver_name + " driver" + (problems.empty() ? "" : ": " + problems));
+    }
+  }
+  CPLPopErrorHandler();
+}
+
 std::string last_error_message() {
   return g_last_error;
 }

@@ -13,6 +13,7 @@
 #include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/formats/gdal_util.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -140,6 +141,16 @@ void MosaicWriteOptions::validate() const {
        << ". Violated constraint: 0 <= lo_percentile < hi_percentile <= 100";
     throw InputError(os.str());
   }
+  // The display copy's format follows its name: a name ending in anything else would get a
+  // file whose contents do not match it.
+  const std::string ext = raster::lower_extension(rgb_path);
+  if (!rgb_path.empty() && ext != ".tif" && ext != ".tiff" && ext != ".png") {
+    throw InputError("mosaic writer: display copy " + rgb_path +
+                     ": unsupported extension. Violated constraint: .tif, .tiff (GeoTIFF) or "
+                     ".png (PNG)");
+  }
+  gdal::validate_creation_options(format == MosaicRasterFormat::gtiff ? "GTiff" : "COG",
+                                  creation_options, kWho);
 }
 
 std::string default_rgb_path(const std::string& mosaic_path) {

@@ -38,10 +38,14 @@ struct Builder {
   Eigen::Vector2d position(const Fields& f, const std::string& key) const {
     const Fields p = f.child(key);
     p.only({"lat_deg", "lon_deg", "east_m", "north_m"});
-    if (p.has("lat_deg") || p.has("lon_deg")) {
+    if (p.node()["lat_deg"].IsDefined() || p.node()["lon_deg"].IsDefined()) {
+      // Both are required: a null or missing one is not taken as 0.
+      if (!p.has("lat_deg") || !p.has("lon_deg")) {
+        p.fail(p.has("lat_deg") ? "lon_deg" : "lat_deg",
+               "missing or null (a position needs both lat_deg and lon_deg)");
+      }
       const double lat = p.number_in("lat_deg", 0.0, -90.0, 90.0);
       const double lon = p.number_in("lon_deg", 0.0, -180.0, 360.0);
-      if (!p.has("lat_deg") || !p.has("lon_deg")) p.fail("", "needs both lat_deg and lon_deg");
       try {
         return scene.frame.local_from_geodetic({rad_from_deg(lat), rad_from_deg(lon), 0.0});
       } catch (const InputError& e) {
@@ -171,8 +175,14 @@ struct Builder {
       }
       // size_m may be given as "l,w,h" or "[l, w, h]"; turn it back into a list.
       if (node["size_m"].IsDefined()) {
-        const std::string text = node["size_m"].as<std::string>();
-        node["size_m"] = YAML::Load(text.find('[') == std::string::npos ? "[" + text + "]" : text);
+        const std::string text = node["size_m"].Scalar();
+        try {
+          node["size_m"] =
+              YAML::Load(text.find('[') == std::string::npos ? "[" + text + "]" : text);
+        } catch (const YAML::Exception&) {
+          throw InputError(path + " feature " + std::to_string(index) + ": size_m = '" + text +
+                           "'. Violated constraint: \"l,w,h\" or \"[l, w, h]\"");
+        }
       }
       OGRGeometry* geom = feature->GetGeometryRef();
       const std::string where = path + " feature " + std::to_string(index++);
@@ -265,16 +275,26 @@ struct Builder {
       std::vector<Eigen::Vector2d> r;
       if (!seq.IsSequence() || seq.size() < 3)
         f.fail_value(key, "a list of at least 3 [lat, lon] pairs");
+      std::size_t i = 0;
       for (const auto& pair : seq) {
+        const std::string item = key + "[" + std::to_string(i++) + "]";
         if (!pair.IsSequence() || pair.size() != 2) f.fail_value(key, "[lat, lon] pairs");
-        const double lat = pair[0].as<double>(), lon = pair[1].as<double>();
-        r.push_back(scene.frame.local_from_geodetic({rad_from_deg(lat), rad_from_deg(lon), 0.0}));
+        const double lat = f.element_number(item, pair[0], 0);
+        const double lon = f.element_number(item, pair[1], 1);
+        if (!(std::abs(lat) <= 90.0))
+          f.fail(item, "latitude " + std::to_string(lat) + " beyond 90");
+        try {
+          r.push_back(scene.frame.local_from_geodetic({rad_from_deg(lat), rad_from_deg(lon), 0.0}));
+        } catch (const InputError& e) {
+          f.fail(item, e.what());
+        }
       }
       return r;
     };
     std::vector<std::vector<Eigen::Vector2d>> rings{
         ring(f.node()["coordinates_deg"], "coordinates_deg")};
     if (f.has("holes_deg")) {
+      if (!f.node()["holes_deg"].IsSequence()) f.fail_value("holes_deg", "a list of rings");
       for (const auto& h : f.node()["holes_deg"]) rings.push_back(ring(h, "holes_deg"));
     }
     add_polygon_rings(rings, m);
@@ -289,10 +309,11 @@ struct Builder {
     std::map<long, std::uint16_t> lut;
     for (const auto& kv : classes.node()) {
       long value = 0;
-      if (!YAML::convert<long>::decode(kv.first, value))
+      if (!kv.first.IsScalar() || !YAML::convert<long>::decode(kv.first, value))
         classes.fail(kv.first.Scalar(), "class values are integers");
+      const std::string material = classes.scalar_text(kv.first.Scalar(), kv.second);
       try {
-        lut[value] = scene.materials.index_of(kv.second.as<std::string>());
+        lut[value] = scene.materials.index_of(material);
       } catch (const InputError& e) {
         classes.fail(kv.first.Scalar(), e.what());
       }
@@ -470,7 +491,7 @@ Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
       g.fail("", e.what());
     }
     spec.depth_m = g.number_in("depth_m", spec.depth_m, 0.0, 12000.0, true);
-    spec.seed = g.seed("seed", top.seed("seed", 1));
+    spec.seed = g.seed("seed", options.seed.value_or(top.seed("seed", 1)));
     spec.num_threads = options.num_threads;
     for (const Fields& comp : g.sequence("components")) {
       bathy::Component cc = parse_component(comp);

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <functional>
 #include <set>
+#include <sstream>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
@@ -24,14 +25,31 @@ namespace {
 namespace fs = std::filesystem;
 using yaml::Fields;
 
+// Farthest a waypoint may be from the bathymetry grid's centre, metres per axis: beyond it the
+// local coordinates leave the scene's UTM zone by far.
+constexpr double kMaxWaypointOffsetM = 1e6;
+
 Eigen::Vector2d position(const Scene& scene, const Eigen::Vector2d& centre, const Fields& p) {
   p.only({"lat_deg", "lon_deg", "east_m", "north_m"});
-  if (p.has("lat_deg") || p.has("lon_deg")) {
-    const double lat = p.number_in("lat_deg", 0.0, -90.0, 90.0);
-    const double lon = p.number_in("lon_deg", 0.0, -180.0, 360.0);
-    return scene.frame.local_from_geodetic({rad_from_deg(lat), rad_from_deg(lon), 0.0});
+  const bool geographic = p.node()["lat_deg"].IsDefined() || p.node()["lon_deg"].IsDefined();
+  if (geographic) {
+    // Both are required (a null or missing one is not taken as 0).
+    const double lat = p.number("lat_deg"), lon = p.number("lon_deg");
+    if (!(lat >= -90.0 && lat <= 90.0)) p.fail_value("lat_deg", "-90 <= lat_deg <= 90");
+    if (!(lon >= -180.0 && lon <= 360.0)) p.fail_value("lon_deg", "-180 <= lon_deg <= 360");
+    try {
+      return scene.frame.local_from_geodetic({rad_from_deg(lat), rad_from_deg(lon), 0.0});
+    } catch (const InputError& e) {
+      p.fail("", e.what());
+    }
   }
-  return centre + Eigen::Vector2d(p.number("east_m"), p.number("north_m"));
+  const Eigen::Vector2d xy = centre + Eigen::Vector2d(p.number("east_m"), p.number("north_m"));
+  for (const char* key : {"east_m", "north_m"}) {
+    if (!(std::abs(p.number(key)) <= kMaxWaypointOffsetM)) {
+      p.fail_value(key, std::string("|") + key + "| <= 1e6 (metres from the grid centre)");
+    }
+  }
+  return xy;
 }
 
 VerticalBeamPattern parse_beam(const Fields& b) {
@@ -63,8 +81,8 @@ VerticalBeamPattern parse_beam(const Fields& b) {
       b.fail("off_axis_deg", "off_axis_deg and gain_db must be lists of equal length >= 2");
     }
     for (std::size_t i = 0; i < a.size(); ++i) {
-      v.table_off_axis_rad.push_back(rad_from_deg(a[i].as<double>()));
-      v.table_gain_db.push_back(g[i].as<double>());
+      v.table_off_axis_rad.push_back(rad_from_deg(b.element_number("off_axis_deg", a[i], i)));
+      v.table_gain_db.push_back(b.element_number("gain_db", g[i], i));
     }
   } else {
     b.fail_value("shape", "one of gaussian, paper, sinc, table, uniform");
@@ -124,7 +142,9 @@ Survey SimulationSetup::make_survey() const {
 }
 
 SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {
-  SimulationSetup setup{load_scene(path), {}, {}, {}, {}, "u16", 10.0};
+  SceneLoadOptions scene_options;
+  scene_options.seed = overrides.seed;  // the seed reaches the generated bathymetry too
+  SimulationSetup setup{load_scene(path, scene_options), {}, {}, {}, {}, "u16", 10.0};
   const Fields top(yaml::load_file(path), path, "");
   Scene& scene = setup.scene;
   SimulationConfig& cfg = setup.config;
@@ -329,7 +349,17 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
         line.name = name_idx >= 0 ? feature->GetFieldAsString(name_idx)
                                   : "line" + std::to_string(setup.lines.size() + 1);
         for (const OGRPoint& pt : *gc->toLineString()) {
-          line.waypoints_xy_m.push_back(scene.frame.local_from_projected({pt.getX(), pt.getY()}));
+          const Eigen::Vector2d xy = scene.frame.local_from_projected({pt.getX(), pt.getY()});
+          if (!((xy - centre).cwiseAbs().maxCoeff() <= kMaxWaypointOffsetM)) {
+            std::ostringstream os;
+            os.precision(10);
+            os << vpath << ": line '" << line.name << "' vertex (" << pt.getX() << ", " << pt.getY()
+               << ") in EPSG:" << scene.frame.epsg() << " is "
+               << (xy - centre).cwiseAbs().maxCoeff()
+               << " m from the bathymetry grid's centre. Violated constraint: <= 1e6 m";
+            throw InputError(os.str());
+          }
+          line.waypoints_xy_m.push_back(xy);
         }
         setup.lines.push_back(std::move(line));
       }
@@ -358,7 +388,19 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
     if (!names.insert(line.name).second)
       sv.fail("lines", "line name '" + line.name + "' is used twice");
   }
-  wrap(top, [&] { cfg.validate(); });
+  try {
+    cfg.validate();
+  } catch (const InputError& e) {
+    // A value given on the command line is named by its flag, not blamed on the file.
+    const std::string what = e.what();
+    if (overrides.range_m && what.find("max_range_m") != std::string::npos) {
+      throw InputError("--range (overriding sonar.range_m of " + path + "): " + what);
+    }
+    if (overrides.samples && what.find("samples_per_channel") != std::string::npos) {
+      throw InputError("--samples (overriding sonar.samples of " + path + "): " + what);
+    }
+    top.fail("", what);
+  }
   return setup;
 }
 
@@ -371,8 +413,9 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
   std::function<void(YAML::Node)> absolutize = [&](YAML::Node n) {
     if (n.IsMap()) {
       for (auto kv : n) {
-        if (kv.first.as<std::string>() == "file" && kv.second.IsScalar()) {
-          const fs::path f(kv.second.as<std::string>());
+        // Keys are not all checked (e.g. under `description`): compare only plain ones.
+        if (kv.first.IsScalar() && kv.first.Scalar() == "file" && kv.second.IsScalar()) {
+          const fs::path f(kv.second.Scalar());
           if (!f.is_absolute()) kv.second = (base / f).lexically_normal().string();
         } else {
           absolutize(kv.second);
@@ -419,8 +462,14 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
   e << root;
   std::ofstream os(out_path);
   os << "# Effective configuration of a sonarsynth run: `sonarsynth simulate` on this file\n"
-        "# reproduces the run exactly (same seed, same settings).\n"
-     << e.c_str() << "\n";
+        "# reproduces the run exactly (same seed, same settings).\n";
+  if (!overrides.product_flags.empty()) {
+    os << "# The products were made with these options; give them again for the same files:\n"
+          "# product options:";
+    for (const std::string& f : overrides.product_flags) os << " " << f;
+    os << "\n";
+  }
+  os << e.c_str() << "\n";
   if (!os) throw FormatError(out_path.string() + ": cannot write");
 }
 

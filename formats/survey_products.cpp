@@ -13,6 +13,7 @@ void SurveyProductOptions::validate() const {
                      " m. Violated constraint: pixel > 0");
   }
   mosaic_options.validate();
+  if (mosaic) write_options.validate();  // creation options: refused before any rendering
 }
 
 SurveyProducts::SurveyProducts(std::filesystem::path dir, const Scene& scene,
@@ -20,6 +21,13 @@ SurveyProducts::SurveyProducts(std::filesystem::path dir, const Scene& scene,
                                SurveyProductOptions options)
     : dir_(std::move(dir)), scene_(scene), sonar_(sonar), options_(std::move(options)) {
   options_.validate();
+  // One ping must fit in a waterfall row: checked before anything is rendered.
+  if (options_.waterfalls && 2 * sonar.samples_per_channel > options_.waterfall_max_pixels) {
+    throw InputError(
+        "products: waterfall max pixels = " + std::to_string(options_.waterfall_max_pixels) +
+        ". Violated constraint: at least one row of 2 x samples = " +
+        std::to_string(2 * sonar.samples_per_channel) + " pixels");
+  }
   for (const SurveyLine& l : lines) names_.push_back(l.name);
   if (options_.mosaic) {
     Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
@@ -48,6 +56,7 @@ void SurveyProducts::begin_line(std::size_t /*line*/) {
   if (options_.waterfalls) {
     WaterfallOptions wo;
     wo.spool_dir = dir_;
+    wo.max_pixels = options_.waterfall_max_pixels;
     waterfall_ = std::make_unique<Waterfall>(wo);
   }
   if (options_.truth) truth_ = std::make_unique<TruthWaterfall>(dir_);
@@ -87,6 +96,12 @@ void SurveyProducts::end_line(std::size_t line) {
     const auto path = dir_ / (name + "_waterfall.png");
     waterfall_->write(path.string());
     files_.push_back(path);
+    if (waterfall_->pings_per_row() > 1) {
+      notes_.push_back(path.filename().string() + ": " + std::to_string(waterfall_->rows()) +
+                       " pings decimated along track, each row the mean of " +
+                       std::to_string(waterfall_->pings_per_row()) + " pings (image limit " +
+                       std::to_string(options_.waterfall_max_pixels) + " pixels)");
+    }
   }
   if (truth_ && truth_->rows() > 0) {
     const auto path = dir_ / (name + "_truth.tif");

@@ -52,14 +52,52 @@ std::string driver_for(const std::string& path, const char* who) {
                    ": unsupported extension (use .png or .tif)");
 }
 
+/// The image rows of a waterfall from its spool: each the mean (linear) of `per_row`
+/// consecutive pings, NaN where none of them has a sample; the last row takes what is left.
+class MeanRows {
+ public:
+  MeanRows(const detail::SideSpool& spool, std::size_t per_row)
+      : reader_(spool, std::span<const float>(&kNaNf, 1)),
+        per_row_(per_row),
+        ping_(spool.cols()),
+        sum_(spool.cols()),
+        count_(spool.cols()) {}
+  /// Fills `out` (cols values) with the next image row; false after the last.
+  bool next(std::span<float> out) {
+    if (per_row_ == 1) return reader_.next(out);
+    std::fill(sum_.begin(), sum_.end(), 0.0);
+    std::fill(count_.begin(), count_.end(), std::uint32_t{0});
+    std::size_t pings = 0;
+    while (pings < per_row_ && reader_.next(ping_)) {
+      ++pings;
+      for (std::size_t i = 0; i < ping_.size(); ++i) {
+        if (std::isnan(ping_[i])) continue;
+        sum_[i] += static_cast<double>(ping_[i]);
+        ++count_[i];
+      }
+    }
+    if (pings == 0) return false;
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      out[i] = count_[i] > 0 ? static_cast<float>(sum_[i] / count_[i]) : kNaNf;
+    }
+    return true;
+  }
+  void rewind() { reader_.rewind(); }
+
+ private:
+  detail::SideSpool::Reader reader_;
+  std::size_t per_row_;
+  std::vector<float> ping_;
+  std::vector<double> sum_;
+  std::vector<std::uint32_t> count_;
+};
+
 /// The coloured rows of a waterfall (u8, 1 or 3 bands) from its spool.
 class ColouredRows final : public raster::RowSource {
  public:
-  ColouredRows(const detail::SideSpool& spool, DisplayRange range, Colormap map)
-      : reader_(spool, std::span<const float>(&kNaNf, 1)),
-        range_(range),
-        map_(map),
-        linear_(spool.cols()) {}
+  ColouredRows(const detail::SideSpool& spool, std::size_t per_row, DisplayRange range,
+               Colormap map)
+      : reader_(spool, per_row), range_(range), map_(map), linear_(spool.cols()) {}
   void next(void* out) override {
     if (!reader_.next(linear_)) throw FormatError("waterfall: spool file ended early");
     const bool grey = map_ == Colormap::grey;
@@ -80,7 +118,7 @@ class ColouredRows final : public raster::RowSource {
   void rewind() override { reader_.rewind(); }
 
  private:
-  detail::SideSpool::Reader reader_;
+  MeanRows reader_;
   DisplayRange range_;
   Colormap map_;
   std::vector<float> linear_;
@@ -139,12 +177,24 @@ std::size_t Waterfall::cols() const {
   return spool_ ? spool_->cols() : 0;
 }
 
+std::size_t Waterfall::pings_per_row() const {
+  const std::size_t c = cols(), r = rows();
+  if (c == 0 || r == 0 || c * r <= options_.max_pixels) return 1;
+  const std::size_t rows_that_fit = options_.max_pixels / c;  // >= 1 (checked by add_ping)
+  return (r + rows_that_fit - 1) / rows_that_fit;
+}
+
+std::size_t Waterfall::image_rows() const {
+  const std::size_t n = pings_per_row();
+  return (rows() + n - 1) / n;
+}
+
 void Waterfall::add_ping(std::span<const float> port, std::span<const float> starboard,
                          double slant_range_m, double altitude_m) {
   const std::size_t side = std::max({spool_->side(), port.size(), starboard.size()});
-  if (2 * side * (rows() + 1) > options_.max_pixels) {
-    throw InputError("waterfall: image of " + std::to_string(2 * side) + " x " +
-                     std::to_string(rows() + 1) +
+  if (2 * side > options_.max_pixels) {
+    throw InputError("waterfall: ping " + std::to_string(rows()) + ": a row of " +
+                     std::to_string(2 * side) +
                      " pixels exceeds max_pixels = " + std::to_string(options_.max_pixels));
   }
   const bool correct = options_.slant_correct && altitude_m > 0.0 && slant_range_m > 0.0 &&
@@ -162,9 +212,9 @@ void Waterfall::add_ping(std::span<const float> port, std::span<const float> sta
 std::vector<float> Waterfall::image() const {
   if (!spool_) return {};  // moved from
   const std::size_t cols = this->cols();
-  std::vector<float> out(cols * rows());
-  detail::SideSpool::Reader reader(*spool_, std::span<const float>(&kNaNf, 1));
-  for (std::size_t r = 0; r < rows(); ++r) {
+  std::vector<float> out(cols * image_rows());
+  MeanRows reader(*spool_, pings_per_row());
+  for (std::size_t r = 0; r < image_rows(); ++r) {
     if (!reader.next(std::span(out).subspan(r * cols, cols))) break;
   }
   return out;
@@ -178,22 +228,23 @@ void Waterfall::write(const std::string& path) const {
   }
   gdal::ensure_registered();
   AtomicOutput out(path, options_.overwrite);
+  const std::size_t per_row = pings_per_row();
   DisplayRange range{options_.lo_db, options_.hi_db};
   if (!options_.fixed_db) {
     // First pass: the subsample robust_db_range would take of the whole image.
-    DbRangeSampler sampler(cols() * rows());
-    detail::SideSpool::Reader reader(*spool_, std::span<const float>(&kNaNf, 1));
+    DbRangeSampler sampler(cols() * image_rows());
+    MeanRows reader(*spool_, per_row);
     std::vector<float> row(cols());
     while (reader.next(row)) sampler.add(row);
     range = sampler.range(options_.lo_percentile, options_.hi_percentile);
   }
   const int bands = options_.colormap == Colormap::grey ? 1 : 3;
-  ColouredRows source(*spool_, range, options_.colormap);
+  ColouredRows source(*spool_, per_row, range, options_.colormap);
   std::vector<std::pair<std::string, std::string>> co;
   // Fast compression: waterfalls are large and written once per line.
   if (driver == "GTiff") co = {{"COMPRESS", "ZSTD"}, {"ZSTD_LEVEL", "1"}, {"TILED", "YES"}};
   if (driver == "PNG") co = {{"ZLEVEL", "1"}};
-  raster::stream_to_file(source, cols(), rows(), bands, GDT_Byte, driver.c_str(),
+  raster::stream_to_file(source, cols(), image_rows(), bands, GDT_Byte, driver.c_str(),
                          out.temp_path().string(), co, {}, kWho, path);
   out.commit();
 }
@@ -233,7 +284,9 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
                       ": no sonar channel (no ping has port or starboard samples)");
   }
   wf.write(image_path);
-  result.rows = wf.rows();
+  result.pings = wf.rows();
+  result.pings_per_row = wf.pings_per_row();
+  result.rows = wf.image_rows();
   result.cols = wf.cols();
   return result;
 }

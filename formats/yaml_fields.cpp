@@ -7,7 +7,7 @@
 namespace sonarsynth::yaml {
 
 namespace {
-std::string scalar_text(const YAML::Node& n) {
+std::string value_text(const YAML::Node& n) {
   if (!n.IsDefined() || n.IsNull()) return "null";
   if (n.IsScalar()) return "'" + n.Scalar() + "'";
   std::ostringstream os;
@@ -21,12 +21,39 @@ std::string scalar_text(const YAML::Node& n) {
 }  // namespace
 
 void Fields::fail(const std::string& key, const std::string& msg) const {
-  throw InputError(file_ + ": " + (key.empty() ? path_ : key_path(key)) + ": " + msg);
+  const std::string where = key.empty() ? path_ : key_path(key);
+  throw InputError(file_ + ": " + (where.empty() ? "" : where + ": ") + msg);
 }
 
 void Fields::fail_value(const std::string& key, const std::string& constraint) const {
-  throw InputError(file_ + ": " + key_path(key) + " = " + scalar_text(node_[key]) +
+  throw InputError(file_ + ": " + key_path(key) + " = " + value_text(node_[key]) +
                    ". Violated constraint: " + constraint);
+}
+
+double Fields::element_number(const std::string& key, const YAML::Node& element,
+                              std::size_t index) const {
+  double v = 0;
+  if (!element.IsScalar() || !YAML::convert<double>::decode(element, v) || !std::isfinite(v)) {
+    throw InputError(file_ + ": " + key_path(key) + "[" + std::to_string(index) +
+                     "] = " + value_text(element) + ". Violated constraint: a finite number");
+  }
+  return v;
+}
+
+std::string Fields::scalar_text(const std::string& key, const YAML::Node& value) const {
+  if (!value.IsScalar()) {
+    throw InputError(file_ + ": " + key_path(key) + " = " + value_text(value) +
+                     ". Violated constraint: a string");
+  }
+  return value.Scalar();
+}
+
+bool Fields::given(const std::string& key) const {
+  if (!node_.IsMap() || !node_[key].IsDefined()) return false;
+  if (node_[key].IsNull()) {
+    fail_value(key, "a value (leave " + key + " out for its default; null is not one)");
+  }
+  return true;
 }
 
 Fields Fields::child(const std::string& key) const {
@@ -69,7 +96,7 @@ double Fields::number_in(const std::string& key, double fallback, double lo, dou
 }
 
 std::int64_t Fields::integer(const std::string& key, std::int64_t fallback) const {
-  if (!has(key)) return fallback;
+  if (!given(key)) return fallback;
   std::int64_t v = 0;
   if (!node_[key].IsScalar() || !YAML::convert<std::int64_t>::decode(node_[key], v)) {
     fail_value(key, "an integer");
@@ -78,7 +105,7 @@ std::int64_t Fields::integer(const std::string& key, std::int64_t fallback) cons
 }
 
 std::uint64_t Fields::seed(const std::string& key, std::uint64_t fallback) const {
-  if (!has(key)) return fallback;
+  if (!given(key)) return fallback;
   std::uint64_t v = 0;
   if (!node_[key].IsScalar() || !YAML::convert<std::uint64_t>::decode(node_[key], v)) {
     fail_value(key, "a non-negative integer");
@@ -87,7 +114,7 @@ std::uint64_t Fields::seed(const std::string& key, std::uint64_t fallback) const
 }
 
 bool Fields::boolean(const std::string& key, bool fallback) const {
-  if (!has(key)) return fallback;
+  if (!given(key)) return fallback;
   bool v = false;
   if (!node_[key].IsScalar() || !YAML::convert<bool>::decode(node_[key], v)) {
     fail_value(key, "true or false");
@@ -121,7 +148,12 @@ void Fields::only(const std::set<std::string>& allowed) const {
   if (!node_.IsMap()) fail("", "expected a map of keys");
   std::set<std::string> seen;
   for (const auto& kv : node_) {
-    const std::string k = kv.first.as<std::string>();
+    if (!kv.first.IsScalar()) {
+      fail("", "key " + value_text(kv.first) + " (line " +
+                   std::to_string(kv.first.Mark().line + 1) +
+                   ") is not a plain name (complex YAML keys are not supported)");
+    }
+    const std::string k = kv.first.Scalar();
     // YAML forbids duplicate keys but yaml-cpp keeps the first silently: the second would be
     // ignored without a word.
     if (!seen.insert(k).second) {

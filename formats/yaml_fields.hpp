@@ -40,8 +40,11 @@ class Fields {
   [[noreturn]] void fail_value(const std::string& key, const std::string& constraint) const;
 
   double number(const std::string& key) const;
+  /// True if `key` is given; throws naming it if it is given as null (a null is not taken as
+  /// "use the default": leave the key out for that).
+  bool given(const std::string& key) const;
   double number(const std::string& key, double fallback) const {
-    return has(key) ? number(key) : fallback;
+    return given(key) ? number(key) : fallback;
   }
   /// A number that must satisfy lo <= v <= hi (inclusive), or lo < v when `lo_exclusive`.
   double number_in(const std::string& key, double fallback, double lo, double hi,
@@ -51,11 +54,17 @@ class Fields {
   bool boolean(const std::string& key, bool fallback) const;
   std::string text(const std::string& key) const;
   std::string text(const std::string& key, const std::string& fallback) const {
-    return has(key) ? text(key) : fallback;
+    return given(key) ? text(key) : fallback;
   }
   /// A fixed-length list of numbers, e.g. size_m: [480, 0.5, 0.5].
   std::vector<double> numbers(const std::string& key, std::size_t count) const;
-  /// Throws naming the first key of this map that is not in `allowed` (catches typos).
+  /// The number in `element` (an item of the list under `key`, at `index`): throws naming
+  /// "key[index]" and the value unless it is a finite number.
+  double element_number(const std::string& key, const YAML::Node& element, std::size_t index) const;
+  /// The string in the scalar `value` found under `key`; throws naming it otherwise.
+  std::string scalar_text(const std::string& key, const YAML::Node& value) const;
+  /// Throws naming the first key of this map that is not in `allowed` (catches typos), or
+  /// that is not a plain scalar (a YAML complex key such as `? [a, b]`).
   void only(const std::set<std::string>& allowed) const;
 
  private:

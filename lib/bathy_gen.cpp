@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <string>
 #include <thread>
@@ -234,6 +235,16 @@ GridGeometry BathyGenSpec::centred_geometry(double centre_x_m, double centre_y_m
   require(cols >= 2.0 && rows >= 2.0 && cols <= 1e6 && rows <= 1e6,
           "grid of " + num(cols) + " x " + num(rows) +
               " cells. Violated constraint: 2 <= width_m / cell_m, height_m / cell_m <= 1e6");
+  const auto g10 = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return std::string(buf);
+  };
+  require(cols * rows <= kMaxCells,
+          "grid of " + g10(width_m) + " m x " + g10(height_m) + " m at cell_m = " + g10(cell_m) +
+              " has " + g10(cols) + " x " + g10(rows) + " = " + g10(cols * rows) + " cells (" +
+              g10(std::ceil(cols * rows * 4.0 / 1048576.0)) +
+              " MiB of heights). Violated constraint: cells <= " + g10(kMaxCells) + " (1 GiB)");
   GridGeometry g;
   g.cols = static_cast<std::size_t>(cols);
   g.rows = static_cast<std::size_t>(rows);

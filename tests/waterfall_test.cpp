@@ -385,15 +385,88 @@ TEST(Waterfall, SpoolFileIsUnnamedAndReleased) {
   fs::remove_all(out);
 }
 
-// max_pixels still bounds the image: the ping that would exceed it is refused and not added.
-TEST(Waterfall, MaxPixelsGuardsTheOutputSize) {
+/// Along-track decimation computed directly from the full image: row k the mean of rows
+/// k n .. k n + n - 1 (the last row what is left), pixel by pixel over the finite values (NaN if
+/// none), summed in double in ping order.
+std::vector<float> decimated(const std::vector<float>& img, std::size_t cols, std::size_t n) {
+  const std::size_t rows = img.size() / cols;
+  const std::size_t out_rows = (rows + n - 1) / n;
+  std::vector<float> out(out_rows * cols, kNaN);
+  for (std::size_t k = 0; k < out_rows; ++k) {
+    for (std::size_t c = 0; c < cols; ++c) {
+      double sum = 0.0;
+      int count = 0;
+      for (std::size_t r = k * n; r < std::min(rows, (k + 1) * n); ++r) {
+        const float v = img[r * cols + c];
+        if (std::isnan(v)) continue;
+        sum += static_cast<double>(v);
+        ++count;
+      }
+      if (count > 0) out[k * cols + c] = static_cast<float>(sum / count);
+    }
+  }
+  return out;
+}
+
+// A line longer than max_pixels allows is not refused: the image is decimated along track,
+// ceil(pings / N) rows for the smallest N that fits, each row the mean of N pings.
+TEST(Waterfall, LongLineIsDecimatedAlongTrackToFitMaxPixels) {
+  const auto dir = test::mosaic_temp_dir("wf_decimate");
+  const std::vector<Ping> pings = random_pings(1003, 32, 5);
+  std::size_t cols = 0;
+  const std::vector<float> full = expected_image(pings, &cols, kNaN);
+  ASSERT_EQ(cols, 64u);
+  WaterfallOptions o;
+  o.max_pixels = 64 * 100;  // room for 100 rows: 1003 pings need 11 per row -> 92 rows
+  o.colormap = Colormap::grey;
+  o.fixed_db = true;
+  o.lo_db = -10.0;
+  o.hi_db = 10.0;
+  o.spool_dir = dir;
+  Waterfall wf(o);
+  for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
+  EXPECT_EQ(wf.rows(), 1003u);
+  EXPECT_EQ(wf.pings_per_row(), 11u);
+  EXPECT_EQ(wf.image_rows(), 92u);  // ceil(1003 / 11)
+  const std::vector<float> want = decimated(full, cols, 11);
+  const std::vector<float> got = wf.image();
+  ASSERT_EQ(got.size(), want.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < got.size(); ++i) differ += same_float(got[i], want[i]) ? 0 : 1;
+  EXPECT_EQ(differ, 0u);
+  // The written image holds those rows' colours.
+  const std::string path = (dir / "long.png").string();
+  wf.write(path);
+  int c = 0, r = 0;
+  std::string driver;
+  const std::vector<std::uint8_t> bytes = read_bytes(path, &c, &r, &driver);
+  EXPECT_EQ(static_cast<std::size_t>(c), cols);
+  EXPECT_EQ(r, 92);
+  EXPECT_EQ(bytes, colourise(want, DisplayRange{-10.0, 10.0}, Colormap::grey));
+  fs::remove_all(dir);
+}
+
+// Up to max_pixels nothing is decimated; a single row wider than max_pixels is refused.
+TEST(Waterfall, MaxPixelsDecimatesOnlyWhenNeededAndBoundsTheRowWidth) {
   WaterfallOptions o;
   o.max_pixels = 100;
   Waterfall wf(o);
   const std::vector<float> side(10, 1.0f);
   for (int i = 0; i < 5; ++i) wf.add_ping(side, side, 0.0, 0.0);
-  EXPECT_THROW(wf.add_ping(side, side, 0.0, 0.0), InputError);
-  EXPECT_EQ(wf.rows(), 5u);
+  EXPECT_EQ(wf.pings_per_row(), 1u);  // 20 x 5 = 100 pixels: fits
+  wf.add_ping(side, side, 0.0, 0.0);
+  EXPECT_EQ(wf.pings_per_row(), 2u);  // 20 x 6 > 100: two pings per row, 3 rows
+  EXPECT_EQ(wf.image_rows(), 3u);
+  const std::vector<float> wide(51, 1.0f);
+  try {
+    wf.add_ping(wide, side, 0.0, 0.0);
+    ADD_FAILURE() << "accepted a row of 102 pixels with max_pixels = 100";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ping 6: a row of 102 pixels exceeds max_pixels = 100"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(wf.rows(), 6u);
   EXPECT_EQ(wf.cols(), 20u);
 }
 

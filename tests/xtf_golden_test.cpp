@@ -55,9 +55,13 @@ std::uint16_t u16(const std::vector<std::uint8_t>& b, std::size_t o) {
 TEST(XtfGolden, HandDecodedBytes) {
   if (std::getenv("SONARSYNTH_UPDATE_GOLDEN") != nullptr) write_golden(kGolden);
   const auto b = test::read_bytes(kGolden);
-  ASSERT_EQ(b.size(), 2304u);      // 1024 header + 256 notes + 64 att + 64 nav + 2 x 448 pings
-  EXPECT_EQ(b[0], 0x7B);           // FileFormat
-  EXPECT_EQ(b[1], 1);              // SystemType
+  ASSERT_EQ(b.size(), 2304u);  // 1024 header + 256 notes + 64 att + 64 nav + 2 x 448 pings
+  EXPECT_EQ(b[0], 0x7B);       // FileFormat
+  EXPECT_EQ(b[1], 1);          // SystemType
+  // RecordingProgramName "sonarsy" and RecordingProgramVersion, each NUL-terminated in char[8]
+  EXPECT_EQ(std::vector<std::uint8_t>(b.begin() + 2, b.begin() + 18),
+            (std::vector<std::uint8_t>{'s', 'o', 'n', 'a', 'r', 's', 'y', 0, '0', '.', '1', '.',
+                                       '0', 0, 0, 0}));
   EXPECT_EQ(u16(b, 164), 3);       // NavUnits: lat/long
   EXPECT_EQ(u16(b, 166), 2);       // NumberOfSonarChannels
   EXPECT_EQ(b[256], 1);            // ChanInfo[0] PORT

@@ -89,4 +89,25 @@ TEST(XtfInfoCli, NotAnXtfFileFailsWithAClearMessage) {
   EXPECT_EQ(usage.exit_code, 2) << usage.output;
 }
 
+// A ping whose Year is 65535 has no valid time: it is reported as such, and never printed as a
+// wrapped year ("-001").
+TEST(XtfInfoCli, YearBeyond9999IsAnInvalidTimeNotAWrappedYear) {
+  const fs::path dir = sonarsynth::xtf::test::temp_dir("info_year");
+  auto b = sonarsynth::xtf::test::read_bytes(kData / "xtf" / "golden-tiny.xtf");
+  ASSERT_EQ(b.size(), 2304u);
+  ASSERT_EQ(b[1856 + 14] | (b[1856 + 15] << 8), 2013);  // ping 1's Year
+  b[1856 + 14] = 0xFF;
+  b[1856 + 15] = 0xFF;
+  sonarsynth::xtf::test::write_bytes(dir / "y.xtf", b);
+  for (const char* flag : {"", "--json "}) {
+    const CliRun r = run_cli(std::string("info ") + flag + "'" + (dir / "y.xtf").string() + "'");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("invalid time 65535-9-10"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("2013-09-10T21:13:08.000000Z"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("-001"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("65535-"), r.output.find("invalid time 65535-") + 13) << r.output;
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
+#include "sonarsynth/version.hpp"
 #include "xtf_test_util.hpp"
 
 namespace sonarsynth::xtf {
@@ -258,7 +259,7 @@ TEST_F(XtfWriterTest, InvalidPingsAndOptionsAreRejected) {
     }
   };
   rejects([](SonarPing& p) { p.sensor_position = {}; }, "sensor_position");
-  rejects([](SonarPing& p) { p.sensor_position.lat_rad = 0.0; }, "sensor_position");
+  rejects([](SonarPing& p) { p.sensor_position.lon_rad = 4.0; }, "sensor_position");
   rejects([](SonarPing& p) { p.ship_position = Geodetic{}; }, "ship_position");
   rejects([](SonarPing& p) { p.altitude_m = 0.0; }, "altitude_m");
   rejects([](SonarPing& p) { p.slant_range_m = -1.0; }, "slant_range_m");
@@ -399,6 +400,107 @@ TEST_F(XtfWriterTest, ProfileSoundVelocityTimingAltitudeLayback) {
     EXPECT_FLOAT_EQ(at<float>(b, ch + 20), 50.0f / 745.0f) << "SecondsPerPing";
     EXPECT_EQ(at<std::int16_t>(b, ch + 58), 0) << "Weight";
   }
+}
+
+// The ping header's time fields hold hundredths of a second: the time is rounded to the
+// nearest 10 ms, half up, and the carry reaches the seconds, minutes, hours and the date.
+TEST_F(XtfWriterTest, PingTimeRoundsToNearestHundredthWithCarry) {
+  using namespace std::chrono;
+  struct Case {
+    UtcTime t;
+    int year, month, day, hour, minute, second, hsec, julian0;
+  };
+  const auto at_noon = [](std::int64_t us) {
+    return UtcTime{sys_days{year{2026} / March / 1} + hours{12} + microseconds{us}};
+  };
+  const Case cases[] = {
+      {at_noon(996'000), 2026, 3, 1, 12, 0, 1, 0, 59},  // 12:00:00.996 -> 12:00:01.00
+      {at_noon(994'999), 2026, 3, 1, 12, 0, 0, 99, 59},
+      {at_noon(5'000), 2026, 3, 1, 12, 0, 0, 1, 59},  // half up
+      {at_noon(4'999), 2026, 3, 1, 12, 0, 0, 0, 59},
+      {at_noon(59 * 60'000'000LL + 59'999'000), 2026, 3, 1, 13, 0, 0, 0, 59},
+      {UtcTime{sys_days{year{2025} / December / 31} + hours{23} + minutes{59} + seconds{59} +
+               milliseconds{995}},
+       2026, 1, 1, 0, 0, 0, 0, 0},
+  };
+  const fs::path path = dir_ / "round.xtf";
+  {
+    Writer w(path);
+    std::uint32_t n = 0;
+    for (const Case& c : cases) {
+      SonarPing p = make_ping(n++, 4, 4);
+      p.time_utc = c.t;
+      w.write_ping(p);
+    }
+    w.close();
+  }
+  const auto b = test::read_bytes(path);
+  const auto offsets = packet_offsets(b);
+  ASSERT_EQ(offsets.size(), 1 + std::size(cases));  // NOTES, then the pings
+  for (std::size_t i = 0; i < std::size(cases); ++i) {
+    const Case& c = cases[i];
+    const std::uint64_t o = offsets[i + 1];
+    SCOPED_TRACE("case " + std::to_string(i));
+    EXPECT_EQ(at<std::uint16_t>(b, o + 14), c.year);
+    EXPECT_EQ(b[o + 16], c.month);
+    EXPECT_EQ(b[o + 17], c.day);
+    EXPECT_EQ(b[o + 18], c.hour);
+    EXPECT_EQ(b[o + 19], c.minute);
+    EXPECT_EQ(b[o + 20], c.second);
+    EXPECT_EQ(b[o + 21], c.hsec);
+    EXPECT_EQ(at<std::uint16_t>(b, o + 22), c.julian0);
+  }
+}
+
+// Readers take a coordinate of exactly 0 as "no position": a ping on the equator or on the prime
+// meridian is written 1e-9 degrees off it; only (0, 0) itself is refused.
+TEST_F(XtfWriterTest, EquatorAndPrimeMeridianPingsAreWrittenWithNonZeroCoordinates) {
+  const fs::path path = dir_ / "zero.xtf";
+  {
+    Writer w(path);
+    SonarPing p = make_ping(0, 4, 4);
+    p.sensor_position = {0.0, rad_from_deg(10.5), 0.0};
+    p.ship_position = Geodetic{rad_from_deg(-0.25), 0.0, 0.0};
+    w.write_ping(p);
+    p = make_ping(1, 4, 4);
+    p.sensor_position = {rad_from_deg(51.5), 0.0, 0.0};
+    w.write_ping(p);
+    w.write_navigation({p.time_utc, Geodetic{0.0, rad_from_deg(3.0), 0.0}});
+    p = make_ping(2, 4, 4);
+    p.sensor_position = {};
+    EXPECT_THROW(w.write_ping(p), InputError);
+    w.close();
+  }
+  const auto b = test::read_bytes(path);
+  const auto offsets = packet_offsets(b);
+  ASSERT_EQ(offsets.size(), 4u);                                   // NOTES, 2 pings, navigation
+  EXPECT_EQ(at<double>(b, offsets[1] + 160), kZeroCoordinateDeg);  // SensorY = latitude
+  EXPECT_DOUBLE_EQ(at<double>(b, offsets[1] + 168), 10.5);
+  EXPECT_DOUBLE_EQ(at<double>(b, offsets[1] + 128), -0.25);        // ShipY
+  EXPECT_EQ(at<double>(b, offsets[1] + 136), kZeroCoordinateDeg);  // ShipX
+  EXPECT_DOUBLE_EQ(at<double>(b, offsets[2] + 160), 51.5);
+  EXPECT_EQ(at<double>(b, offsets[2] + 168), kZeroCoordinateDeg);
+  Reader r(path);
+  Packet packet;
+  std::size_t pings = 0;
+  while (r.next(packet)) {
+    if (packet.kind != PacketKind::kPing) continue;
+    EXPECT_TRUE(packet.ping.nav_valid) << "ping " << pings;
+    ++pings;
+  }
+  EXPECT_EQ(pings, 2u);
+}
+
+// RecordingProgramName and RecordingProgramVersion are char[8]; readers print them as C
+// strings, so each keeps a terminating NUL.
+TEST_F(XtfWriterTest, ProgramNameAndVersionAreNulTerminated) {
+  const auto b = test::read_bytes(write_file("name.xtf", 1));
+  const std::string name(reinterpret_cast<const char*>(&b[2]), 8);
+  const std::string version(reinterpret_cast<const char*>(&b[10]), 8);
+  EXPECT_NE(name.find('\0'), std::string::npos) << "RecordingProgramName has no NUL";
+  EXPECT_NE(version.find('\0'), std::string::npos) << "RecordingProgramVersion has no NUL";
+  EXPECT_EQ(std::string(reinterpret_cast<const char*>(&b[2])), "sonarsy");
+  EXPECT_EQ(std::string(reinterpret_cast<const char*>(&b[10])), kVersion);
 }
 
 TEST_F(XtfWriterTest, EmptyFileIsValid) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "cli_util.hpp"
 
+#include <charconv>
 #include <filesystem>
 #include <iostream>
 
@@ -34,6 +35,17 @@ std::vector<std::pair<std::string, std::string>> parse_key_values(
     out.emplace_back(item.substr(0, eq), item.substr(eq + 1));
   }
   return out;
+}
+
+std::uint64_t parse_uint64(const std::string& text, const char* option_name) {
+  std::uint64_t v = 0;
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+  if (text.empty() || ec != std::errc() || ptr != end) {
+    throw InputError(std::string("--") + option_name + " = '" + text +
+                     "'. Violated constraint: an integer from 0 to 18446744073709551615");
+  }
+  return v;
 }
 
 }  // namespace sonarsynth::cli

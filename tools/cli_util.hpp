@@ -2,6 +2,7 @@
 #pragma once
 
 #include <boost/program_options.hpp>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -27,6 +28,11 @@ bool parse(const std::vector<std::string>& args, const po::options_description& 
 /// Parses "KEY=VALUE" strings (GDAL's --co style); throws InputError naming the option otherwise.
 std::vector<std::pair<std::string, std::string>> parse_key_values(
     const std::vector<std::string>& items, const char* option_name);
+
+/// Parses an unsigned 64-bit option value (a seed) from its text; throws InputError naming
+/// `--option_name` and the text for anything else ("-1", "1.5", "x"), which a number-typed option
+/// would take silently ("-1" as 2^64 - 1).
+std::uint64_t parse_uint64(const std::string& text, const char* option_name);
 
 }  // namespace sonarsynth::cli
 

@@ -12,6 +12,7 @@
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/formats/gdal_util.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::cli {
@@ -63,7 +64,7 @@ int run_bathy(const std::vector<std::string>& args) {
   po::options_description opts("options");
   std::string output, size;
   double lat_deg = 0, lon_deg = 0, cell_m = 0, depth_m = 20.0;
-  std::uint64_t seed = 0;
+  std::string seed_text = "0";
   long long threads = 0;
   std::vector<std::string> slopes, ripples, fbms, seamounts, scarps, co;
   // clang-format off
@@ -87,7 +88,7 @@ int run_bathy(const std::vector<std::string>& args) {
     ("scarp", po::value(&scarps)->composing(),
      "scarp: X,Y,AZ,HEIGHT[,WIDTH] a point on the scarp line, its strike azimuth, the step "
      "(right side higher by HEIGHT), width metres (default 2)")
-    ("seed", po::value(&seed)->default_value(0), "seed of the noise components")
+    ("seed", po::value(&seed_text)->default_value("0"), "seed of the noise components")
     ("threads", po::value(&threads)->default_value(0), "worker threads (0 = all cores)")
     ("co", po::value(&co)->composing(), "GTiff creation option KEY=VALUE (repeatable)")
     ("overwrite", "replace an existing output file")
@@ -96,6 +97,7 @@ int run_bathy(const std::vector<std::string>& args) {
   po::variables_map vm;
   if (!parse(args, opts, {}, vm, kUsage)) return 0;
 
+  const std::uint64_t seed = parse_uint64(seed_text, "seed");
   require(std::abs(lat_deg) <= 90.0, "lat", lat_deg, "-90 <= --lat <= 90");
   require(std::abs(lon_deg) <= 180.0, "lon", lon_deg, "-180 <= --lon <= 180");
   require(cell_m > 0.0, "cell", cell_m, "--cell > 0");
@@ -178,6 +180,7 @@ int run_bathy(const std::vector<std::string>& args) {
   GridWriteOptions wo;
   wo.overwrite = overwrite;
   wo.creation_options = parse_key_values(co, "co");
+  gdal::validate_creation_options("GTiff", wo.creation_options, "bathy");
   std::string command = "sonarsynth bathy";
   for (const std::string& a : args) command += " " + a;
   wo.metadata.push_back({"SONARSYNTH_COMMAND", command});

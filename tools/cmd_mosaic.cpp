@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
 // `sonarsynth mosaic`: XTF files (ours or any vendor's) gridded into a GeoTIFF mosaic.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -97,6 +99,7 @@ int run_mosaic(const std::vector<std::string>& args) {
     all_inputs.push_back(bathymetry);
     refuse_output_over_input({output, wo.rgb_path}, all_inputs);
   }
+  wo.validate();  // display copy name, creation options: before the (long) gridding
   for (const std::string& p : {output, wo.rgb_path}) {
     if (!p.empty() && !wo.overwrite && std::filesystem::exists(p)) {
       throw InputError("output " + p + " already exists (use --overwrite to replace it)");
@@ -111,6 +114,31 @@ int run_mosaic(const std::vector<std::string>& args) {
   }
   const std::vector<std::filesystem::path> files(inputs.begin(), inputs.end());
   const XtfMosaicResult r = mosaic_xtf(files, mo, bathy ? &*bathy : nullptr);
+  if (r.pings_gridded == 0 && bathy) {
+    // With a bathymetry, a ping places nothing where its swath misses the grid: say so when the
+    // grid and the survey do not overlap at all.
+    const GridGeometry& m = r.image.geometry;
+    const double half_x = 0.5 * m.dx_m, half_y = 0.5 * std::abs(m.dy_m);
+    const double mx0 = m.x_of_col(0) - half_x;
+    const double mx1 = m.x_of_col(static_cast<double>(m.cols) - 1.0) + half_x;
+    const double my_a = m.y_of_row(0), my_b = m.y_of_row(static_cast<double>(m.rows) - 1.0);
+    const double my0 = std::min(my_a, my_b) - half_y, my1 = std::max(my_a, my_b) + half_y;
+    const Eigen::Vector4d bb = bathy->grid.bounds();
+    if (bb[2] < mx0 || bb[0] > mx1 || bb[3] < my0 || bb[1] > my1) {
+      const auto corner = [&](double x, double y) {
+        const Eigen::Vector2d p = r.frame.projected_from_local({x, y});
+        std::ostringstream os;
+        os.setf(std::ios::fixed);
+        os.precision(1);
+        os << "(" << p.x() << ", " << p.y() << ")";
+        return os.str();
+      };
+      throw InputError("--bathymetry " + bathymetry + ": the grid " + corner(bb[0], bb[1]) +
+                       " .. " + corner(bb[2], bb[3]) + " does not overlap the survey " +
+                       corner(mx0, my0) + " .. " + corner(mx1, my1) + " (EPSG:" +
+                       std::to_string(r.frame.epsg()) + " metres): no ping could be gridded");
+    }
+  }
   if (r.pings_gridded == 0) {
     throw FormatError("no ping could be gridded (" + std::to_string(r.pings) + " pings, " +
                       std::to_string(r.pings_no_navigation) + " without navigation, " +

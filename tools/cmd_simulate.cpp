@@ -32,7 +32,7 @@ int run_simulate(const std::vector<std::string>& args) {
   po::options_description opts("options");
   std::string scene_path, out_dir, quality;
   bool overwrite = false, quiet = false;
-  std::uint64_t seed = 0;
+  std::string seed;
   double range_m = 0;
   std::size_t samples = 0;
   long long threads = 0;
@@ -40,6 +40,7 @@ int run_simulate(const std::vector<std::string>& args) {
   std::string of = "COG";
   std::vector<std::string> co;
   bool no_mosaic = false, no_waterfall = false, no_truth = false;
+  std::size_t waterfall_max_pixels = SurveyProductOptions{}.waterfall_max_pixels;
   // clang-format off
   opts.add_options()
     ("scene", po::value(&scene_path)->required(), "scene file (YAML)")
@@ -56,6 +57,8 @@ int run_simulate(const std::vector<std::string>& args) {
     ("co", po::value(&co)->composing(), "mosaic creation option KEY=VALUE (repeatable)")
     ("no-mosaic", po::bool_switch(&no_mosaic), "skip the mosaics")
     ("no-waterfall", po::bool_switch(&no_waterfall), "skip the waterfall images")
+    ("waterfall-max-pixels", po::value(&waterfall_max_pixels),
+     "largest waterfall image; longer lines are decimated along track (default 2^28)")
     ("no-truth", po::bool_switch(&no_truth), "skip the truth products");
   // clang-format on
   po::positional_options_description pos;
@@ -64,11 +67,22 @@ int run_simulate(const std::vector<std::string>& args) {
   if (!parse(args, opts, pos, vm, kUsage)) return 0;
 
   SimulationOverrides ov;
-  if (vm.count("seed")) ov.seed = seed;
+  if (vm.count("seed")) ov.seed = parse_uint64(seed, "seed");
   if (vm.count("range")) ov.range_m = range_m;
   if (vm.count("samples")) ov.samples = samples;
   if (vm.count("quality")) ov.quality = quality;
   if (vm.count("threads")) ov.threads = checked_thread_count(threads, 1);
+  // Options of the products, recorded in effective.yaml (they are not scene settings).
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    for (const std::string f : {"--res", "--of", "--co", "--waterfall-max-pixels"}) {
+      if (a.rfind(f + "=", 0) == 0) ov.product_flags.push_back(a);
+      if (a == f && i + 1 < args.size()) ov.product_flags.push_back(a + " " + args[i + 1]);
+    }
+    for (const std::string f : {"--no-mosaic", "--no-waterfall", "--no-truth"}) {
+      if (a == f) ov.product_flags.push_back(a);
+    }
+  }
 
   const double t0 = now_s();
   SimulationSetup setup = load_simulation(scene_path, ov);
@@ -102,6 +116,7 @@ int run_simulate(const std::vector<std::string>& args) {
   po_opts.waterfalls = !no_waterfall;
   po_opts.truth = !no_truth && setup.config.truth;
   po_opts.mosaic_pixel_m = res_m;
+  po_opts.waterfall_max_pixels = waterfall_max_pixels;
   if (of == "COG" || of == "cog") {
     po_opts.write_options.format = MosaicRasterFormat::cog;
   } else if (of == "GTiff" || of == "gtiff") {
@@ -153,6 +168,7 @@ int run_simulate(const std::vector<std::string>& args) {
       std::cout << "  " << (out.final_dir() / f.filename()).string() << "\n";
     }
     std::cout << "  " << (out.final_dir() / "effective.yaml").string() << "\n";
+    for (const auto& note : products.notes()) std::cout << "  note: " << note << "\n";
     if (xtf_out.clipped_samples() > 0) {
       std::cerr << "warning: " << xtf_out.clipped_samples()
                 << " samples were clipped at the top of the sample range (lower output.gain_db)\n";

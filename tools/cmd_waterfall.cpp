@@ -22,6 +22,8 @@ int run_waterfall(const std::vector<std::string>& args) {
     ("slant-correct", "resample to ground range on a flat bottom (altitude of each ping)")
     ("lo-db", po::value(&wo.lo_db), "fixed scaling: dB shown black (with --hi-db)")
     ("hi-db", po::value(&wo.hi_db), "fixed scaling: dB shown at full colour (with --lo-db)")
+    ("max-pixels", po::value(&wo.max_pixels)->default_value(wo.max_pixels),
+     "largest image (columns x rows); a longer line is decimated along track (mean of N pings per row)")
     ("overwrite", "replace an existing output file")
     ("quiet,q", "print nothing on success");
   // clang-format on
@@ -46,7 +48,12 @@ int run_waterfall(const std::vector<std::string>& args) {
   refuse_output_over_input({output}, {input});
   const WaterfallResult r = write_xtf_waterfall(input, output, wo);
   if (!vm.count("quiet")) {
-    std::cout << "wrote " << output << ": " << r.cols << " x " << r.rows << " pixels\n";
+    std::cout << "wrote " << output << ": " << r.cols << " x " << r.rows << " pixels";
+    if (r.pings_per_row > 1) {
+      std::cout << " (" << r.pings << " pings decimated along track: each row the mean of "
+                << r.pings_per_row << " pings, to fit --max-pixels " << wo.max_pixels << ")";
+    }
+    std::cout << "\n";
   }
   return 0;
 }

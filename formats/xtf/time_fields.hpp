@@ -42,11 +42,14 @@ inline TimeFields fields_from_time(UtcTime t) {
 }
 
 /// The time of valid calendar fields; nullopt if any field is out of range (month 13, day 31 of
-/// a 30-day month, hour 24, microsecond >= 1e6...). Seconds may be 60 (leap second, folded).
+/// a 30-day month, hour 24, microsecond >= 1e6, a year outside 1..9999, which ISO 8601 text
+/// and std::chrono::year cannot hold: 65535 would wrap to -1). Seconds may be 60 (leap second,
+/// folded).
 inline std::optional<UtcTime> time_from_fields(int year, unsigned month, unsigned day,
                                                unsigned hour, unsigned minute, unsigned second,
                                                std::uint32_t microsecond) {
   using namespace std::chrono;
+  if (year < 1 || year > 9999) return std::nullopt;
   const year_month_day ymd{std::chrono::year{year}, std::chrono::month{month},
                            std::chrono::day{day}};
   if (!ymd.ok() || hour > 23 || minute > 59 || second > 60 || microsecond > 999999) {

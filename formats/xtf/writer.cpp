@@ -19,6 +19,23 @@ constexpr double kMetresPerSecondPerKnot = 1852.0 / 3600.0;
 constexpr int kMinYear = 1970;  // MB-System drops pings outside 1970..2100
 constexpr int kMaxYear = 2100;
 
+/// At most 7 characters, so that the char[8] field keeps a NUL.
+constexpr std::string_view kRecordingProgramName = "sonarsy";
+
+/// The time an XTF record stores: rounded to the nearest 10 ms (HSeconds), half up, with the
+/// carry into seconds, minutes... so that the fields never read 100 hundredths.
+UtcTime to_hundredths(UtcTime t) {
+  using namespace std::chrono;
+  return floor<duration<std::int64_t, std::centi>>(t + milliseconds{5});
+}
+
+/// Degrees as written to a coordinate field: an exact 0 becomes 1e-9 degrees (0.1 mm), since
+/// readers take a coordinate of 0 as "no position" (an equator or Greenwich survey is valid).
+double coordinate_deg(double rad) {
+  const double deg = deg_from_rad(rad);
+  return deg == 0.0 ? kZeroCoordinateDeg : deg;
+}
+
 std::string num(double v) {
   std::ostringstream os;
   os.precision(10);
@@ -159,8 +176,9 @@ void Writer::start(UtcTime first_time, std::uint32_t port_samples, std::uint32_t
   XtfFileHeader& h = header_;
   h.FileFormat = kFileFormat;
   h.SystemType = 1;
-  h.RecordingProgramName = fixed_string<8>("sonarsyn");
-  h.RecordingProgramVersion = fixed_string<8>(kVersion);
+  // char[8] fields are read as C strings by some readers: keep a terminating NUL in each.
+  h.RecordingProgramName = fixed_string<8>(kRecordingProgramName);
+  h.RecordingProgramVersion = fixed_string<8>(std::string_view(kVersion).substr(0, 7));
   h.SonarName = fixed_string<16>(options_.sonar_name);
   h.SonarType = 0;
   h.NoteString = fixed_string<64>(options_.note);
@@ -215,14 +233,13 @@ void Writer::validate_ping(const SonarPing& p) const {
         std::abs(g.lon_rad) > kPi) {
       violated(who + name, lat_lon_text(g), "finite, |lat| <= pi/2, |lon| <= pi");
     }
-    if (g.lat_rad == 0.0 || g.lon_rad == 0.0) {
-      violated(who + name, lat_lon_text(g),
-               "latitude != 0 and longitude != 0 (readers take a zero coordinate as 'no fix')");
+    if (g.lat_rad == 0.0 && g.lon_rad == 0.0) {
+      violated(who + name, lat_lon_text(g), "not (0, 0), which XTF readers take as 'no fix'");
     }
   };
   check_position(p.sensor_position, "sensor_position");
   if (p.ship_position) check_position(*p.ship_position, "ship_position");
-  const detail::TimeFields tf = detail::fields_from_time(p.time_utc);
+  const detail::TimeFields tf = detail::fields_from_time(to_hundredths(p.time_utc));
   if (tf.year < kMinYear || tf.year > kMaxYear) {
     violated(who + "time_utc year", std::to_string(tf.year), "1970 <= year <= 2100");
   }
@@ -328,7 +345,7 @@ void Writer::write_ping(const SonarPing& p) {
   buffer_.assign(static_cast<std::size_t>(total), 0);
   ByteWriter w(buffer_);
 
-  const detail::TimeFields tf = detail::fields_from_time(p.time_utc);
+  const detail::TimeFields tf = detail::fields_from_time(to_hundredths(p.time_utc));
   const Geodetic ship = p.ship_position.value_or(p.sensor_position);
   const double sv = p.sound_speed_mps / 2.0;  // XTF stores the one-way ("half") speed
   const double heading = heading_deg(p.heading_rad);
@@ -349,11 +366,11 @@ void Writer::write_ping(const SonarPing& p) {
   h.ComputedSoundVelocity = static_cast<float>(p.sound_speed_mps);
   h.ShipSpeed = static_cast<float>(p.speed_mps / kMetresPerSecondPerKnot);
   h.ShipGyro = static_cast<float>(heading);
-  h.ShipYcoordinate = deg_from_rad(ship.lat_rad);
-  h.ShipXcoordinate = deg_from_rad(ship.lon_rad);
+  h.ShipYcoordinate = coordinate_deg(ship.lat_rad);
+  h.ShipXcoordinate = coordinate_deg(ship.lon_rad);
   h.SensorSpeed = static_cast<float>(p.speed_mps / kMetresPerSecondPerKnot);
-  h.SensorYcoordinate = deg_from_rad(p.sensor_position.lat_rad);
-  h.SensorXcoordinate = deg_from_rad(p.sensor_position.lon_rad);
+  h.SensorYcoordinate = coordinate_deg(p.sensor_position.lat_rad);
+  h.SensorXcoordinate = coordinate_deg(p.sensor_position.lon_rad);
   h.Layback = 0.0f;  // SensorX/Y already are the sensor position
   h.SensorDepth = static_cast<float>(p.depth_m);
   h.SensorPrimaryAltitude = static_cast<float>(p.altitude_m);
@@ -423,9 +440,12 @@ void Writer::write_attitude(const AttitudeSample& a) {
 void Writer::write_navigation(const NavigationFix& fix) {
   const Geodetic& g = fix.position;
   if (!finite_all({g.lat_rad, g.lon_rad, g.height_m}) || std::abs(g.lat_rad) > kPi / 2 ||
-      std::abs(g.lon_rad) > kPi || g.lat_rad == 0.0 || g.lon_rad == 0.0) {
+      std::abs(g.lon_rad) > kPi) {
+    violated("navigation position", lat_lon_text(g), "finite, |lat| <= pi/2, |lon| <= pi");
+  }
+  if (g.lat_rad == 0.0 && g.lon_rad == 0.0) {
     violated("navigation position", lat_lon_text(g),
-             "finite, non-zero, |lat| <= pi/2, |lon| <= pi");
+             "not (0, 0), which XTF readers take as 'no fix'");
   }
   const detail::TimeFields tf = detail::fields_from_time(fix.time_utc);
   if (tf.year < kMinYear || tf.year > kMaxYear) {
@@ -442,8 +462,8 @@ void Writer::write_navigation(const NavigationFix& fix) {
   n.Microseconds = tf.microsecond;
   n.SourceEpoch = static_cast<std::uint32_t>(detail::epoch_seconds(fix.time_utc));
   n.TimeTag = detail::time_tag_ms(fix.time_utc);
-  n.RawYcoordinate = deg_from_rad(g.lat_rad);
-  n.RawXcoordinate = deg_from_rad(g.lon_rad);
+  n.RawYcoordinate = coordinate_deg(g.lat_rad);
+  n.RawXcoordinate = coordinate_deg(g.lon_rad);
   n.RawAltitude = g.height_m;
   n.TimeFlag = 1;  // source time valid
   buffer_.assign(XtfHeaderNavigation::kSize, 0);

@@ -86,6 +86,8 @@ struct BathyGenSpec {
   std::uint64_t seed = 0;  ///< seed of every noise component
   std::vector<bathy::Component> components;  ///< summed in order
   unsigned num_threads = 0;  ///< worker threads, 0 = hardware concurrency; output is identical
+  /// Largest generated grid: 2^28 nodes (1 GiB of float32 heights).
+  static constexpr double kMaxCells = 268435456.0;
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
@@ -93,7 +95,8 @@ struct BathyGenSpec {
   /// cols x rows nodes of spacing cell_m covering width_m x height_m (node = cell centre, as
   /// GDAL's Area pixels), north-up, centred on (centre_x_m, centre_y_m).
   /// cols = round(width_m / cell_m); throws InputError unless cell_m > 0, the sizes are positive
-  /// and the grid has 2 x 2 to 10^6 x 10^6 nodes.
+  /// and the grid has 2 x 2 to 10^6 x 10^6 nodes and at most kMaxCells in all (checked before
+  /// anything is allocated).
   static GridGeometry centred_geometry(double centre_x_m, double centre_y_m, double width_m,
                                        double height_m, double cell_m);
 };

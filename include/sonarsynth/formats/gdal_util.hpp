@@ -3,6 +3,8 @@
 
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 class GDALDataset;
 class OGRLayer;
@@ -41,6 +43,12 @@ VectorLayer open_vector_layer(const std::string& path, const std::string& layer_
 /// Closes a dataset that was written, turning a failed close (e.g. a full disk while flushing)
 /// into a FormatError naming the path.
 void close_checked(DatasetPtr ds, const std::string& path, const char* what);
+/// Throws InputError("<who>: creation option KEY=VALUE is not valid for the <driver> driver:
+/// <GDAL's reason>") for the first option GDAL's driver `driver` does not accept (unknown key,
+/// value out of its list or range), so that a typo is refused before any work is done.
+void validate_creation_options(const char* driver,
+                               const std::vector<std::pair<std::string, std::string>>& options,
+                               const char* who);
 /// The message of GDAL's last error, or "" if none.
 std::string last_error_message();
 

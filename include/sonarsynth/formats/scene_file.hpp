@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <string>
 
 #include "sonarsynth/scene.hpp"
@@ -10,6 +12,9 @@ namespace sonarsynth {
 /// Options for load_scene().
 struct SceneLoadOptions {
   unsigned num_threads = 0;  ///< for bathymetry generation; 0 = hardware concurrency
+  /// Replaces the file's top-level `seed` (the command line's --seed): a generated bathymetry
+  /// without its own `bathymetry.generate.seed` takes this one.
+  std::optional<std::uint64_t> seed;
 };
 
 /// Reads a scene file (YAML, format in docs/scene-format.md) and builds the Scene: bathymetry

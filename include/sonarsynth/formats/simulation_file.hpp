@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sonarsynth/scene.hpp"
 #include "sonarsynth/simulator.hpp"
@@ -21,6 +22,9 @@ struct SimulationOverrides {
   /// "fast" (1 Gauss point, coarse objects), "default", "high" (4 grid subdivisions,
   /// 3 Gauss points, 5 along-track planes).
   std::optional<std::string> quality;
+  /// Command-line options of the products (mosaic resolution, format, creation options...):
+  /// not scene settings, so effective.yaml lists them in its header to be given again.
+  std::vector<std::string> product_flags;
 };
 
 /// What `sonarsynth simulate` runs: the scene, the simulation settings and the survey.

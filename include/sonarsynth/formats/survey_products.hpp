@@ -19,6 +19,8 @@ struct SurveyProductOptions {
   bool waterfalls = true;        ///< <line>_waterfall.png per line
   bool truth = true;             ///< <line>_truth.tif per line and truth_mosaic.tif
   double mosaic_pixel_m = 0.25;  ///< > 0
+  /// Largest waterfall image (pixels); a longer line is decimated along track to fit.
+  std::size_t waterfall_max_pixels = WaterfallOptions{}.max_pixels;
   MosaicOptions mosaic_options;
   MosaicWriteOptions write_options;  ///< format, creation options (paths are set here)
   void validate() const;
@@ -38,6 +40,8 @@ class SurveyProducts : public PingSink {
   /// Writes the mosaic files (call once, after the run).
   void finish();
   const std::vector<std::filesystem::path>& files() const { return files_; }
+  /// What the user should know about the products (e.g. a waterfall decimated along track).
+  const std::vector<std::string>& notes() const { return notes_; }
 
  private:
   std::filesystem::path dir_;
@@ -49,6 +53,7 @@ class SurveyProducts : public PingSink {
   std::unique_ptr<Waterfall> waterfall_;
   std::unique_ptr<TruthWaterfall> truth_;
   std::vector<std::filesystem::path> files_;
+  std::vector<std::string> notes_;
 };
 
 }  // namespace sonarsynth

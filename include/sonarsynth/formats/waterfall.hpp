@@ -32,7 +32,9 @@ struct WaterfallOptions {
   double lo_db = 0.0;
   double hi_db = 90.0;
   bool overwrite = false;
-  /// Largest image (columns x rows) accepted: add_ping throws InputError beyond it.
+  /// Largest image (columns x rows) written: a longer line is decimated along track (each image
+  /// row the mean of pings_per_row() consecutive pings) so that the image fits; add_ping throws
+  /// InputError only if a single row is wider than this.
   std::size_t max_pixels = std::size_t{1} << 28;
   /// Where the rows wait for write() (an unnamed temporary file, see Waterfall); empty = the
   /// system's temporary directory.
@@ -61,10 +63,18 @@ class Waterfall {
   /// (otherwise the row is added uncorrected) and slant_range_m is the range of the last sample.
   void add_ping(std::span<const float> port, std::span<const float> starboard, double slant_range_m,
                 double altitude_m);
+  /// Pings added so far.
   std::size_t rows() const;
   /// 2 x the longest side added so far.
   std::size_t cols() const;
-  /// Linear image, row-major, NaN = nodata (read back from the spool file: cols x rows floats).
+  /// Pings averaged into one image row: 1 while cols() x rows() <= max_pixels, else the smallest
+  /// N with cols() x ceil(rows() / N) <= max_pixels.
+  std::size_t pings_per_row() const;
+  /// Rows of the image: ceil(rows() / pings_per_row()).
+  std::size_t image_rows() const;
+  /// Linear image, row-major, NaN = nodata (read back from the spool file: cols x image_rows()
+  /// floats). Row k is the mean of pings k N .. k N + N - 1 (N = pings_per_row(); the last row
+  /// the pings left), pixel by pixel over the pings that have a value there; NaN if none has.
   std::vector<float> image() const;
   /// Writes PNG (name ending .png) or GeoTIFF without georeferencing (.tif/.tiff) under a
   /// temporary name, renamed when complete. Throws FormatError naming the path. The percentile
@@ -78,7 +88,9 @@ class Waterfall {
 };
 
 struct WaterfallResult {
-  std::size_t rows = 0;
+  std::size_t pings = 0;          ///< pings drawn
+  std::size_t pings_per_row = 1;  ///< > 1: the line was decimated to fit max_pixels
+  std::size_t rows = 0;           ///< image rows
   std::size_t cols = 0;
   std::size_t pings_no_samples = 0;
 };

@@ -29,6 +29,9 @@ enum class SampleEncoding {
 inline constexpr std::size_t kMaxPortableSamples = 8192;
 /// Hard upper bound on samples per channel, even with allow_more_than_8192_samples.
 inline constexpr std::size_t kMaxSamples = std::size_t{1} << 20;
+/// A latitude or longitude of exactly 0 is written as this many degrees (about 0.1 mm): readers
+/// take a zero coordinate as "no position", and the equator and the prime meridian are valid.
+inline constexpr double kZeroCoordinateDeg = 1e-9;
 
 struct WriterOptions {
   SampleEncoding sample_encoding = SampleEncoding::kUint16;
@@ -69,8 +72,10 @@ class Writer {
   Writer(const Writer&) = delete;
   Writer& operator=(const Writer&) = delete;
 
-  /// Appends one ping. Throws InputError naming the field if the ping is invalid (no file
-  /// position, altitude <= 0, bad time, wrong sample count...), FormatError on a write error.
+  /// Appends one ping. Its time is stored rounded to the nearest 10 ms (XTF's HSeconds), with
+  /// the carry into seconds, minutes, hours and the date. Throws InputError naming the field if
+  /// the ping is invalid (no file position, altitude <= 0, bad time, wrong sample count...),
+  /// FormatError on a write error.
   void write_ping(const SonarPing& ping);
   /// Appends a 64-byte attitude packet (type 3).
   void write_attitude(const AttitudeSample& attitude);
