@@ -269,6 +269,20 @@ TEST_F(RunCheck, TheLimitsCanBeRaisedOrLowered) {
   expect_refused(s, {"scene.yaml: limits.max_pings = '-3'"});
 }
 
+TEST_F(RunCheck, AnOutputLargerThanTheFreeDiskSpaceIsRefused) {
+  // 10^7 pings (100 km at 2 m/s, a ping every 5 ms) of 2 x 8192 u16 samples: at least
+  // 10^7 x (256 + 2 x (64 + 16384)) bytes of XTF, with the limits raised out of the way.
+  SceneText s;
+  s.lines = line("long", 1000, 0, 101000, 0);
+  s.sonar = "{frequency_khz: 400, range_m: 3, samples: 8192, ping_period_s: 0.005}";
+  s.extra = "limits: {max_pings: 1e8, max_output_gb: 1e6, max_memory_gb: 1e6}\n";
+  const double xtf_bytes = 1e7 * (256.0 + 2.0 * (64.0 + 16384.0));
+  if (static_cast<double>(fs::space(dir_).available) >= xtf_bytes) {
+    GTEST_SKIP() << "more free space than the run would need";
+  }
+  expect_refused(s, {"scene.yaml: the run would write about", "free. Violated constraint"});
+}
+
 TEST_F(RunCheck, GainIsBoundedAndSaturationIsCountedPerLine) {
   SceneText s;
   s.output = "{gain_db: 200}";

@@ -156,6 +156,10 @@ int run_simulate(const std::vector<std::string>& args) {
                 << setup.config.quality.along_track_tolerance_db << " dB, " << std::setprecision(0)
                 << 1e3 * at.pilot_s << " ms)";
     }
+    std::cout << "\n  estimated before the run: " << plan.total_pings << " pings, "
+              << std::setprecision(3) << static_cast<double>(plan.output_bytes) / 1e9
+              << " GB written at most, " << static_cast<double>(plan.memory_bytes) / 1e9
+              << " GB of memory";
     std::cout << "\n  mosaic written in " << std::setprecision(2) << mosaic_s << " s\n";
     for (const auto& f : xtf_out.files()) {
       std::cout << "  " << (out.final_dir() / f.filename()).string() << "\n";
