@@ -80,6 +80,11 @@ RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& s
   const HeightGrid& seabed = setup.scene.bathymetry;
   const RunLimits& limits = setup.limits;
   RunPlan plan;
+  if (products.mosaic &&
+      !(products.mosaic_pixel_m > 0.0 && std::isfinite(products.mosaic_pixel_m))) {
+    throw InputError("--res = " + num(products.mosaic_pixel_m) +
+                     ". Violated constraint: mosaic pixel size > 0 (metres)");
+  }
 
   // 1. Pings, from the line lengths alone (before the Survey counts them in integers).
   const double period_s = sonar.effective_ping_period_s();
@@ -147,7 +152,10 @@ RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& s
   if (!(bytes <= limits.max_output_gb * 1e9)) {
     throw InputError(file + ": the run would write about " + gb(bytes) + " (" +
                      num(total_pings, 4) + " pings of " + num(samples) + " samples per side" +
-                     (products.mosaic ? ", a mosaic of " + num(mosaic_pixels, 4) + " pixels" : "") +
+                     (products.mosaic
+                          ? ", a mosaic of " + num(mosaic_pixels, 4) + " pixels at --res " +
+                                num(products.mosaic_pixel_m) + " m"
+                          : "") +
                      "), more than limits.max_output_gb = " + num(limits.max_output_gb) +
                      ". Violated constraint: estimated output <= limits.max_output_gb; raise "
                      "limits.max_output_gb in the scene file if intended");
@@ -157,7 +165,10 @@ RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& s
                      num(threads) + " thread(s) x " + gb(per_thread) + " for " + num(samples) +
                      " samples and " + num(crossings, 4) + " grid cells within range (cell " +
                      num(std::abs(g.dx_m)) + " x " + num(std::abs(g.dy_m)) + " m)" +
-                     (products.mosaic ? ", mosaic " + num(mosaic_pixels, 4) + " pixels" : "") +
+                     (products.mosaic
+                          ? ", a mosaic of " + num(mosaic_pixels, 4) + " pixels at --res " +
+                                num(products.mosaic_pixel_m) + " m"
+                          : "") +
                      "), more than limits.max_memory_gb = " + num(limits.max_memory_gb) +
                      ". Violated constraint: estimated memory <= limits.max_memory_gb; raise "
                      "limits.max_memory_gb in the scene file if intended");

@@ -224,6 +224,18 @@ TEST_F(RunCheck, CommandLineOverridesHaveTheScenesBounds) {
   expect_refused(SceneText{}, {"--samples = 0", "Violated constraint"}, "--samples 0");
   expect_refused(SceneText{}, {"--samples = 20000", "output.allow_more_than_8192_samples"},
                  "--samples 20000");
+  // The mosaic's pixel size (products on): zero, and so small that the mosaic of 80 m x 60 m
+  // (the line and the range either side, within the grid) would need 4.8e15 pixels.
+  const fs::path scene = write("scene.yaml", SceneText{}.yaml());
+  for (const char* res : {"0", "1e-6"}) {
+    const auto r = test::run_cli(
+        "simulate " + scene.string() + " -o " + out().string() + " -q --res " + res, dir_);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find(std::string(res) == "0" ? "--res = 0" : "pixels at --res 1e-06 m"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(out()));
+  }
 }
 
 TEST_F(RunCheck, MoreThan8192SamplesOnlyOnRequest) {
