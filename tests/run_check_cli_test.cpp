@@ -16,6 +16,8 @@
 
 #include "cli_test_util.hpp"
 #include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/formats/run_check.hpp"
+#include "sonarsynth/formats/simulation_file.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
 namespace sonarsynth {
@@ -121,6 +123,25 @@ TEST_F(RunCheck, TheBaseSceneRuns) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "");
   EXPECT_TRUE(fs::exists(out() / "a.xtf"));
+}
+
+TEST_F(RunCheck, TheEstimateBoundsTheFileWrittenAndCreatesNothing) {
+  const fs::path scene = write("scene.yaml", SceneText{}.yaml());
+  const SimulationSetup setup = load_simulation(scene.string());
+  const RunPlan plan = check_simulation(scene.string(), setup, {false, false, false, 0.25}, out());
+  EXPECT_FALSE(fs::exists(out()));
+  // x = -10 .. 10 m, a ping every metre.
+  EXPECT_EQ(plan.total_pings, 21u);
+  ASSERT_EQ(plan.lines.size(), 1u);
+  EXPECT_EQ(plan.lines[0].seabed_fraction, 1.0);
+  EXPECT_EQ(plan.lines[0].short_range_fraction, 0.0);
+  EXPECT_TRUE(plan.warnings.empty());
+  // With the products off the estimate is the XTF file: an upper bound, short of it by at most
+  // the file header and notes.
+  ASSERT_EQ(simulate(SceneText{}).exit_code, 0);
+  const auto size = fs::file_size(out() / "a.xtf");
+  EXPECT_LE(size, plan.output_bytes);
+  EXPECT_GT(size + 4096, plan.output_bytes);
 }
 
 TEST_F(RunCheck, ALineOffTheGridIsRefusedNamingTheLineAndBothExtents) {
