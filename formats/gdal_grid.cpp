@@ -130,8 +130,11 @@ LoadedGrid read_aligned(const std::string& path, GDALDataset* ds, GDALRasterBand
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   const float sign = options.depth_positive_down ? -1.0f : 1.0f;
   std::size_t valid = 0;
+  // Heights beyond the deepest ocean and the highest land (|h| > 12,000 m: +-inf, 1e38 and the
+  // like) are undeclared nodata markers, not seabed (docs/scene-format.md, "Bathymetry").
+  constexpr float kMaxAbsHeight_m = 12000.0f;
   for (float& h : heights) {
-    if (std::isnan(h) || (use_nodata && h == nodata_f)) {
+    if (!(std::abs(h) <= kMaxAbsHeight_m) || (use_nodata && h == nodata_f)) {
       h = kNaN;
     } else {
       h *= sign;

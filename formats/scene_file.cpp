@@ -452,7 +452,7 @@ bathy::Component parse_component(const Fields& c) {
 Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
   const Fields top(yaml::load_file(path), path, "");
   top.only({"name", "description", "seed", "bathymetry", "materials", "seabed", "objects", "survey",
-            "sonar", "noise", "render", "output", "derived"});
+            "sonar", "noise", "render", "output", "limits", "derived"});
   const fs::path base_dir = fs::path(path).parent_path();
 
   // Bathymetry: from a raster, or generated.

@@ -17,6 +17,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
 #include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/xtf/writer.hpp"
 #include "yaml_fields.hpp"
 
 namespace sonarsynth {
@@ -28,6 +29,8 @@ using yaml::Fields;
 // Farthest a waypoint may be from the bathymetry grid's centre, metres per axis: beyond it the
 // local coordinates leave the scene's UTM zone by far.
 constexpr double kMaxWaypointOffsetM = 1e6;
+// Output gain bound, dB: beyond it every sample saturates or underflows to 0 whatever the scene.
+constexpr double kMaxGainDb = 150.0;
 
 Eigen::Vector2d position(const Scene& scene, const Eigen::Vector2d& centre, const Fields& p) {
   p.only({"lat_deg", "lon_deg", "east_m", "north_m"});
@@ -144,7 +147,7 @@ Survey SimulationSetup::make_survey() const {
 SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {
   SceneLoadOptions scene_options;
   scene_options.seed = overrides.seed;  // the seed reaches the generated bathymetry too
-  SimulationSetup setup{load_scene(path, scene_options), {}, {}, {}, {}, "u16", 10.0};
+  SimulationSetup setup{load_scene(path, scene_options), {}, {}, {}, {}, "u16", 10.0, {}, false, "sonar.range_m"};
   const Fields top(yaml::load_file(path), path, "");
   Scene& scene = setup.scene;
   SimulationConfig& cfg = setup.config;
@@ -183,8 +186,29 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
     }
     s.ping_period_s = f.number_in("ping_period_s", 0.0, 0.0, 1e3);
   }
-  if (overrides.range_m) s.max_range_m = *overrides.range_m;
-  if (overrides.samples) s.samples_per_channel = *overrides.samples;
+  // Command-line overrides: the same bounds as the scene file's keys, named by the flag.
+  if (overrides.range_m) {
+    if (!(*overrides.range_m > 0.0 && *overrides.range_m <= 1e5)) {
+      throw InputError("--range = " + std::to_string(*overrides.range_m) +
+                       ". Violated constraint: > 0 and <= 100000 (as sonar.range_m)");
+    }
+    s.max_range_m = *overrides.range_m;
+    setup.range_key = "--range";
+  }
+  if (overrides.samples) {
+    if (!(*overrides.samples >= 1 && *overrides.samples <= 65535)) {
+      throw InputError("--samples = " + std::to_string(*overrides.samples) +
+                       ". Violated constraint: >= 1 and <= 65535 (as sonar.samples)");
+    }
+    s.samples_per_channel = *overrides.samples;
+  }
+  // A ping period shorter than the two-way travel time to the maximum range overlaps pings.
+  if (s.ping_period_s > 0.0 && s.ping_period_s < 2.0 * s.max_range_m / s.sound_speed_m_s) {
+    top.child("sonar").fail_value(
+        "ping_period_s", "ping_period_s >= the two-way travel time 2 " + setup.range_key +
+                             " / sound_speed_m_s = " +
+                             std::to_string(2.0 * s.max_range_m / s.sound_speed_m_s) + " s");
+  }
 
   // Render: physics switches and quality.
   if (top.has("render")) {
@@ -268,7 +292,7 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
   // Output scaling and format.
   if (top.has("output")) {
     const Fields f = top.child("output");
-    f.only({"tvg", "gain_db", "sample_format", "truth"});
+    f.only({"tvg", "gain_db", "sample_format", "truth", "allow_more_than_8192_samples"});
     const std::string tvg = f.text("tvg", "spherical");
     if (tvg == "spherical") {
       cfg.output.tvg = TvgLaw::spherical;
@@ -277,7 +301,8 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
     } else {
       f.fail_value("tvg", "spherical (30 log R + 2 alpha R) or none");
     }
-    if (f.has("gain_db") && f.text("gain_db") != "auto") cfg.output.gain_db = f.number("gain_db");
+    if (f.has("gain_db") && f.text("gain_db") != "auto")
+      cfg.output.gain_db = f.number_in("gain_db", 0.0, -kMaxGainDb, kMaxGainDb);
     setup.sample_format = f.text("sample_format", "u16");
     if (setup.sample_format == "u16") {
       cfg.output.max_value = 32767.0;
@@ -292,6 +317,30 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
       f.fail_value("sample_format", "u16, u8 or f32");
     }
     cfg.truth = f.boolean("truth", true);
+    setup.allow_more_than_8192_samples = f.boolean("allow_more_than_8192_samples", false);
+  }
+  // Common XTF readers take at most 8192 samples per channel: more only on request.
+  if (s.samples_per_channel > xtf::kMaxPortableSamples && !setup.allow_more_than_8192_samples) {
+    const std::string c =
+        "<= 8192, the most common XTF readers accept (set "
+        "output.allow_more_than_8192_samples: true to write more)";
+    if (overrides.samples) {
+      throw InputError("--samples = " + std::to_string(s.samples_per_channel) +
+                       ". Violated constraint: " + c);
+    }
+    top.child("sonar").fail_value("samples", "samples " + c);
+  }
+
+  // Limits on the run (checked before rendering, formats/run_check.cpp).
+  if (top.has("limits")) {
+    const Fields f = top.child("limits");
+    f.only({"max_pings", "max_output_gb", "max_memory_gb"});
+    setup.limits.max_pings = static_cast<std::uint64_t>(
+        f.number_in("max_pings", static_cast<double>(setup.limits.max_pings), 0.0, 1e15, true));
+    setup.limits.max_output_gb =
+        f.number_in("max_output_gb", setup.limits.max_output_gb, 0.0, 1e6, true);
+    setup.limits.max_memory_gb =
+        f.number_in("max_memory_gb", setup.limits.max_memory_gb, 0.0, 1e6, true);
   }
   cfg.threads = overrides.threads.value_or(0);
 
@@ -408,6 +457,9 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
                             const SimulationSetup& setup, const Simulator& sim,
                             const std::filesystem::path& out_path) {
   YAML::Node root = yaml::load_file(scene_path);
+  // `derived` is ignored on input and replaced below: dropped before any traversal, so that
+  // aliases nested in it (a "billion laughs" document) cost nothing.
+  root.remove("derived");
   // Relative `file:` entries are made absolute so the copy works from anywhere.
   const fs::path base = fs::absolute(fs::path(scene_path)).parent_path();
   std::function<void(YAML::Node)> absolutize = [&](YAML::Node n) {

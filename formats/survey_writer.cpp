@@ -22,7 +22,9 @@ xtf::SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame,
   x.pitch_rad = p.pitch_rad;
   x.roll_rad = p.roll_rad;
   x.heave_m = p.heave_m;
-  x.altitude_m = std::isfinite(p.altitude_m) && p.altitude_m > 0 ? p.altitude_m : 0.01;
+  // No seabed under the sensor (off the grid, over a hole): altitude 0, the XTF convention for
+  // "no bottom", never a made-up height.
+  x.altitude_m = std::isfinite(p.altitude_m) && p.altitude_m > 0 ? p.altitude_m : 0.0;
   x.depth_m = std::max(0.0, -p.sensor_z_m);
   x.speed_mps = p.speed_m_s;
   x.sound_speed_mps = sonar.sound_speed_m_s;

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "yaml_fields.hpp"
 
+#include <cstdint>
 #include <filesystem>
+#include <map>
 #include <sstream>
 
 namespace sonarsynth::yaml {
@@ -172,13 +174,46 @@ std::string resolve_path(const std::filesystem::path& base_dir, const std::strin
   return (p.is_absolute() ? p : base_dir / p).lexically_normal().string();
 }
 
+namespace {
+// Nodes of `n` counted as readers see them, every alias expanded; memoised per node (an alias is
+// the anchored node itself, at the anchor's position), so the count costs one visit per node
+// written in the file. Stops early past `cap`.
+std::uint64_t expanded_nodes(const YAML::Node& n, std::map<std::size_t, std::uint64_t>& memo,
+                             std::uint64_t cap) {
+  if (!n.IsMap() && !n.IsSequence()) return 1;
+  const std::size_t key = n.Mark().pos;
+  if (const auto it = memo.find(key); it != memo.end()) return it->second;
+  std::uint64_t count = 1;
+  for (const auto& kv : n) {
+    if (count > cap) break;
+    if (n.IsMap()) {
+      count += expanded_nodes(kv.first, memo, cap) + expanded_nodes(kv.second, memo, cap);
+    } else {
+      count += expanded_nodes(kv, memo, cap);
+    }
+  }
+  memo[key] = count;
+  return count;
+}
+}  // namespace
+
 YAML::Node load_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw FormatError(path + ": no such file");
   }
   try {
-    return YAML::LoadFile(path);
+    YAML::Node root = YAML::LoadFile(path);
+    // Aliases nested in aliases multiply: a few lines can stand for 10^9 nodes, which every
+    // traversal of the document would then visit.
+    constexpr std::uint64_t kMaxNodes = 1'000'000;
+    std::map<std::size_t, std::uint64_t> memo;
+    if (expanded_nodes(root, memo, kMaxNodes) > kMaxNodes) {
+      throw FormatError(path + ": the document expands to more than " + std::to_string(kMaxNodes) +
+                        " nodes through aliases (*name). Violated constraint: at most " +
+                        std::to_string(kMaxNodes) + " nodes once aliases are expanded");
+    }
+    return root;
   } catch (const YAML::Exception& e) {
     throw FormatError(path + ": malformed YAML at line " + std::to_string(e.mark.line + 1) +
                       ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg);

@@ -13,16 +13,19 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Integer grid-line indices strictly inside (a, b) visited in the direction from a to b, as s.
-// Appends s = (line - a_idx) / didx_ds for each line crossed.
-void append_crossings(double idx_start, double idx_per_s, double length_m, std::vector<double>& s) {
+// Appends s = (line - a_idx) / didx_ds for each line crossed; only lines lo..hi (those of the
+// grid's nodes: beyond them every height is NaN, and a long ray over a tiny grid would otherwise
+// cost one point per cell size along its whole length).
+void append_crossings(double idx_start, double idx_per_s, double length_m, double lo, double hi,
+                      std::vector<double>& s) {
   if (idx_per_s == 0.0) return;
   const double idx_end = idx_start + idx_per_s * length_m;
   if (idx_per_s > 0) {
-    for (double k = std::floor(idx_start) + 1.0; k < idx_end; k += 1.0) {
+    for (double k = std::max(std::floor(idx_start) + 1.0, lo); k < idx_end && k <= hi; k += 1.0) {
       s.push_back((k - idx_start) / idx_per_s);
     }
   } else {
-    for (double k = std::ceil(idx_start) - 1.0; k > idx_end; k -= 1.0) {
+    for (double k = std::min(std::ceil(idx_start) - 1.0, hi); k > idx_end && k >= lo; k -= 1.0) {
       s.push_back((k - idx_start) / idx_per_s);
     }
   }
@@ -95,8 +98,10 @@ void HeightGrid::profile(const Eigen::Vector2d& start_m, const Eigen::Vector2d& 
   sx.clear();
   sy.clear();
   s.clear();
-  append_crossings(g.col_of_x(start_m.x()), dir.x() / g.dx_m, length_m, sx);
-  append_crossings(g.row_of_y(start_m.y()), dir.y() / g.dy_m, length_m, sy);
+  append_crossings(g.col_of_x(start_m.x()), dir.x() / g.dx_m, length_m, 0.0,
+                   static_cast<double>(g.cols) - 1.0, sx);
+  append_crossings(g.row_of_y(start_m.y()), dir.y() / g.dy_m, length_m, 0.0,
+                   static_cast<double>(g.rows) - 1.0, sy);
   s.reserve(sx.size() + sy.size() + 2);
   s.push_back(0.0);
   std::merge(sx.begin(), sx.end(), sy.begin(), sy.end(), std::back_inserter(s));

@@ -499,13 +499,24 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
   out.samples.resize(n);
   const double maxv = quantizer_.max_value;
   const bool round = quantizer_.round_to_integer;
+  std::uint32_t saturated = 0, invalid = 0;
   for (std::size_t i = 0; i < n; ++i) {
     double v = scaled ? ws.accum[i] : ws.accum[i] * ws.tvg_gain[i];
-    v = std::isfinite(v) ? std::clamp(v, 0.0, maxv) : 0.0;
+    if (!std::isfinite(v)) {
+      v = 0.0;
+      ++invalid;
+    } else if (v >= maxv) {
+      v = maxv;
+      ++saturated;
+    } else if (v < 0.0) {
+      v = 0.0;
+    }
     // v >= 2^52 is an integer already.
     if (round && v < 0x1p52) v = round_nonnegative(v);
     out.samples[i] = static_cast<float>(v);
   }
+  out.saturated = saturated;
+  out.invalid = invalid;
 
   if (config_.truth) {
     out.truth_class.assign(e.truth_class.begin(), e.truth_class.end());

@@ -135,6 +135,19 @@ TEST(HeightGrid, ProfileLeavingTheGridGivesNaN) {
   EXPECT_TRUE(std::isnan(prof.back().z_m));
 }
 
+TEST(HeightGrid, AProfileCostsTheGridLinesItCrossesNotItsLengthOverCells) {
+  // 4 x 4 nodes 1 um apart and a 30 m ray across them along a row: the points are the two ends
+  // and at most the 4 column lines of the grid, not 30 m / 1 um of empty crossings.
+  const GridGeometry g = north_up(1e-6, 4);
+  const HeightGrid grid = make_grid(g, [](double, double) { return -5.0; });
+  std::vector<ProfilePoint> prof;
+  grid.profile({g.x_of_col(1.5) - 15.0, g.y_of_row(1.5)}, {1.0, 0.0}, 30.0, 1, prof);
+  EXPECT_LE(prof.size(), 6u);
+  std::size_t valid = 0;
+  for (const auto& p : prof) valid += !std::isnan(p.z_m);
+  EXPECT_GE(valid, 2u);  // at least the two inner column lines
+}
+
 TEST(HeightGrid, RejectsBadGeometry) {
   EXPECT_THROW(HeightGrid(GridGeometry{0, 0, 0.0, -1.0, 2, 2}, std::vector<float>(4)), InputError);
   EXPECT_THROW(HeightGrid(GridGeometry{0, 0, -1.0, -1.0, 2, 2}, std::vector<float>(4)), InputError);

@@ -261,7 +261,7 @@ TEST_F(XtfWriterTest, InvalidPingsAndOptionsAreRejected) {
   rejects([](SonarPing& p) { p.sensor_position = {}; }, "sensor_position");
   rejects([](SonarPing& p) { p.sensor_position.lon_rad = 4.0; }, "sensor_position");
   rejects([](SonarPing& p) { p.ship_position = Geodetic{}; }, "ship_position");
-  rejects([](SonarPing& p) { p.altitude_m = 0.0; }, "altitude_m");
+  rejects([](SonarPing& p) { p.altitude_m = -1.0; }, "altitude_m");
   rejects([](SonarPing& p) { p.slant_range_m = -1.0; }, "slant_range_m");
   rejects([](SonarPing& p) { p.sound_speed_mps = 0.0; }, "sound_speed_mps");
   rejects([](SonarPing& p) { p.port.clear(); }, "port.size()");

@@ -106,6 +106,7 @@ void print_json(const xtf::FileSummary& s, std::ostream& os) {
      << ", \"pitch_deg\": " << json_range(s.pitch_deg)
      << ", \"roll_deg\": " << json_range(s.roll_deg) << ", \"heave_m\": " << json_range(s.heave_m)
      << ", \"altitude_m\": " << json_range(s.altitude_m)
+     << ", \"pings_without_altitude\": " << s.pings_without_altitude
      << ", \"depth_m\": " << json_range(s.depth_m)
      << ", \"SoundVelocity\": " << json_range(s.sound_velocity)
      << "},\n  \"attitude_packets\": {\"heading_deg\": " << json_range(s.attitude_heading_deg)
@@ -178,7 +179,12 @@ void print_text(const xtf::FileSummary& s, std::size_t max_anomalies, std::ostre
   }
   std::uint64_t total = 0;
   for (auto c : s.anomaly_counts) total += c;
+  total += s.pings_without_altitude;
   os << "Anomalies: " << (total == 0 ? "none" : std::to_string(total)) << "\n";
+  if (s.pings_without_altitude > 0) {
+    os << "  pings_without_altitude: " << s.pings_without_altitude
+       << " (SensorPrimaryAltitude 0: no seabed under the sensor)\n";
+  }
   for (std::size_t k = 0; k < xtf::kAnomalyKindCount; ++k) {
     if (s.anomaly_counts[k] == 0) continue;
     os << "  " << xtf::anomaly_kind_name(static_cast<xtf::AnomalyKind>(k)) << ": "

@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/output_dir.hpp"
+#include "sonarsynth/formats/run_check.hpp"
 #include "sonarsynth/formats/simulation_file.hpp"
 #include "sonarsynth/formats/survey_products.hpp"
 #include "sonarsynth/formats/survey_writer.hpp"
@@ -86,7 +87,13 @@ int run_simulate(const std::vector<std::string>& args) {
 
   const double t0 = now_s();
   SimulationSetup setup = load_simulation(scene_path, ov);
+  // Check the whole run before anything is created (formats/run_check.cpp).
+  const RunPlan plan = check_simulation(
+      scene_path, setup, {!no_mosaic, !no_waterfall, !no_truth && setup.config.truth, res_m},
+      out_dir);
+  for (const auto& w : plan.warnings) std::cerr << "warning: " << w << "\n";
   OutputDirectory out(out_dir, overwrite, {scene_path});
+
   const Survey survey = setup.make_survey();
   Simulator sim(setup.scene, setup.config, setup.reference_altitude_m,
                 pilot_poses(survey, setup.scene.bathymetry));
@@ -96,8 +103,7 @@ int run_simulate(const std::vector<std::string>& args) {
   xo.sample_encoding = setup.sample_format == "u8"    ? xtf::SampleEncoding::kUint8
                        : setup.sample_format == "f32" ? xtf::SampleEncoding::kFloat32
                                                       : xtf::SampleEncoding::kUint16;
-  xo.allow_more_than_8192_samples =
-      setup.config.sonar.samples_per_channel > xtf::kMaxPortableSamples;
+  xo.allow_more_than_8192_samples = setup.allow_more_than_8192_samples;
   xo.frequency_khz = setup.config.sonar.frequency_hz / 1e3;
   xo.horizontal_beam_angle_rad = setup.config.sonar.horizontal_beam_width_rad;
   xo.tilt_angle_rad = setup.config.sonar.tilt_rad;
@@ -129,7 +135,8 @@ int run_simulate(const std::vector<std::string>& args) {
   po_opts.write_options.metadata = {{"SONARSYNTH_SCENE", setup.scene.name},
                                     {"SONARSYNTH_SEED", std::to_string(setup.config.seed)}};
   SurveyProducts products(out.file(""), setup.scene, setup.config.sonar, setup.lines, po_opts);
-  TeeSink sink({&xtf_out, &products});
+  RunStatistics stats(setup.lines.size());
+  TeeSink sink({&xtf_out, &products, &stats});
 
   ProgressBar bar(quiet, "pings");
   const double t_render = now_s();
@@ -142,6 +149,8 @@ int run_simulate(const std::vector<std::string>& args) {
   const double mosaic_s = now_s() - t_mosaic;
   write_effective_config(scene_path, ov, setup, sim, out.file("effective.yaml"));
   out.commit();
+  for (const auto& w : stats.warnings(names, setup.config.output.max_value, sim.gain_db()))
+    std::cerr << "warning: " << w << "\n";
 
   if (!quiet) {
     const double n = static_cast<double>(survey.total_pings());
@@ -160,6 +169,10 @@ int run_simulate(const std::vector<std::string>& args) {
                 << setup.config.quality.along_track_tolerance_db << " dB, " << std::setprecision(0)
                 << 1e3 * at.pilot_s << " ms)";
     }
+    std::cout << "\n  estimated before the run: " << plan.total_pings << " pings, "
+              << std::setprecision(3) << static_cast<double>(plan.output_bytes) / 1e9
+              << " GB written at most, " << static_cast<double>(plan.memory_bytes) / 1e9
+              << " GB of memory";
     std::cout << "\n  mosaic written in " << std::setprecision(2) << mosaic_s << " s\n";
     for (const auto& f : xtf_out.files()) {
       std::cout << "  " << (out.final_dir() / f.filename()).string() << "\n";
@@ -169,9 +182,13 @@ int run_simulate(const std::vector<std::string>& args) {
     }
     std::cout << "  " << (out.final_dir() / "effective.yaml").string() << "\n";
     for (const auto& note : products.notes()) std::cout << "  note: " << note << "\n";
-    if (xtf_out.clipped_samples() > 0) {
-      std::cerr << "warning: " << xtf_out.clipped_samples()
-                << " samples were clipped at the top of the sample range (lower output.gain_db)\n";
+    for (std::size_t i = 0; i < setup.lines.size(); ++i) {
+      const RunStatistics::Line& l = stats.lines()[i];
+      const double samples_n = static_cast<double>(std::max<std::uint64_t>(l.samples, 1));
+      std::cout << "  line " << names[i] << ": " << l.pings << " pings, saturated "
+                << std::setprecision(3) << 100.0 * static_cast<double>(l.saturated) / samples_n
+                << " %, non-finite " << 100.0 * static_cast<double>(l.invalid) / samples_n
+                << " %, no seabed " << l.no_seabed_pings << " pings\n";
     }
   }
   return 0;

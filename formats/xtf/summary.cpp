@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/xtf/summary.hpp"
 
+#include <cmath>
 #include <cstdio>
 
 #include "time_fields.hpp"
@@ -36,6 +37,9 @@ FileSummary summarize(Reader& reader) {
         s.roll_deg.add(h.SensorRoll);
         s.heave_m.add(h.Heave);
         s.altitude_m.add(h.SensorPrimaryAltitude);
+        if (!(std::isfinite(h.SensorPrimaryAltitude) && h.SensorPrimaryAltitude > 0.0f)) {
+          ++s.pings_without_altitude;
+        }
         s.depth_m.add(h.SensorDepth);
         s.sound_velocity.add(h.SoundVelocity);
         for (std::size_t i = 0; i < ping.channel_count; ++i) {

@@ -250,8 +250,9 @@ void Writer::validate_ping(const SonarPing& p) const {
     violated(who + "pitch_rad", num(p.pitch_rad), "|pitch_rad| <= pi/2");
   if (!(std::abs(p.roll_rad) <= kPi))
     violated(who + "roll_rad", num(p.roll_rad), "|roll_rad| <= pi");
-  if (!(p.altitude_m > 0.0 && std::isfinite(p.altitude_m))) {
-    violated(who + "altitude_m", num(p.altitude_m), "altitude_m > 0 (SensorPrimaryAltitude)");
+  if (!(p.altitude_m >= 0.0 && std::isfinite(p.altitude_m))) {
+    violated(who + "altitude_m", num(p.altitude_m),
+             "altitude_m >= 0 (SensorPrimaryAltitude; 0 = no seabed under the sensor)");
   }
   if (!(p.speed_mps >= 0.0 && std::isfinite(p.speed_mps))) {
     violated(who + "speed_mps", num(p.speed_mps), "speed_mps >= 0");

@@ -123,7 +123,9 @@ struct SimulationConfig {
 
 /// One side's output, samples ordered NEAR -> FAR.
 struct SideOutput {
-  std::vector<float> samples;  ///< output units (after TVG and quantisation)
+  std::vector<float> samples;   ///< output units (after TVG and quantisation)
+  std::uint32_t saturated = 0;  ///< samples clamped at OutputScaling::max_value
+  std::uint32_t invalid = 0;    ///< samples that overflowed to a non-finite value, written as 0
   // Truth (empty unless SimulationConfig::truth).
   std::vector<SampleClass> truth_class;
   std::vector<std::int32_t> truth_label;  ///< object id, 0 seabed, -1 none

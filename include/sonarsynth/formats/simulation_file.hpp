@@ -27,6 +27,14 @@ struct SimulationOverrides {
   std::vector<std::string> product_flags;
 };
 
+/// Bounds on the work and output of one run, checked before rendering (`limits:` in the scene
+/// file, docs/scene-format.md).
+struct RunLimits {
+  std::uint64_t max_pings = 2'000'000;
+  double max_output_gb = 50.0;  ///< XTF files and products together, 10^9 bytes
+  double max_memory_gb = 8.0;   ///< renderer workspaces and mosaic accumulators, 10^9 bytes
+};
+
 /// What `sonarsynth simulate` runs: the scene, the simulation settings and the survey.
 struct SimulationSetup {
   Scene scene;
@@ -38,6 +46,12 @@ struct SimulationSetup {
   /// The reference altitude for the global calibration (survey altitude, or depth above the
   /// mean seabed in constant-depth mode), metres.
   double reference_altitude_m = 10.0;
+  RunLimits limits;
+  /// output.allow_more_than_8192_samples: write more samples per channel than common XTF
+  /// readers accept.
+  bool allow_more_than_8192_samples = false;
+  /// Where the range came from, for messages: "sonar.range_m" or "--range".
+  std::string range_key = "sonar.range_m";
   Survey make_survey() const;
 };
 

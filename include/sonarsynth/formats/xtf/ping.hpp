@@ -24,11 +24,13 @@ struct SonarPing {
   Geodetic sensor_position{};
   /// Ship position if different from the sensor; when empty the writer stores the sensor's.
   std::optional<Geodetic> ship_position{};
-  double heading_rad = 0.0;         ///< true heading of the sensor, clockwise from north, any value
-  double pitch_rad = 0.0;           ///< + nose up
-  double roll_rad = 0.0;            ///< + starboard down
-  double heave_m = 0.0;             ///< + sensor up
-  double altitude_m = 0.0;          ///< sensor height above the seafloor, > 0
+  double heading_rad = 0.0;  ///< true heading of the sensor, clockwise from north, any value
+  double pitch_rad = 0.0;    ///< + nose up
+  double roll_rad = 0.0;     ///< + starboard down
+  double heave_m = 0.0;      ///< + sensor up
+  /// Sensor height above the seafloor, >= 0; 0 = no seabed under the sensor (no bottom pick:
+  /// written as SensorPrimaryAltitude 0, which `sonarsynth info` counts).
+  double altitude_m = 0.0;
   double depth_m = 0.0;             ///< sensor depth below the surface, + down
   double speed_mps = 0.0;           ///< sensor speed through water / over ground, >= 0
   double sound_speed_mps = 1500.0;  ///< c, full (not halved) speed of sound, > 0

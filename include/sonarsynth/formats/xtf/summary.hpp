@@ -57,6 +57,9 @@ struct FileSummary {
   // Attitude packets (type 3), degrees.
   ValueRange attitude_heading_deg, attitude_pitch_deg, attitude_roll_deg;
   std::uint64_t navigation_packets_valid = 0;
+  /// Pings whose SensorPrimaryAltitude is 0 or not finite: no seabed (no bottom pick) under the
+  /// sensor. `info` lists them with the anomalies.
+  std::uint64_t pings_without_altitude = 0;
   std::array<std::uint64_t, kAnomalyKindCount> anomaly_counts{};
   std::vector<Anomaly> anomalies;  ///< the first ReaderOptions::max_anomaly_messages
 };
