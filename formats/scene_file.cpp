@@ -254,8 +254,15 @@ struct Builder {
           std::vector<std::vector<Eigen::Vector2d>> rings;
           for (const OGRLinearRing* ring : *poly) {
             std::vector<Eigen::Vector2d> r;
-            for (const OGRPoint& pt : *ring)
+            for (const OGRPoint& pt : *ring) {
+              if (!std::isfinite(pt.getX()) || !std::isfinite(pt.getY())) {
+                throw InputError(path + " feature " + std::to_string(feature->GetFID()) +
+                                 ": a polygon vertex is not a finite coordinate (" +
+                                 std::to_string(pt.getX()) + ", " + std::to_string(pt.getY()) +
+                                 ")");
+              }
               r.push_back(scene.frame.local_from_projected({pt.getX(), pt.getY()}));
+            }
             rings.push_back(std::move(r));
           }
           add_polygon_rings(rings, m);

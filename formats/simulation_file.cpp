@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iomanip>
 #include <set>
 #include <sstream>
 
@@ -147,7 +148,8 @@ Survey SimulationSetup::make_survey() const {
 SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {
   SceneLoadOptions scene_options;
   scene_options.seed = overrides.seed;  // the seed reaches the generated bathymetry too
-  SimulationSetup setup{load_scene(path, scene_options), {}, {}, {}, {}, "u16", 10.0, {}, false, "sonar.range_m"};
+  SimulationSetup setup{
+      load_scene(path, scene_options), {}, {}, {}, {}, "u16", 10.0, {}, false, "sonar.range_m"};
   const Fields top(yaml::load_file(path), path, "");
   Scene& scene = setup.scene;
   SimulationConfig& cfg = setup.config;
@@ -189,7 +191,9 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
   // Command-line overrides: the same bounds as the scene file's keys, named by the flag.
   if (overrides.range_m) {
     if (!(*overrides.range_m > 0.0 && *overrides.range_m <= 1e5)) {
-      throw InputError("--range = " + std::to_string(*overrides.range_m) +
+      std::ostringstream v;
+      v << std::setprecision(15) << *overrides.range_m;  // "0", "1000000000", not "0.000000"
+      throw InputError("--range = " + v.str() +
                        ". Violated constraint: > 0 and <= 100000 (as sonar.range_m)");
     }
     s.max_range_m = *overrides.range_m;

@@ -247,6 +247,10 @@ TEST_F(TrustCli, MalformedYamlValuesAreNamedErrors) {
   expect_scene_error(scene("seabed:\n  polygons:\n    - {material: rock, coordinates_deg: "
                            "[[-33.851, 151.299], [null, 151.2995], [-33.8505, 151.2995]]}\n"),
                      {"bad.yaml: seabed.polygons[0].coordinates_deg[1][0] = null"});
+  expect_scene_error(
+      scene("seabed:\n  polygons:\n    - {material: rock, coordinates_deg: "
+            "[[-33.851, 151.299], [-33.852, .nan], [-33.8505, 151.2995]]}\n"),
+      {"bad.yaml: seabed.polygons[0].coordinates_deg[1][1] = '.nan'", "a finite number"});
   write("far.geojson",
         R"({"type": "FeatureCollection", "features": [{"type": "Feature", "properties":)"
         R"( {"name": "far"}, "geometry": {"type": "LineString", "coordinates":)"
@@ -291,9 +295,9 @@ TEST_F(TrustCli, LayerAttributesUncheckedSectionsAndBathyGridsFailByName) {
 
 // Command-line overrides are named by their flag, not blamed on the scene file.
 TEST_F(TrustCli, OverrideErrorsNameTheFlag) {
-  expect_scene_error(scene(), {"--range (overriding sonar.range_m of ", "max_range_m"},
+  expect_scene_error(scene(), {"--range = 0. Violated constraint: > 0", "sonar.range_m"},
                      "--range=0");
-  expect_scene_error(scene(), {"--samples (overriding sonar.samples of ", "samples_per_channel"},
+  expect_scene_error(scene(), {"--samples = 0. Violated constraint: >= 1", "sonar.samples"},
                      "--samples 0");
   expect_scene_error(scene(), {"--seed = '-1'. Violated constraint: an integer from 0"},
                      "--seed=-1");
