@@ -249,8 +249,8 @@ GRID_HALF = 40.0
 NUMERIC_RULES = {
     # key: predicate (parent-specific keys are written "parent.key")
     "seed": lambda x: None if x == int(x) else False,
-    "lat_deg": rng_(-90, 90),
-    "lon_deg": rng_(-180, 180),
+    "lat_deg": lambda x: (True if x != 0 else None) if -90 <= x <= 90 else False,  # 0 = "no fix" in XTF
+    "lon_deg": lambda x: (True if x != 0 else None) if -180 <= x <= 180 else False,
     "size_m": lambda x: None if 1 <= x <= 5000 else False,       # grid extent (bathymetry)
     "cell_m": lambda x: None if 0.01 <= x <= 10 else False,
     "generate.depth_m": lambda x: None if 7 <= x <= 1000 else False,  # fish altitude is 6 m
@@ -520,7 +520,7 @@ def strict_json(s):
     return json.loads(s, parse_constant=reject)
 
 
-def check_xtf(h, xtf, cwd, allow_dark=False):
+def check_xtf(h, xtf, cwd, allow_dark=False, want_altitude=None):
     """Problems (strings) with an XTF file that a run reported as written successfully."""
     problems = []
     r = run([h.cli, "info", xtf, "--json"], cwd, h.timeout, h.mem_mb)
@@ -553,11 +553,17 @@ def check_xtf(h, xtf, cwd, allow_dark=False):
         problems.append("altitude not finite: %r..%r" % (amin, amax))
     elif amin <= 0 or not (amax <= max_range):
         problems.append("altitude %g..%g outside (0, range %g]" % (amin, amax, max_range))
+    elif want_altitude and (abs(amin - want_altitude) > max(1.0, 0.25 * want_altitude) or
+                            abs(amax - want_altitude) > max(1.0, 0.25 * want_altitude)):
+        problems.append("altitude %g..%g m, the scene asks for %g m (terrain following)"
+                        % (amin, amax, want_altitude))
     dep = att.get("depth_m") or {}
     for k in ("min", "max"):
         v = dep.get(k)
         if not isinstance(v, (int, float)) or not math.isfinite(v) or abs(v) > MAX_DEPTH_M:
             problems.append("depth.%s = %r" % (k, v))
+        elif v < -0.5:
+            problems.append("depth.%s = %g: the fish is above the sea surface" % (k, v))
     if not (isinstance(max_range, (int, float)) and math.isfinite(max_range) and max_range > 0):
         problems.append("slant range %r" % max_range)
     for c in info.get("channels", []):
@@ -964,8 +970,8 @@ def gen_yaml(h, rng):
                              ("bathymetry", "generate"), ("bathymetry", "generate", "centre"),
                              ("bathymetry", "generate", "size_m"), ("bathymetry", "generate", "cell_m"),
                              ("survey", "lines", 0, "waypoints"), ("sonar", "vertical_beam", "shape"),
-                             ("sonar", "pulse", "type")) or k in ("type", "lat_deg", "lon_deg",
-                                                                    "east_m", "north_m")
+                             ("sonar", "pulse", "type")) or k in ("type", "lat_deg", "lon_deg") or (
+                k in ("east_m", "north_m") and "components" not in p)
             C("delete %s" % path_str(p), s, "invalid" if required else "either",
               needles=[str(k)])
     # unknown keys at every mapping level
@@ -1157,8 +1163,11 @@ def gen_raster(h, rng):
                 with open(os.path.join(w, "grid.prj"), "w") as f:
                     f.write(utm31)
             if tif and shutil.which("gdal_translate"):
-                subprocess.run(["gdal_translate", "-q", "-ot", "Float32", name,
-                                os.path.join(w, "grid.tif")], check=False)
+                g = subprocess.run(["gdal_translate", "-q", "-ot", "Float32", name,
+                                    os.path.join(w, "grid.tif")], stdout=subprocess.PIPE,
+                                   stderr=subprocess.PIPE)
+                if g.returncode != 0:  # the case cannot be built: unclassified, never "ok"
+                    raise RuntimeError("gdal_translate failed: " + text(g.stderr, 200))
                 for ext in ("asc", "prj"):
                     p = os.path.join(w, "grid." + ext)
                     if os.path.exists(p):
@@ -1377,7 +1386,9 @@ class Harness:
         self.cache = os.path.join(self.root, "cache")
         os.mkdir(self.cache)
         with open(self.cli, "rb") as f:
-            asan = b"__asan_init" in f.read()
+            blob = f.read()
+        asan = b"__asan_init" in blob
+        self.cli_sha256 = hashlib.sha256(blob).hexdigest()
         self.mem_mb = 0 if asan else args.mem_mb
         self.root_ignores_chmod = self._probe_chmod()
 
@@ -1523,8 +1534,8 @@ class Harness:
             if not err.strip():
                 issues.append(("clean_error", "generic: empty stderr"))
                 return
-            low = err.lower()
-            hit = [n for n in case.needles if n and n.lower() in low]
+            low = err.lower().replace("-", "_")
+            hit = [n for n in needle_variants(case.needles) if n.lower().replace("-", "_") in low]
             if hit:
                 issues.append(("clean_error", "names %r" % hit[0]))
             else:
@@ -1562,8 +1573,9 @@ class Harness:
                 for line in want:
                     if line + ".xtf" not in names:
                         problems.append("line %r has no .xtf" % line)
+                want_alt = self.requested_altitude(work, case)
                 for x in xtfs[:3]:
-                    problems += check_xtf(self, os.path.join(p, x), work, case.allow_dark)
+                    problems += check_xtf(self, os.path.join(p, x), work, case.allow_dark, want_alt)
                 if "--no-mosaic" not in case.argv and "mosaic.tif" in names:
                     problems += check_raster(os.path.join(p, "mosaic.tif"))
             elif case.argv[1] in ("waterfall", "mosaic", "bathy"):
@@ -1575,14 +1587,31 @@ class Harness:
                     problems += check_raster(p)
         return problems
 
+    def requested_altitude(self, work, case):
+        """survey.altitude_m of the scene when the run follows the terrain, else None."""
+        scene = case.argv[2] if len(case.argv) > 2 else "scene.yaml"
+        try:
+            with open(os.path.join(work, scene), encoding="utf-8") as f:
+                t = f.read()
+        except (OSError, UnicodeDecodeError):
+            return None
+        m = re.findall(r"^  altitude_m: ([-+0-9.eE]+)\s*$", t, re.M)
+        if len(m) != 1 or re.search(r"^  depth_m:", t, re.M):
+            return None
+        try:
+            v = float(m[0])
+        except ValueError:
+            return None
+        return v if math.isfinite(v) and v > 0 else None
+
     def expected_lines(self, case, work):
         try:
             with open(os.path.join(work, "scene.yaml"), encoding="utf-8") as f:
                 t = f.read()
         except (OSError, UnicodeDecodeError):
             return []
-        return [m for m in re.findall(r'^\s*- name: "([A-Za-z0-9_]+)"\s*$', t, re.M)
-                if m not in ("adv", "shell")][:5]
+        # survey lines are the only "- name:" items at four spaces (materials are at two)
+        return re.findall(r'^    - name: "([A-Za-z0-9_]+)"\s*$', t, re.M)[:5]
 
     def check_files(self, case, box, work, before, after, r, issues, interrupted=False):
         """Pre-existing files changed or lost, visible leftovers of failed runs, temporaries."""
@@ -1666,6 +1695,21 @@ class Harness:
                          % ("finished before" if finished_first else "interrupted by",
                             signal.Signals(sig).name, r.rc)))
         return r, post
+
+
+def needle_variants(needles):
+    """The needles plus other spellings of numbers (1e308 -> 1e+308)."""
+    out = []
+    for n in needles:
+        if not n:
+            continue
+        out.append(n)
+        try:
+            x = float(n)
+            out += ["%g" % x, repr(x)]
+        except ValueError:
+            pass
+    return out
 
 
 def argv_outputs(case):
@@ -1788,10 +1832,11 @@ def main():
                 shutil.rmtree(box, ignore_errors=True)
         table = summary_table(records)
         print("\n## sonarsynth adversarial campaign\n")
-        print("cli `%s`, %d cases (of %d generated), seed %d, timeout %g s, %.0f s\n"
-              % (args.cli, len(records), universe, args.seed, args.timeout, time.time() - t0))
+        print("cli `%s` (sha256 %s), %d cases (of %d generated), seed %d, timeout %g s, %.0f s\n"
+              % (args.cli, h.cli_sha256[:12], len(records), universe, args.seed, args.timeout,
+                 time.time() - t0))
         print(table)
-        report = {"cli": args.cli, "seed": args.seed, "cases": len(records), "generated": universe,
+        report = {"cli": args.cli, "cli_sha256": h.cli_sha256, "seed": args.seed, "cases": len(records), "generated": universe,
                   "timeout": args.timeout, "seconds": round(time.time() - t0, 1),
                   "summary_markdown": table, "records": records}
         with open(args.out, "w") as f:
