@@ -1153,21 +1153,35 @@ def gen_raster(h, rng):
 
     def asc(desc, ncols, nrows, cell, values, expect, prj=True, nodata=None, xll=None, yll=None,
             tif=False, needles=("bathy",)):
+        # GDAL's ASCII grid reader refuses "inf"/"nan" tokens; for the GeoTIFF variant they are
+        # written as sentinels, converted uncompressed, and the sentinel float32 bytes patched.
+        sentinels = {"inf": (12345.0, float("inf")), "nan": (12346.0, float("nan")),
+                     "-inf": (12347.0, float("-inf"))}
+
         def make(h, w):
             os.remove(os.path.join(w, "bathy.tif"))
             name = os.path.join(w, "grid.asc")
+            vals = values
+            if tif:
+                vals = lambda r, c: (lambda v: "%g" % sentinels[v][0] if v in sentinels else v)(values(r, c))
             with open(name, "w") as f:
                 f.write(asc_grid(ncols, nrows, cell, x0 if xll is None else xll,
-                                 (y0 - nrows * cell) if yll is None else yll, values, nodata))
+                                 (y0 - nrows * cell) if yll is None else yll, vals, nodata))
             if prj:
                 with open(os.path.join(w, "grid.prj"), "w") as f:
                     f.write(utm31)
             if tif and shutil.which("gdal_translate"):
-                g = subprocess.run(["gdal_translate", "-q", "-ot", "Float32", name,
-                                    os.path.join(w, "grid.tif")], stdout=subprocess.PIPE,
+                g = subprocess.run(["gdal_translate", "-q", "-ot", "Float32", "-co", "COMPRESS=NONE",
+                                    name, os.path.join(w, "grid.tif")], stdout=subprocess.PIPE,
                                    stderr=subprocess.PIPE)
                 if g.returncode != 0:  # the case cannot be built: unclassified, never "ok"
                     raise RuntimeError("gdal_translate failed: " + text(g.stderr, 200))
+                with open(os.path.join(w, "grid.tif"), "rb") as f:
+                    blob = f.read()
+                for sentinel, value in sentinels.values():
+                    blob = blob.replace(struct.pack("<f", sentinel), struct.pack("<f", value))
+                with open(os.path.join(w, "grid.tif"), "wb") as f:
+                    f.write(blob)
                 for ext in ("asc", "prj"):
                     p = os.path.join(w, "grid." + ext)
                     if os.path.exists(p):
