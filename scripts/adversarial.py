@@ -667,6 +667,8 @@ def flag_expect(flag, value):
     }
     if value.strip() != value or value.endswith("abc"):
         return "invalid"
+    if flag in ("--seed", "--samples", "--threads", "--max-anomalies") and re.search(r"[.eE]", value):
+        return "either" if x == int(x) and x >= 0 else "invalid"   # 1e9: an integer in float spelling
     return table.get(flag, lambda x: "either")(x)
 
 
@@ -816,7 +818,7 @@ def gen_cli(h, rng):
     def bathy_argv(over=None, drop=None, extra=()):
         d = dict(base)
         d.update(over or {})
-        argv = ["{CLI}", "bathy", "-o", "g.tif", "-q", "--threads", "1"]
+        argv = ["{CLI}", "bathy", "-o", "g.tif", "-q"] + ([] if "--threads" in extra else ["--threads", "1"])
         for k, v in d.items():
             if k != drop:
                 argv += [k, v]
