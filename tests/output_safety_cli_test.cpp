@@ -166,6 +166,19 @@ TEST_F(OutputSafetyCli, AProductIsNeverWrittenOverItsInput) {
   }
 }
 
+TEST_F(OutputSafetyCli, APathTheSystemRefusesIsANamedErrorNotAnInternalOne) {
+  const fs::path golden = fs::path(SONARSYNTH_TEST_DATA_DIR) / "xtf" / "golden-tiny.xtf";
+  const std::string long_name = std::string(300, 'w') + ".png";
+  const auto before = snapshot(root_);
+  const test::CliResult r =
+      cli(root_ / "work", "waterfall " + golden.string() + " -q -o " + long_name);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("File name too long"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(long_name), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+  EXPECT_EQ(snapshot(root_), before);
+}
+
 TEST_F(OutputSafetyCli, ThreadCountIsValidated) {
   const fs::path work = root_ / "work";
   const auto before = snapshot(root_);

@@ -2,6 +2,7 @@
 // sonarsynth: synthetic side-scan sonar survey data. `sonarsynth --help` lists the subcommands.
 #include <boost/program_options/errors.hpp>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -69,6 +70,12 @@ int main(int argc, char** argv) {
       return 2;
     } catch (const sonarsynth::Error& e) {
       std::cerr << "sonarsynth " << name << ": error: " << e.what() << "\n";
+      return 1;
+    } catch (const std::filesystem::filesystem_error& e) {
+      // A path the user gave that the system refuses (name too long, permission denied, ...).
+      std::cerr << "sonarsynth " << name << ": error: " << e.code().message() << ": "
+                << e.path1().string() << (e.path2().empty() ? "" : " -> " + e.path2().string())
+                << "\n";
       return 1;
     } catch (const std::exception& e) {
       std::cerr << "sonarsynth " << name << ": internal error: " << e.what() << "\n";
