@@ -79,8 +79,9 @@ void require(bool ok, const std::string& what) {
 }
 
 std::string num(double v) {
-  std::string s = std::to_string(v);
-  return s;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);  // "0.5", not "0.500000"
+  return buf;
 }
 
 // Adds one component along a row of nodes (x = x0 + c dx, fixed y) into acc.
@@ -150,6 +151,10 @@ struct RowAdder {
   }
 };
 
+// Largest depth or relief a generator accepts, metres: deeper than the deepest ocean (10,935 m)
+// and higher than any seamount above its base; beyond it a value is a typo, not a seabed.
+constexpr double kMaxReliefM = 11000.0;
+
 struct Validator {
   std::size_t index;
   std::string at() const { return "component " + std::to_string(index) + ": "; }
@@ -163,17 +168,18 @@ struct Validator {
     require(std::isfinite(r.wavelength_m) && r.wavelength_m > 0.0,
             at() + "ripples wavelength_m = " + num(r.wavelength_m) +
                 ". Violated constraint: wavelength_m > 0");
-    require(std::isfinite(r.amplitude_m) && r.amplitude_m >= 0.0,
+    require(std::isfinite(r.amplitude_m) && r.amplitude_m >= 0.0 && r.amplitude_m <= kMaxReliefM,
             at() + "ripples amplitude_m = " + num(r.amplitude_m) +
-                ". Violated constraint: amplitude_m >= 0");
+                ". Violated constraint: 0 <= amplitude_m <= " + num(kMaxReliefM));
     require(r.asymmetry >= 0.0 && r.asymmetry < 1.0,
             at() + "ripples asymmetry = " + num(r.asymmetry) +
                 ". Violated constraint: 0 <= asymmetry < 1");
     require(std::isfinite(r.crest_azimuth_rad), at() + "ripples crest azimuth is not finite");
   }
   void operator()(const bathy::Fbm& f) const {
-    require(std::isfinite(f.rms_m) && f.rms_m >= 0.0,
-            at() + "fbm rms_m = " + num(f.rms_m) + ". Violated constraint: rms_m >= 0");
+    require(std::isfinite(f.rms_m) && f.rms_m >= 0.0 && f.rms_m <= kMaxReliefM,
+            at() + "fbm rms_m = " + num(f.rms_m) +
+                ". Violated constraint: 0 <= rms_m <= " + num(kMaxReliefM));
     require(std::isfinite(f.base_wavelength_m) && f.base_wavelength_m > 0.0,
             at() + "fbm base_wavelength_m = " + num(f.base_wavelength_m) +
                 ". Violated constraint: base_wavelength_m > 0");
@@ -189,6 +195,9 @@ struct Validator {
         at() + "seamount radius_m = " + num(m.radius_m) + ". Violated constraint: radius_m > 0");
     require(std::isfinite(m.height_m) && std::isfinite(m.centre_x_m) && std::isfinite(m.centre_y_m),
             at() + "seamount height or centre is not finite");
+    require(std::abs(m.height_m) <= kMaxReliefM,
+            at() + "seamount height_m = " + num(m.height_m) +
+                ". Violated constraint: |height_m| <= " + num(kMaxReliefM));
   }
   void operator()(const bathy::Scarp& s) const {
     require(std::isfinite(s.width_m) && s.width_m > 0.0,
@@ -196,6 +205,9 @@ struct Validator {
     require(std::isfinite(s.height_m) && std::isfinite(s.x_m) && std::isfinite(s.y_m) &&
                 std::isfinite(s.azimuth_rad),
             at() + "scarp height, position or azimuth is not finite");
+    require(std::abs(s.height_m) <= kMaxReliefM,
+            at() + "scarp height_m = " + num(s.height_m) +
+                ". Violated constraint: |height_m| <= " + num(kMaxReliefM));
   }
 };
 
@@ -216,10 +228,21 @@ double gradient_noise(double u, double v, std::uint64_t seed, std::uint64_t octa
 }
 
 void BathyGenSpec::validate() const {
-  require(std::isfinite(depth_m) && depth_m > 0.0,
-          "depth_m = " + num(depth_m) + ". Violated constraint: depth_m > 0");
+  require(std::isfinite(depth_m) && depth_m > 0.0 && depth_m <= kMaxReliefM,
+          "depth_m = " + num(depth_m) +
+              ". Violated constraint: 0 < depth_m <= " + num(kMaxReliefM) + " (the deepest ocean)");
   geometry.validate("bathymetry generator");
   for (std::size_t i = 0; i < components.size(); ++i) std::visit(Validator{i}, components[i]);
+  // Features finer than the grid alias into noise: a ripple needs two cells per wavelength.
+  const double cell_m = std::max(std::abs(geometry.dx_m), std::abs(geometry.dy_m));
+  for (std::size_t i = 0; i < components.size(); ++i) {
+    if (const auto* r = std::get_if<bathy::Ripples>(&components[i])) {
+      require(r->wavelength_m >= 2.0 * cell_m,
+              "component " + std::to_string(i) + ": ripples wavelength_m = " +
+                  num(r->wavelength_m) + ". Violated constraint: wavelength_m >= 2 cells (" +
+                  num(2.0 * cell_m) + " m), or the grid cannot represent the ripples");
+    }
+  }
 }
 
 GridGeometry BathyGenSpec::centred_geometry(double centre_x_m, double centre_y_m, double width_m,

@@ -275,5 +275,28 @@ TEST(BathyGen, ValidationNamesTheViolatedConstraint) {
   EXPECT_THROW(BathyGenSpec::centred_geometry(0, 0, 1, 10, 1.0), InputError);  // 1 column
 }
 
+TEST(BathyGen, ValuesBeyondAnyOceanOrFinerThanTheGridAreRefused) {
+  BathyGenSpec s = base_spec();  // 0.5 m cells
+  s.depth_m = 1e9;
+  EXPECT_NE(error_of([&] {
+              s.validate();
+            }).find("depth_m = 1000000000. Violated constraint: 0 < depth_m <= 11000"),
+            std::string::npos);
+  s.depth_m = 11000.0;
+  EXPECT_NO_THROW(s.validate());
+  s = base_spec();
+  s.components.push_back(bathy::Seamount{0.0, 0.0, 1e9, 5.0});
+  EXPECT_NE(error_of([&] { s.validate(); }).find("seamount height_m = 1000000000. Violated"),
+            std::string::npos);
+  s = base_spec();
+  bathy::Ripples r;
+  r.wavelength_m = 0.99;  // under two 0.5 m cells: would alias into noise
+  s.components.push_back(r);
+  EXPECT_NE(error_of([&] { s.validate(); }).find("wavelength_m >= 2 cells (1 m)"),
+            std::string::npos);
+  std::get<bathy::Ripples>(s.components[0]).wavelength_m = 1.0;
+  EXPECT_NO_THROW(s.validate());
+}
+
 }  // namespace
 }  // namespace sonarsynth
