@@ -57,7 +57,7 @@ std::vector<double> parse_numbers(const std::string& option, const std::string& 
 int run_bathy(const std::vector<std::string>& args) {
   po::options_description opts("options");
   std::string output, size;
-  double lat_deg = 0, lon_deg = 0, cell_m = 0, depth_m = 20.0;
+  double lat_deg = 0, lon_deg = 0, cell_m = 0, depth_m = BathyGenSpec{}.depth_m;
   std::string seed_text = "0";
   long long threads = 0;
   std::vector<std::string> slopes, ripples, fbms, seamounts, scarps, co;
@@ -68,7 +68,7 @@ int run_bathy(const std::vector<std::string>& args) {
     ("lon", po::value(&lon_deg)->required(), "longitude of the grid centre, degrees [-180, 360]")
     ("size", po::value(&size)->required(), "grid extent WxH, metres east x north, e.g. 200x100")
     ("cell", po::value(&cell_m)->required(), "cell size, metres, > 0")
-    ("depth", po::value(&depth_m)->default_value(20.0), "base water depth, metres, (0, 12000]")
+    ("depth", po::value(&depth_m)->default_value(depth_m), "base water depth, metres, (0, 12000]")
     ("slope", po::value(&slopes)->composing(),
      "plane: DEG[,AZ] dip in degrees [0, 89] towards grid azimuth AZ (default 0 = north)")
     ("ripples", po::value(&ripples)->composing(),
