@@ -61,7 +61,7 @@ std::uint64_t seed_of(const SimulationSetup& s);
 /// Reads `o` from the map `f` (its section) into `s` if the key is given; otherwise leaves the
 /// struct's default. Throws InputError naming the file, key path and value.
 void read(const yaml::Fields& f, const Option& o, SimulationSetup& s);
-/// Reads every option of `f`'s section listed in `keys`.
+/// Reads every declared option of `section` (the section `f` is) in declaration order.
 void read_all(const yaml::Fields& f, std::string_view section, SimulationSetup& s);
 
 /// The value of `o` in `s` as effective.yaml writes it.

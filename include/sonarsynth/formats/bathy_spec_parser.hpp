@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The bathymetry generators as both `sonarsynth bathy` and scene files
 // (`bathymetry.generate`) read them: one declaration per parameter (scene-file key, name on the
-// command line, bounds), one builder. docs/scene-format.md, "Generated bathymetry".
+// command line, bounds), one builder. docs/scene-format.md, section `bathymetry`.
 #pragma once
 
 #include <cstddef>
@@ -75,8 +75,8 @@ struct GeneratorInput {
 };
 
 /// Reports a value that violates its parameter's bounds: `component` is the index into
-/// GeneratorInput::components (std::nullopt for a grid-level number), `key` the parameter's
-/// scene-file key. Must throw.
+/// GeneratorInput::components (std::nullopt for a grid-level number), `param` the declaration
+/// whose bounds it violates, `constraint` those bounds as a scene file names them. Must throw.
 using Reporter = std::function<void(std::optional<std::size_t> component, const Param& param,
                                     const std::string& constraint)>;
 
