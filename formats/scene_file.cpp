@@ -14,6 +14,7 @@
 
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/bathy_spec_parser.hpp"
 #include "sonarsynth/formats/gdal_grid.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
 #include "yaml_fields.hpp"
@@ -406,52 +407,25 @@ struct Builder {
   }
 };
 
-bathy::Component parse_component(const Fields& c) {
+// A generator component: its keys and bounds are those of formats/bathy_spec_parser.cpp, shared
+// with `sonarsynth bathy`.
+bathy_spec::ComponentInput read_component(const Fields& c) {
   const std::string type = c.text("type");
-  if (type == "plane") {
-    c.only({"type", "slope_deg", "downslope_azimuth_deg"});
-    return bathy::Plane::from_dip(rad_from_deg(c.number_in("slope_deg", 0.0, 0.0, 89.0)),
-                                  rad_from_deg(c.number("downslope_azimuth_deg", 90.0)));
-  }
-  if (type == "ripples") {
-    c.only({"type", "wavelength_m", "amplitude_m", "crest_azimuth_deg", "asymmetry"});
-    bathy::Ripples r;
-    r.wavelength_m = c.number_in("wavelength_m", r.wavelength_m, 0.0, 1e6, true);
-    r.amplitude_m = c.number_in("amplitude_m", r.amplitude_m, 0.0, 1e3);
-    r.crest_azimuth_rad = rad_from_deg(c.number("crest_azimuth_deg", 0.0));
-    r.asymmetry = c.number_in("asymmetry", 0.0, 0.0, 0.95);
-    return r;
+  bathy_spec::ComponentInput in;
+  in.decl = bathy_spec::find_component(type);
+  if (!in.decl) c.fail_value("type", bathy_spec::component_types_constraint());
+  std::set<std::string> keys{"type"};
+  for (const bathy_spec::Param& p : in.decl->params) {
+    const std::string key(p.key);
+    keys.insert(key);
+    in.values.push_back(c.given(key) ? std::optional<double>(c.number(key)) : std::nullopt);
   }
   if (type == "fbm") {
-    c.only({"type", "rms_m", "wavelength_m", "octaves", "persistence", "seed_offset"});
-    bathy::Fbm f;
-    f.rms_m = c.number_in("rms_m", f.rms_m, 0.0, 1e3);
-    f.base_wavelength_m = c.number_in("wavelength_m", f.base_wavelength_m, 0.0, 1e6, true);
-    f.octaves = static_cast<int>(c.number_in("octaves", f.octaves, 1, 24));
-    f.persistence = c.number_in("persistence", f.persistence, 0.0, 1.0, true);
-    f.seed_offset = c.seed("seed_offset", 0);
-    return f;
+    keys.insert("seed_offset");
+    if (c.given("seed_offset")) in.seed_offset = c.seed("seed_offset", 0);
   }
-  if (type == "seamount") {
-    c.only({"type", "east_m", "north_m", "height_m", "radius_m"});
-    bathy::Seamount s;
-    s.centre_x_m = c.number("east_m", 0.0);
-    s.centre_y_m = c.number("north_m", 0.0);
-    s.height_m = c.number("height_m", s.height_m);
-    s.radius_m = c.number_in("radius_m", s.radius_m, 0.0, 1e6, true);
-    return s;
-  }
-  if (type == "scarp") {
-    c.only({"type", "east_m", "north_m", "azimuth_deg", "height_m", "width_m"});
-    bathy::Scarp s;
-    s.x_m = c.number("east_m", 0.0);
-    s.y_m = c.number("north_m", 0.0);
-    s.azimuth_rad = rad_from_deg(c.number("azimuth_deg", 0.0));
-    s.height_m = c.number("height_m", s.height_m);
-    s.width_m = c.number_in("width_m", s.width_m, 0.0, 1e6, true);
-    return s;
-  }
-  c.fail_value("type", "one of plane, ripples, fbm, seamount, scarp");
+  c.only(keys);
+  return in;
 }
 
 }  // namespace
@@ -485,39 +459,30 @@ Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
     g.only({"centre", "size_m", "cell_m", "depth_m", "seed", "components"});
     const Fields c = g.child("centre");
     c.only({"lat_deg", "lon_deg"});
-    const Geodetic centre{rad_from_deg(c.number_in("lat_deg", 0.0, -90.0, 90.0)),
-                          rad_from_deg(c.number_in("lon_deg", 0.0, -180.0, 360.0)), 0.0};
-    built.emplace(GeoFrame::around(centre));
-    const Eigen::Vector2d xy = built->frame.local_from_geodetic(centre);
+    bathy_spec::GeneratorInput in;
+    in.lat_deg = c.number("lat_deg", 0.0);
+    in.lon_deg = c.number("lon_deg", 0.0);
     const auto size = g.numbers("size_m", 2);
-    BathyGenSpec spec;
+    in.width_m = size[0];
+    in.height_m = size[1];
+    in.cell_m = g.number("cell_m", 0.0);
+    in.depth_m = g.number("depth_m", in.depth_m);
+    in.seed = g.seed("seed", options.seed.value_or(top.seed("seed", 1)));
+    in.num_threads = options.num_threads;
+    const std::vector<Fields> comps = g.sequence("components");
+    for (const Fields& comp : comps) in.components.push_back(read_component(comp));
+    const auto fail = [&](std::optional<std::size_t> i, const bathy_spec::Param& p,
+                          const std::string& constraint) {
+      const std::string key(p.key);
+      const Fields& where = i ? comps[*i] : (key == "lat_deg" || key == "lon_deg" ? c : g);
+      where.fail_value(key, constraint);
+    };
     try {
-      spec.geometry = BathyGenSpec::centred_geometry(xy.x(), xy.y(), size[0], size[1],
-                                                     g.number_in("cell_m", 0.0, 0.0, 1e5, true));
+      bathy_spec::Generated gen = bathy_spec::build(in, fail);
+      built.emplace(gen.frame);
+      built->bathymetry = generate_bathymetry(gen.spec);
     } catch (const InputError& e) {
-      g.fail("", e.what());
-    }
-    spec.depth_m = g.number_in("depth_m", spec.depth_m, 0.0, 12000.0, true);
-    spec.seed = g.seed("seed", options.seed.value_or(top.seed("seed", 1)));
-    spec.num_threads = options.num_threads;
-    for (const Fields& comp : g.sequence("components")) {
-      bathy::Component cc = parse_component(comp);
-      // Positions of seamounts and scarps are metres from the grid centre.
-      if (auto* s = std::get_if<bathy::Seamount>(&cc)) {
-        s->centre_x_m += xy.x();
-        s->centre_y_m += xy.y();
-      } else if (auto* sc = std::get_if<bathy::Scarp>(&cc)) {
-        sc->x_m += xy.x();
-        sc->y_m += xy.y();
-      } else if (auto* pl = std::get_if<bathy::Plane>(&cc)) {
-        pl->ref_x_m = xy.x();
-        pl->ref_y_m = xy.y();
-      }
-      spec.components.push_back(cc);
-    }
-    try {
-      built->bathymetry = generate_bathymetry(spec);
-    } catch (const InputError& e) {
+      if (std::string(e.what()).rfind(path + ":", 0) == 0) throw;
       g.fail("", e.what());
     }
   }

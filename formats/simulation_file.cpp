@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 
+#include "option_table.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
 #include "sonarsynth/formats/scene_file.hpp"
@@ -56,47 +57,64 @@ Eigen::Vector2d position(const Scene& scene, const Eigen::Vector2d& centre, cons
   return xy;
 }
 
-VerticalBeamPattern parse_beam(const Fields& b) {
-  VerticalBeamPattern v;
-  const std::string shape = b.text("shape", "gaussian");
-  if (shape == "uniform") {
-    b.only({"shape"});
-    v.shape = VerticalBeamShape::uniform;
-  } else if (shape == "gaussian") {
-    b.only({"shape", "width_deg"});
-    v.shape = VerticalBeamShape::gaussian;
-    v.width_3db_rad = rad_from_deg(b.number_in("width_deg", 50.0, 0.0, 180.0, true));
-  } else if (shape == "paper") {
-    b.only({"shape", "upper_half_width_deg", "lower_half_width_deg"});
-    v.shape = VerticalBeamShape::paper_sine_pair;
-    v.upper_half_width_rad =
-        rad_from_deg(b.number_in("upper_half_width_deg", 25.0, 0.0, 180.0, true));
-    v.lower_half_width_rad =
-        rad_from_deg(b.number_in("lower_half_width_deg", 25.0, 0.0, 180.0, true));
-  } else if (shape == "sinc") {
-    b.only({"shape", "height_over_wavelength"});
-    v.shape = VerticalBeamShape::sinc;
-    v.height_over_wavelength = b.number_in("height_over_wavelength", 1.0, 0.0, 1e4, true);
-  } else if (shape == "table") {
-    b.only({"shape", "off_axis_deg", "gain_db"});
-    v.shape = VerticalBeamShape::table;
-    const YAML::Node a = b.node()["off_axis_deg"], g = b.node()["gain_db"];
-    if (!a.IsSequence() || !g.IsSequence() || a.size() != g.size() || a.size() < 2) {
-      b.fail("off_axis_deg", "off_axis_deg and gain_db must be lists of equal length >= 2");
+// Keys of one section: its declared options (formats/option_table.cpp) and `extra` sub-sections.
+std::set<std::string> keys_of(std::string_view section, std::set<std::string> extra = {}) {
+  for (const options::Option* o : options::in_section(section)) extra.insert(std::string(o->key));
+  return extra;
+}
+
+// sonar.vertical_beam: the keys of its shape only; a beam given without `shape` is gaussian.
+void read_beam(const Fields& b, SimulationSetup& setup) {
+  VerticalBeamPattern& v = setup.config.sonar.vertical_beam;
+  v = VerticalBeamPattern{};
+  v.shape = SonarConfig::default_vertical_beam().shape;
+  options::read(b, options::at("sonar.vertical_beam.shape"), setup);
+  switch (v.shape) {
+    case VerticalBeamShape::uniform:
+      b.only({"shape"});
+      break;
+    case VerticalBeamShape::gaussian:
+      b.only({"shape", "width_deg"});
+      options::read(b, options::at("sonar.vertical_beam.width_deg"), setup);
+      break;
+    case VerticalBeamShape::paper_sine_pair:
+      b.only({"shape", "upper_half_width_deg", "lower_half_width_deg"});
+      options::read(b, options::at("sonar.vertical_beam.upper_half_width_deg"), setup);
+      options::read(b, options::at("sonar.vertical_beam.lower_half_width_deg"), setup);
+      break;
+    case VerticalBeamShape::sinc:
+      b.only({"shape", "height_over_wavelength"});
+      options::read(b, options::at("sonar.vertical_beam.height_over_wavelength"), setup);
+      break;
+    case VerticalBeamShape::table: {
+      b.only({"shape", "off_axis_deg", "gain_db"});
+      const YAML::Node a = b.node()["off_axis_deg"], g = b.node()["gain_db"];
+      if (!a.IsSequence() || !g.IsSequence() || a.size() != g.size() || a.size() < 2) {
+        b.fail("off_axis_deg", "off_axis_deg and gain_db must be lists of equal length >= 2");
+      }
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        v.table_off_axis_rad.push_back(rad_from_deg(b.element_number("off_axis_deg", a[i], i)));
+        v.table_gain_db.push_back(b.element_number("gain_db", g[i], i));
+      }
+      break;
     }
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      v.table_off_axis_rad.push_back(rad_from_deg(b.element_number("off_axis_deg", a[i], i)));
-      v.table_gain_db.push_back(b.element_number("gain_db", g[i], i));
-    }
-  } else {
-    b.fail_value("shape", "one of gaussian, paper, sinc, table, uniform");
   }
   try {
     v.validate();
   } catch (const InputError& e) {
     b.fail("", e.what());
   }
-  return v;
+}
+
+// A command-line override: the bounds of the option it overrides, the error naming the flag.
+template <class T>
+void check_override(const options::Option& o, T value) {
+  if (!o.accepts(static_cast<double>(value))) {
+    std::ostringstream v;
+    v << std::setprecision(15) << value;  // "0", "1000000000", not "0.000000"
+    throw InputError(std::string(o.flag) + " = " + v.str() +
+                     ". Violated constraint: " + o.bounds() + " (as " + o.path() + ")");
+  }
 }
 
 template <class F>
@@ -148,62 +166,38 @@ Survey SimulationSetup::make_survey() const {
 SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {
   SceneLoadOptions scene_options;
   scene_options.seed = overrides.seed;  // the seed reaches the generated bathymetry too
-  SimulationSetup setup{
-      load_scene(path, scene_options), {}, {}, {}, {}, "u16", 10.0, {}, false, "sonar.range_m"};
+  SimulationSetup setup{.scene = load_scene(path, scene_options)};
   const Fields top(yaml::load_file(path), path, "");
   Scene& scene = setup.scene;
   SimulationConfig& cfg = setup.config;
   const Eigen::Vector4d bb = scene.bathymetry.bounds();
   const Eigen::Vector2d centre(0.5 * (bb[0] + bb[2]), 0.5 * (bb[1] + bb[3]));
-  cfg.seed = overrides.seed.value_or(top.seed("seed", 1));
+  options::read(top, options::at("seed"), setup);
+  if (overrides.seed) cfg.seed = *overrides.seed;
 
   // Sonar.
   SonarConfig& s = cfg.sonar;
   if (top.has("sonar")) {
     const Fields f = top.child("sonar");
-    f.only({"frequency_khz", "range_m", "samples", "sound_speed_m_s", "tilt_deg", "vertical_beam",
-            "horizontal_beam_deg", "pulse", "ping_period_s"});
-    s.frequency_hz = 1e3 * f.number_in("frequency_khz", s.frequency_hz / 1e3, 0.0, 1e5, true);
-    s.max_range_m = f.number_in("range_m", s.max_range_m, 0.0, 1e5, true);
-    s.samples_per_channel = static_cast<std::size_t>(f.number_in("samples", 4096, 1, 65535));
-    s.sound_speed_m_s = f.number_in("sound_speed_m_s", s.sound_speed_m_s, 1300, 1700);
-    s.tilt_rad = rad_from_deg(f.number_in("tilt_deg", 20.0, -90.0, 90.0));
-    if (f.has("vertical_beam")) s.vertical_beam = parse_beam(f.child("vertical_beam"));
-    s.horizontal_beam_width_rad =
-        rad_from_deg(f.number_in("horizontal_beam_deg", 1.0, 0.0, 89.0, true));
+    f.only(keys_of("sonar", {"vertical_beam", "pulse"}));
+    options::read_all(f, "sonar", setup);
+    if (f.has("vertical_beam")) read_beam(f.child("vertical_beam"), setup);
     if (f.has("pulse")) {
       const Fields p = f.child("pulse");
-      const std::string type = p.text("type", "cw");
-      if (type == "cw") {
-        p.only({"type", "length_us"});
-        s.pulse = SonarConfig::Pulse::kCw;
-        s.pulse_length_s = 1e-6 * p.number_in("length_us", 0.0, 0.0, 1e6);
-      } else if (type == "chirp") {
-        p.only({"type", "bandwidth_khz"});
-        s.pulse = SonarConfig::Pulse::kChirp;
-        s.bandwidth_hz = 1e3 * p.number_in("bandwidth_khz", 0.0, 0.0, 1e5, true);
-      } else {
-        p.fail_value("type", "cw or chirp");
-      }
+      options::read(p, options::at("sonar.pulse.type"), setup);
+      const char* key = s.pulse == SonarConfig::Pulse::kCw ? "length_us" : "bandwidth_khz";
+      p.only({"type", key});
+      options::read(p, options::at(std::string("sonar.pulse.") + key), setup);
     }
-    s.ping_period_s = f.number_in("ping_period_s", 0.0, 0.0, 1e3);
   }
   // Command-line overrides: the same bounds as the scene file's keys, named by the flag.
   if (overrides.range_m) {
-    if (!(*overrides.range_m > 0.0 && *overrides.range_m <= 1e5)) {
-      std::ostringstream v;
-      v << std::setprecision(15) << *overrides.range_m;  // "0", "1000000000", not "0.000000"
-      throw InputError("--range = " + v.str() +
-                       ". Violated constraint: > 0 and <= 100000 (as sonar.range_m)");
-    }
+    check_override(options::at("sonar.range_m"), *overrides.range_m);
     s.max_range_m = *overrides.range_m;
     setup.range_key = "--range";
   }
   if (overrides.samples) {
-    if (!(*overrides.samples >= 1 && *overrides.samples <= 65535)) {
-      throw InputError("--samples = " + std::to_string(*overrides.samples) +
-                       ". Violated constraint: >= 1 and <= 65535 (as sonar.samples)");
-    }
+    check_override(options::at("sonar.samples"), *overrides.samples);
     s.samples_per_channel = *overrides.samples;
   }
   // A ping period shorter than the two-way travel time to the maximum range overlaps pings.
@@ -217,111 +211,35 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
   // Render: physics switches and quality.
   if (top.has("render")) {
     const Fields f = top.child("render");
-    f.only({"backscatter", "shadows", "spreading", "beam_pattern", "absorption", "water",
-            "calibration_k", "quality"});
-    const std::string bs = f.text("backscatter", "paper");
-    if (bs == "paper") {
-      cfg.physics.backscatter = BackscatterModel::paper;
-    } else if (bs == "lambert") {
-      cfg.physics.backscatter = BackscatterModel::lambert;
-    } else {
-      f.fail_value("backscatter", "paper or lambert");
-    }
-    cfg.physics.shadows = f.boolean("shadows", true);
-    cfg.physics.spreading = f.boolean("spreading", true);
-    cfg.physics.beam_pattern = f.boolean("beam_pattern", true);
-    cfg.physics.absorption = f.boolean("absorption", true);
-    cfg.physics.calibration_k = f.number_in("calibration_k", 1.0, 0.0, 1e30, true);
-    if (f.has("water")) {
-      const Fields w = f.child("water");
-      w.only({"temperature_c", "salinity_psu", "ph", "depth_m"});
-      cfg.physics.water.temperature_c = w.number_in("temperature_c", 10.0, -2.0, 40.0);
-      cfg.physics.water.salinity_psu = w.number_in("salinity_psu", 35.0, 0.0, 45.0);
-      cfg.physics.water.ph = w.number_in("ph", 8.0, 6.0, 9.0);
-      cfg.physics.water.depth_m = w.number_in("depth_m", 20.0, 0.0, 12000.0);
-    }
-    if (f.has("quality")) {
-      const Fields q = f.child("quality");
-      q.only({"grid_subdivisions", "object_segments", "gauss_points", "along_track_planes",
-              "along_track_tolerance_db"});
-      cfg.quality.profile.grid_subdivisions =
-          static_cast<int>(q.number_in("grid_subdivisions", 1, 1, 64));
-      cfg.quality.profile.object_segments =
-          static_cast<int>(q.number_in("object_segments", 16, 2, 256));
-      cfg.quality.gauss_points = static_cast<int>(q.number_in("gauss_points", 2, 1, 5));
-      if (q.has("along_track_planes") && q.text("along_track_planes") != "auto") {
-        cfg.quality.along_track_planes =
-            static_cast<int>(q.number_in("along_track_planes", 1, 1, 64));
-      }
-      cfg.quality.along_track_tolerance_db =
-          q.number_in("along_track_tolerance_db", 1.0, 0.0, 40.0, true);
+    f.only(keys_of("render", {"water", "quality"}));
+    options::read_all(f, "render", setup);
+    for (const char* sub : {"water", "quality"}) {
+      if (!f.has(sub)) continue;
+      const Fields w = f.child(sub);
+      const std::string section = std::string("render.") + sub;
+      w.only(keys_of(section));
+      options::read_all(w, section, setup);
     }
   }
-  if (overrides.quality) {
-    const std::string& q = *overrides.quality;
-    if (q == "fast") {
-      cfg.quality.gauss_points = 1;
-      cfg.quality.profile.object_segments = 8;
-      cfg.quality.along_track_planes = 1;
-    } else if (q == "high") {
-      cfg.quality.profile.grid_subdivisions = 4;
-      cfg.quality.gauss_points = 3;
-      cfg.quality.along_track_planes = QualityConfig::kAutoPlanes;
-      cfg.quality.along_track_tolerance_db = 0.25;
-    } else if (q != "default") {
-      throw InputError("--quality = '" + q + "'. Violated constraint: fast, default or high");
-    }
+  if (overrides.quality && !cfg.quality.apply_preset(*overrides.quality)) {
+    throw InputError("--quality = '" + *overrides.quality +
+                     "'. Violated constraint: " + QualityConfig::kPresetNames);
   }
 
   // Noise.
   if (top.has("noise")) {
     const Fields f = top.child("noise");
-    f.only({"model", "uniform_half_width", "snr_db", "texture", "freeze_cell_m"});
-    const std::string m = f.text("model", "speckle");
-    if (m == "none") {
-      cfg.noise.model = NoiseConfig::Model::kNone;
-    } else if (m == "paper") {
-      cfg.noise.model = NoiseConfig::Model::kPaper;
-    } else if (m == "speckle") {
-      cfg.noise.model = NoiseConfig::Model::kSpeckle;
-    } else {
-      f.fail_value("model", "none, paper or speckle");
-    }
-    cfg.noise.paper_uniform_half_width = f.number_in("uniform_half_width", 0.3, 0.0, 1.0);
-    cfg.noise.snr_at_max_range_db = f.number_in("snr_db", 20.0, -100.0, 200.0);
-    cfg.noise.texture = f.boolean("texture", true);
-    cfg.noise.freeze_cell_m = f.number_in("freeze_cell_m", 0.0, 0.0, 1e3);
+    f.only(keys_of("noise"));
+    options::read_all(f, "noise", setup);
   }
 
   // Output scaling and format.
   if (top.has("output")) {
     const Fields f = top.child("output");
-    f.only({"tvg", "gain_db", "sample_format", "truth", "allow_more_than_8192_samples"});
-    const std::string tvg = f.text("tvg", "spherical");
-    if (tvg == "spherical") {
-      cfg.output.tvg = TvgLaw::spherical;
-    } else if (tvg == "none") {
-      cfg.output.tvg = TvgLaw::none;
-    } else {
-      f.fail_value("tvg", "spherical (30 log R + 2 alpha R) or none");
-    }
-    if (f.has("gain_db") && f.text("gain_db") != "auto")
-      cfg.output.gain_db = f.number_in("gain_db", 0.0, -kMaxGainDb, kMaxGainDb);
-    setup.sample_format = f.text("sample_format", "u16");
-    if (setup.sample_format == "u16") {
-      cfg.output.max_value = 32767.0;
-    } else if (setup.sample_format == "u8") {
-      cfg.output.max_value = 255.0;
-    } else if (setup.sample_format == "f32") {
-      cfg.output.max_value = 3.0e38;
-      cfg.output.round_to_integer = false;
-      cfg.output.gain_db =
-          f.has("gain_db") && f.text("gain_db") != "auto" ? cfg.output.gain_db : 0.0;
-    } else {
-      f.fail_value("sample_format", "u16, u8 or f32");
-    }
-    cfg.truth = f.boolean("truth", true);
-    setup.allow_more_than_8192_samples = f.boolean("allow_more_than_8192_samples", false);
+    f.only(keys_of("output"));
+    options::read_all(f, "output", setup);
+    // f32 samples are written unscaled unless a gain (not auto) is given.
+    if (setup.sample_format == "f32" && std::isnan(cfg.output.gain_db)) cfg.output.gain_db = 0.0;
   }
   // Common XTF readers take at most 8192 samples per channel: more only on request.
   if (s.samples_per_channel > xtf::kMaxPortableSamples && !setup.allow_more_than_8192_samples) {
@@ -338,50 +256,35 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
   // Limits on the run (checked before rendering, formats/run_check.cpp).
   if (top.has("limits")) {
     const Fields f = top.child("limits");
-    f.only({"max_pings", "max_output_gb", "max_memory_gb"});
-    setup.limits.max_pings = static_cast<std::uint64_t>(
-        f.number_in("max_pings", static_cast<double>(setup.limits.max_pings), 0.0, 1e15, true));
-    setup.limits.max_output_gb =
-        f.number_in("max_output_gb", setup.limits.max_output_gb, 0.0, 1e6, true);
-    setup.limits.max_memory_gb =
-        f.number_in("max_memory_gb", setup.limits.max_memory_gb, 0.0, 1e6, true);
+    f.only(keys_of("limits"));
+    options::read_all(f, "limits", setup);
   }
   cfg.threads = overrides.threads.value_or(0);
 
   // Survey.
   const Fields sv = top.child("survey");
-  sv.only({"start_time", "speed_m_s", "altitude_m", "depth_m", "layback_m", "lever_arm_m",
-           "turn_time_s", "turn_radius_m", "disturbance", "lines"});
-  setup.start_time =
-      parse_utc(sv.text("start_time", "2026-01-01T00:00:00Z"), path + ": survey.start_time");
+  sv.only(keys_of("survey", {"start_time", "lever_arm_m", "disturbance", "lines"}));
+  if (sv.given("start_time")) {
+    setup.start_time = parse_utc(sv.text("start_time"), path + ": survey.start_time");
+  }
   VehicleConfig& v = setup.vehicle;
-  v.speed_m_s = sv.number_in("speed_m_s", 2.0, 0.0, 100.0, true);
   if (sv.has("altitude_m") && sv.has("depth_m"))
     sv.fail("", "give altitude_m or depth_m, not both");
-  if (sv.has("depth_m")) {
-    v.depth_mode = VehicleConfig::DepthMode::kDepth;
-    v.depth_m = sv.number_in("depth_m", 0.0, 0.0, 12000.0);
+  options::read_all(sv, "survey", setup);
+  if (v.depth_mode == VehicleConfig::DepthMode::kDepth) {
     const auto [lo, hi] = scene.bathymetry.height_range();
     setup.reference_altitude_m = std::max(0.5, -v.depth_m - 0.5 * (lo + hi));
   } else {
-    v.altitude_m = sv.number_in("altitude_m", 10.0, 0.0, 12000.0, true);
     setup.reference_altitude_m = v.altitude_m;
   }
-  v.layback_m = sv.number_in("layback_m", 0.0, 0.0, 1e4);
   if (sv.has("lever_arm_m")) {
     const auto la = sv.numbers("lever_arm_m", 3);
     v.lever_arm_m = {la[0], la[1], la[2]};
   }
-  v.turn_time_s = sv.number("turn_time_s", -1.0);
-  v.turn_radius_m = sv.number_in("turn_radius_m", 25.0, 0.0, 1e5);
   if (sv.has("disturbance")) {
     const Fields d = sv.child("disturbance");
-    d.only({"roll_deg", "pitch_deg", "yaw_deg", "heave_m", "period_s"});
-    v.disturbance.roll_amplitude_rad = rad_from_deg(d.number_in("roll_deg", 0.0, 0.0, 89.0));
-    v.disturbance.pitch_amplitude_rad = rad_from_deg(d.number_in("pitch_deg", 0.0, 0.0, 89.0));
-    v.disturbance.yaw_amplitude_rad = rad_from_deg(d.number_in("yaw_deg", 0.0, 0.0, 180.0));
-    v.disturbance.heave_amplitude_m = d.number_in("heave_m", 0.0, 0.0, 100.0);
-    v.disturbance.period_s = d.number_in("period_s", 8.0, 0.0, 1e4, true);
+    d.only(keys_of("survey.disturbance"));
+    options::read_all(d, "survey.disturbance", setup);
   }
   wrap(sv, [&] { v.validate(); });
   for (const Fields& l : sv.sequence("lines")) {
@@ -482,21 +385,21 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
     }
   };
   absolutize(root);
-  root["seed"] = setup.config.seed;
-  if (overrides.range_m) root["sonar"]["range_m"] = *overrides.range_m;
-  if (overrides.samples) root["sonar"]["samples"] = *overrides.samples;
-  if (overrides.quality) {
-    const QualityConfig& q = setup.config.quality;
-    YAML::Node qn = root["render"]["quality"];
-    qn["grid_subdivisions"] = q.profile.grid_subdivisions;
-    qn["object_segments"] = q.profile.object_segments;
-    qn["gauss_points"] = q.gauss_points;
-    if (q.along_track_planes == QualityConfig::kAutoPlanes) {
-      qn["along_track_planes"] = "auto";
-    } else {
-      qn["along_track_planes"] = q.along_track_planes;
+  // The overridden options, from the declarations (formats/option_table.cpp); the seed always.
+  std::set<std::string_view> flags{"--seed"};
+  if (overrides.range_m) flags.insert("--range");
+  if (overrides.samples) flags.insert("--samples");
+  if (overrides.quality) flags.insert("--quality");
+  for (const options::Option& o : options::all()) {
+    if (o.flag.empty() || !flags.count(o.flag)) continue;
+    YAML::Node n = root;
+    std::string_view section = o.section;
+    while (!section.empty()) {
+      const std::size_t dot = section.find('.');
+      n.reset(n[std::string(section.substr(0, dot))]);
+      section = dot == std::string_view::npos ? std::string_view{} : section.substr(dot + 1);
     }
-    qn["along_track_tolerance_db"] = q.along_track_tolerance_db;
+    n[std::string(o.key)] = options::emit(o, setup);
   }
   YAML::Node d;
   d["note"] = "values derived by sonarsynth for this run (informational; ignored on input)";

@@ -8,10 +8,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "cli_test_util.hpp"
 #include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/formats/scene_file.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -114,6 +116,73 @@ TEST_F(BathyCliTest, RefusesToOverwriteWithoutFlag) {
   EXPECT_EQ(read_height_grid(path("x.tif")).grid.heights().front(), -5.0f);
   ASSERT_EQ(run(args + " --depth 9 --overwrite"), 0);
   EXPECT_EQ(read_height_grid(path("x.tif")).grid.heights().front(), -9.0f);
+}
+
+// `sonarsynth bathy` and a scene file's bathymetry.generate read the generators through one
+// parser: the same components give the same float32 heights, bit for bit. The plane relies on
+// the default azimuth, the second fbm layer on the default seed offset (its index), and the
+// azimuths are away from 0 so that a true/grid mix-up would show (the meridian convergence at
+// 174.78 E, -41.29 is about 2 deg).
+TEST_F(BathyCliTest, CliAndSceneFileGiveByteIdenticalGrids) {
+  ASSERT_EQ(run("-o " + path("cli.tif") +
+                " --lat -41.29 --lon 174.78 --size 120x80 --cell 0.5 --depth 25"
+                " --slope 2 --ripples 2.5,0.1,35,0.97 --fbm 0.2,16,4 --fbm 0.05,3"
+                " --seamount 10,5,3,12 --scarp 4,-6,60,1.5,3 --seed 5 -q"),
+            0);
+  {
+    std::ofstream os(path("scene.yaml"));
+    os << R"(bathymetry:
+  generate:
+    centre: {lat_deg: -41.29, lon_deg: 174.78}
+    size_m: [120, 80]
+    cell_m: 0.5
+    depth_m: 25
+    seed: 5
+    components:
+      - {type: plane, slope_deg: 2}
+      - {type: ripples, wavelength_m: 2.5, amplitude_m: 0.1, crest_azimuth_deg: 35, asymmetry: 0.97}
+      - {type: fbm, rms_m: 0.2, wavelength_m: 16, octaves: 4}
+      - {type: fbm, rms_m: 0.05, wavelength_m: 3}
+      - {type: seamount, east_m: 10, north_m: 5, height_m: 3, radius_m: 12}
+      - {type: scarp, east_m: 4, north_m: -6, azimuth_deg: 60, height_m: 1.5, width_m: 3}
+)";
+  }
+  const LoadedGrid cli = read_height_grid(path("cli.tif"));
+  const Scene scene = load_scene(path("scene.yaml"));
+  EXPECT_EQ(scene.frame.epsg(), cli.frame.epsg());
+  const GridGeometry& a = cli.grid.geometry();
+  const GridGeometry& b = scene.bathymetry.geometry();
+  ASSERT_EQ(a.cols, b.cols);
+  ASSERT_EQ(a.rows, b.rows);
+  // The same nodes in projected coordinates (each frame has its own local origin).
+  const Eigen::Vector4d ba = cli.grid.bounds(), bb = scene.bathymetry.bounds();
+  EXPECT_NEAR(cli.frame.projected_from_local({ba[0], ba[1]}).x(),
+              scene.frame.projected_from_local({bb[0], bb[1]}).x(), 1e-6);
+  EXPECT_NEAR(cli.frame.projected_from_local({ba[0], ba[1]}).y(),
+              scene.frame.projected_from_local({bb[0], bb[1]}).y(), 1e-6);
+  const auto& ha = cli.grid.heights();
+  const auto& hb = scene.bathymetry.heights();
+  ASSERT_EQ(ha.size(), hb.size());
+  if (a.dy_m == b.dy_m) {
+    EXPECT_EQ(std::memcmp(ha.data(), hb.data(), ha.size() * sizeof(float)), 0);
+  } else {  // one of them south-up: compare row r with row rows-1-r
+    for (std::size_t r = 0; r < a.rows; ++r) {
+      ASSERT_EQ(std::memcmp(ha.data() + r * a.cols, hb.data() + (a.rows - 1 - r) * a.cols,
+                            a.cols * sizeof(float)),
+                0);
+    }
+  }
+}
+
+// The bounds are those of the scene file: a slope above 89 deg is refused, an asymmetry up to
+// (not including) 1 accepted.
+TEST_F(BathyCliTest, GeneratorBoundsAreTheSceneFiles) {
+  const std::string base = "-o " + path("b.tif") + " --lat 43 --lon -70 --size 20x20 --cell 1 -q ";
+  EXPECT_EQ(run(base + "--slope 89.5"), 1);
+  EXPECT_EQ(run(base + "--ripples 2,0.1,0,1"), 1);
+  EXPECT_EQ(run(base + "--fbm 0.1,10,2.5"), 1);  // octaves are an integer
+  EXPECT_EQ(file_count(), 0u);
+  EXPECT_EQ(run(base + "--slope 89 --ripples 2,0.1,0,0.99"), 0);
 }
 
 }  // namespace

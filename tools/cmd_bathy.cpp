@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/bathy_spec_parser.hpp"
 #include "sonarsynth/formats/gdal_grid.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
 #include "sonarsynth/geo_frame.hpp"
@@ -22,9 +23,10 @@ const char* const kUsage =
     "usage: sonarsynth bathy -o OUT.tif --lat DEG --lon DEG --size WxH --cell M [options]\n\n"
     "Generates bathymetry (elevations, up positive: z = -depth + components) on a north-up grid\n"
     "centred on --lat/--lon, in the WGS 84 UTM/UPS zone of that point, and writes it as a\n"
-    "float32 GeoTIFF. Positions X,Y are metres east/north of the grid centre; azimuths are\n"
-    "degrees clockwise from true north at the centre. Components can be repeated and are summed.\n"
-    "The same options and --seed give the same file.";
+    "float32 GeoTIFF. Positions X,Y are metres east/north of the grid centre along the grid axes;\n"
+    "azimuths are degrees clockwise from grid north (as in a scene file's bathymetry.generate,\n"
+    "which takes the same generators and bounds: docs/scene-format.md). Components can be\n"
+    "repeated and are summed. The same options and --seed give the same file.";
 
 // Parses "a,b,c" into min_count..max_count finite numbers; throws InputError naming the option.
 std::vector<double> parse_numbers(const std::string& option, const std::string& value,
@@ -50,20 +52,12 @@ std::vector<double> parse_numbers(const std::string& option, const std::string& 
   return out;
 }
 
-void require(bool ok, const std::string& option, double value, const std::string& constraint) {
-  if (!ok) {
-    std::ostringstream os;
-    os << "--" << option << " = " << value << ". Violated constraint: " << constraint;
-    throw InputError(os.str());
-  }
-}
-
 }  // namespace
 
 int run_bathy(const std::vector<std::string>& args) {
   po::options_description opts("options");
   std::string output, size;
-  double lat_deg = 0, lon_deg = 0, cell_m = 0, depth_m = 20.0;
+  double lat_deg = 0, lon_deg = 0, cell_m = 0, depth_m = BathyGenSpec{}.depth_m;
   std::string seed_text = "0";
   long long threads = 0;
   std::vector<std::string> slopes, ripples, fbms, seamounts, scarps, co;
@@ -71,15 +65,15 @@ int run_bathy(const std::vector<std::string>& args) {
   opts.add_options()
     ("output,o", po::value(&output)->required(), "output GeoTIFF")
     ("lat", po::value(&lat_deg)->required(), "latitude of the grid centre, degrees [-90, 90]")
-    ("lon", po::value(&lon_deg)->required(), "longitude of the grid centre, degrees [-180, 180]")
+    ("lon", po::value(&lon_deg)->required(), "longitude of the grid centre, degrees [-180, 360]")
     ("size", po::value(&size)->required(), "grid extent WxH, metres east x north, e.g. 200x100")
     ("cell", po::value(&cell_m)->required(), "cell size, metres, > 0")
-    ("depth", po::value(&depth_m)->default_value(20.0), "base water depth, metres, > 0")
+    ("depth", po::value(&depth_m)->default_value(depth_m), "base water depth, metres, (0, 12000]")
     ("slope", po::value(&slopes)->composing(),
-     "plane: DEG[,AZ] dip in degrees [0, 90) towards azimuth AZ (default 0 = north)")
+     "plane: DEG[,AZ] dip in degrees [0, 89] towards grid azimuth AZ (default 0 = north)")
     ("ripples", po::value(&ripples)->composing(),
      "sand ripples: WAVELENGTH,AMPLITUDE[,AZ[,ASYM]] metres, metres (crest to mean), crest "
-     "azimuth (default 0), flank asymmetry [0, 1)")
+     "azimuth (default 0), flank asymmetry [0, 1); a crest runs through the grid centre")
     ("fbm", po::value(&fbms)->composing(),
      "fractal roughness: RMS[,WAVELENGTH[,OCTAVES[,PERSISTENCE]]] metres, coarsest wavelength "
      "metres (default 20), octaves (default 6), amplitude ratio per octave (default 0.5)")
@@ -98,84 +92,51 @@ int run_bathy(const std::vector<std::string>& args) {
   if (!parse(args, opts, {}, vm, kUsage)) return 0;
 
   const std::uint64_t seed = parse_uint64(seed_text, "seed");
-  require(std::abs(lat_deg) <= 90.0, "lat", lat_deg, "-90 <= --lat <= 90");
-  require(std::abs(lon_deg) <= 180.0, "lon", lon_deg, "-180 <= --lon <= 180");
-  require(cell_m > 0.0, "cell", cell_m, "--cell > 0");
-  require(depth_m > 0.0, "depth", depth_m, "--depth > 0");
   const std::vector<double> wh = parse_numbers("size", size, 2, 2, "WxH with W, H > 0", 'x');
-  require(wh[0] > 0.0 && wh[1] > 0.0, "size", wh[0] > 0.0 ? wh[1] : wh[0], "W > 0 and H > 0");
-  require(wh[0] / cell_m >= 2.0 && wh[1] / cell_m >= 2.0, "cell", cell_m,
-          "--cell <= half of the smaller --size side (at least 2 x 2 cells)");
-  require(wh[0] / cell_m <= 1e6 && wh[1] / cell_m <= 1e6, "cell", cell_m,
-          "at most 10^6 cells per side");
   const bool overwrite = vm.count("overwrite") > 0;
   if (!overwrite && std::filesystem::exists(output)) {
     throw InputError("--output = " + output + ": already exists (use --overwrite to replace it)");
   }
 
-  const Geodetic centre{rad_from_deg(lat_deg), rad_from_deg(lon_deg), 0.0};
-  const GeoFrame frame = GeoFrame::around(centre);
-  const Eigen::Vector2d c = frame.local_from_geodetic(centre);
-  // Azimuths on the command line are true; the generator works in grid azimuths.
-  auto grid_az = [&](double true_deg) {
-    return frame.grid_azimuth_from_true_rad(rad_from_deg(true_deg), c);
-  };
-
-  BathyGenSpec spec;
-  spec.depth_m = depth_m;
-  spec.seed = seed;
-  spec.num_threads = checked_thread_count(threads, 0);
-  spec.geometry = BathyGenSpec::centred_geometry(c.x(), c.y(), wh[0], wh[1], cell_m);
-  for (const std::string& s : slopes) {
-    const auto v = parse_numbers("slope", s, 1, 2, "DEG[,AZ] numbers");
-    require(v[0] >= 0.0 && v[0] < 90.0, "slope", v[0], "0 <= DEG < 90");
-    spec.components.push_back(bathy::Plane::from_dip(
-        rad_from_deg(v[0]), grid_az(v.size() > 1 ? v[1] : 0.0), c.x(), c.y()));
-  }
-  for (const std::string& s : ripples) {
-    const auto v = parse_numbers("ripples", s, 2, 4, "WAVELENGTH,AMPLITUDE[,AZ[,ASYM]] numbers");
-    require(v[0] > 0.0, "ripples", v[0], "WAVELENGTH > 0");
-    require(v[1] >= 0.0, "ripples", v[1], "AMPLITUDE >= 0");
-    bathy::Ripples r;
-    r.wavelength_m = v[0];
-    r.amplitude_m = v[1];
-    r.crest_azimuth_rad = grid_az(v.size() > 2 ? v[2] : 0.0);
-    r.asymmetry = v.size() > 3 ? v[3] : 0.0;
-    require(r.asymmetry >= 0.0 && r.asymmetry < 1.0, "ripples", r.asymmetry, "0 <= ASYM < 1");
-    r.ref_x_m = c.x();
-    r.ref_y_m = c.y();
-    spec.components.push_back(r);
-  }
-  for (std::size_t i = 0; i < fbms.size(); ++i) {
-    const auto v =
-        parse_numbers("fbm", fbms[i], 1, 4, "RMS[,WAVELENGTH[,OCTAVES[,PERSISTENCE]]] numbers");
-    bathy::Fbm f;
-    f.rms_m = v[0];
-    if (v.size() > 1) f.base_wavelength_m = v[1];
-    if (v.size() > 2) {
-      require(v[2] >= 1.0 && v[2] <= 24.0 && v[2] == std::floor(v[2]), "fbm", v[2],
-              "OCTAVES an integer in [1, 24]");
-      f.octaves = static_cast<int>(v[2]);
+  // The same declarations and builder as a scene file's bathymetry.generate.
+  bathy_spec::GeneratorInput in;
+  in.lat_deg = lat_deg;
+  in.lon_deg = lon_deg;
+  in.width_m = wh[0];
+  in.height_m = wh[1];
+  in.cell_m = cell_m;
+  in.depth_m = depth_m;
+  in.seed = seed;
+  in.num_threads = checked_thread_count(threads, 0);
+  std::vector<std::string> given;  // the option text of each component, for messages
+  for (const bathy_spec::ComponentDecl& d : bathy_spec::components()) {
+    const std::string option(d.cli_option);
+    for (const std::string& text : vm.count(option) ? vm[option].as<std::vector<std::string>>()
+                                                    : std::vector<std::string>{}) {
+      const auto v = parse_numbers(option, text, d.cli_required, d.params.size(),
+                                   (d.cli_syntax() + " numbers").c_str());
+      bathy_spec::ComponentInput ci{&d, {v.begin(), v.end()}, std::nullopt};
+      in.components.push_back(std::move(ci));
+      given.push_back("--" + option + " = '" + text + "'");
     }
-    if (v.size() > 3) f.persistence = v[3];
-    require(f.rms_m >= 0.0, "fbm", f.rms_m, "RMS >= 0");
-    require(f.base_wavelength_m > 0.0, "fbm", f.base_wavelength_m, "WAVELENGTH > 0");
-    require(f.persistence > 0.0 && f.persistence <= 1.0, "fbm", f.persistence,
-            "0 < PERSISTENCE <= 1");
-    f.seed_offset = i;
-    spec.components.push_back(f);
   }
-  for (const std::string& s : seamounts) {
-    const auto v = parse_numbers("seamount", s, 4, 4, "X,Y,HEIGHT,RADIUS numbers");
-    require(v[3] > 0.0, "seamount", v[3], "RADIUS > 0");
-    spec.components.push_back(bathy::Seamount{c.x() + v[0], c.y() + v[1], v[2], v[3]});
-  }
-  for (const std::string& s : scarps) {
-    const auto v = parse_numbers("scarp", s, 4, 5, "X,Y,AZ,HEIGHT[,WIDTH] numbers");
-    const double width = v.size() > 4 ? v[4] : 2.0;
-    require(width > 0.0, "scarp", width, "WIDTH > 0");
-    spec.components.push_back(bathy::Scarp{c.x() + v[0], c.y() + v[1], grid_az(v[2]), v[3], width});
-  }
+  const auto fail = [&](std::optional<std::size_t> i, const bathy_spec::Param& p,
+                        const std::string&) {
+    std::ostringstream os;
+    if (i) {
+      os << given[*i] << ". Violated constraint: " << p.constraint(p.cli);
+    } else {
+      const double v = p.key == "lat_deg"   ? in.lat_deg
+                       : p.key == "lon_deg" ? in.lon_deg
+                       : p.key == "cell_m"  ? in.cell_m
+                                            : in.depth_m;
+      os << p.cli << " = " << v << ". Violated constraint: " << p.constraint(p.cli);
+    }
+    throw InputError(os.str());
+  };
+  const bathy_spec::Generated gen = bathy_spec::build(in, fail);
+  const GeoFrame& frame = gen.frame;
+  const BathyGenSpec& spec = gen.spec;
 
   GridWriteOptions wo;
   wo.overwrite = overwrite;

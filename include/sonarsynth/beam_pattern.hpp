@@ -30,11 +30,12 @@ enum class VerticalBeamShape {
 struct VerticalBeamPattern {
   VerticalBeamShape shape = VerticalBeamShape::uniform;
   /// paper_sine_pair: half-width above the axis (towards the horizontal), radians, (0, pi].
-  double upper_half_width_rad = 0.436332312998582;  // 25 deg
+  double upper_half_width_rad = 25.0 * (3.14159265358979323846 / 180.0);  // 25 deg
   /// paper_sine_pair: half-width below the axis (towards nadir), radians, (0, pi].
-  double lower_half_width_rad = 0.436332312998582;  // 25 deg
+  double lower_half_width_rad = 25.0 * (3.14159265358979323846 / 180.0);  // 25 deg
   /// gaussian: full width between the one-way -3 dB points, radians, (0, pi].
-  double width_3db_rad = 0.872664625997165;  // 50 deg (MB-System mbbackangle default)
+  double width_3db_rad =
+      50.0 * (3.14159265358979323846 / 180.0);  // 50 deg (MB-System mbbackangle default)
   /// sinc: element height over wavelength W / lambda, dimensionless, > 0.
   double height_over_wavelength = 1.0;
   /// table: off-axis angles, radians (degrees only at I/O), strictly increasing, >= 2 entries.

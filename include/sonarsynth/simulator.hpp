@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <string_view>
 #include <vector>
 
 #include "sonarsynth/absorption.hpp"
@@ -45,6 +46,28 @@ struct QualityConfig {
   int along_track_planes = kAutoPlanes;
   double along_track_tolerance_db = 1.0;  ///< auto only, > 0
   void validate() const;
+
+  /// The `--quality` presets, applied over the configured values (docs/scene-format.md):
+  /// "fast" = 1 Gauss point, 8 object segments, 1 along-track plane; "default" changes nothing;
+  /// "high" = 4 grid subdivisions, 3 Gauss points, automatic along-track planes with a 0.25 dB
+  /// tolerance. Returns false (and changes nothing) for any other name.
+  bool apply_preset(std::string_view name) {
+    if (name == "fast") {
+      gauss_points = 1;
+      profile.object_segments = 8;
+      along_track_planes = 1;
+    } else if (name == "high") {
+      profile.grid_subdivisions = 4;
+      gauss_points = 3;
+      along_track_planes = kAutoPlanes;
+      along_track_tolerance_db = 0.25;
+    } else if (name != "default") {
+      return false;
+    }
+    return true;
+  }
+  /// "fast, default or high".
+  static constexpr const char* kPresetNames = "fast, default or high";
 };
 
 /// K along-track beam planes: azimuths from the across-track direction, evenly across +-1.25

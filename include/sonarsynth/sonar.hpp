@@ -15,9 +15,11 @@ struct SonarConfig {
   double sound_speed_m_s = 1500.0;         ///< c, m/s, [1300, 1700]
   /// Vertical (across-track) one-way intensity pattern, relative to the beam axis.
   VerticalBeamPattern vertical_beam = default_vertical_beam();
-  double tilt_rad = 0.349065850398866;  ///< beam-axis depression below horizontal, rad (20 deg)
+  /// Beam-axis depression below horizontal, radians: 20 deg (exactly rad_from_deg(20.0), the
+  /// value a scene file's tilt_deg: 20 gives).
+  double tilt_rad = 20.0 * (3.14159265358979323846 / 180.0);
   /// Horizontal (along-track) one-way -3 dB beam width of a Gaussian pattern, radians, (0, pi/2).
-  double horizontal_beam_width_rad = 0.0174532925199433;  // 1 deg
+  double horizontal_beam_width_rad = 1.0 * (3.14159265358979323846 / 180.0);  // 1 deg
   enum class Pulse { kCw, kChirp };
   Pulse pulse = Pulse::kCw;
   /// CW pulse length tau, seconds, >= 0 (0 = one sample interval). Range resolution c tau / 2.

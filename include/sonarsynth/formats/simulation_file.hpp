@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <chrono>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -19,8 +20,9 @@ struct SimulationOverrides {
   std::optional<double> range_m;
   std::optional<std::size_t> samples;
   std::optional<unsigned> threads;
-  /// "fast" (1 Gauss point, coarse objects), "default", "high" (4 grid subdivisions,
-  /// 3 Gauss points, 5 along-track planes).
+  /// A QualityConfig preset (QualityConfig::apply_preset): "fast" (1 Gauss point, 8 object
+  /// segments, 1 along-track plane), "default", "high" (4 grid subdivisions, 3 Gauss points,
+  /// the automatic along-track plane count with a 0.25 dB tolerance).
   std::optional<std::string> quality;
   /// Command-line options of the products (mosaic resolution, format, creation options...):
   /// not scene settings, so effective.yaml lists them in its header to be given again.
@@ -35,18 +37,20 @@ struct RunLimits {
   double max_memory_gb = 8.0;   ///< renderer workspaces and mosaic accumulators, 10^9 bytes
 };
 
-/// What `sonarsynth simulate` runs: the scene, the simulation settings and the survey.
+/// What `sonarsynth simulate` runs: the scene, the simulation settings and the survey. A key left
+/// out of the scene file keeps the default of its struct member (formats/option_table.cpp
+/// declares each key once: its unit, bounds and member).
 struct SimulationSetup {
   Scene scene;
-  SimulationConfig config;
-  std::vector<SurveyLine> lines;
-  VehicleConfig vehicle;
-  UtcTime start_time{};
+  SimulationConfig config{};
+  std::vector<SurveyLine> lines{};
+  VehicleConfig vehicle{};
+  UtcTime start_time = std::chrono::sys_days(std::chrono::year(2026) / 1 / 1);  ///< 2026-01-01
   std::string sample_format = "u16";  ///< XTF sample format: u16, u8 or f32
   /// The reference altitude for the global calibration (survey altitude, or depth above the
   /// mean seabed in constant-depth mode), metres.
   double reference_altitude_m = 10.0;
-  RunLimits limits;
+  RunLimits limits{};
   /// output.allow_more_than_8192_samples: write more samples per channel than common XTF
   /// readers accept.
   bool allow_more_than_8192_samples = false;
