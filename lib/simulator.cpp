@@ -578,67 +578,24 @@ RenderTimings Simulator::run(
     }
   };
 
-  // Persistent helper threads 1 .. threads - 1, woken once per block (condition variables).
-  std::mutex mutex;
-  std::condition_variable wake, done;
-  std::uint64_t generation = 0;
-  unsigned busy = 0;
-  bool stop = false;
-  std::vector<std::jthread> helpers;
-  // Declared after `helpers`, so destroyed before them (also when the sink throws or a helper
-  // cannot be started): no more pings claimed, helpers woken for exit, then joined.
-  struct Stopper {
+  // Persistent helper threads 1 .. threads - 1, woken once per block (detail::WorkerPool); if
+  // the system refuses some, the others go on and the output does not depend on the count.
+  detail::WorkerPool pool(requested_threads, work);
+  // Declared after `pool`, so destroyed before it (also when the sink throws): no more pings
+  // claimed, then the pool wakes its helpers for exit and joins them.
+  struct StopClaims {
     Job& job;
-    std::mutex& m;
-    std::condition_variable& cv;
-    bool& stop;
-    ~Stopper() {
-      job.next.store(job.count);
-      {
-        const std::lock_guard lock(m);
-        stop = true;
-      }
-      cv.notify_all();
-    }
-  } stopper{job, mutex, wake, stop};
-  helpers.reserve(requested_threads);
-  for (unsigned t = 1; t < requested_threads; ++t) {
-    std::jthread h = detail::try_start_thread([&, t] {
-      std::uint64_t seen = 0;
-      while (true) {
-        {
-          std::unique_lock lock(mutex);
-          wake.wait(lock, [&] { return stop || generation != seen; });
-          if (stop) return;
-          seen = generation;
-        }
-        work(t);
-        {
-          const std::lock_guard lock(mutex);
-          --busy;
-        }
-        done.notify_one();
-      }
-    });
-    // The system refused a thread (pids limit): go on with those that started; the output
-    // does not depend on the count.
-    if (!h.joinable()) break;
-    helpers.push_back(std::move(h));
-  }
-  const unsigned threads = static_cast<unsigned>(helpers.size()) + 1;
+    ~StopClaims() { job.next.store(job.count); }
+  } stop_claims{job};
   auto start = [&](std::uint64_t first, int buf) {
-    const std::lock_guard lock(mutex);
-    job.first = first;
+    job.first = first;  // the helpers are idle between finish() and start()
     job.count = std::min(block, total - first);
     job.buf = buf;
     job.next.store(0);
-    busy = threads - 1;
-    ++generation;
+    pool.start();
   };
   auto finish = [&] {
-    work(0);
-    std::unique_lock lock(mutex);
-    done.wait(lock, [&] { return busy == 0; });
+    pool.finish();
     for (auto& e : errors) {
       if (e) std::rethrow_exception(e);
     }
@@ -660,17 +617,13 @@ RenderTimings Simulator::run(
 
   if (total > 0) {
     start(0, 0);
-    wake.notify_all();
     finish();
   }
   for (std::uint64_t first = 0; first < total; first += block) {
     const std::uint64_t count = std::min(block, total - first);
     const int buf = static_cast<int>((first / block) % 2);
     const std::uint64_t next_first = first + block;
-    if (next_first < total) {
-      start(next_first, 1 - buf);
-      wake.notify_all();
-    }
+    if (next_first < total) start(next_first, 1 - buf);
     emit(pings[buf], first, count);
     if (next_first < total) finish();
   }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <system_error>
+#include <utility>
 
 namespace sonarsynth::detail {
 
@@ -35,6 +36,57 @@ std::jthread try_start_thread(std::function<void()> fn) noexcept {
 
 void fail_thread_starts_after_for_testing(int successes) {
   g_starts_left.store(successes);
+}
+
+WorkerPool::WorkerPool(unsigned requested_threads, std::function<void(unsigned)> work)
+    : work_(std::move(work)) {
+  helpers_.reserve(requested_threads);  // no allocation (nor throw) once threads run
+  for (unsigned t = 1; t < requested_threads; ++t) {
+    std::jthread h = try_start_thread([this, t] {
+      std::uint64_t seen = 0;
+      while (true) {
+        {
+          std::unique_lock lock(mutex_);
+          wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+          if (stop_) return;
+          seen = generation_;
+        }
+        work_(t);
+        {
+          const std::lock_guard lock(mutex_);
+          --busy_;
+        }
+        done_.notify_one();
+      }
+    });
+    // The system refused a thread (pids limit): go on with those that started.
+    if (!h.joinable()) break;
+    helpers_.push_back(std::move(h));
+  }
+}
+
+WorkerPool::~WorkerPool() {
+  {
+    const std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  helpers_.clear();  // joins
+}
+
+void WorkerPool::start() {
+  {
+    const std::lock_guard lock(mutex_);
+    busy_ = threads() - 1;
+    ++generation_;
+  }
+  wake_.notify_all();
+}
+
+void WorkerPool::finish() {
+  work_(0);
+  std::unique_lock lock(mutex_);
+  done_.wait(lock, [&] { return busy_ == 0; });
 }
 
 }  // namespace sonarsynth::detail
