@@ -18,6 +18,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/atomic_file.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
+#include "sonarsynth/version.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -392,8 +393,14 @@ void write_height_grid_geotiff(const std::string& path, const GeoFrame& frame,
   }
   ds->SetMetadataItem("AREA_OR_POINT", "Area");
   for (const auto& [k, v] : options.metadata) ds->SetMetadataItem(k.c_str(), v.c_str());
+  ds->SetMetadataItem("SONARSYNTH_VERSION", kVersion);
+  ds->SetMetadataItem("SONARSYNTH_QUANTITY", "seabed elevation (positive up)");
+  ds->SetMetadataItem("SONARSYNTH_UNITS", "m");
+  ds->SetMetadataItem("SONARSYNTH_NODATA", "NaN: no height");
   GDALRasterBand* band = ds->GetRasterBand(1);
   band->SetNoDataValue(std::numeric_limits<double>::quiet_NaN());
+  band->SetDescription("elevation");
+  band->SetUnitType("m");
 
   const std::size_t row_bytes = g.cols * sizeof(float);
   const std::size_t strip_rows = std::max<std::size_t>(1, kStripBytes / (row_bytes * 256)) * 256;

@@ -14,6 +14,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/atomic_file.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
+#include "sonarsynth/version.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -29,6 +30,10 @@ void set_default(KeyValues& kv, const std::string& key, const std::string& value
   kv.emplace_back(key, value);
 }
 
+const char* colormap_name(Colormap c) {
+  return c == Colormap::grey ? "grey" : "black-brown-yellow";
+}
+
 std::vector<int> overview_factors(const GridGeometry& g) {
   std::vector<int> f;
   const std::size_t largest = std::max(g.cols, g.rows);
@@ -38,37 +43,56 @@ std::vector<int> overview_factors(const GridGeometry& g) {
   return f;
 }
 
+/// Overviews of every band of `mem` down to < 256 pixels (none for a small image), computed
+/// with `resampling`; true if any were built.
+bool build_overviews(GDALDataset& mem, const GridGeometry& g, const char* resampling,
+                     const std::string& path) {
+  std::vector<int> factors = overview_factors(g);
+  if (factors.empty()) return false;
+  std::vector<int> bands_list;
+  for (int b = 1; b <= mem.GetRasterCount(); ++b) bands_list.push_back(b);
+  if (mem.BuildOverviews(resampling, static_cast<int>(factors.size()), factors.data(),
+                         mem.GetRasterCount(), bands_list.data(), nullptr, nullptr) != CE_None) {
+    throw FormatError(std::string(kWho) + ": " + path +
+                      ": cannot build overviews: " + gdal::last_error_message());
+  }
+  return true;
+}
+
+/// The run's items, then what this file holds (the writer's word wins over the run's).
+void set_metadata(GDALDataset& ds, const MosaicWriteOptions& options, const std::string& quantity,
+                  const std::string& units) {
+  for (const auto& [k, v] : options.metadata) ds.SetMetadataItem(k.c_str(), v.c_str());
+  ds.SetMetadataItem("SONARSYNTH_VERSION", kVersion);
+  ds.SetMetadataItem("SONARSYNTH_QUANTITY", quantity.c_str());
+  ds.SetMetadataItem("SONARSYNTH_UNITS", units.c_str());
+}
+
 void write_intensity(const std::string& path, const std::string& temp, const GeoFrame& frame,
                      const MosaicImage& image, const MosaicWriteOptions& options) {
   const GridGeometry& g = image.geometry;
   const int bands = options.count_band ? 2 : 1;
   gdal::DatasetPtr mem = raster::create_mem(g.cols, g.rows, bands, GDT_Float32, kWho, path);
   raster::set_georeferencing(*mem, frame, g, kWho, path);
-  for (const auto& [k, v] : options.metadata) mem->SetMetadataItem(k.c_str(), v.c_str());
+  set_metadata(*mem, options, options.quantity, options.units);
+  mem->SetMetadataItem("SONARSYNTH_NODATA", "NaN: no sample gridded into the pixel");
   GDALRasterBand* b1 = mem->GetRasterBand(1);
   b1->SetNoDataValue(std::numeric_limits<double>::quiet_NaN());
-  b1->SetDescription("backscatter (linear intensity)");
+  b1->SetDescription(options.quantity.c_str());
+  b1->SetUnitType(options.units.c_str());
   raster::write_band(*mem, 1, image.intensity.data(), GDT_Float32, kWho, path);
   if (options.count_band) {
     std::vector<float> count(image.count.begin(), image.count.end());
     GDALRasterBand* b2 = mem->GetRasterBand(2);
     b2->SetDescription("count");
+    b2->SetUnitType("contributions (samples and fill points) per pixel");
     raster::write_band(*mem, 2, count.data(), GDT_Float32, kWho, path);
   }
   KeyValues co = options.creation_options;  // user options win over the defaults below
   const char* driver = "COG";
   if (options.format == MosaicRasterFormat::gtiff) {
     driver = "GTiff";
-    std::vector<int> factors = overview_factors(g);
-    if (!factors.empty()) {
-      std::vector<int> bands_list{1, 2};
-      if (mem->BuildOverviews("AVERAGE", static_cast<int>(factors.size()), factors.data(), bands,
-                              bands_list.data(), nullptr, nullptr) != CE_None) {
-        throw FormatError(std::string(kWho) + ": " + path +
-                          ": cannot build overviews: " + gdal::last_error_message());
-      }
-      set_default(co, "COPY_SRC_OVERVIEWS", "YES");
-    }
+    if (build_overviews(*mem, g, "AVERAGE", path)) set_default(co, "COPY_SRC_OVERVIEWS", "YES");
     set_default(co, "TILED", "YES");
     set_default(co, "BLOCKXSIZE", "512");
     set_default(co, "BLOCKYSIZE", "512");
@@ -104,31 +128,50 @@ void write_rgb(const std::string& path, const std::string& temp, const GeoFrame&
   std::ostringstream scale;
   scale << "10 log10(linear) from " << range.lo_db << " dB (0) to " << range.hi_db
         << " dB (1), percentiles " << options.lo_percentile << " / " << options.hi_percentile;
-  if (!png) mem->SetMetadataItem("SONARSYNTH_DISPLAY_SCALE", scale.str().c_str());
+  if (!png) {
+    set_metadata(*mem, options,
+                 std::string("display colour: ") + colormap_name(options.colormap) +
+                     " colormap of the dB value of " + options.quantity,
+                 "none (8-bit colour)");
+    mem->SetMetadataItem("SONARSYNTH_DISPLAY_SCALE", scale.str().c_str());
+    mem->SetMetadataItem("SONARSYNTH_NODATA", "alpha 0: no sample gridded into the pixel");
+  }
   const GDALColorInterp interp[4] = {GCI_RedBand, GCI_GreenBand, GCI_BlueBand, GCI_AlphaBand};
+  const char* names[4] = {"red", "green", "blue", "alpha (0 = nodata)"};
   for (int b = 0; b < 4; ++b) {
     mem->GetRasterBand(b + 1)->SetColorInterpretation(interp[b]);
+    if (!png) mem->GetRasterBand(b + 1)->SetDescription(names[b]);
     raster::write_band(*mem, b + 1, rgba.data() + static_cast<std::size_t>(b) * n, GDT_Byte, kWho,
                        path);
   }
   KeyValues co;
-  if (!png)
+  if (!png) {
+    // Overviews like the float mosaic's (averaged colours; the alpha band is the mask), stored
+    // after the full-resolution image as a cloud-optimised GeoTIFF has them.
     co = {{"TILED", "YES"}, {"COMPRESS", "DEFLATE"}, {"PHOTOMETRIC", "RGB"}, {"ALPHA", "YES"}};
+    if (build_overviews(*mem, g, "AVERAGE", path)) co.emplace_back("COPY_SRC_OVERVIEWS", "YES");
+  }
   raster::copy_to_file(*mem, png ? "PNG" : "GTiff", temp, co, kWho, path);
 }
 
 void write_labels(const std::string& path, const std::string& temp, const GeoFrame& frame,
-                  const MosaicImage& image) {
+                  const MosaicImage& image, const MosaicWriteOptions& options) {
   const GridGeometry& g = image.geometry;
   gdal::DatasetPtr mem = raster::create_mem(g.cols, g.rows, 1, GDT_Int32, kWho, path);
   raster::set_georeferencing(*mem, frame, g, kWho, path);
+  set_metadata(*mem, options, "truth object id of the sample nearest to nadir", "none (id)");
+  mem->SetMetadataItem("SONARSYNTH_OBJECT_ID_CODES",
+                       "0 = seabed, -1 = none (no seabed or object echo), > 0 = the scene "
+                       "object with that id");
+  mem->SetMetadataItem("SONARSYNTH_NODATA", "-2147483648: no sample in the pixel");
   GDALRasterBand* b = mem->GetRasterBand(1);
   b->SetNoDataValue(static_cast<double>(MosaicImage::kNoLabel));
-  b->SetDescription("truth label (nearest to nadir)");
+  b->SetDescription("object_id");
   raster::write_band(*mem, 1, image.labels.data(), GDT_Int32, kWho, path);
-  raster::copy_to_file(*mem, "GTiff", temp,
-                       {{"TILED", "YES"}, {"COMPRESS", "DEFLATE"}, {"BIGTIFF", "IF_SAFER"}}, kWho,
-                       path);
+  KeyValues co = {{"TILED", "YES"}, {"COMPRESS", "DEFLATE"}, {"BIGTIFF", "IF_SAFER"}};
+  // Ids are not averaged: an overview pixel is one of its source pixels.
+  if (build_overviews(*mem, g, "NEAREST", path)) co.emplace_back("COPY_SRC_OVERVIEWS", "YES");
+  raster::copy_to_file(*mem, "GTiff", temp, co, kWho, path);
 }
 
 }  // namespace
@@ -176,7 +219,8 @@ void write_mosaic(const std::string& path, const GeoFrame& frame, const MosaicIm
 
   write_intensity(path, main_out.temp_path().string(), frame, image, options);
   if (rgb_out) write_rgb(options.rgb_path, rgb_out->temp_path().string(), frame, image, options);
-  if (labels_out) write_labels(options.labels_path, labels_out->temp_path().string(), frame, image);
+  if (labels_out)
+    write_labels(options.labels_path, labels_out->temp_path().string(), frame, image, options);
   main_out.commit();
   if (rgb_out) rgb_out->commit();
   if (labels_out) labels_out->commit();

@@ -233,21 +233,30 @@ void copy_to_file(GDALDataset& src, const char* driver_name, const std::string& 
 void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int bands,
                     GDALDataType type, const char* driver_name, const std::string& temp_path,
                     const std::vector<std::pair<std::string, std::string>>& creation_options,
-                    const std::vector<std::string>& descriptions, const char* who,
-                    const std::string& final_path) {
+                    const RasterLabels& labels, const char* who, const std::string& final_path) {
   gdal::ensure_registered();
   check_size(cols, rows, who, final_path);
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name);
   if (!driver) fail(who, final_path, std::string("GDAL has no ") + driver_name + " driver");
-  auto describe = [&](GDALDataset& ds) {
-    for (std::size_t b = 0; b < descriptions.size(); ++b) {
-      ds.GetRasterBand(static_cast<int>(b) + 1)->SetDescription(descriptions[b].c_str());
+  // The streamed source of a CreateCopy has no unit or nodata to give (its bands are read-only
+  // views of the rows); the drivers written that way (PNG) could not store them anyway.
+  auto describe = [&](GDALDataset& ds, bool band_values) {
+    for (const auto& [k, v] : labels.metadata) ds.SetMetadataItem(k.c_str(), v.c_str());
+    for (std::size_t b = 0; b < labels.descriptions.size(); ++b) {
+      ds.GetRasterBand(static_cast<int>(b) + 1)->SetDescription(labels.descriptions[b].c_str());
+    }
+    if (!band_values) return;
+    for (std::size_t b = 0; b < labels.units.size(); ++b) {
+      ds.GetRasterBand(static_cast<int>(b) + 1)->SetUnitType(labels.units[b].c_str());
+    }
+    if (labels.has_nodata) {
+      for (int b = 1; b <= bands; ++b) ds.GetRasterBand(b)->SetNoDataValue(labels.nodata);
     }
   };
   if (!CPLFetchBool(driver->GetMetadata(), GDAL_DCAP_CREATE, false)) {
     gdal::DatasetPtr src(
         new StreamingDataset(static_cast<int>(cols), static_cast<int>(rows), bands, type, source));
-    describe(*src);
+    describe(*src, false);
     copy_to_file(*src, driver_name, temp_path, creation_options, who, final_path);
     return;
   }
@@ -257,7 +266,7 @@ void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int b
   gdal::DatasetPtr ds(driver->Create(temp_path.c_str(), static_cast<int>(cols),
                                      static_cast<int>(rows), bands, type, co.List()));
   if (!ds) fail(who, final_path, std::string("cannot create ") + driver_name);
-  describe(*ds);
+  describe(*ds, true);
   int block_cols = 0, block_rows = 0;
   ds->GetRasterBand(1)->GetBlockSize(&block_cols, &block_rows);
   const auto flush_every = static_cast<std::size_t>(std::max(1, block_rows));

@@ -30,8 +30,19 @@ class RowSource {
   virtual void rewind() = 0;
 };
 
+/// What a streamed file says it holds: dataset metadata items (domain "") and, per band (from
+/// band 1; fewer entries leave the rest unset), a description and a unit type; a nodata value
+/// for every band if `nodata` is set.
+struct RasterLabels {
+  std::vector<std::pair<std::string, std::string>> metadata;
+  std::vector<std::string> descriptions;
+  std::vector<std::string> units;
+  bool has_nodata = false;
+  double nodata = 0.0;
+};
+
 /// Writes the `rows` rows of `source` to `temp_path` through driver `driver` (creation options as
-/// for copy_to_file(); `descriptions`, if not empty, one per band) without holding the image:
+/// for copy_to_file(), labelled with `labels`) without holding the image:
 /// a driver that can create files (GTiff) gets the rows one at a time and each completed row of
 /// blocks is flushed, so GDAL's block cache does not fill up with the image; others (PNG) get a
 /// CreateCopy from a dataset whose reads are served row by row from `source`, bypassing the
@@ -40,8 +51,7 @@ class RowSource {
 void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int bands,
                     GDALDataType type, const char* driver, const std::string& temp_path,
                     const std::vector<std::pair<std::string, std::string>>& creation_options,
-                    const std::vector<std::string>& descriptions, const char* who,
-                    const std::string& final_path);
+                    const RasterLabels& labels, const char* who, const std::string& final_path);
 
 /// Writes a whole band from a row-major buffer of `type`.
 void write_band(GDALDataset& ds, int band, const void* data, GDALDataType type, const char* who,

@@ -24,8 +24,9 @@ constexpr double kWorkspaceBytesPerSample = 200.0;
 constexpr double kProfileBytesPerCrossing = 48.0;
 // Mosaic accumulators per pixel (sums, counts, nearest values, labels, output), bytes.
 constexpr double kMosaicMemoryBytesPerPixel = 48.0;
-// Mosaic files per pixel: float intensity, RGBA display copy, int32 truth, uncompressed.
-constexpr double kMosaicFileBytesPerPixel = 12.0;
+// Mosaic files per pixel: float intensity, RGBA display copy, int32 truth, uncompressed, each
+// with overviews (a third more).
+constexpr double kMosaicFileBytesPerPixel = 16.0;
 // Truth waterfall per sample (class, object id, grazing angle), uncompressed.
 constexpr double kTruthBytesPerSample = 9.0;
 

@@ -57,6 +57,7 @@ void SurveyProducts::begin_line(std::size_t /*line*/) {
     WaterfallOptions wo;
     wo.spool_dir = dir_;
     wo.max_pixels = options_.waterfall_max_pixels;
+    wo.metadata = options_.write_options.metadata;  // the run's items, in every product
     waterfall_ = std::make_unique<Waterfall>(wo);
   }
   if (options_.truth) truth_ = std::make_unique<TruthWaterfall>(dir_);
@@ -105,7 +106,7 @@ void SurveyProducts::end_line(std::size_t line) {
   }
   if (truth_ && truth_->rows() > 0) {
     const auto path = dir_ / (name + "_truth.tif");
-    truth_->write(path.string());
+    truth_->write(path.string(), false, options_.write_options.metadata);
     files_.push_back(path);
   }
   waterfall_.reset();

@@ -18,6 +18,7 @@
 #include "sonarsynth/formats/atomic_file.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/version.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -238,14 +239,41 @@ void Waterfall::write(const std::string& path) const {
     while (reader.next(row)) sampler.add(row);
     range = sampler.range(options_.lo_percentile, options_.hi_percentile);
   }
-  const int bands = options_.colormap == Colormap::grey ? 1 : 3;
+  const bool grey = options_.colormap == Colormap::grey;
+  const int bands = grey ? 1 : 3;
   ColouredRows source(*spool_, per_row, range, options_.colormap);
   std::vector<std::pair<std::string, std::string>> co;
-  // Fast compression: waterfalls are large and written once per line.
+  // Fast compression: waterfalls are large and written once per line. A PNG keeps the metadata
+  // items in text chunks (the only place it has for them).
   if (driver == "GTiff") co = {{"COMPRESS", "ZSTD"}, {"ZSTD_LEVEL", "1"}, {"TILED", "YES"}};
-  if (driver == "PNG") co = {{"ZLEVEL", "1"}};
+  if (driver == "PNG") co = {{"ZLEVEL", "1"}, {"WRITE_METADATA_AS_TEXT", "YES"}};
+  raster::RasterLabels labels;
+  labels.metadata = options_.metadata;
+  std::ostringstream scale;
+  scale << "10 log10(linear) from " << range.lo_db << " dB (0) to " << range.hi_db << " dB (1), ";
+  if (options_.fixed_db) {
+    scale << "fixed";
+  } else {
+    scale << "percentiles " << options_.lo_percentile << " / " << options_.hi_percentile;
+  }
+  std::ostringstream layout;
+  layout << "row = " << per_row << (per_row == 1 ? " ping" : " pings (mean)")
+         << ", columns = port far -> near | starboard near -> far, "
+         << (options_.slant_correct ? "flat-bottom ground range" : "slant range");
+  labels.metadata.insert(
+      labels.metadata.end(),
+      {{"SONARSYNTH_VERSION", kVersion},
+       {"SONARSYNTH_QUANTITY", std::string("display colour: ") +
+                                   (grey ? "grey" : "black-brown-yellow") +
+                                   " colormap of the dB value of backscatter (linear intensity)"},
+       {"SONARSYNTH_UNITS", "none (8-bit colour)"},
+       {"SONARSYNTH_DISPLAY_SCALE", scale.str()},
+       {"SONARSYNTH_WATERFALL_LAYOUT", layout.str()},
+       {"SONARSYNTH_NODATA", "0 (black): no sample"}});
+  labels.descriptions =
+      grey ? std::vector<std::string>{"grey"} : std::vector<std::string>{"red", "green", "blue"};
   raster::stream_to_file(source, cols(), image_rows(), bands, GDT_Byte, driver.c_str(),
-                         out.temp_path().string(), co, {}, kWho, path);
+                         out.temp_path().string(), co, labels, kWho, path);
   out.commit();
 }
 
@@ -333,7 +361,8 @@ void TruthWaterfall::add_ping(std::span<const SampleClass> port_class,
   spool_->append(port, stbd);
 }
 
-void TruthWaterfall::write(const std::string& path, bool overwrite) const {
+void TruthWaterfall::write(const std::string& path, bool overwrite,
+                           const std::vector<std::pair<std::string, std::string>>& metadata) const {
   constexpr const char* kWho = "truth waterfall";
   if (rows() == 0 || cols() == 0) {
     throw FormatError(std::string(kWho) + ": " + path + ": no ping to write");
@@ -341,10 +370,31 @@ void TruthWaterfall::write(const std::string& path, bool overwrite) const {
   gdal::ensure_registered();
   AtomicOutput out(path, overwrite);
   TruthRows source(*spool_);
+  raster::RasterLabels labels;
+  labels.metadata = metadata;
+  labels.metadata.insert(
+      labels.metadata.end(),
+      {{"SONARSYNTH_VERSION", kVersion},
+       {"SONARSYNTH_QUANTITY",
+        "per-sample truth of the XTF samples: class, object id, grazing angle"},
+       {"SONARSYNTH_UNITS", "class: code, object_id: id, grazing_angle_deg: degrees"},
+       {"SONARSYNTH_CLASS_CODES",
+        "0 = water_column, 1 = seabed, 2 = object, 3 = shadow, 4 = no_seabed, 255 = padding"},
+       {"SONARSYNTH_OBJECT_ID_CODES",
+        "0 = seabed, -1 = none (no seabed or object echo, or padding), > 0 = the scene object with "
+        "that id"},
+       {"SONARSYNTH_WATERFALL_LAYOUT",
+        "row = ping, columns = port far -> near | starboard near -> far, slant range"},
+       {"SONARSYNTH_NODATA",
+        "NaN (grazing angle: no seabed echo); a shorter side is padded with class 255, id -1"}});
+  labels.descriptions = {"class", "object_id", "grazing_angle_deg"};
+  labels.units = {"", "", "deg"};
+  labels.has_nodata = true;
+  labels.nodata = std::numeric_limits<double>::quiet_NaN();
   raster::stream_to_file(
       source, cols(), rows(), 3, GDT_Float32, "GTiff", out.temp_path().string(),
       {{"COMPRESS", "ZSTD"}, {"ZSTD_LEVEL", "1"}, {"TILED", "YES"}, {"BIGTIFF", "IF_SAFER"}},
-      {"class", "object id", "grazing angle (degrees)"}, kWho, path);
+      labels, kWho, path);
   out.commit();
 }
 

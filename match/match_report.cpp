@@ -3,11 +3,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
-
-#include "sonarsynth/formats/json_text.hpp"
 
 namespace sonarsynth::match {
 namespace {}  // namespace
@@ -41,50 +40,54 @@ std::string format_table(const MatchReport& report) {
 }
 
 std::string format_json(const MatchReport& report) {
+  using Json = nlohmann::ordered_json;  // keys in the order written
   const MatchOptions& o = report.options;
-  std::ostringstream os;
-  os << "{\n  \"image_a\": {\"source\": " << json::string_literal(report.image_a)
-     << ", \"width\": " << report.width_a << ", \"height\": " << report.height_a << "},\n"
-     << "  \"image_b\": {\"source\": " << json::string_literal(report.image_b)
-     << ", \"width\": " << report.width_b << ", \"height\": " << report.height_b << "},\n"
-     << "  \"georeferenced\": " << (report.georeferenced ? "true" : "false") << ",\n"
-     << "  \"options\": {\"ratio\": " << json::number(o.ratio)
-     << ", \"model\": " << json::string_literal(model_name(o.model))
-     << ", \"ransac_threshold_px\": " << json::number(o.ransac_threshold_px)
-     << ", \"ransac_iterations\": " << o.ransac_iterations
-     << ", \"ransac_confidence\": " << json::number(o.ransac_confidence)
-     << ", \"max_features\": " << o.max_features << ", \"mask_margin_px\": " << o.mask_margin_px
-     << ", \"tolerance_m\": " << json::number(report.tolerance_m) << "},\n  \"results\": [";
-  for (std::size_t i = 0; i < report.rows.size(); ++i) {
-    const MatchRow& row = report.rows[i];
+  Json j;
+  j["image_a"] = {
+      {"source", report.image_a}, {"width", report.width_a}, {"height", report.height_a}};
+  j["image_b"] = {
+      {"source", report.image_b}, {"width", report.width_b}, {"height", report.height_b}};
+  j["georeferenced"] = report.georeferenced;
+  j["options"] = {{"ratio", o.ratio},
+                  {"model", model_name(o.model)},
+                  {"ransac_threshold_px", o.ransac_threshold_px},
+                  {"ransac_iterations", o.ransac_iterations},
+                  {"ransac_confidence", o.ransac_confidence},
+                  {"max_features", o.max_features},
+                  {"mask_margin_px", o.mask_margin_px},
+                  {"tolerance_m", report.tolerance_m}};
+  Json results = Json::array();
+  for (const MatchRow& row : report.rows) {
     const DetectorResult& r = row.result;
-    os << (i ? "," : "")
-       << "\n    {\"prefilter\": " << json::string_literal(prefilter_name(row.prefilter))
-       << ", \"detector\": " << json::string_literal(detector_name(r.detector))
-       << ", \"keypoints_a\": " << r.keypoints_a << ", \"keypoints_b\": " << r.keypoints_b
-       << ", \"matches\": " << r.matches << ", \"inliers\": " << r.inliers
-       << ", \"inlier_ratio\": " << json::number(r.inlier_ratio) << ", \"transform\": ";
+    Json e = {{"prefilter", prefilter_name(row.prefilter)},
+              {"detector", detector_name(r.detector)},
+              {"keypoints_a", r.keypoints_a},
+              {"keypoints_b", r.keypoints_b},
+              {"matches", r.matches},
+              {"inliers", r.inliers},
+              {"inlier_ratio", r.inlier_ratio},
+              {"transform", nullptr}};
     if (r.transform) {
-      os << "[";
-      for (int k = 0; k < 9; ++k)
-        os << (k ? ", " : "") << json::number((*r.transform)(k / 3, k % 3));
-      os << "]";
-    } else {
-      os << "null";
+      Json t = Json::array();
+      for (int k = 0; k < 9; ++k) t.push_back((*r.transform)(k / 3, k % 3));
+      e["transform"] = std::move(t);
     }
+    e["transform_rms_m"] = nullptr;
+    e["transform_max_m"] = nullptr;
+    e["match_rms_m"] = nullptr;
+    e["correct_inliers"] = nullptr;
     if (row.accuracy) {
-      os << ", \"transform_rms_m\": " << json::number(row.accuracy->transform_rms_m)
-         << ", \"transform_max_m\": " << json::number(row.accuracy->transform_max_m)
-         << ", \"match_rms_m\": " << json::number(row.accuracy->match_rms_m)
-         << ", \"correct_inliers\": " << row.accuracy->correct_inliers;
-    } else {
-      os << ", \"transform_rms_m\": null, \"transform_max_m\": null, \"match_rms_m\": null, "
-            "\"correct_inliers\": null";
+      e["transform_rms_m"] = row.accuracy->transform_rms_m;
+      e["transform_max_m"] = row.accuracy->transform_max_m;
+      e["match_rms_m"] = row.accuracy->match_rms_m;
+      e["correct_inliers"] = row.accuracy->correct_inliers;
     }
-    os << ", \"seconds\": " << json::number(r.seconds) << "}";
+    e["seconds"] = r.seconds;
+    results.push_back(std::move(e));
   }
-  os << "\n  ]\n}\n";
-  return os.str();
+  j["results"] = std::move(results);
+  // Paths may hold any bytes: invalid UTF-8 is replaced (U+FFFD), never thrown on.
+  return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 cv::Mat draw_inlier_matches(const cv::Mat& a, const cv::Mat& b, const std::vector<MatchRow>& rows) {

@@ -8,7 +8,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libgdal-dev gdal-bin libgeographiclib-dev libboost-program-options-dev
-  libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
+  libyaml-cpp-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
 )
 if [[ "${1:-}" == "--dev" ]]; then
   packages+=(clang libclang-rt-dev clang-format libopencv-dev)

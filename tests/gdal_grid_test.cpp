@@ -183,6 +183,10 @@ TEST_F(GdalGridTest, WriteReadRoundTripSouthernHemisphere) {
   int has = 0;
   EXPECT_TRUE(std::isnan(ds->GetRasterBand(1)->GetNoDataValue(&has)));
   EXPECT_TRUE(has);
+  // What the band holds: elevations (up positive) in metres.
+  EXPECT_STREQ(ds->GetRasterBand(1)->GetDescription(), "elevation");
+  EXPECT_STREQ(ds->GetRasterBand(1)->GetUnitType(), "m");
+  EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_UNITS"), "m");
   // Geodesy round trip lat/lon -> local -> grid index -> local -> lat/lon.
   const Eigen::Vector2d xy = back.frame.local_from_geodetic(centre);
   const double col = b.col_of_x(xy.x());

@@ -372,6 +372,8 @@ TEST(MosaicWriter, GeoTiffConventions) {
     MosaicWriteOptions wo;
     wo.format = f;
     wo.count_band = true;
+    wo.metadata = {{"SONARSYNTH_SEED", "77"}};
+    wo.rgb_path = path.substr(0, path.size() - 4) + "_rgb.tif";
     write_mosaic(path, frame, img, wo);
     GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
     ASSERT_NE(ds, nullptr);
@@ -393,7 +395,33 @@ TEST(MosaicWriter, GeoTiffConventions) {
     EXPECT_TRUE(std::isnan(b->GetNoDataValue(&has_nodata)));
     EXPECT_TRUE(has_nodata);
     EXPECT_STREQ(b->GetDescription(), "backscatter (linear intensity)");
+    EXPECT_STREQ(b->GetUnitType(), "counts");
     EXPECT_STREQ(ds->GetRasterBand(2)->GetDescription(), "count");
+    EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_SEED"), "77");  // the caller's items
+    EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_QUANTITY"), "backscatter (linear intensity)");
+    EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_UNITS"), "counts");
+    {
+      // The display copy: the caller's items, averaged overviews (down to < 256 pixels).
+      GDALDataset* rgb = GDALDataset::Open(wo.rgb_path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
+      ASSERT_NE(rgb, nullptr);
+      EXPECT_STREQ(rgb->GetMetadataItem("SONARSYNTH_SEED"), "77");
+      for (int k = 1; k <= 4; ++k) {
+        EXPECT_GE(rgb->GetRasterBand(k)->GetOverviewCount(), 1) << k;
+      }
+      std::uint8_t px[4] = {};  // an overview pixel of the constant: its colour, opaque
+      std::uint8_t full[4] = {};
+      for (int k = 0; k < 4; ++k) {
+        GDALRasterBand* band = rgb->GetRasterBand(k + 1);
+        ASSERT_EQ(band->GetOverview(0)->RasterIO(GF_Read, 10, 10, 1, 1, &px[k], 1, 1, GDT_Byte, 0,
+                                                 0, nullptr),
+                  CE_None);
+        ASSERT_EQ(band->RasterIO(GF_Read, 20, 20, 1, 1, &full[k], 1, 1, GDT_Byte, 0, 0, nullptr),
+                  CE_None);
+        EXPECT_EQ(px[k], full[k]) << k;
+      }
+      EXPECT_EQ(px[3], 255);
+      GDALClose(rgb);
+    }
     EXPECT_GE(b->GetOverviewCount(), 1);
     if (f == MosaicRasterFormat::cog) {
       const char* layout = ds->GetMetadataItem("LAYOUT", "IMAGE_STRUCTURE");

@@ -10,10 +10,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <utility>
 
 #include "cli_test_util.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/render_side.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -173,6 +176,97 @@ TEST_F(SimulateCli, ProductsExistOpenInGdalAndPutTheObjectWithinOnePixel) {
       centroid(mosaic, [&](double v) { return std::isfinite(v) && v > 0.5 * vmax; });
   EXPECT_LT((c_peak - en).cwiseAbs().maxCoeff(), 0.5 + 0.2)
       << c_peak.transpose() << " vs " << en.transpose();
+}
+
+// Every product says what it holds: the run's seed (given on the command line, overriding the
+// scene's 4) and the scene's sonar (600 kHz, 30 m, 600 samples, tilt 15 deg, horizontal beam
+// 0.3 deg) as metadata items, the version CMake gives the project, quantity, units, band
+// descriptions and nodata; the display mosaic has overviews.
+TEST_F(SimulateCli, ProductsCarryTheRunsMetadataAndSayWhatTheyHold) {
+  const fs::path scene = write("s.yaml", scene_yaml(line("north", 12.0, true)));
+  const auto r = test::run_cli("simulate " + scene.string() + " -o " + (dir_ / "out").string() +
+                                   " -q --res 0.2 --seed 12345",
+                               dir_);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  GDALAllRegister();
+  const auto open = [&](const char* name) {
+    return std::unique_ptr<GDALDataset>(
+        GDALDataset::Open((dir_ / "out" / name).c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  };
+  const auto item = [](GDALDataset& ds, const char* key) {
+    const char* v = ds.GetMetadataItem(key);
+    return std::string(v ? v : "(missing)");
+  };
+  const auto number = [&](GDALDataset& ds, const char* key) {
+    const std::string v = item(ds, key);
+    return v == "(missing)" ? std::nan("") : std::stod(v);
+  };
+  for (const char* name : {"mosaic.tif", "mosaic_rgb.tif", "truth_mosaic.tif", "north_truth.tif",
+                           "north_waterfall.png"}) {
+    SCOPED_TRACE(name);
+    const auto ds = open(name);
+    ASSERT_NE(ds, nullptr);
+    EXPECT_EQ(item(*ds, "SONARSYNTH_SEED"), "12345");
+    EXPECT_EQ(item(*ds, "SONARSYNTH_SCENE"), "georef");
+    EXPECT_EQ(item(*ds, "SONARSYNTH_VERSION"), SONARSYNTH_PROJECT_VERSION);
+    EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_SONAR_FREQUENCY_HZ"), 600e3);
+    EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_SONAR_RANGE_M"), 30.0);
+    EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_SONAR_SAMPLES_PER_SIDE"), 600.0);
+    EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_SONAR_TILT_DEG"), 15.0);
+    EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_SONAR_HORIZONTAL_BEAM_DEG"), 0.3);
+    EXPECT_EQ(item(*ds, "SONARSYNTH_TVG"), "30 log10(R) + 2 alpha R");  // the default TVG
+    EXPECT_TRUE(std::isfinite(number(*ds, "SONARSYNTH_GAIN_DB")));
+    EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_FULL_SCALE"), 32767.0);  // u16 samples
+    EXPECT_NE(item(*ds, "SONARSYNTH_QUANTITY"), "(missing)");
+    EXPECT_NE(item(*ds, "SONARSYNTH_UNITS"), "(missing)");
+    EXPECT_NE(item(*ds, "SONARSYNTH_NODATA"), "(missing)");
+  }
+  // The float mosaic: linear intensity in XTF sample counts, NaN nodata.
+  const auto mosaic = open("mosaic.tif");
+  ASSERT_NE(mosaic, nullptr);
+  GDALRasterBand* b = mosaic->GetRasterBand(1);
+  EXPECT_STREQ(b->GetDescription(), "backscatter (linear intensity)");
+  EXPECT_STREQ(b->GetUnitType(), "counts");
+  int has = 0;
+  EXPECT_TRUE(std::isnan(b->GetNoDataValue(&has)));
+  EXPECT_TRUE(has);
+  // The display copy: RGBA with averaged overviews (the float mosaic's COG driver stops at 512
+  // pixels, the display copy's at 256).
+  const auto rgb = open("mosaic_rgb.tif");
+  ASSERT_NE(rgb, nullptr);
+  ASSERT_GT(rgb->GetRasterXSize(), 256);  // overviews go down to < 256 pixels
+  const char* rgba[4] = {"red", "green", "blue", "alpha (0 = nodata)"};
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_STREQ(rgb->GetRasterBand(k + 1)->GetDescription(), rgba[k]);
+    EXPECT_GE(rgb->GetRasterBand(k + 1)->GetOverviewCount(), 1) << k;
+  }
+  EXPECT_EQ(rgb->GetRasterBand(4)->GetColorInterpretation(), GCI_AlphaBand);
+  EXPECT_NE(item(*rgb, "SONARSYNTH_DISPLAY_SCALE"), "(missing)");
+  // The truth mosaic: object ids, nodata INT32_MIN.
+  const auto truth = open("truth_mosaic.tif");
+  ASSERT_NE(truth, nullptr);
+  EXPECT_STREQ(truth->GetRasterBand(1)->GetDescription(), "object_id");
+  EXPECT_EQ(truth->GetRasterBand(1)->GetNoDataValue(&has), -2147483648.0);
+  EXPECT_TRUE(has);
+  // The truth waterfall: class codes as SampleClass numbers them, grazing in degrees, NaN nodata.
+  const auto tw = open("north_truth.tif");
+  ASSERT_NE(tw, nullptr);
+  const char* bands[3] = {"class", "object_id", "grazing_angle_deg"};
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_STREQ(tw->GetRasterBand(k + 1)->GetDescription(), bands[k]);
+    EXPECT_TRUE(std::isnan(tw->GetRasterBand(k + 1)->GetNoDataValue(&has))) << k;
+  }
+  EXPECT_STREQ(tw->GetRasterBand(3)->GetUnitType(), "deg");
+  const std::string codes = item(*tw, "SONARSYNTH_CLASS_CODES");
+  for (const auto& [c, n] : {std::pair{SampleClass::water_column, "water_column"},
+                             {SampleClass::seabed, "seabed"},
+                             {SampleClass::object, "object"},
+                             {SampleClass::shadow, "shadow"},
+                             {SampleClass::no_seabed, "no_seabed"}}) {
+    const std::string want = std::to_string(static_cast<int>(c)) + " = " + n;
+    EXPECT_NE(codes.find(want), std::string::npos) << want << " in " << codes;
+  }
+  EXPECT_NE(codes.find("255 = padding"), std::string::npos) << codes;
 }
 
 TEST_F(SimulateCli, OppositeLinesPutTheObjectInTheSamePlace) {

@@ -302,7 +302,7 @@ TEST(TruthWaterfall, StreamedBandsEqualInMemoryAssembly) {
   const std::string path = (dir / "truth.tif").string();
   t.write(path);
   const float pads[3] = {255.0f, -1.0f, kNaN};
-  const char* names[3] = {"class", "object id", "grazing angle (degrees)"};
+  const char* names[3] = {"class", "object_id", "grazing_angle_deg"};
   GDALAllRegister();
   GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
   ASSERT_NE(ds, nullptr);

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
 // `sonarsynth info FILE.xtf [--json]`: what is in an XTF file, like gdalinfo.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
 #include "commands.hpp"
-#include "sonarsynth/formats/json_text.hpp"
 #include "sonarsynth/formats/xtf/summary.hpp"
 
 namespace sonarsynth::cli {
@@ -15,9 +16,27 @@ namespace {
 
 namespace xtf = sonarsynth::xtf;
 
-std::string json_range(const xtf::ValueRange& r) {
-  if (r.count == 0) return "null";
-  return "{\"min\": " + json::number(r.min) + ", \"max\": " + json::number(r.max) + "}";
+using Json = nlohmann::ordered_json;  // keys in the order written
+
+Json json_range(const xtf::ValueRange& r) {
+  if (r.count == 0) return nullptr;
+  return {{"min", r.min}, {"max", r.max}};
+}
+
+/// Text from a file (any bytes) as JSON: each byte one character (ISO 8859-1), so that every
+/// byte is kept and the output is valid UTF-8 (printed as \u00XX escapes: ASCII output).
+std::string file_text(const std::string& bytes) {
+  std::string out;
+  for (const char ch : bytes) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x80) {
+      out += ch;
+    } else {
+      out += static_cast<char>(0xC0 | (c >> 6));
+      out += static_cast<char>(0x80 | (c & 0x3F));
+    }
+  }
+  return out;
 }
 
 std::string text_range(const xtf::ValueRange& r, int precision = 3) {
@@ -46,86 +65,88 @@ const char* channel_type_name(std::uint8_t t) {
 
 void print_json(const xtf::FileSummary& s, std::ostream& os) {
   const xtf::XtfFileHeader& h = s.header;
-  os << "{\n  \"file\": " << json::string_literal(s.name) << ",\n  \"size_bytes\": " << s.file_size
-     << ",\n  \"header\": {\"FileFormat\": " << int{h.FileFormat}
-     << ", \"SystemType\": " << int{h.SystemType} << ", \"RecordingProgramName\": "
-     << json::string_literal(xtf::to_string(h.RecordingProgramName))
-     << ", \"RecordingProgramVersion\": "
-     << json::string_literal(xtf::to_string(h.RecordingProgramVersion))
-     << ", \"SonarName\": " << json::string_literal(xtf::to_string(h.SonarName))
-     << ", \"SonarType\": " << h.SonarType
-     << ", \"NoteString\": " << json::string_literal(xtf::to_string(h.NoteString))
-     << ", \"ThisFileName\": " << json::string_literal(xtf::to_string(h.ThisFileName))
-     << ", \"NavUnits\": " << h.NavUnits
-     << ", \"NumberOfSonarChannels\": " << h.NumberOfSonarChannels
-     << ", \"NumberOfBathymetryChannels\": " << h.NumberOfBathymetryChannels << "},\n";
-  os << "  \"chan_info\": [";
+  Json j;
+  j["file"] = file_text(s.name);
+  j["size_bytes"] = s.file_size;
+  j["header"] = {{"FileFormat", h.FileFormat},
+                 {"SystemType", h.SystemType},
+                 {"RecordingProgramName", file_text(xtf::to_string(h.RecordingProgramName))},
+                 {"RecordingProgramVersion", file_text(xtf::to_string(h.RecordingProgramVersion))},
+                 {"SonarName", file_text(xtf::to_string(h.SonarName))},
+                 {"SonarType", h.SonarType},
+                 {"NoteString", file_text(xtf::to_string(h.NoteString))},
+                 {"ThisFileName", file_text(xtf::to_string(h.ThisFileName))},
+                 {"NavUnits", h.NavUnits},
+                 {"NumberOfSonarChannels", h.NumberOfSonarChannels},
+                 {"NumberOfBathymetryChannels", h.NumberOfBathymetryChannels}};
+  Json chan_info = Json::array();
   for (std::size_t i = 0; i < s.chan_info.size(); ++i) {
     const xtf::XtfChanInfo& c = s.chan_info[i];
-    os << (i ? ",\n    " : "\n    ") << "{\"index\": " << i
-       << ", \"TypeOfChannel\": " << int{c.TypeOfChannel}
-       << ", \"type\": " << json::string_literal(channel_type_name(c.TypeOfChannel))
-       << ", \"SubChannelNumber\": " << int{c.SubChannelNumber}
-       << ", \"CorrectionFlags\": " << c.CorrectionFlags << ", \"UniPolar\": " << c.UniPolar
-       << ", \"BytesPerSample\": " << c.BytesPerSample
-       << ", \"SampleFormat\": " << int{c.SampleFormat} << ", \"Reserved\": " << c.Reserved
-       << ", \"ChannelName\": " << json::string_literal(xtf::to_string(c.ChannelName))
-       << ", \"Frequency\": " << json::number(c.Frequency) << "}";
+    chan_info.push_back({{"index", i},
+                         {"TypeOfChannel", c.TypeOfChannel},
+                         {"type", channel_type_name(c.TypeOfChannel)},
+                         {"SubChannelNumber", c.SubChannelNumber},
+                         {"CorrectionFlags", c.CorrectionFlags},
+                         {"UniPolar", c.UniPolar},
+                         {"BytesPerSample", c.BytesPerSample},
+                         {"SampleFormat", c.SampleFormat},
+                         {"Reserved", c.Reserved},
+                         {"ChannelName", file_text(xtf::to_string(c.ChannelName))},
+                         {"Frequency", c.Frequency}});
   }
-  os << "\n  ],\n  \"packet_counts\": {";
-  bool first = true;
+  j["chan_info"] = std::move(chan_info);
+  Json packets = Json::object();
   for (const auto& [type, count] : s.packet_counts) {
-    os << (first ? "" : ", ") << json::string_literal(std::to_string(type))
-       << ": {\"name\": " << json::string_literal(xtf::header_type_name(type))
-       << ", \"count\": " << count << "}";
-    first = false;
+    packets[std::to_string(type)] = {{"name", xtf::header_type_name(type)}, {"count", count}};
   }
-  os << "},\n  \"pings\": " << s.pings
-     << ",\n  \"pings_with_valid_navigation\": " << s.pings_with_valid_nav
-     << ",\n  \"channels\": [";
-  first = true;
+  j["packet_counts"] = std::move(packets);
+  j["pings"] = s.pings;
+  j["pings_with_valid_navigation"] = s.pings_with_valid_nav;
+  Json channels = Json::array();
   for (const auto& [number, c] : s.channels) {
-    os << (first ? "\n    " : ",\n    ") << "{\"ChannelNumber\": " << number
-       << ", \"type\": " << json::string_literal(channel_type_name(c.type_of_channel))
-       << ", \"pings\": " << c.pings << ", \"samples\": " << json_range(c.samples)
-       << ", \"slant_range_m\": " << json_range(c.slant_range_m) << "}";
-    first = false;
+    channels.push_back({{"ChannelNumber", number},
+                        {"type", channel_type_name(c.type_of_channel)},
+                        {"pings", c.pings},
+                        {"samples", json_range(c.samples)},
+                        {"slant_range_m", json_range(c.slant_range_m)}});
   }
-  os << "\n  ],\n  \"time\": {\"first\": "
-     << (s.first_time ? json::string_literal(xtf::iso8601(*s.first_time)) : "null")
-     << ", \"last\": " << (s.last_time ? json::string_literal(xtf::iso8601(*s.last_time)) : "null")
-     << ", \"duration_s\": "
-     << (s.first_time
-             ? json::number(std::chrono::duration<double>(*s.last_time - *s.first_time).count())
-             : "null")
-     << "},\n  \"navigation\": {\"units\": "
-     << json::string_literal(h.NavUnits == 3 ? "degrees" : (h.NavUnits == 0 ? "metres" : "unknown"))
-     << ", \"x\": " << json_range(s.sensor_x) << ", \"y\": " << json_range(s.sensor_y)
-     << ", \"pings_without_position\": " << s.pings - s.pings_with_valid_nav
-     << "},\n  \"ping_attitude\": {\"heading_deg\": " << json_range(s.heading_deg)
-     << ", \"pitch_deg\": " << json_range(s.pitch_deg)
-     << ", \"roll_deg\": " << json_range(s.roll_deg) << ", \"heave_m\": " << json_range(s.heave_m)
-     << ", \"altitude_m\": " << json_range(s.altitude_m)
-     << ", \"pings_without_altitude\": " << s.pings_without_altitude
-     << ", \"depth_m\": " << json_range(s.depth_m)
-     << ", \"SoundVelocity\": " << json_range(s.sound_velocity)
-     << "},\n  \"attitude_packets\": {\"heading_deg\": " << json_range(s.attitude_heading_deg)
-     << ", \"pitch_deg\": " << json_range(s.attitude_pitch_deg)
-     << ", \"roll_deg\": " << json_range(s.attitude_roll_deg) << "},\n  \"anomaly_counts\": {";
+  j["channels"] = std::move(channels);
+  Json time = {{"first", nullptr}, {"last", nullptr}, {"duration_s", nullptr}};
+  if (s.first_time) time["first"] = xtf::iso8601(*s.first_time);
+  if (s.last_time) time["last"] = xtf::iso8601(*s.last_time);
+  if (s.first_time && s.last_time) {
+    time["duration_s"] = std::chrono::duration<double>(*s.last_time - *s.first_time).count();
+  }
+  j["time"] = std::move(time);
+  j["navigation"] = {
+      {"units", h.NavUnits == 3 ? "degrees" : (h.NavUnits == 0 ? "metres" : "unknown")},
+      {"x", json_range(s.sensor_x)},
+      {"y", json_range(s.sensor_y)},
+      {"pings_without_position", s.pings - s.pings_with_valid_nav}};
+  j["ping_attitude"] = {{"heading_deg", json_range(s.heading_deg)},
+                        {"pitch_deg", json_range(s.pitch_deg)},
+                        {"roll_deg", json_range(s.roll_deg)},
+                        {"heave_m", json_range(s.heave_m)},
+                        {"altitude_m", json_range(s.altitude_m)},
+                        {"pings_without_altitude", s.pings_without_altitude},
+                        {"depth_m", json_range(s.depth_m)},
+                        {"SoundVelocity", json_range(s.sound_velocity)}};
+  j["attitude_packets"] = {{"heading_deg", json_range(s.attitude_heading_deg)},
+                           {"pitch_deg", json_range(s.attitude_pitch_deg)},
+                           {"roll_deg", json_range(s.attitude_roll_deg)}};
+  Json anomaly_counts = Json::object();
   for (std::size_t k = 0; k < xtf::kAnomalyKindCount; ++k) {
-    os << (k ? ", " : "")
-       << json::string_literal(xtf::anomaly_kind_name(static_cast<xtf::AnomalyKind>(k))) << ": "
-       << s.anomaly_counts[k];
+    anomaly_counts[xtf::anomaly_kind_name(static_cast<xtf::AnomalyKind>(k))] = s.anomaly_counts[k];
   }
-  os << "},\n  \"anomalies\": [";
-  for (std::size_t i = 0; i < s.anomalies.size(); ++i) {
-    const xtf::Anomaly& a = s.anomalies[i];
-    os << (i ? ",\n    " : "\n    ")
-       << "{\"kind\": " << json::string_literal(xtf::anomaly_kind_name(a.kind))
-       << ", \"offset\": " << a.offset << ", \"message\": " << json::string_literal(a.message)
-       << "}";
+  j["anomaly_counts"] = std::move(anomaly_counts);
+  Json anomalies = Json::array();
+  for (const xtf::Anomaly& a : s.anomalies) {
+    anomalies.push_back({{"kind", xtf::anomaly_kind_name(a.kind)},
+                         {"offset", a.offset},
+                         {"message", file_text(a.message)}});
   }
-  os << (s.anomalies.empty() ? "]\n}\n" : "\n  ]\n}\n");
+  j["anomalies"] = std::move(anomalies);
+  os << j.dump(2, ' ', true) << "\n";
 }
 
 void print_text(const xtf::FileSummary& s, std::size_t max_anomalies, std::ostream& os) {

@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/output_dir.hpp"
+#include "sonarsynth/formats/product_metadata.hpp"
 #include "sonarsynth/formats/run_check.hpp"
 #include "sonarsynth/formats/simulation_file.hpp"
 #include "sonarsynth/formats/survey_products.hpp"
@@ -132,8 +133,7 @@ int run_simulate(const std::vector<std::string>& args) {
   }
   po_opts.write_options.creation_options = parse_key_values(co, "co");
   po_opts.write_options.overwrite = true;  // inside our own fresh temporary directory
-  po_opts.write_options.metadata = {{"SONARSYNTH_SCENE", setup.scene.name},
-                                    {"SONARSYNTH_SEED", std::to_string(setup.config.seed)}};
+  po_opts.write_options.metadata = run_metadata(setup.scene.name, setup.config, sim.gain_db());
   SurveyProducts products(out.file(""), setup.scene, setup.config.sonar, setup.lines, po_opts);
   RunStatistics stats(setup.lines.size());
   TeeSink sink({&xtf_out, &products, &stats});

@@ -62,7 +62,9 @@ struct GridWriteOptions {
 };
 
 /// Writes the grid as a float32 GeoTIFF in the frame's EPSG CRS, NaN nodata, AREA_OR_POINT=Area
-/// (pixel corners at node -/+ half a cell). Written under a temporary name and renamed when
+/// (pixel corners at node -/+ half a cell), band description "elevation" in unit "m", metadata
+/// items SONARSYNTH_VERSION, SONARSYNTH_QUANTITY, SONARSYNTH_UNITS, SONARSYNTH_NODATA after
+/// the options' own. Written under a temporary name and renamed when
 /// complete; on any error nothing is left at `path`. Throws FormatError naming the path.
 void write_height_grid_geotiff(const std::string& path, const GeoFrame& frame,
                                const HeightGrid& grid, const GridWriteOptions& options = {});

@@ -25,8 +25,15 @@ struct MosaicWriteOptions {
   /// COMPRESS=DEFLATE, PREDICTOR=3, OVERVIEW_RESAMPLING=AVERAGE, BIGTIFF=IF_SAFER; GTiff:
   /// TILED=YES, BLOCKXSIZE=BLOCKYSIZE=512, COMPRESS=DEFLATE, PREDICTOR=3, BIGTIFF=IF_SAFER).
   std::vector<std::pair<std::string, std::string>> creation_options;
-  /// Dataset metadata items (e.g. the command line).
+  /// Dataset metadata items of every GeoTIFF written (e.g. the command line, or the run's
+  /// run_metadata()); the writer adds SONARSYNTH_VERSION, SONARSYNTH_QUANTITY, SONARSYNTH_UNITS
+  /// and SONARSYNTH_NODATA of each file.
   std::vector<std::pair<std::string, std::string>> metadata;
+  /// What the mosaic's values are (band 1 description, SONARSYNTH_QUANTITY) and their unit (band
+  /// 1 unit type, SONARSYNTH_UNITS): the samples' own, gridded linearly. XTF sample values
+  /// (simulate's: intensity after TVG and gain, docs/physics.md §1.2) by default.
+  std::string quantity = "backscatter (linear intensity)";
+  std::string units = "counts";
 
   /// 8-bit display copy, RGBA (alpha 0 = nodata): GeoTIFF, or PNG if the name ends in .png
   /// (not georeferenced). Empty = none. The dB of the linear value between the
@@ -36,8 +43,8 @@ struct MosaicWriteOptions {
   Colormap colormap = Colormap::black_brown_yellow;
   double lo_percentile = 1.0;
   double hi_percentile = 99.0;
-  /// Truth mosaic (int32 GeoTIFF on the same grid, nodata INT32_MIN) if the image has labels.
-  /// Empty = none.
+  /// Truth mosaic (int32 GeoTIFF on the same grid, band "object_id", nodata INT32_MIN, nearest
+  /// overviews) if the image has labels. Empty = none.
   std::string labels_path;
 
   /// Throws InputError naming the violated constraint.
@@ -46,10 +53,12 @@ struct MosaicWriteOptions {
 
 /// Writes the mosaic as float32 in the frame's EPSG CRS (326zz/327zz), NaN nodata,
 /// AREA_OR_POINT=Area with the geotransform origin at the corner of the top-left pixel, band
-/// description "backscatter (linear intensity)", average overviews (of linear values) down to
-/// < 256 pixels. Every output is written under a temporary name and renamed only when all are
-/// complete; on error nothing is left under the final names. Throws FormatError naming the
-/// path, InputError for bad options.
+/// description and unit from the options, average overviews (of linear values) down to
+/// < 256 pixels; the GeoTIFF display copy has averaged overviews too (alpha as the mask) and the
+/// band descriptions red, green, blue, "alpha (0 = nodata)" and SONARSYNTH_DISPLAY_SCALE. Every
+/// output is written under a temporary name and renamed only when all are complete; on error
+/// nothing is left under the final names. Throws FormatError naming the path, InputError for bad
+/// options.
 void write_mosaic(const std::string& path, const GeoFrame& frame, const MosaicImage& image,
                   const MosaicWriteOptions& options = {});
 

@@ -7,6 +7,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sonarsynth/colormap.hpp"
@@ -39,6 +40,10 @@ struct WaterfallOptions {
   /// Where the rows wait for write() (an unnamed temporary file, see Waterfall); empty = the
   /// system's temporary directory.
   std::filesystem::path spool_dir;
+  /// Metadata items written into the image (e.g. the run's run_metadata()); write() adds
+  /// SONARSYNTH_VERSION, SONARSYNTH_QUANTITY, SONARSYNTH_UNITS, SONARSYNTH_DISPLAY_SCALE,
+  /// SONARSYNTH_WATERFALL_LAYOUT and SONARSYNTH_NODATA. GeoTIFF: GDAL metadata; PNG: text chunks.
+  std::vector<std::pair<std::string, std::string>> metadata;
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
@@ -103,10 +108,11 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
                                     const WaterfallOptions& options = {});
 
 /// Per-sample truth aligned with the XTF samples (same rows and columns as the waterfall of
-/// the same pings): band 1 class (SampleClass value, 255 = padding), band 2 object id (0 seabed,
-/// -1 none), band 3 grazing angle in degrees (NaN none). Written as a float32 GeoTIFF without
-/// georeferencing (ids exact below 2^24). Rows are spooled to an unnamed temporary file in
-/// `spool_dir` like those of Waterfall (12 bytes per sample).
+/// the same pings): band 1 "class" (SampleClass value, 255 = padding), band 2 "object_id" (0
+/// seabed, -1 none), band 3 "grazing_angle_deg" (degrees, NaN none; the nodata value of every
+/// band). Written as a float32 GeoTIFF without georeferencing (ids exact below 2^24), the codes
+/// in metadata items SONARSYNTH_CLASS_CODES and SONARSYNTH_OBJECT_ID_CODES. Rows are spooled to an
+/// unnamed temporary file in `spool_dir` like those of Waterfall (12 bytes per sample).
 class TruthWaterfall {
  public:
   /// `spool_dir` empty = the system's temporary directory. Throws FormatError if the spool file
@@ -121,7 +127,9 @@ class TruthWaterfall {
                 std::span<const float> port_grazing_rad, std::span<const float> stbd_grazing_rad);
   std::size_t rows() const;
   std::size_t cols() const;
-  void write(const std::string& path, bool overwrite = false) const;
+  /// `metadata`: items written before the writer's own (e.g. the run's run_metadata()).
+  void write(const std::string& path, bool overwrite = false,
+             const std::vector<std::pair<std::string, std::string>>& metadata = {}) const;
 
  private:
   std::unique_ptr<detail::SideSpool> spool_;  ///< bands: class, id, grazing (deg)
