@@ -233,6 +233,10 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
                       ": no sonar channel (no ping has port or starboard samples)");
   }
   wf.write(image_path);
+  result.reader_anomalies = reader.total_anomalies();
+  for (std::size_t i = 0; i < reader.anomalies().size() && i < 10; ++i) {
+    result.reader_anomaly_messages.push_back(reader.anomalies()[i].message);
+  }
   result.rows = wf.rows();
   result.cols = wf.cols();
   return result;
