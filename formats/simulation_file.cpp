@@ -123,9 +123,13 @@ Survey SimulationSetup::make_survey() const {
   return Survey(lines, vehicle, config.sonar.effective_ping_period_s(), start_time, config.seed);
 }
 
-SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {
-  SimulationSetup setup{load_scene(path), {}, {}, {}, {}, "u16", 10.0};
-  const Fields top(yaml::load_file(path), path, "");
+namespace {
+
+// The simulation of the YAML document `doc` over the scene `loaded`; `path` names it in messages.
+SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std::string& path,
+                                 const fs::path& base_dir, const SimulationOverrides& overrides) {
+  SimulationSetup setup{std::move(loaded), {}, {}, {}, {}, "u16", 10.0};
+  const Fields top(doc, path, "");
   Scene& scene = setup.scene;
   SimulationConfig& cfg = setup.config;
   const Eigen::Vector4d bb = scene.bathymetry.bounds();
@@ -314,7 +318,7 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
   for (const Fields& l : sv.sequence("lines")) {
     if (l.has("file")) {
       l.only({"file", "layer"});
-      const std::string vpath = yaml::resolve_path(fs::path(path).parent_path(), l.text("file"));
+      const std::string vpath = yaml::resolve_path(base_dir, l.text("file"));
       gdal::VectorLayer vl =
           gdal::open_vector_layer(vpath, l.text("layer", ""), scene.frame.epsg(), false, "survey");
       OGRLayer* layer = vl.layer;
@@ -360,6 +364,22 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
   }
   wrap(top, [&] { cfg.validate(); });
   return setup;
+}
+
+}  // namespace
+
+SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {
+  Scene scene = load_scene(path);
+  return build_simulation(std::move(scene), yaml::load_file(path), path,
+                          fs::path(path).parent_path(), overrides);
+}
+
+SimulationSetup load_simulation_from_string(const std::string& yaml_text, const std::string& name,
+                                            const std::filesystem::path& base_dir,
+                                            const SimulationOverrides& overrides) {
+  Scene scene = load_scene_from_string(yaml_text, name, base_dir);
+  return build_simulation(std::move(scene), yaml::load_string(yaml_text, name), name, base_dir,
+                          overrides);
 }
 
 void write_effective_config(const std::string& scene_path, const SimulationOverrides& overrides,

@@ -69,5 +69,7 @@ std::string resolve_path(const std::filesystem::path& base_dir, const std::strin
 
 /// Loads a YAML file; throws FormatError naming the file (and line) when it is malformed.
 YAML::Node load_file(const std::string& path);
+/// Parses YAML text; throws FormatError naming `name` (and line) when it is malformed.
+YAML::Node load_string(const std::string& text, const std::string& name);
 
 }  // namespace sonarsynth::yaml
