@@ -273,6 +273,7 @@ TEST_F(MosaicCliTest, MalformedPingIsSkippedByInfoWaterfallAndMosaic) {
   s.samples = 100;
   test::write_line(path("bad.xtf"), s);
   const std::vector<std::uint64_t> offsets = ping_offsets("bad.xtf");
+  const std::vector<std::uint64_t> indices = ping_packet_indices("bad.xtf");
   ASSERT_EQ(offsets.size(), 20u);
   auto b = bytes("bad.xtf");
   const std::uint64_t bad = offsets[7];
@@ -288,6 +289,12 @@ TEST_F(MosaicCliTest, MalformedPingIsSkippedByInfoWaterfallAndMosaic) {
                                   "at byte " + std::to_string(bad) + " of " + path("bad.xtf")}) {
     EXPECT_TRUE(contains(out_, part)) << part << " in " << out_;
   }
+
+  ASSERT_EQ(run_out("info --json " + path("bad.xtf")), 0) << err_;
+  const std::string packet = std::to_string(indices[7]);
+  EXPECT_TRUE(contains(out_, "{\"kind\": \"bad_record_size\", \"offset\": " + std::to_string(bad) +
+                                 ", \"packet\": " + packet))
+      << out_;
 
   ASSERT_EQ(run_out("waterfall " + path("bad.xtf") + " -o " + path("w.png") + " --grey -q"), 0)
       << err_;

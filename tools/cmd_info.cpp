@@ -121,8 +121,8 @@ void print_json(const xtf::FileSummary& s, std::ostream& os) {
     const xtf::Anomaly& a = s.anomalies[i];
     os << (i ? ",\n    " : "\n    ")
        << "{\"kind\": " << json::string_literal(xtf::anomaly_kind_name(a.kind))
-       << ", \"offset\": " << a.offset << ", \"message\": " << json::string_literal(a.message)
-       << "}";
+       << ", \"offset\": " << a.offset << ", \"packet\": " << a.packet_index
+       << ", \"message\": " << json::string_literal(a.message) << "}";
   }
   os << (s.anomalies.empty() ? "]\n}\n" : "\n  ]\n}\n");
 }
