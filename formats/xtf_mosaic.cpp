@@ -138,8 +138,13 @@ void drop_outliers(const std::string& file, FileNav& f, const GeoFrame& provisio
       if (p.dropped) continue;
       std::ostringstream os;
       os.precision(6);
-      os << "position jumps " << (has_before ? d_before : d_after)
-         << " m from the pings around it (threshold " << threshold << " m)";
+      os << "position jumps away from the pings around it:";
+      if (has_before) os << " " << d_before << " m from the median of the " << k - b0 << " before";
+      if (has_after) {
+        os << (has_before ? "," : "") << " " << d_after << " m from the median of the "
+           << a1 - k - 1 << " after";
+      }
+      os << " (threshold " << threshold << " m)";
       drop(p, result.dropped_position_jump, os.str());
     }
   }

@@ -367,6 +367,24 @@ TEST_F(MosaicOutlierTest, GpsJumpOfOnePingIsDroppedFromTheExtent) {
       << err_;
   const std::string packet = std::to_string(ping_packet_indices("jump.xtf")[60]);
   EXPECT_TRUE(contains(err_, path("jump.xtf") + ": ping 60 (packet " + packet + ")")) << err_;
+  // 2000 m across the track and the medians 3 pings (1.5 m) along it, in UTM metres: the
+  // geodesic distance times the point scale factor k there (GeographicLib).
+  {
+    const test::LatLon at = test::ping_position(spec_, 60);
+    int zone = 0;
+    bool northp = false;
+    double x = 0, y = 0, gamma = 0, k = 0;
+    GeographicLib::UTMUPS::Forward(at.lat_deg, at.lon_deg, zone, northp, x, y, gamma, k);
+    const double expected = std::hypot(2000.0 * k, 1.5);
+    for (const std::string side : {"before", "after"}) {
+      const std::string tail = " m from the median of the 5 " + side;
+      const std::size_t end = err_.find(tail);
+      ASSERT_NE(end, std::string::npos) << err_;
+      const std::size_t begin = err_.rfind(' ', end - 1) + 1;
+      EXPECT_NEAR(std::stod(err_.substr(begin, end - begin)), expected, 0.01) << err_;
+    }
+    EXPECT_TRUE(contains(err_, "(threshold 50 m)")) << err_;
+  }
   EXPECT_TRUE(contains(out_, "119 of 120 pings")) << out_;
   expect_same_grid(test::read_band(path("m.tif")), ref);
   EXPECT_EQ(bytes("jump.xtf"), input);
