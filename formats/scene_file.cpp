@@ -535,12 +535,16 @@ Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path
 }  // namespace
 
 Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
-  return build_scene(yaml::load_file(path), path, fs::path(path).parent_path(), options);
+  return yaml::with_file_errors(path, [&] {
+    return build_scene(yaml::load_file(path), path, fs::path(path).parent_path(), options);
+  });
 }
 
 Scene load_scene_from_string(const std::string& yaml_text, const std::string& name,
                              const fs::path& base_dir, const SceneLoadOptions& options) {
-  return build_scene(yaml::load_string(yaml_text, name), name, base_dir, options);
+  return yaml::with_file_errors(name, [&] {
+    return build_scene(yaml::load_string(yaml_text, name), name, base_dir, options);
+  });
 }
 
 }  // namespace sonarsynth

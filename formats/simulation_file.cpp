@@ -370,16 +370,20 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
 
 SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {
   Scene scene = load_scene(path);
-  return build_simulation(std::move(scene), yaml::load_file(path), path,
-                          fs::path(path).parent_path(), overrides);
+  return yaml::with_file_errors(path, [&] {
+    return build_simulation(std::move(scene), yaml::load_file(path), path,
+                            fs::path(path).parent_path(), overrides);
+  });
 }
 
 SimulationSetup load_simulation_from_string(const std::string& yaml_text, const std::string& name,
                                             const std::filesystem::path& base_dir,
                                             const SimulationOverrides& overrides) {
   Scene scene = load_scene_from_string(yaml_text, name, base_dir);
-  return build_simulation(std::move(scene), yaml::load_string(yaml_text, name), name, base_dir,
-                          overrides);
+  return yaml::with_file_errors(name, [&] {
+    return build_simulation(std::move(scene), yaml::load_string(yaml_text, name), name, base_dir,
+                            overrides);
+  });
 }
 
 void write_effective_config(const std::string& scene_path, const SimulationOverrides& overrides,

@@ -121,7 +121,10 @@ void Fields::only(const std::set<std::string>& allowed) const {
   if (!node_.IsMap()) fail("", "expected a map of keys");
   std::set<std::string> seen;
   for (const auto& kv : node_) {
-    const std::string k = kv.first.as<std::string>();
+    if (!kv.first.IsScalar()) {
+      fail("", "a key that is not a name (line " + std::to_string(kv.first.Mark().line + 1) + ")");
+    }
+    const std::string k = kv.first.Scalar();
     // YAML forbids duplicate keys but yaml-cpp keeps the first silently: the second would be
     // ignored without a word.
     if (!seen.insert(k).second) {

@@ -68,5 +68,33 @@ TEST(SceneFromString, MalformedYamlNamesTheGivenName) {
   }
 }
 
+// Found by scene_file_fuzz: a key that is a list (YAML "complex key") was an uncaught yaml-cpp
+// conversion error (exit 3 from the CLI); a value of the wrong type where yaml-cpp converts
+// directly, too. Both are InputErrors naming the file and the line.
+TEST(SceneFromString, KeysAndValuesOfTheWrongTypeAreInputErrors) {
+  const auto expect_input_error = [](const std::string& yaml, const std::string& part) {
+    try {
+      load_simulation_from_string(yaml, "inline.yaml", ".");
+      ADD_FAILURE() << "no error for:\n" << yaml;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+  };
+  expect_input_error("? [a, b]\n: 1\n", "inline.yaml: : a key that is not a name (line 1)");
+  const std::string flat = R"(bathymetry:
+  generate:
+    centre: {lat_deg: -33.9, lon_deg: 151.3}
+    size_m: [100, 80]
+    cell_m: 0.5
+)";
+  expect_input_error(flat + "  ? {x: 1}\n  : 2\n",
+                     "inline.yaml: bathymetry: a key that is not a name (line 6)");
+  expect_input_error(flat + R"(seabed:
+  polygons:
+    - coordinates_deg: [[-33.9, 151.3], [-33.9, east], [-33.91, 151.3]]
+)",
+                     "inline.yaml: value at line 8, column 49 has the wrong type");
+}
+
 }  // namespace
 }  // namespace sonarsynth
