@@ -115,6 +115,12 @@ LoadedGrid read_aligned(const std::string& path, GDALDataset* ds, GDALRasterBand
     fail(kReader, path, e.what());
   }
 
+  if (options.max_nodes > 0 && g.size() > options.max_nodes) {
+    fail(kReader, path,
+         "grid of " + std::to_string(g.cols) + " x " + std::to_string(g.rows) +
+             " nodes. Violated constraint: nodes <= max_nodes = " +
+             std::to_string(options.max_nodes));
+  }
   std::vector<float> heights;
   try {
     heights.resize(g.size());

@@ -428,13 +428,12 @@ bathy_spec::ComponentInput read_component(const Fields& c) {
   return in;
 }
 
-}  // namespace
-
-Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
-  const Fields top(yaml::load_file(path), path, "");
+// The scene of the YAML document `doc`; `path` names it in messages.
+Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path& base_dir,
+                  const SceneLoadOptions& options) {
+  const Fields top(doc, path, "");
   top.only({"name", "description", "seed", "bathymetry", "materials", "seabed", "objects", "survey",
             "sonar", "noise", "render", "output", "limits", "derived"});
-  const fs::path base_dir = fs::path(path).parent_path();
 
   // Bathymetry: from a raster, or generated.
   const Fields b = top.child("bathymetry");
@@ -524,6 +523,21 @@ Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
   }
   scene.objects.build_index();
   return std::move(*built);
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
+  return yaml::with_file_errors(path, [&] {
+    return build_scene(yaml::load_file(path), path, fs::path(path).parent_path(), options);
+  });
+}
+
+Scene load_scene_from_string(const std::string& yaml_text, const std::string& name,
+                             const fs::path& base_dir, const SceneLoadOptions& options) {
+  return yaml::with_file_errors(name, [&] {
+    return build_scene(yaml::load_string(yaml_text, name), name, base_dir, options);
+  });
 }
 
 }  // namespace sonarsynth

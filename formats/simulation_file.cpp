@@ -163,11 +163,13 @@ Survey SimulationSetup::make_survey() const {
   return Survey(lines, vehicle, config.sonar.effective_ping_period_s(), start_time, config.seed);
 }
 
-SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {
-  SceneLoadOptions scene_options;
-  scene_options.seed = overrides.seed;  // the seed reaches the generated bathymetry too
-  SimulationSetup setup{.scene = load_scene(path, scene_options)};
-  const Fields top(yaml::load_file(path), path, "");
+namespace {
+
+// The simulation of the YAML document `doc` over the scene `loaded`; `path` names it in messages.
+SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std::string& path,
+                                 const fs::path& base_dir, const SimulationOverrides& overrides) {
+  SimulationSetup setup{.scene = std::move(loaded)};
+  const Fields top(doc, path, "");
   Scene& scene = setup.scene;
   SimulationConfig& cfg = setup.config;
   const Eigen::Vector4d bb = scene.bathymetry.bounds();
@@ -290,7 +292,7 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
   for (const Fields& l : sv.sequence("lines")) {
     if (l.has("file")) {
       l.only({"file", "layer"});
-      const std::string vpath = yaml::resolve_path(fs::path(path).parent_path(), l.text("file"));
+      const std::string vpath = yaml::resolve_path(base_dir, l.text("file"));
       gdal::VectorLayer vl =
           gdal::open_vector_layer(vpath, l.text("layer", ""), scene.frame.epsg(), false, "survey");
       OGRLayer* layer = vl.layer;
@@ -358,6 +360,33 @@ SimulationSetup load_simulation(const std::string& path, const SimulationOverrid
     top.fail("", what);
   }
   return setup;
+}
+
+// The scene options of a run: the --seed override reaches the generated bathymetry too.
+SceneLoadOptions scene_options(const SimulationOverrides& overrides) {
+  SceneLoadOptions o;
+  o.seed = overrides.seed;
+  return o;
+}
+
+}  // namespace
+
+SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {
+  Scene scene = load_scene(path, scene_options(overrides));
+  return yaml::with_file_errors(path, [&] {
+    return build_simulation(std::move(scene), yaml::load_file(path), path,
+                            fs::path(path).parent_path(), overrides);
+  });
+}
+
+SimulationSetup load_simulation_from_string(const std::string& yaml_text, const std::string& name,
+                                            const std::filesystem::path& base_dir,
+                                            const SimulationOverrides& overrides) {
+  Scene scene = load_scene_from_string(yaml_text, name, base_dir, scene_options(overrides));
+  return yaml::with_file_errors(name, [&] {
+    return build_simulation(std::move(scene), yaml::load_string(yaml_text, name), name, base_dir,
+                            overrides);
+  });
 }
 
 void write_effective_config(const std::string& scene_path, const SimulationOverrides& overrides,

@@ -312,6 +312,10 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
                       ": no sonar channel (no ping has port or starboard samples)");
   }
   wf.write(image_path);
+  result.reader_anomalies = reader.total_anomalies();
+  for (std::size_t i = 0; i < reader.anomalies().size() && i < 10; ++i) {
+    result.reader_anomaly_messages.push_back(reader.anomalies()[i].message);
+  }
   result.pings = wf.rows();
   result.pings_per_row = wf.pings_per_row();
   result.rows = wf.image_rows();

@@ -15,10 +15,143 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+// Neighbours on each side of a ping in the position-jump test, and how many dropped pings and
+// reader anomalies are described in the result.
+constexpr std::size_t kJumpWindow = 5;
+constexpr std::size_t kMaxExamples = 10;
+
 struct NavPoint {
   Geodetic position;
-  double margin_m;  ///< slant range (+ layback if applied): how far samples can reach
+  double margin_m = 0.0;  ///< slant range (+ layback if applied): how far samples can reach
+  double slant_range_m = 0.0;
+  float heading_deg = 0.0f;  ///< SensorHeading as stored
+  std::uint32_t ping_number = 0;
+  std::uint64_t packet_index = 0;
+  Eigen::Vector2d xy{0.0, 0.0};  ///< in the provisional frame
+  bool dropped = false;
 };
+
+struct FileNav {
+  std::vector<NavPoint> points;
+  std::vector<std::uint64_t> dropped_packets;  ///< ascending
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return kNaN;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+/// Component-wise median of xy over points[idx[first..last)].
+Eigen::Vector2d median_xy(const std::vector<NavPoint>& points, const std::vector<std::size_t>& idx,
+                          std::size_t first, std::size_t last) {
+  std::vector<double> xs, ys;
+  for (std::size_t k = first; k < last; ++k) {
+    xs.push_back(points[idx[k]].xy.x());
+    ys.push_back(points[idx[k]].xy.y());
+  }
+  return {median(xs), median(ys)};
+}
+
+/// Latitude and longitude medians (longitudes unwrapped around the first one): a centre that a
+/// few wild positions cannot move.
+Geodetic robust_centre(const std::vector<FileNav>& nav) {
+  std::vector<double> lats, dlons;
+  double lon0 = kNaN;
+  for (const FileNav& f : nav) {
+    for (const NavPoint& p : f.points) {
+      if (std::isnan(lon0)) lon0 = p.position.lon_rad;
+      lats.push_back(p.position.lat_rad);
+      dlons.push_back(std::remainder(p.position.lon_rad - lon0, 2.0 * kPi));
+    }
+  }
+  return {median(lats), std::remainder(lon0 + median(dlons), 2.0 * kPi), 0.0};
+}
+
+std::string describe(const std::string& file, const NavPoint& p) {
+  std::ostringstream os;
+  os.precision(7);
+  os << file << ": ping " << p.ping_number << " (packet " << p.packet_index << ") at lat "
+     << deg_from_rad(p.position.lat_rad) << ", lon " << deg_from_rad(p.position.lon_rad);
+  return os.str();
+}
+
+/// Marks the navigation outliers of one file (see mosaic_xtf()) and counts them in `result`.
+void drop_outliers(const std::string& file, FileNav& f, const GeoFrame& provisional,
+                   const XtfMosaicOptions& options, XtfMosaicResult& result) {
+  std::vector<NavPoint>& pts = f.points;
+  if (pts.empty()) return;
+  const auto drop = [&](NavPoint& p, std::size_t& counter, const std::string& why) {
+    p.dropped = true;
+    ++counter;
+    ++result.pings_dropped;
+    if (result.dropped_examples.size() < kMaxExamples) {
+      result.dropped_examples.push_back(describe(file, p) + ": " + why);
+    }
+  };
+  std::vector<double> ranges;
+  for (const NavPoint& p : pts) ranges.push_back(p.slant_range_m);
+  const double median_range = median(ranges);
+  std::vector<std::size_t> located;  // pings with a position in the provisional frame
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    NavPoint& p = pts[i];
+    std::ostringstream os;
+    os.precision(6);
+    if (!std::isfinite(p.heading_deg)) {
+      os << "SensorHeading = " << p.heading_deg;
+      drop(p, result.dropped_heading, os.str());
+    } else if (p.slant_range_m > options.max_slant_range_ratio * median_range) {
+      os << "SlantRange = " << p.slant_range_m << " m, more than " << options.max_slant_range_ratio
+         << " x the file's median " << median_range << " m";
+      drop(p, result.dropped_slant_range, os.str());
+    }
+    try {
+      p.xy = provisional.local_from_geodetic(p.position);
+      located.push_back(i);
+    } catch (const InputError&) {
+      if (!p.dropped) {
+        drop(p, result.dropped_position_jump,
+             "position cannot be projected in the zone of the survey (EPSG:" +
+                 std::to_string(provisional.epsg()) + ")");
+      }
+    }
+  }
+  // Position jumps among the located pings, in file order.
+  std::vector<double> steps;
+  for (std::size_t k = 1; k < located.size(); ++k) {
+    steps.push_back((pts[located[k]].xy - pts[located[k - 1]].xy).norm());
+  }
+  const double step = steps.empty() ? 0.0 : median(steps);
+  const double threshold = std::max(median_range, 2.0 * static_cast<double>(kJumpWindow) * step);
+  const std::size_t n = located.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    NavPoint& p = pts[located[k]];
+    const std::size_t b0 = k >= kJumpWindow ? k - kJumpWindow : 0;
+    const std::size_t a1 = std::min(n, k + 1 + kJumpWindow);
+    const bool has_before = b0 < k;
+    const bool has_after = k + 1 < a1;
+    if (!has_before && !has_after) continue;
+    const double d_before = has_before ? (p.xy - median_xy(pts, located, b0, k)).norm() : kNaN;
+    const double d_after = has_after ? (p.xy - median_xy(pts, located, k + 1, a1)).norm() : kNaN;
+    if ((!has_before || d_before > threshold) && (!has_after || d_after > threshold)) {
+      if (p.dropped) continue;
+      std::ostringstream os;
+      os.precision(6);
+      os << "position jumps away from the pings around it:";
+      if (has_before) os << " " << d_before << " m from the median of the " << k - b0 << " before";
+      if (has_after) {
+        os << (has_before ? "," : "") << " " << d_after << " m from the median of the "
+           << a1 - k - 1 << " after";
+      }
+      os << " (threshold " << threshold << " m)";
+      drop(p, result.dropped_position_jump, os.str());
+    }
+  }
+  for (const NavPoint& p : pts) {
+    if (p.dropped) f.dropped_packets.push_back(p.packet_index);
+  }
+}
 
 bool has_samples(const xtf::SonarPing& s) {
   return (!s.port.empty() || !s.starboard.empty()) && s.slant_range_m > 0.0 &&
@@ -36,6 +169,15 @@ void XtfMosaicOptions::validate() const {
     std::ostringstream os;
     os << "xtf mosaic: pixel_size_m (--res) = " << pixel_size_m
        << ". Violated constraint: pixel_size_m > 0";
+    throw InputError(os.str());
+  }
+  if (max_pixels == 0) {
+    throw InputError("xtf mosaic: max_pixels (--max-pixels) = 0. Violated constraint: > 0");
+  }
+  if (!(max_slant_range_ratio > 1.0)) {
+    std::ostringstream os;
+    os << "xtf mosaic: max_slant_range_ratio = " << max_slant_range_ratio
+       << ". Violated constraint: max_slant_range_ratio > 1";
     throw InputError(os.str());
   }
   gridding.validate();
@@ -61,9 +203,10 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
   result.files = files.size();
 
   // Pass 1: navigation, extent, sanity of every file.
-  std::vector<NavPoint> nav;
+  std::vector<FileNav> nav(files.size());
   xtf::Packet packet;
-  for (const auto& path : files) {
+  for (std::size_t fi = 0; fi < files.size(); ++fi) {
+    const auto& path = files[fi];
     xtf::Reader reader(path);
     std::size_t with_samples = 0;
     std::size_t pings = 0;
@@ -78,45 +221,91 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
       const double margin = options.apply_layback && std::isfinite(layback) && layback > 0.0
                                 ? s.slant_range_m + layback
                                 : s.slant_range_m;
-      nav.push_back({s.sensor_position, margin});
+      NavPoint p;
+      p.position = s.sensor_position;
+      p.margin_m = margin;
+      p.slant_range_m = s.slant_range_m;
+      p.heading_deg = packet.ping.header.SensorHeading;
+      p.ping_number = packet.ping.header.PingNumber;
+      p.packet_index = packet.index;
+      nav[fi].points.push_back(p);
     }
     if (with_samples == 0) {
       throw FormatError("xtf mosaic: " + path.string() + ": no sonar channel (no ping of " +
                         std::to_string(pings) + " has port or starboard samples)");
     }
   }
-  if (nav.empty()) {
-    throw FormatError(
-        "xtf mosaic: no ping has valid navigation in " +
-        (files.size() == 1 ? files.front().string() : std::to_string(files.size()) + " files") +
-        " (SensorX/Ycoordinate zero, invalid, or not geographic: NavUnits != 3)");
+  const auto where = [&] {
+    return files.size() == 1 ? files.front().string() : std::to_string(files.size()) + " files";
+  };
+  std::size_t located = 0;
+  for (const FileNav& f : nav) located += f.points.size();
+  if (located == 0) {
+    throw FormatError("xtf mosaic: no ping has valid navigation in " + where() +
+                      " (SensorX/Ycoordinate zero, invalid, or not geographic: NavUnits != 3)");
+  }
+
+  // Navigation outliers, judged in metres in the zone of a robust centre of all positions.
+  const GeoFrame provisional = GeoFrame::around(robust_centre(nav));
+  for (std::size_t fi = 0; fi < files.size(); ++fi) {
+    drop_outliers(files[fi].string(), nav[fi], provisional, options, result);
+  }
+  if (result.pings_dropped == located) {
+    throw FormatError("xtf mosaic: every ping with a position in " + where() + " (" +
+                      std::to_string(located) +
+                      ") is a navigation outlier; first: " + result.dropped_examples.front());
   }
 
   // Frame: the zone of the centroid (longitude averaged on the circle: dateline-safe).
   double lat = 0.0, sx = 0.0, sy = 0.0;
-  for (const auto& p : nav) {
-    lat += p.position.lat_rad;
-    sx += std::cos(p.position.lon_rad);
-    sy += std::sin(p.position.lon_rad);
+  std::size_t kept = 0;
+  for (const FileNav& f : nav) {
+    for (const NavPoint& p : f.points) {
+      if (p.dropped) continue;
+      lat += p.position.lat_rad;
+      sx += std::cos(p.position.lon_rad);
+      sy += std::sin(p.position.lon_rad);
+      ++kept;
+    }
   }
-  const Geodetic centroid{lat / static_cast<double>(nav.size()), std::atan2(sy, sx), 0.0};
+  const Geodetic centroid{lat / static_cast<double>(kept), std::atan2(sy, sx), 0.0};
   result.frame = bathymetry ? bathymetry->frame : GeoFrame::around(centroid);
   Eigen::Vector2d lo(std::numeric_limits<double>::infinity(),
                      std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;
-  for (const auto& p : nav) {
-    const Eigen::Vector2d xy = result.frame.local_from_geodetic(p.position);
-    lo = lo.cwiseMin((xy.array() - p.margin_m).matrix());
-    hi = hi.cwiseMax((xy.array() + p.margin_m).matrix());
+  for (FileNav& f : nav) {
+    for (const NavPoint& p : f.points) {
+      if (p.dropped) continue;
+      const Eigen::Vector2d xy = result.frame.local_from_geodetic(p.position);
+      lo = lo.cwiseMin((xy.array() - p.margin_m).matrix());
+      hi = hi.cwiseMax((xy.array() + p.margin_m).matrix());
+    }
+    f.points.clear();
+    f.points.shrink_to_fit();
   }
-  nav.clear();
-  nav.shrink_to_fit();
+  // The pixel count before anything is allocated (geometry_covering rounds the edges outwards
+  // to whole pixels: at most one more on each side).
+  const double res = options.pixel_size_m;
+  const double cols = std::ceil((hi.x() - lo.x()) / res) + 1.0;
+  const double rows = std::ceil((hi.y() - lo.y()) / res) + 1.0;
+  if (cols * rows > static_cast<double>(options.max_pixels)) {
+    std::ostringstream os;
+    os.precision(6);
+    os << "xtf mosaic: the mosaic of " << where() << " would be about " << cols << " x " << rows
+       << " = " << cols * rows << " pixels (extent " << hi.x() - lo.x() << " x " << hi.y() - lo.y()
+       << " m at " << res << " m per pixel), more than max_pixels = " << options.max_pixels
+       << ". Violated constraint: pixels <= max_pixels (--max-pixels); "
+       << "use a coarser --res or raise --max-pixels";
+    throw InputError(os.str());
+  }
   const GridGeometry geometry = MosaicGrid::geometry_covering(lo, hi, options.pixel_size_m);
   MosaicGrid grid(geometry, options.gridding, bathymetry ? &bathymetry->grid : nullptr);
 
   // Pass 2: gridding.
-  for (const auto& path : files) {
-    xtf::Reader reader(path);
+  for (std::size_t fi = 0; fi < files.size(); ++fi) {
+    xtf::Reader reader(files[fi]);
+    const std::vector<std::uint64_t>& dropped = nav[fi].dropped_packets;
+    auto next_dropped = dropped.begin();
     while (reader.next(packet)) {
       if (packet.kind != xtf::PacketKind::kPing) continue;
       ++result.pings;
@@ -128,6 +317,11 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
       if (!has_geographic_nav(reader, packet.ping)) {
         ++result.pings_no_navigation;
         grid.break_line();
+        continue;
+      }
+      while (next_dropped != dropped.end() && *next_dropped < packet.index) ++next_dropped;
+      if (next_dropped != dropped.end() && *next_dropped == packet.index) {
+        grid.break_line();  // a navigation outlier (counted in pass 1)
         continue;
       }
       MosaicPing mp;
@@ -171,6 +365,10 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
     }
     grid.break_line();  // no along-track fill from one file into the next
     result.reader_anomalies += reader.total_anomalies();
+    for (const xtf::Anomaly& a : reader.anomalies()) {
+      if (result.reader_anomaly_messages.size() >= kMaxExamples) break;
+      result.reader_anomaly_messages.push_back(a.message);
+    }
   }
   result.image = grid.finish();
   return result;

@@ -220,4 +220,13 @@ YAML::Node load_file(const std::string& path) {
   }
 }
 
+YAML::Node load_string(const std::string& text, const std::string& name) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw FormatError(name + ": malformed YAML at line " + std::to_string(e.mark.line + 1) +
+                      ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg);
+  }
+}
+
 }  // namespace sonarsynth::yaml

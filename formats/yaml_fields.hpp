@@ -76,7 +76,25 @@ class Fields {
 /// `file` relative to `base_dir` unless absolute, normalised.
 std::string resolve_path(const std::filesystem::path& base_dir, const std::string& file);
 
+/// Runs `load` (which reads a YAML document of `file`), turning a YAML::Exception that escapes
+/// from it (a value yaml-cpp cannot convert, e.g. a list where a number is expected) into an
+/// InputError naming the file, the line and the column.
+template <class F>
+auto with_file_errors(const std::string& file, F&& load) -> decltype(load()) {
+  try {
+    return load();
+  } catch (const YAML::Exception& e) {
+    const std::string where = e.mark.is_null()
+                                  ? ""
+                                  : " at line " + std::to_string(e.mark.line + 1) + ", column " +
+                                        std::to_string(e.mark.column + 1);
+    throw InputError(file + ": value" + where + " has the wrong type (" + e.msg + ")");
+  }
+}
+
 /// Loads a YAML file; throws FormatError naming the file (and line) when it is malformed.
 YAML::Node load_file(const std::string& path);
+/// Parses YAML text; throws FormatError naming `name` (and line) when it is malformed.
+YAML::Node load_string(const std::string& text, const std::string& name);
 
 }  // namespace sonarsynth::yaml

@@ -118,6 +118,25 @@ TEST_F(GdalGridTest, ReadsRealBag) {
   EXPECT_NEAR(deg_from_rad(c.lon_rad), -70.7048, 2e-4);
 }
 
+// max_nodes refuses a larger grid (117 x 87 = 10179 nodes) by name and size, and admits it at
+// exactly its size.
+TEST_F(GdalGridTest, MaxNodesRefusesALargerGrid) {
+  GridReadOptions o;
+  o.max_nodes = 117 * 87 - 1;
+  try {
+    read_height_grid(kBag, o);
+    ADD_FAILURE() << "no error";
+  } catch (const FormatError& e) {
+    const std::string m = e.what();
+    for (const std::string& part :
+         {kBag, std::string("117 x 87 nodes"), std::string("max_nodes = 10178")}) {
+      EXPECT_NE(m.find(part), std::string::npos) << part << " in " << m;
+    }
+  }
+  o.max_nodes = 117 * 87;
+  EXPECT_EQ(read_height_grid(kBag, o).grid.geometry().cols, 117u);
+}
+
 TEST_F(GdalGridTest, DepthPositiveDownNegates) {
   GridReadOptions o;
   o.depth_positive_down = true;

@@ -4,17 +4,21 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "cli_test_util.hpp"
 #include "mosaic_test_util.hpp"
+#include "sonarsynth/formats/xtf/byte_io.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
+#include "sonarsynth/formats/xtf/records.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -44,9 +48,89 @@ class MosaicCliTest : public ::testing::Test {
     return n;
   }
 
+  /// Runs `sonarsynth <args>`; keeps stdout in out_ too.
+  int run_out(const std::string& args) {
+    const test::CliResult r = test::run_cli(args, dir_);
+    err_ = r.err;
+    out_ = r.out;
+    return r.exit_code;
+  }
+  /// Names of the files in the directory, sorted.
+  std::vector<std::string> listing() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+  std::vector<std::uint8_t> bytes(const std::string& name) const {
+    std::ifstream in(path(name), std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+  void write(const std::string& name, const std::vector<std::uint8_t>& b) const {
+    std::ofstream out(path(name), std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+  }
+  /// Byte offsets of the sonar packets of an XTF file, in file order.
+  std::vector<std::uint64_t> ping_offsets(const std::string& name) const {
+    xtf::Reader r(fs::path(path(name)));
+    xtf::Packet p;
+    std::vector<std::uint64_t> out;
+    while (r.next(p)) {
+      if (p.kind == xtf::PacketKind::kPing) out.push_back(p.offset);
+    }
+    return out;
+  }
+
+  /// Packet indices (0-based among all packets) of the sonar packets, in file order.
+  std::vector<std::uint64_t> ping_packet_indices(const std::string& name) const {
+    xtf::Reader r(fs::path(path(name)));
+    xtf::Packet p;
+    std::vector<std::uint64_t> out;
+    while (r.next(p)) {
+      if (p.kind == xtf::PacketKind::kPing) out.push_back(p.index);
+    }
+    return out;
+  }
+
   fs::path dir_;
   std::string err_;
+  std::string out_;
 };
+
+/// Offset of a float field inside the encoded XTFPINGHEADER, found by encoding a header whose
+/// field holds a marker value (no byte layout is assumed here).
+std::size_t ping_header_offset_of(float xtf::XtfPingHeader::*field) {
+  xtf::XtfPingHeader h;
+  h.*field = 123456.75f;
+  std::vector<std::uint8_t> b(xtf::XtfPingHeader::kSize, 0);
+  xtf::ByteWriter w(b);
+  h.encode(w);
+  std::uint8_t pat[4];
+  const float v = 123456.75f;
+  std::memcpy(pat, &v, 4);
+  for (std::size_t i = 0; i + 4 <= b.size(); ++i) {
+    if (std::memcmp(&b[i], pat, 4) == 0) return i;
+  }
+  return 0;
+}
+std::size_t ping_header_offset_of(double xtf::XtfPingHeader::*field) {
+  xtf::XtfPingHeader h;
+  h.*field = 123456.75;
+  std::vector<std::uint8_t> b(xtf::XtfPingHeader::kSize, 0);
+  xtf::ByteWriter w(b);
+  h.encode(w);
+  std::uint8_t pat[8];
+  const double v = 123456.75;
+  std::memcpy(pat, &v, 8);
+  for (std::size_t i = 0; i + 8 <= b.size(); ++i) {
+    if (std::memcmp(&b[i], pat, 8) == 0) return i;
+  }
+  return 0;
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 TEST_F(MosaicCliTest, UnreadableFileFails) {
   std::ofstream(path("junk.xtf")) << "this is not an XTF file";
@@ -175,6 +259,227 @@ TEST_F(MosaicCliTest, WaterfallHasNadirInTheMiddle) {
     EXPECT_EQ(l.data[static_cast<std::size_t>(r * l.cols + 100 + 37)], 255.0f);
     EXPECT_LT(l.data[static_cast<std::size_t>(r * l.cols + 100 - 1 - 37)], 255.0f);
   }
+}
+
+// ---- One bad ping in a file: skipped with an anomaly, the rest of the file is used ----------
+
+// A ping whose NumChansToFollow (3) exceeds what its record holds once its two channels are
+// read: `info`, `waterfall` and `mosaic` use the other pings and report the anomaly with the
+// file, the packet and the value.
+TEST_F(MosaicCliTest, MalformedPingIsSkippedByInfoWaterfallAndMosaic) {
+  test::LineSpec s;
+  s.start = {48.4456, -68.8281};
+  s.pings = 20;
+  s.samples = 100;
+  test::write_line(path("bad.xtf"), s);
+  const std::vector<std::uint64_t> offsets = ping_offsets("bad.xtf");
+  const std::vector<std::uint64_t> indices = ping_packet_indices("bad.xtf");
+  ASSERT_EQ(offsets.size(), 20u);
+  auto b = bytes("bad.xtf");
+  const std::uint64_t bad = offsets[7];
+  const std::uint16_t three = 3;
+  std::memcpy(&b[bad + 4], &three, 2);  // NumChansToFollow: bytes 4-5 of the packet header
+  write("bad.xtf", b);
+  const std::vector<std::string> inputs = listing();
+
+  ASSERT_EQ(run_out("info " + path("bad.xtf")), 0) << err_;
+  EXPECT_TRUE(contains(out_, "Sonar pings: 19")) << out_;
+  EXPECT_TRUE(contains(out_, "bad_record_size: 1")) << out_;
+  for (const std::string& part : {std::string("NumChansToFollow = 3"), std::string("PingNumber 7"),
+                                  "at byte " + std::to_string(bad) + " of " + path("bad.xtf")}) {
+    EXPECT_TRUE(contains(out_, part)) << part << " in " << out_;
+  }
+
+  ASSERT_EQ(run_out("info --json " + path("bad.xtf")), 0) << err_;
+  const std::string packet = std::to_string(indices[7]);
+  EXPECT_TRUE(contains(out_, "{\"kind\": \"bad_record_size\", \"offset\": " + std::to_string(bad) +
+                                 ", \"packet\": " + packet))
+      << out_;
+
+  ASSERT_EQ(run_out("waterfall " + path("bad.xtf") + " -o " + path("w.png") + " --grey -q"), 0)
+      << err_;
+  EXPECT_EQ(test::read_band(path("w.png")).rows, 19);
+  EXPECT_TRUE(contains(err_, "warning: 1 anomalies")) << err_;
+  EXPECT_TRUE(contains(err_, "NumChansToFollow = 3")) << err_;
+  EXPECT_TRUE(contains(err_, path("bad.xtf"))) << err_;
+
+  ASSERT_EQ(run_out("mosaic " + path("bad.xtf") + " -o " + path("m.tif") + " --no-rgb"), 0) << err_;
+  EXPECT_TRUE(contains(out_, "19 of 19 pings")) << out_;
+  EXPECT_TRUE(contains(err_, "warning: 1 anomalies")) << err_;
+  EXPECT_TRUE(contains(err_, "PingNumber 7")) << err_;
+
+  // The input is untouched and the only new files are the two outputs.
+  EXPECT_EQ(bytes("bad.xtf"), b);
+  std::vector<std::string> expected = inputs;
+  expected.push_back("m.tif");
+  expected.push_back("w.png");
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(listing(), expected);
+}
+
+// ---- Navigation outliers and the pixel cap ---------------------------------------------------
+
+class MosaicOutlierTest : public MosaicCliTest {
+ protected:
+  MosaicOutlierTest() {
+    spec_.start = {48.4456, -68.8281};
+    spec_.heading_deg = 33.0;
+    spec_.pings = 120;
+    spec_.spacing_m = 0.5;
+    spec_.samples = 100;
+  }
+  /// Mosaics `name` into `out`; returns the exit status.
+  int mosaic(const std::string& name, const std::string& out, const std::string& extra = "") {
+    return run_out("mosaic " + path(name) + " -o " + path(out) + " --no-rgb --res 0.5 " + extra);
+  }
+  /// The reference: the same line without ping `skip`.
+  test::Raster reference_without(int skip) {
+    test::write_line(path("ref.xtf"), spec_, [&](int i, xtf::SonarPing&) { return i != skip; });
+    EXPECT_EQ(mosaic("ref.xtf", "ref.tif"), 0) << err_;
+    EXPECT_TRUE(err_.empty()) << err_;
+    test::Raster r = test::read_band(path("ref.tif"));
+    fs::remove(path("ref.tif"));
+    fs::remove(path("ref.xtf"));
+    return r;
+  }
+  static void expect_same_grid(const test::Raster& a, const test::Raster& b) {
+    EXPECT_EQ(a.cols, b.cols);
+    EXPECT_EQ(a.rows, b.rows);
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(a.gt[i], b.gt[i]) << "geotransform " << i;
+  }
+  test::LineSpec spec_;
+};
+
+// One ping 2 km off the line (a GPS jump): without the test the grid would reach it.
+TEST_F(MosaicOutlierTest, GpsJumpOfOnePingIsDroppedFromTheExtent) {
+  const test::Raster ref = reference_without(60);
+  ASSERT_GT(ref.cols, 0);
+  test::write_line(path("jump.xtf"), spec_, [&](int i, xtf::SonarPing& p) {
+    if (i == 60) {
+      const test::LatLon far = test::direct(test::ping_position(spec_, i), 123.0, 2000.0);
+      p.sensor_position = {rad_from_deg(far.lat_deg), rad_from_deg(far.lon_deg), 0.0};
+    }
+    return true;
+  });
+  const auto input = bytes("jump.xtf");
+  ASSERT_EQ(mosaic("jump.xtf", "m.tif"), 0) << err_;
+  EXPECT_TRUE(contains(err_, "dropped 1 of 120 pings as navigation outliers (1 position jumps"))
+      << err_;
+  const std::string packet = std::to_string(ping_packet_indices("jump.xtf")[60]);
+  EXPECT_TRUE(contains(err_, path("jump.xtf") + ": ping 60 (packet " + packet + ")")) << err_;
+  // 2000 m across the track and the medians 3 pings (1.5 m) along it, in UTM metres: the
+  // geodesic distance times the point scale factor k there (GeographicLib).
+  {
+    const test::LatLon at = test::ping_position(spec_, 60);
+    int zone = 0;
+    bool northp = false;
+    double x = 0, y = 0, gamma = 0, k = 0;
+    GeographicLib::UTMUPS::Forward(at.lat_deg, at.lon_deg, zone, northp, x, y, gamma, k);
+    const double expected = std::hypot(2000.0 * k, 1.5);
+    for (const std::string side : {"before", "after"}) {
+      const std::string tail = " m from the median of the 5 " + side;
+      const std::size_t end = err_.find(tail);
+      ASSERT_NE(end, std::string::npos) << err_;
+      const std::size_t begin = err_.rfind(' ', end - 1) + 1;
+      EXPECT_NEAR(std::stod(err_.substr(begin, end - begin)), expected, 0.01) << err_;
+    }
+    EXPECT_TRUE(contains(err_, "(threshold 50 m)")) << err_;
+  }
+  EXPECT_TRUE(contains(out_, "119 of 120 pings")) << out_;
+  expect_same_grid(test::read_band(path("m.tif")), ref);
+  EXPECT_EQ(bytes("jump.xtf"), input);
+  EXPECT_EQ(listing(), (std::vector<std::string>{"jump.xtf", "m.tif"}));
+}
+
+// A survey that stops and resumes 300 m away is not an outlier: the first ping after the gap
+// is near the pings after it, the last one before near the pings before it.
+TEST_F(MosaicOutlierTest, ResumingElsewhereAfterAGapIsKept) {
+  test::write_line(path("gap.xtf"), spec_, [&](int i, xtf::SonarPing& p) {
+    if (i >= 60) {
+      const test::LatLon moved = test::direct(test::ping_position(spec_, i), 123.0, 300.0);
+      p.sensor_position = {rad_from_deg(moved.lat_deg), rad_from_deg(moved.lon_deg), 0.0};
+    }
+    return true;
+  });
+  ASSERT_EQ(mosaic("gap.xtf", "m.tif"), 0) << err_;
+  EXPECT_FALSE(contains(err_, "dropped")) << err_;
+  EXPECT_TRUE(contains(out_, "120 of 120 pings")) << out_;
+}
+
+// SlantRange 1e6 m on one ping: without the test, 4e6 x 4e6 pixels.
+TEST_F(MosaicOutlierTest, AbsurdSlantRangeIsDropped) {
+  const test::Raster ref = reference_without(30);
+  test::write_line(path("range.xtf"), spec_, [&](int i, xtf::SonarPing& p) {
+    if (i == 30) p.slant_range_m = 1e6;
+    return true;
+  });
+  ASSERT_EQ(mosaic("range.xtf", "m.tif"), 0) << err_;
+  EXPECT_TRUE(contains(err_,
+                       "dropped 1 of 120 pings as navigation outliers (0 position jumps, 1 "
+                       "slant ranges, 0 headings)"))
+      << err_;
+  const std::string packet = std::to_string(ping_packet_indices("range.xtf")[30]);
+  EXPECT_TRUE(contains(err_, path("range.xtf") + ": ping 30 (packet " + packet + ")")) << err_;
+  EXPECT_TRUE(contains(err_, "SlantRange = 1e+06 m")) << err_;
+  expect_same_grid(test::read_band(path("m.tif")), ref);
+}
+
+// A NaN SensorHeading (patched in: the writer refuses one) drops that ping, not the batch.
+TEST_F(MosaicOutlierTest, NanHeadingDoesNotAbort) {
+  const test::Raster ref = reference_without(119);
+  test::write_line(path("nan.xtf"), spec_);
+  const std::size_t at = ping_header_offset_of(&xtf::XtfPingHeader::SensorHeading);
+  ASSERT_GT(at, 0u);
+  auto b = bytes("nan.xtf");
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(&b[ping_offsets("nan.xtf")[119] + at], &nan, 4);
+  write("nan.xtf", b);
+  ASSERT_EQ(mosaic("nan.xtf", "m.tif"), 0) << err_;
+  EXPECT_TRUE(contains(err_, "0 slant ranges, 1 headings)")) << err_;
+  const std::string packet = std::to_string(ping_packet_indices("nan.xtf")[119]);
+  EXPECT_TRUE(contains(err_, path("nan.xtf") + ": ping 119 (packet " + packet + ")")) << err_;
+  EXPECT_TRUE(contains(err_, "SensorHeading = nan")) << err_;
+  expect_same_grid(test::read_band(path("m.tif")), ref);
+}
+
+// A NaN position is no position: skipped and counted as such, the grid as without the ping.
+TEST_F(MosaicOutlierTest, NanPositionIsSkipped) {
+  const test::Raster ref = reference_without(0);
+  test::write_line(path("nanpos.xtf"), spec_);
+  const std::size_t at = ping_header_offset_of(&xtf::XtfPingHeader::SensorXcoordinate);
+  ASSERT_GT(at, 0u);
+  auto b = bytes("nanpos.xtf");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(&b[ping_offsets("nanpos.xtf")[0] + at], &nan, 8);
+  write("nanpos.xtf", b);
+  ASSERT_EQ(mosaic("nanpos.xtf", "m.tif"), 0) << err_;
+  EXPECT_TRUE(contains(err_, "skipped 1 of 120 pings with missing or zero navigation")) << err_;
+  expect_same_grid(test::read_band(path("m.tif")), ref);
+}
+
+// Two lines 20 km apart diagonally (each fine, and not outliers: they are separate files) make
+// an 80000 x 80000 pixel mosaic at 0.25 m: refused before any allocation, nothing written;
+// --max-pixels can lower (or raise) the limit.
+TEST_F(MosaicOutlierTest, PixelCapRefusesWithAClearMessageAndWritesNothing) {
+  spec_.pings = 20;
+  test::write_line(path("a.xtf"), spec_);
+  spec_.start = test::direct(spec_.start, 45.0, 20000.0);
+  test::write_line(path("b.xtf"), spec_);
+  const std::vector<std::string> inputs = listing();
+  ASSERT_EQ(run_out("mosaic " + path("a.xtf") + " " + path("b.xtf") + " -o " + path("m.tif")), 1);
+  EXPECT_TRUE(contains(err_, "error: xtf mosaic: the mosaic of 2 files would be about")) << err_;
+  EXPECT_TRUE(contains(err_, "at 0.25 m per pixel), more than max_pixels = 268435456")) << err_;
+  EXPECT_TRUE(contains(err_, "--max-pixels")) << err_;
+  EXPECT_EQ(listing(), inputs);
+
+  // The cap is the option's: one short line of ~ (2 x 50 + 10) m square at 0.5 m is
+  // ~220 x 220 pixels, refused under 1000 and accepted under 10^6.
+  ASSERT_EQ(mosaic("a.xtf", "m.tif", "--max-pixels 1000"), 1);
+  EXPECT_TRUE(contains(err_, "the mosaic of " + path("a.xtf") + " would be about")) << err_;
+  EXPECT_TRUE(contains(err_, "more than max_pixels = 1000")) << err_;
+  EXPECT_EQ(listing(), inputs);
+  ASSERT_EQ(mosaic("a.xtf", "m.tif", "--max-pixels 1000000"), 0) << err_;
+  EXPECT_TRUE(fs::exists(path("m.tif")));
 }
 
 }  // namespace

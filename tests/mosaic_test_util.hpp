@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -69,7 +70,10 @@ inline LatLon ping_position(const LineSpec& s, int i) {
   return direct(s.start, s.heading_deg, s.spacing_m * i);
 }
 
-inline void write_line(const std::filesystem::path& path, const LineSpec& s) {
+/// Writes the line; `edit(i, ping)`, if given, may change ping i before it is written and
+/// returns false to leave it out.
+inline void write_line(const std::filesystem::path& path, const LineSpec& s,
+                       const std::function<bool(int, xtf::SonarPing&)>& edit = {}) {
   xtf::WriterOptions wo;
   wo.sample_encoding = xtf::SampleEncoding::kFloat32;
   xtf::Writer w(path, wo);
@@ -92,6 +96,7 @@ inline void write_line(const std::filesystem::path& path, const LineSpec& s) {
         std::find(s.bright_pings.begin(), s.bright_pings.end(), i) != s.bright_pings.end()) {
       p.starboard[s.bright] = 1000.0f;
     }
+    if (edit && !edit(i, p)) continue;
     w.write_ping(p);
   }
   w.close();

@@ -374,6 +374,45 @@ TEST_F(XtfBrokenTest, NumChansToFollowBeyondTheRecord) {
   EXPECT_EQ(r.anomaly_count(AnomalyKind::kBadRecordSize), 1u);
 }
 
+// A count that passes the "64 bytes per channel" bound but not once the samples of the first
+// channels are counted: 448-byte packets hold 256 + 2 x (64 + 6) = 396 bytes, a third channel
+// header would need 64 more.
+TEST_F(XtfBrokenTest, NumChansToFollowBeyondTheRecordAfterTheFirstChannels) {
+  ASSERT_EQ(packet_size_, 448u);
+  auto b = good_;
+  put<std::uint16_t>(b, packet(1) + 4, 3);
+  Reader r(b, "third_channel.xtf");
+  const auto pings = read_pings(r);
+  ASSERT_EQ(pings.size(), 2u);
+  EXPECT_EQ(pings[0].header.PingNumber, 0u);
+  EXPECT_EQ(pings[1].header.PingNumber, 2u);
+  // The good pings are intact.
+  ASSERT_EQ(pings[1].channel_count, 2u);
+  EXPECT_EQ(pings[1].channels[1].samples, (std::vector<float>{4, 5, 6}));
+  EXPECT_EQ(r.anomaly_count(AnomalyKind::kBadRecordSize), 1u);
+  EXPECT_EQ(r.total_anomalies(), 1u);
+  ASSERT_EQ(r.anomalies().size(), 1u);
+  const Anomaly& a = r.anomalies()[0];
+  EXPECT_EQ(a.offset, packet(1));
+  EXPECT_EQ(a.packet_index, 1u);
+  for (const std::string& part :
+       {std::string("NumChansToFollow = 3"), std::string("PingNumber 1"), std::string("packet 1"),
+        "at byte " + std::to_string(packet(1)), std::string("third_channel.xtf"),
+        std::string("header of channel 2")}) {
+    EXPECT_NE(a.message.find(part), std::string::npos) << part << " in " << a.message;
+  }
+  // The summary counts it too, and packet indices follow the file.
+  Reader r2(b, "third_channel.xtf");
+  const FileSummary s = summarize(r2);
+  EXPECT_EQ(s.pings, 2u);
+  EXPECT_EQ(s.anomaly_counts[static_cast<std::size_t>(AnomalyKind::kBadRecordSize)], 1u);
+  Reader r3(b, "third_channel.xtf");
+  Packet p;
+  std::vector<std::uint64_t> indices;
+  while (r3.next(p)) indices.push_back(p.index);
+  EXPECT_EQ(indices, (std::vector<std::uint64_t>{0, 2}));
+}
+
 TEST_F(XtfBrokenTest, HeaderClaimingManyChannelsWithoutExtraBlocks) {
   auto b = good_;
   put<std::uint16_t>(b, 166, 60000);  // would need 7500 extra blocks that are not there

@@ -143,6 +143,7 @@ void print_json(const xtf::FileSummary& s, std::ostream& os) {
   for (const xtf::Anomaly& a : s.anomalies) {
     anomalies.push_back({{"kind", xtf::anomaly_kind_name(a.kind)},
                          {"offset", a.offset},
+                         {"packet", a.packet_index},
                          {"message", file_text(a.message)}});
   }
   j["anomalies"] = std::move(anomalies);

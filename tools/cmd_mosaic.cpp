@@ -25,7 +25,8 @@ const char* const kUsage =
     "grids them in linear intensity into a float32 GeoTIFF (NaN nodata, AREA_OR_POINT=Area) in\n"
     "the WGS 84 UTM/UPS zone of the data, Cloud-Optimized by default, plus an 8-bit RGBA display\n"
     "copy MOSAIC_rgb.tif with the black-brown-yellow colormap. Pings without navigation are\n"
-    "skipped and counted.\n"
+    "skipped and counted; navigation outliers (a position jump of a few pings, a non-finite\n"
+    "heading, a slant range over 10 x the file's median) are dropped and reported.\n"
     "Rules: mean = weighted mean with a sin^2 taper over the nearest and farthest 10% of the\n"
     "swath (nadir and far edge yield to mid-swath samples); max = strongest sample\n"
     "(shine-through); nearest = sample nearest to nadir.";
@@ -57,6 +58,8 @@ int run_mosaic(const std::vector<std::string>& args) {
     ("depth-positive", "--bathymetry stores depths (positive down)")
     ("layback", "SensorX/Y is the tow point: place the fish Layback metres behind it")
     ("no-bottom-pick", "skip pings with altitude <= 0 instead of picking the first return")
+    ("max-pixels", po::value(&mo.max_pixels)->default_value(mo.max_pixels),
+     "refuse a mosaic of more pixels than this (about 28 bytes each while gridding)")
     ("count", "add band 2: number of contributions per pixel")
     ("of", po::value(&format)->default_value("COG"), "COG | GTiff")
     ("co", po::value(&co)->composing(), "creation option KEY=VALUE (repeatable)")
@@ -143,6 +146,23 @@ int run_mosaic(const std::vector<std::string>& args) {
     throw FormatError("no ping could be gridded (" + std::to_string(r.pings) + " pings, " +
                       std::to_string(r.pings_no_navigation) + " without navigation, " +
                       std::to_string(r.pings_no_altitude) + " without altitude)");
+  }
+  if (r.pings_dropped > 0) {
+    std::cerr << "sonarsynth mosaic: warning: dropped " << r.pings_dropped << " of " << r.pings
+              << " pings as navigation outliers (" << r.dropped_position_jump << " position jumps, "
+              << r.dropped_slant_range << " slant ranges, " << r.dropped_heading << " headings):\n";
+    for (const std::string& e : r.dropped_examples) std::cerr << "  " << e << "\n";
+    if (r.dropped_examples.size() < r.pings_dropped) {
+      std::cerr << "  ... (" << r.pings_dropped - r.dropped_examples.size() << " more)\n";
+    }
+  }
+  if (r.reader_anomalies > 0) {
+    std::cerr << "sonarsynth mosaic: warning: " << r.reader_anomalies
+              << " anomalies while reading (malformed packets skipped; see sonarsynth info):\n";
+    for (const std::string& m : r.reader_anomaly_messages) std::cerr << "  " << m << "\n";
+    if (r.reader_anomaly_messages.size() < r.reader_anomalies) {
+      std::cerr << "  ... (" << r.reader_anomalies - r.reader_anomaly_messages.size() << " more)\n";
+    }
   }
   if (r.pings_no_navigation > 0) {
     std::cerr << "sonarsynth mosaic: warning: skipped " << r.pings_no_navigation << " of "

@@ -47,6 +47,14 @@ int run_waterfall(const std::vector<std::string>& args) {
   wo.validate();
   refuse_output_over_input({output}, {input});
   const WaterfallResult r = write_xtf_waterfall(input, output, wo);
+  if (r.reader_anomalies > 0) {
+    std::cerr << "sonarsynth waterfall: warning: " << r.reader_anomalies
+              << " anomalies while reading (malformed packets skipped; see sonarsynth info):\n";
+    for (const std::string& m : r.reader_anomaly_messages) std::cerr << "  " << m << "\n";
+    if (r.reader_anomaly_messages.size() < r.reader_anomalies) {
+      std::cerr << "  ... (" << r.reader_anomalies - r.reader_anomaly_messages.size() << " more)\n";
+    }
+  }
   if (!vm.count("quiet")) {
     std::cout << "wrote " << output << ": " << r.cols << " x " << r.rows << " pixels";
     if (r.pings_per_row > 1) {

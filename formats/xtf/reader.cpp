@@ -255,7 +255,7 @@ std::uint64_t Reader::total_anomalies() const {
 void Reader::report(AnomalyKind kind, std::uint64_t offset, std::string message) {
   ++anomaly_counts_[static_cast<std::size_t>(kind)];
   if (anomalies_.size() < options_.max_anomaly_messages) {
-    anomalies_.push_back({kind, offset, std::move(message)});
+    anomalies_.push_back({kind, offset, std::move(message), current_packet_});
   }
 }
 
@@ -336,6 +336,7 @@ std::uint64_t Reader::find_next_packet(std::uint64_t from) {
 bool Reader::next(Packet& packet) {
   const std::string& nm = source_->name();
   while (pos_ < size_) {
+    current_packet_ = packets_;
     const std::uint64_t remaining = size_ - pos_;
     if (remaining < XtfPacketHeader::kSize) {
       report(AnomalyKind::kTruncatedPacket, pos_,
@@ -377,10 +378,12 @@ bool Reader::next(Packet& packet) {
     }
     const std::uint64_t offset = pos_;
     pos_ += n;  // the next packet starts here whatever happens to this one
+    ++packets_;
 
     packet.header_type = h.HeaderType;
     packet.offset = offset;
     packet.size_bytes = h.NumBytesThisRecord;
+    packet.index = current_packet_;
     const auto too_small = [&](std::size_t need, const char* record) {
       report(AnomalyKind::kBadRecordSize, offset,
              std::string("xtf reader: NumBytesThisRecord = ") + std::to_string(n) + at(offset, nm) +
@@ -389,6 +392,7 @@ bool Reader::next(Packet& packet) {
     };
     switch (h.HeaderType) {
       case static_cast<std::uint8_t>(HeaderType::kSonar): {
+        ++sonar_packets_;
         if (n < XtfPingHeader::kSize) {
           too_small(XtfPingHeader::kSize, "XTFPINGHEADER");
           continue;
@@ -450,32 +454,48 @@ bool Reader::next(Packet& packet) {
   return false;
 }
 
+std::string Reader::ping_where(std::uint32_t ping_number, std::uint64_t offset) const {
+  return " (packet " + std::to_string(current_packet_) + ", sonar packet " +
+         std::to_string(sonar_packets_ - 1) + ", PingNumber " + std::to_string(ping_number) + ")" +
+         at(offset, source_->name());
+}
+
 bool Reader::decode_ping(std::span<const std::uint8_t> bytes, std::uint64_t offset,
                          PingRecord& ping) {
-  const std::string& nm = source_->name();
   ByteReader r(bytes);
   ping.header = XtfPingHeader::decode(r);
+  const std::uint32_t ping_number = ping.header.PingNumber;
   const std::size_t nchan = ping.header.Header.NumChansToFollow;
   // Each channel needs at least its 64-byte header: a count the record cannot hold is rejected
   // before anything is allocated for it.
   if (nchan > r.remaining() / XtfPingChanHeader::kSize) {
     report(AnomalyKind::kBadRecordSize, offset,
-           "xtf reader: NumChansToFollow = " + std::to_string(nchan) + at(offset, nm) +
-               " does not fit in NumBytesThisRecord = " + std::to_string(bytes.size()) +
-               "; ping skipped");
+           "xtf reader: NumChansToFollow = " + std::to_string(nchan) +
+               ping_where(ping_number, offset) + " does not fit in NumBytesThisRecord = " +
+               std::to_string(bytes.size()) + "; ping skipped");
     return false;
   }
   if (ping.channels.size() < nchan) ping.channels.resize(nchan);
   ping.channel_count = 0;
   for (std::size_t i = 0; i < nchan; ++i) {
+    // The samples of the channels before may have used the room the count check assumed.
+    if (r.remaining() < XtfPingChanHeader::kSize) {
+      report(AnomalyKind::kBadRecordSize, offset,
+             "xtf reader: NumChansToFollow = " + std::to_string(nchan) +
+                 ping_where(ping_number, offset) + " but the header of channel " +
+                 std::to_string(i) + " would start at record byte " + std::to_string(r.position()) +
+                 ", past NumBytesThisRecord = " + std::to_string(bytes.size()) +
+                 " less its 64 bytes; ping skipped");
+      return false;
+    }
     ChannelData& ch = ping.channels[i];
     ch.header = XtfPingChanHeader::decode(r);
     const std::uint16_t number = ch.header.ChannelNumber;
     if (number >= chan_info_.size()) {
       report(AnomalyKind::kBadChannel, offset,
-             "xtf reader: ChannelNumber = " + std::to_string(number) + at(offset, nm) +
-                 " but the file has " + std::to_string(chan_info_.size()) +
-                 " CHANINFO; ping skipped");
+             "xtf reader: ChannelNumber = " + std::to_string(number) +
+                 ping_where(ping_number, offset) + " but the file has " +
+                 std::to_string(chan_info_.size()) + " CHANINFO; ping skipped");
       return false;
     }
     const XtfChanInfo& info = chan_info_[number];
@@ -486,7 +506,7 @@ bool Reader::decode_ping(std::span<const std::uint8_t> bytes, std::uint64_t offs
              "xtf reader: CHANINFO[" + std::to_string(number) +
                  "] has SampleFormat = " + std::to_string(info.SampleFormat) +
                  ", BytesPerSample = " + std::to_string(info.BytesPerSample) +
-                 " (unsupported), used" + at(offset, nm) + "; ping skipped");
+                 " (unsupported), used" + ping_where(ping_number, offset) + "; ping skipped");
       return false;
     }
     std::uint64_t samples = ch.header.NumSamples;
@@ -496,7 +516,7 @@ bool Reader::decode_ping(std::span<const std::uint8_t> bytes, std::uint64_t offs
       report(AnomalyKind::kSamplesBeyondRecord, offset,
              "xtf reader: channel " + std::to_string(number) +
                  " NumSamples = " + std::to_string(ch.header.NumSamples) + " x " +
-                 std::to_string(bps) + " bytes" + at(offset, nm) +
+                 std::to_string(bps) + " bytes" + ping_where(ping_number, offset) +
                  " runs past NumBytesThisRecord = " + std::to_string(bytes.size()) +
                  "; ping skipped");
       return false;

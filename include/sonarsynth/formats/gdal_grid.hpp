@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +20,9 @@ struct GridReadOptions {
   /// Warp only: maximum error of GDAL's approximate coordinate transformer, in output pixels,
   /// >= 0 (0 = exact transformation of every pixel).
   double warp_error_threshold_px = 0.01;
+  /// Largest grid accepted, in nodes (after warping); 0 = no limit but memory. A larger grid is
+  /// refused with a FormatError naming its size before its storage is allocated.
+  std::size_t max_nodes = 0;
 
   /// Throws InputError naming the violated constraint.
   void validate() const;

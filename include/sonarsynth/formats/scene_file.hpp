@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -26,5 +27,11 @@ struct SceneLoadOptions {
 ///
 /// Throws InputError / FormatError naming the file, the key path and the bad value.
 Scene load_scene(const std::string& path, const SceneLoadOptions& options = {});
+
+/// As load_scene(), from YAML text in memory: `name` stands for the file in messages and in
+/// the default scene name, relative file paths are relative to `base_dir`.
+Scene load_scene_from_string(const std::string& yaml_text, const std::string& name,
+                             const std::filesystem::path& base_dir,
+                             const SceneLoadOptions& options = {});
 
 }  // namespace sonarsynth

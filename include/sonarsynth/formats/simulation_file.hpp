@@ -63,6 +63,11 @@ struct SimulationSetup {
 /// docs/scene-format.md) and applies the overrides. Throws InputError / FormatError naming the
 /// file, the key and the bad value.
 SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides = {});
+/// As load_simulation(), from YAML text in memory: `name` stands for the file in messages,
+/// relative file paths are relative to `base_dir`.
+SimulationSetup load_simulation_from_string(const std::string& yaml_text, const std::string& name,
+                                            const std::filesystem::path& base_dir,
+                                            const SimulationOverrides& overrides = {});
 
 /// Writes the effective configuration of a run: the scene file with absolute file paths, the
 /// seed and the overrides applied, and the derived values (gain, absorption, EPSG...) under

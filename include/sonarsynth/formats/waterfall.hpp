@@ -98,6 +98,8 @@ struct WaterfallResult {
   std::size_t rows = 0;           ///< image rows
   std::size_t cols = 0;
   std::size_t pings_no_samples = 0;
+  std::uint64_t reader_anomalies = 0;  ///< reported by xtf::Reader (malformed packets skipped)
+  std::vector<std::string> reader_anomaly_messages;  ///< the first of them (file, packet, value)
 };
 
 /// Waterfall of an XTF file (all pings with port or starboard samples, navigation not needed).

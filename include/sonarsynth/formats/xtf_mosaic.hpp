@@ -24,6 +24,13 @@ struct XtfMosaicOptions {
   /// half the ping's maximum, averaged over port and starboard, as MB-System's bottom pick);
   /// false = skip them. Ignored with a bathymetry grid and a usable altitude.
   bool bottom_pick = true;
+  /// Largest mosaic accepted, in pixels (columns x rows), > 0: a larger one is refused with an
+  /// InputError naming the extent, the pixel size and this limit, before anything is allocated
+  /// (the mean rule holds about 28 bytes per pixel while gridding).
+  std::uint64_t max_pixels = std::uint64_t{1} << 28;
+  /// A ping whose SlantRange exceeds this many times the median of its file is a navigation
+  /// outlier (> 1).
+  double max_slant_range_ratio = 10.0;
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
@@ -43,16 +50,34 @@ struct XtfMosaicResult {
   std::uint64_t samples_placed = 0;
   std::uint64_t fill_points = 0;
   std::uint64_t reader_anomalies = 0;  ///< total over files, reported by xtf::Reader
+  /// The first reader anomaly messages (each names its file, packet and value).
+  std::vector<std::string> reader_anomaly_messages;
+  /// Navigation outliers: pings with samples and a position that were left out of the extent
+  /// and of the grid (see mosaic_xtf()).
+  std::size_t pings_dropped = 0;
+  std::size_t dropped_position_jump = 0;  ///< far from both its predecessors and successors
+  std::size_t dropped_slant_range = 0;    ///< SlantRange > max_slant_range_ratio x file median
+  std::size_t dropped_heading = 0;        ///< SensorHeading not finite
+  /// The first few dropped pings: file, ping number, packet index and the value concerned.
+  std::vector<std::string> dropped_examples;
 };
 
 /// Mosaics XTF files (any vendor's) into one grid in the UTM/UPS zone of the centroid of their
 /// valid sensor positions (with `bathymetry`: its frame, and slant->ground against it).
 /// Two passes over the files: navigation and extent, then gridding; one ping in memory at a time.
+/// Navigation outliers are dropped (counted in the result, never gridded) before the extent is
+/// taken: a non-finite SensorHeading; a SlantRange more than max_slant_range_ratio times the
+/// median of its file; a position jump, i.e. a ping farther than max(median slant range,
+/// 2 x 5 x median ping spacing) from both the component-wise median of the 5 pings before it
+/// and that of the 5 pings after it (one side at the ends of a file), so that a survey
+/// resuming elsewhere after a gap is kept while a single bad fix is not. The extent is then
+/// checked against max_pixels.
 /// Heading: SensorHeading (true, converted to grid azimuth with the meridian convergence);
 /// altitude: SensorPrimaryAltitude; pitch: SensorPitch. Intensities are gridded as stored
 /// (linear units), never in dB.
 /// Throws FormatError naming the file for unreadable files, files without any port/starboard
-/// channel, or no ping with valid navigation in any file; InputError for bad options.
+/// channel, or no ping with valid navigation in any file; InputError for bad options or a
+/// mosaic of more than max_pixels.
 XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
                            const XtfMosaicOptions& options = {},
                            const LoadedGrid* bathymetry = nullptr);

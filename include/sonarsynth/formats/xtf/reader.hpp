@@ -54,7 +54,10 @@ const char* anomaly_kind_name(AnomalyKind kind);
 struct Anomaly {
   AnomalyKind kind{};
   std::uint64_t offset = 0;  ///< byte offset in the file of the packet (or garbage) concerned
-  std::string message;       ///< "xtf reader: ..." with file, field and value
+  std::string message;       ///< "xtf reader: ..." with file, packet, field and value
+  /// 0-based index of the packet concerned among the file's packets with a valid packet header
+  /// (the count so far for garbage and record-size anomalies, which precede a packet).
+  std::uint64_t packet_index = 0;
 };
 
 /// How integer samples are interpreted.
@@ -103,6 +106,7 @@ struct Packet {
   std::uint8_t header_type = 0;
   std::uint64_t offset = 0;      ///< of the packet's first byte
   std::uint32_t size_bytes = 0;  ///< NumBytesThisRecord
+  std::uint64_t index = 0;       ///< 0-based among the file's packets (as Anomaly::packet_index)
   PingRecord ping;
   XtfNotesHeader notes;
   XtfAttitudeData attitude;
@@ -154,6 +158,8 @@ class Reader {
   bool plausible_packet_at(std::uint64_t offset);
   bool decode_ping(std::span<const std::uint8_t> bytes, std::uint64_t offset, PingRecord& ping);
   void normalise(PingRecord& ping, std::uint64_t offset);
+  /// " (packet K, sonar packet S, PingNumber N) at byte X of FILE" for the current ping.
+  std::string ping_where(std::uint32_t ping_number, std::uint64_t offset) const;
 
   std::unique_ptr<ByteSource> source_;
   ReaderOptions options_;
@@ -166,6 +172,9 @@ class Reader {
   std::vector<std::uint8_t> scan_buffer_;
   std::vector<Anomaly> anomalies_;
   std::array<std::uint64_t, kAnomalyKindCount> anomaly_counts_{};
+  std::uint64_t packets_ = 0;         ///< packets with a valid header read so far
+  std::uint64_t sonar_packets_ = 0;   ///< sonar packets (HeaderType 0) among them
+  std::uint64_t current_packet_ = 0;  ///< index given to anomalies reported now
   bool have_last_time_ = false;
   UtcTime last_time_{};
 };
