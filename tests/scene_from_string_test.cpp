@@ -80,7 +80,7 @@ TEST(SceneFromString, KeysAndValuesOfTheWrongTypeAreInputErrors) {
       EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
     }
   };
-  expect_input_error("? [a, b]\n: 1\n", "inline.yaml: : a key that is not a name (line 1)");
+  expect_input_error("? [a, b]\n: 1\n", "inline.yaml: key [a, b] (line 1) is not a plain name");
   const std::string flat = R"(bathymetry:
   generate:
     centre: {lat_deg: -33.9, lon_deg: 151.3}
@@ -88,12 +88,14 @@ TEST(SceneFromString, KeysAndValuesOfTheWrongTypeAreInputErrors) {
     cell_m: 0.5
 )";
   expect_input_error(flat + "  ? {x: 1}\n  : 2\n",
-                     "inline.yaml: bathymetry: a key that is not a name (line 6)");
-  expect_input_error(flat + R"(seabed:
+                     "inline.yaml: bathymetry: key {x: 1} (line 6) is not a plain name");
+  expect_input_error(
+      flat + R"(seabed:
   polygons:
     - coordinates_deg: [[-33.9, 151.3], [-33.9, east], [-33.91, 151.3]]
 )",
-                     "inline.yaml: value at line 8, column 49 has the wrong type");
+      "inline.yaml: seabed.polygons[0].coordinates_deg[1][1] = 'east'. Violated constraint: "
+      "a finite number");
 }
 
 }  // namespace
