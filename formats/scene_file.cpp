@@ -23,6 +23,10 @@ namespace sonarsynth {
 namespace {
 
 namespace fs = std::filesystem;
+
+// Largest box or wreck-part side, metres: a ship, not a typo (a 1.8e19 m box was accepted).
+constexpr int kMaxObjectSizeInt = 1000;
+constexpr double kMaxObjectSizeM = kMaxObjectSizeInt;
 using yaml::Fields;
 
 using yaml::resolve_path;
@@ -123,7 +127,11 @@ struct Builder {
       } else {
         const auto s = o.numbers("size_m", 3);
         for (int i = 0; i < 3; ++i) {
-          if (!(s[static_cast<std::size_t>(i)] > 0.0)) o.fail_value("size_m", "every size > 0");
+          const double v = s[static_cast<std::size_t>(i)];
+          if (!(v > 0.0 && v <= kMaxObjectSizeM)) {
+            o.fail_value("size_m",
+                         "every size > 0 and <= " + std::to_string(kMaxObjectSizeInt) + " m");
+          }
         }
         p.half_extent_m = 0.5 * Eigen::Vector3d(s[0], s[1], s[2]);
       }
@@ -143,7 +151,12 @@ struct Builder {
         const auto off =
             part.has("offset_m") ? part.numbers("offset_m", 2) : std::vector<double>{0, 0};
         const auto s = part.numbers("size_m", 3);
-        if (!(s[0] > 0 && s[1] > 0 && s[2] > 0)) part.fail_value("size_m", "every size > 0");
+        for (const double v : s) {
+          if (!(v > 0.0 && v <= kMaxObjectSizeM)) {
+            part.fail_value("size_m",
+                            "every size > 0 and <= " + std::to_string(kMaxObjectSizeInt) + " m");
+          }
+        }
         ObjectPrimitive b;
         b.shape = ObjectShape::kBox;
         b.id = id;
@@ -459,8 +472,8 @@ Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path
     const Fields c = g.child("centre");
     c.only({"lat_deg", "lon_deg"});
     bathy_spec::GeneratorInput in;
-    in.lat_deg = c.number("lat_deg", 0.0);
-    in.lon_deg = c.number("lon_deg", 0.0);
+    in.lat_deg = c.number("lat_deg");  // both required: a missing one is not taken as 0
+    in.lon_deg = c.number("lon_deg");
     const auto size = g.numbers("size_m", 2);
     in.width_m = size[0];
     in.height_m = size[1];
