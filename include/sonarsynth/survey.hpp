@@ -64,11 +64,11 @@ struct SurveyLine {
 
 /// The pose of the transducers at one ping.
 ///
-/// Frames: positions are in the scene's local frame (docs/physics.md §1.1): x along grid east,
-/// y along grid north, z up, metres, z on the bathymetry's vertical datum. The attitude is the
-/// body frame (x forward, y starboard, z down) rotated from the local level frame by heading
-/// about the vertical, then pitch about the rotated starboard axis, then roll about the forward
-/// axis (the order of aircraft and XTF attitude).
+/// Frames (how the renderer uses the pose: docs/physics.md §2.1): positions are in the scene's
+/// local frame: x along grid east, y along grid north, z up, metres, z on the bathymetry's
+/// vertical datum. The attitude is the body frame (x forward, y starboard, z down) rotated from
+/// the local level frame by heading about the vertical, then pitch about the rotated starboard
+/// axis, then roll about the forward axis (the order of aircraft and XTF attitude).
 ///
 /// Noise key: the noise of a ping (speckle of non-seabed samples, thermal noise, the paper's
 /// multiplicative term) is a pure function of (SimulationConfig::seed, ping_index). A Survey sets
