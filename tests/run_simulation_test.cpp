@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <string>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
@@ -34,7 +35,10 @@ sonar: {frequency_khz: 600, range_m: 20, samples: 400}
 class RunSimulationTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / "sonarsynth_run_simulation_test";
+    // One directory per test: ctest runs the tests of this fixture in parallel.
+    dir_ = fs::temp_directory_path() /
+           ("sonarsynth_run_simulation_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     scene_ = (dir_ / "scene.yaml").string();
