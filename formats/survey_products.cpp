@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/survey_products.hpp"
 
+#include <chrono>
 #include <cmath>
 
 #include "sonarsynth/error.hpp"
@@ -16,10 +17,15 @@ void SurveyProductOptions::validate() const {
   if (mosaic) write_options.validate();  // creation options: refused before any rendering
 }
 
-SurveyProducts::SurveyProducts(std::filesystem::path dir, const Scene& scene,
+SurveyProducts::SurveyProducts(std::filesystem::path dir, std::shared_ptr<const Scene> shared_scene,
                                const SonarConfig& sonar, const std::vector<SurveyLine>& lines,
                                SurveyProductOptions options)
-    : dir_(std::move(dir)), scene_(scene), sonar_(sonar), options_(std::move(options)) {
+    : dir_(std::move(dir)),
+      scene_(std::move(shared_scene)),
+      sonar_(sonar),
+      options_(std::move(options)) {
+  if (!scene_) throw InputError("products: scene = null. Violated constraint: a scene");
+  const Scene& scene = *scene_;
   options_.validate();
   // One ping must fit in a waterfall row: checked before anything is rendered.
   if (options_.waterfalls && 2 * sonar.samples_per_channel > options_.waterfall_max_pixels) {
@@ -113,16 +119,24 @@ void SurveyProducts::end_line(std::size_t line) {
   truth_.reset();
 }
 
+void SurveyProducts::abort() noexcept {
+  waterfall_.reset();
+  truth_.reset();
+  mosaic_.reset();
+}
+
 void SurveyProducts::finish() {
   if (!mosaic_) return;
+  const auto t0 = std::chrono::steady_clock::now();
   MosaicWriteOptions w = options_.write_options;
   w.rgb_path = (dir_ / "mosaic_rgb.tif").string();
   if (options_.truth) w.labels_path = (dir_ / "truth_mosaic.tif").string();
   const auto path = dir_ / "mosaic.tif";
-  write_mosaic(path.string(), scene_.frame, mosaic_->finish(), w);
+  write_mosaic(path.string(), scene_->frame, mosaic_->finish(), w);
   files_.push_back(path);
   files_.push_back(w.rgb_path);
   if (options_.truth) files_.push_back(w.labels_path);
+  finish_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace sonarsynth

@@ -2,10 +2,56 @@
 #include "sonarsynth/formats/survey_writer.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {
+namespace {
+
+std::string format_g(double v, int digits) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
+}  // namespace
+
+xtf::SampleEncoding xtf_sample_encoding(const std::string& sample_format) {
+  if (sample_format == "u16") return xtf::SampleEncoding::kUint16;
+  if (sample_format == "u8") return xtf::SampleEncoding::kUint8;
+  if (sample_format == "f32") return xtf::SampleEncoding::kFloat32;
+  throw InputError("output: sample_format = '" + sample_format +
+                   "'. Violated constraint: u16, u8 or f32");
+}
+
+xtf::WriterOptions xtf_writer_options(const Simulator& sim, xtf::SampleEncoding encoding,
+                                      const std::string& scene_name,
+                                      bool allow_more_than_8192_samples) {
+  const SimulationConfig& c = sim.config();
+  xtf::WriterOptions o;
+  o.sample_encoding = encoding;
+  o.allow_more_than_8192_samples = allow_more_than_8192_samples;
+  o.frequency_khz = c.sonar.frequency_hz / 1e3;
+  o.horizontal_beam_angle_rad = c.sonar.horizontal_beam_width_rad;
+  o.tilt_angle_rad = c.sonar.tilt_rad;
+  o.vertical_beam_width_rad = c.sonar.vertical_beam.width_3db_full_rad();
+  const bool tvg = c.output.tvg != TvgLaw::none;
+  o.processing_flags = tvg ? xtf::kProcessingTvg : std::uint16_t{0};
+  // The TVG law and the gain first, so that the header's 64-character NoteString holds them in
+  // full (at most 60 characters: alpha to 6 and the gain to 10 significant digits).
+  std::string law = tvg ? "TVG 30logR+2aR a=" + format_g(sim.absorption_db_per_m(), 6) + " dB/m"
+                        : std::string("no TVG");
+  const std::string head =
+      law + ", gain " + format_g(sim.gain_db(), 10) + " dB; sonarsynth scene '";
+  const std::string tail = "', seed " + std::to_string(c.seed);
+  constexpr std::size_t kNoteChars = 200;
+  std::string name = scene_name;
+  const std::size_t room = kNoteChars - head.size() - tail.size();
+  if (name.size() > room) name = name.substr(0, room - 3) + "...";
+  o.note = head + name + tail;
+  return o;
+}
 
 xtf::SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame,
                            const SonarConfig& sonar) {
@@ -53,6 +99,10 @@ void XtfSurveyWriter::begin_line(std::size_t line) {
 void XtfSurveyWriter::ping(const RenderedPing& p) {
   if (!writer_) throw Error("xtf survey writer: ping outside a line");
   writer_->write_ping(to_xtf_ping(p, frame_, sonar_));
+}
+
+void XtfSurveyWriter::abort() noexcept {
+  writer_.reset();  // the Writer removes its temporary file
 }
 
 void XtfSurveyWriter::end_line(std::size_t /*line*/) {

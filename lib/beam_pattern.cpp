@@ -135,4 +135,35 @@ double beta_eff_uniform_line_array_rad(double array_length_m, double wavelength_
   return 2.0 * 0.5 * h * sum;  // symmetric: twice the half-range integral
 }
 
+double VerticalBeamPattern::width_3db_full_rad() const {
+  switch (shape) {
+    case VerticalBeamShape::uniform:
+      return 0.0;
+    case VerticalBeamShape::gaussian:
+      return width_3db_rad;
+    case VerticalBeamShape::paper_sine_pair:
+    case VerticalBeamShape::sinc:
+    case VerticalBeamShape::table:
+      break;
+  }
+  // First crossing of b = 1/2 on each side: a scan in 0.001 rad steps, then bisection.
+  const auto half_width = [this](double side) {
+    constexpr double kStep = 1e-3;
+    constexpr double kLimit = 0.5 * kPiD;
+    double lo = 0.0;
+    for (double hi = kStep; lo < kLimit; lo = hi, hi = std::min(hi + kStep, kLimit)) {
+      if (one_way(side * hi) <= 0.5) {
+        while (hi - lo > 1e-12) {
+          const double mid = 0.5 * (lo + hi);
+          (one_way(side * mid) <= 0.5 ? hi : lo) = mid;
+        }
+        return hi;
+      }
+    }
+    return -1.0;  // no crossing
+  };
+  const double lower = half_width(1.0), upper = half_width(-1.0);
+  return lower < 0.0 || upper < 0.0 ? 0.0 : lower + upper;
+}
+
 }  // namespace sonarsynth

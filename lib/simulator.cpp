@@ -2,18 +2,12 @@
 #include "sonarsynth/simulator.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
-#include <exception>
-#include <mutex>
 #include <numeric>
-#include <thread>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
-#include "worker_threads.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -191,7 +185,13 @@ struct Simulator::Workspace {
 
 Simulator::Simulator(const Scene& scene, const SimulationConfig& config,
                      double reference_altitude_m, const std::vector<PingPose>& pilot)
-    : scene_(scene), config_(config) {
+    : Simulator(std::make_shared<const Scene>(scene), config, reference_altitude_m, pilot) {}
+
+Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const SimulationConfig& config,
+                     double reference_altitude_m, const std::vector<PingPose>& pilot)
+    : scene_(std::move(shared_scene)), config_(config) {
+  if (!scene_) throw InputError("simulator: scene = null. Violated constraint: a scene");
+  const Scene& scene = *scene_;
   config_.validate();
   if (scene.bathymetry.empty()) throw InputError("simulator: the scene has no bathymetry");
   const SonarConfig& s = config_.sonar;
@@ -397,8 +397,8 @@ Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool star
     const double c = std::cos(planes.azimuth_rad[k]), s = std::sin(planes.azimuth_rad[k]);
     const Eigen::Vector2d dir(c * across.x() - s * across.y(), s * across.x() + c * across.y());
     const auto t0 = now();
-    build_beam_profile(scene_, geo.nadir_xy_m, dir, max_y, pose.sensor_z_m, config_.quality.profile,
-                       ws.profile, ws.scratch);
+    build_beam_profile(*scene_, geo.nadir_xy_m, dir, max_y, pose.sensor_z_m,
+                       config_.quality.profile, ws.profile, ws.scratch);
     const auto t1 = now();
     ws.params.beta_eff_rad = planes.beta_eff_rad[k];
     ws.params.truth = truth && k == central;
@@ -419,8 +419,33 @@ Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool star
   return geo;
 }
 
-void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspace& ws,
-                                   SideOutput& out, RenderTimings* timings) const {
+void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& out,
+                         std::uint32_t& saturated, std::uint32_t& invalid) const {
+  const std::size_t n = side_.samples;
+  out.resize(n);
+  const double maxv = quantizer_.max_value;
+  const bool round = quantizer_.round_to_integer;
+  saturated = 0;
+  invalid = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    double v = scaled ? ws.accum[i] : ws.accum[i] * ws.tvg_gain[i];
+    if (!std::isfinite(v)) {
+      v = 0.0;
+      ++invalid;
+    } else if (v >= maxv) {
+      v = maxv;
+      ++saturated;
+    } else if (v < 0.0) {
+      v = 0.0;
+    }
+    // v >= 2^52 is an integer already.
+    if (round && v < 0x1p52) v = round_nonnegative(v);
+    out[i] = static_cast<float>(v);
+  }
+}
+
+void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key, bool starboard,
+                                   Workspace& ws, SideOutput& out, RenderTimings* timings) const {
   const std::size_t n = side_.samples;
   const auto now = [timings] { return timings != nullptr ? Clock::now() : Clock::time_point{}; };
   const SideGeometry geo = render_planes(pose, starboard, planes_, side_.truth, ws, timings);
@@ -431,7 +456,13 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
   const SideEcho& e = ws.echo;  // truth of the central plane (rendered last)
 
   const NoiseConfig& nc = config_.noise;
-  const std::uint64_t ping = pose.ping_index;
+  const std::uint64_t ping = noise_key;
+  if (config_.clean_samples) {
+    std::uint32_t unused_saturated = 0, unused_invalid = 0;
+    quantise(ws, false, out.clean_samples, unused_saturated, unused_invalid);
+  } else {
+    out.clean_samples.clear();
+  }
   bool scaled = false;  // accum already in output units (TVG and gain applied)
   if (nc.model == NoiseConfig::Model::kPaper) {
     // The paper's eq. (2) is an image-domain model: applied to the TVG'd, calibrated intensity,
@@ -496,27 +527,7 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
   }
 
   // TVG and quantisation (precomputed per-sample gain).
-  out.samples.resize(n);
-  const double maxv = quantizer_.max_value;
-  const bool round = quantizer_.round_to_integer;
-  std::uint32_t saturated = 0, invalid = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    double v = scaled ? ws.accum[i] : ws.accum[i] * ws.tvg_gain[i];
-    if (!std::isfinite(v)) {
-      v = 0.0;
-      ++invalid;
-    } else if (v >= maxv) {
-      v = maxv;
-      ++saturated;
-    } else if (v < 0.0) {
-      v = 0.0;
-    }
-    // v >= 2^52 is an integer already.
-    if (round && v < 0x1p52) v = round_nonnegative(v);
-    out.samples[i] = static_cast<float>(v);
-  }
-  out.saturated = saturated;
-  out.invalid = invalid;
+  quantise(ws, scaled, out.samples, out.saturated, out.invalid);
 
   if (config_.truth) {
     out.truth_class.assign(e.truth_class.begin(), e.truth_class.end());
@@ -539,102 +550,13 @@ void Simulator::render_side_output(const PingPose& pose, bool starboard, Workspa
 void Simulator::render_ping(const PingPose& pose, Workspace& ws, RenderedPing& out,
                             RenderTimings* timings) const {
   out.pose = pose;
-  render_side_output(pose, false, ws, out.port, timings);
-  render_side_output(pose, true, ws, out.starboard, timings);
-}
-
-RenderTimings Simulator::run(
-    const Survey& survey, PingSink& sink,
-    const std::function<void(std::uint64_t, std::uint64_t)>& progress) const {
-  const unsigned requested_threads = detail::worker_thread_count(config_.threads);
-  const std::uint64_t total = survey.total_pings();
-  const std::uint64_t block = 32ULL * requested_threads;
-  std::vector<WorkspacePtr> workspaces;
-  std::vector<RenderTimings> timings(requested_threads);
-  for (unsigned t = 0; t < requested_threads; ++t) workspaces.push_back(make_workspace());
-  // Two buffers: the calling thread hands block b to the sink while the helpers already render
-  // block b + 1 (it then joins them).
-  std::vector<RenderedPing> pings[2] = {std::vector<RenderedPing>(std::min(block, total)),
-                                        std::vector<RenderedPing>(std::min(block, total))};
-  std::vector<std::exception_ptr> errors(requested_threads);
-
-  // The block being rendered: pings [first, first + count) into pings[buf]. Each ping is claimed
-  // through an atomic counter (dynamic load balance) and stored at its own index; every ping is
-  // a pure function of its index, so the output is the same for any thread count or schedule.
-  struct Job {
-    std::uint64_t first = 0, count = 0;
-    int buf = 0;
-    std::atomic<std::uint64_t> next{0};
-  } job;
-  auto work = [&](unsigned t) {
-    try {
-      for (std::uint64_t i = job.next.fetch_add(1); i < job.count; i = job.next.fetch_add(1)) {
-        render_ping(survey.pose(job.first + i, scene_.bathymetry), *workspaces[t],
-                    pings[job.buf][i], &timings[t]);
-      }
-    } catch (...) {
-      if (!errors[t]) errors[t] = std::current_exception();
-      job.next.store(job.count);  // the others stop claiming pings
-    }
-  };
-
-  // Persistent helper threads 1 .. threads - 1, woken once per block (detail::WorkerPool); if
-  // the system refuses some, the others go on and the output does not depend on the count.
-  detail::WorkerPool pool(requested_threads, work);
-  // Declared after `pool`, so destroyed before it (also when the sink throws): no more pings
-  // claimed, then the pool wakes its helpers for exit and joins them.
-  struct StopClaims {
-    Job& job;
-    ~StopClaims() { job.next.store(job.count); }
-  } stop_claims{job};
-  auto start = [&](std::uint64_t first, int buf) {
-    job.first = first;  // the helpers are idle between finish() and start()
-    job.count = std::min(block, total - first);
-    job.buf = buf;
-    job.next.store(0);
-    pool.start();
-  };
-  auto finish = [&] {
-    pool.finish();
-    for (auto& e : errors) {
-      if (e) std::rethrow_exception(e);
-    }
-  };
-
-  std::size_t current_line = static_cast<std::size_t>(-1);
-  auto emit = [&](const std::vector<RenderedPing>& buf, std::uint64_t first, std::uint64_t count) {
-    for (std::uint64_t i = 0; i < count; ++i) {
-      const std::size_t line = buf[i].pose.line;
-      if (line != current_line) {
-        if (current_line != static_cast<std::size_t>(-1)) sink.end_line(current_line);
-        sink.begin_line(line);
-        current_line = line;
-      }
-      sink.ping(buf[i]);
-    }
-    if (progress) progress(first + count, total);
-  };
-
-  if (total > 0) {
-    start(0, 0);
-    finish();
+  if (!out.pose.ping_index) {
+    constexpr std::uint64_t kAutomaticKeyBase = std::uint64_t{1} << 63;
+    out.pose.ping_index = kAutomaticKeyBase | automatic_keys_.fetch_add(1);
   }
-  for (std::uint64_t first = 0; first < total; first += block) {
-    const std::uint64_t count = std::min(block, total - first);
-    const int buf = static_cast<int>((first / block) % 2);
-    const std::uint64_t next_first = first + block;
-    if (next_first < total) start(next_first, 1 - buf);
-    emit(pings[buf], first, count);
-    if (next_first < total) finish();
-  }
-  if (current_line != static_cast<std::size_t>(-1)) sink.end_line(current_line);
-  RenderTimings sum;
-  for (const auto& t : timings) {
-    sum.profile_s += t.profile_s;
-    sum.render_s += t.render_s;
-    sum.noise_s += t.noise_s;
-  }
-  return sum;
+  const std::uint64_t key = *out.pose.ping_index;
+  render_side_output(pose, key, false, ws, out.port, timings);
+  render_side_output(pose, key, true, ws, out.starboard, timings);
 }
 
 }  // namespace sonarsynth

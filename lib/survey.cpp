@@ -195,3 +195,22 @@ PingPose Survey::pose(std::uint64_t index, const HeightGrid& seabed) const {
 }
 
 }  // namespace sonarsynth
+
+namespace sonarsynth {
+
+PingPose sensor_pose(const Eigen::Vector3d& position_m, double heading_rad, double pitch_rad,
+                     double roll_rad, const HeightGrid& seabed,
+                     std::optional<std::uint64_t> noise_key) {
+  PingPose p;
+  p.ping_index = noise_key;
+  p.sensor_xy_m = position_m.head<2>();
+  p.sensor_z_m = position_m.z();
+  p.reference_xy_m = p.sensor_xy_m;
+  p.heading_rad = heading_rad;
+  p.pitch_rad = pitch_rad;
+  p.roll_rad = roll_rad;
+  p.altitude_m = position_m.z() - seabed.height_m(position_m.x(), position_m.y());  // NaN off grid
+  return p;
+}
+
+}  // namespace sonarsynth

@@ -113,9 +113,13 @@ void WriterOptions::validate() const {
   if (!(tilt_angle_rad >= 0.0 && tilt_angle_rad <= kPi / 2)) {
     violated("tilt_angle_rad", num(tilt_angle_rad), "0 <= tilt_angle_rad <= pi/2");
   }
-  if (!(vertical_beam_width_rad > 0.0 && vertical_beam_width_rad < kPi)) {
+  if (!(vertical_beam_width_rad >= 0.0 && vertical_beam_width_rad < kPi)) {
     violated("vertical_beam_width_rad", num(vertical_beam_width_rad),
-             "0 < vertical_beam_width_rad < pi");
+             "0 <= vertical_beam_width_rad < pi");
+  }
+  if ((processing_flags & ~(kProcessingTvg | kProcessingBacGac | kProcessingFilter)) != 0) {
+    violated("processing_flags", std::to_string(processing_flags),
+             "a sum of 4 (TVG), 8 (BAC & GAC) and 16 (filter)");
   }
 }
 
@@ -395,6 +399,7 @@ void Writer::write_ping(const SonarPing& p) {
     c.TimeDelay = 0.0f;
     c.TimeDuration = static_cast<float>(p.slant_range_m / sv);  // two-way time of the last sample
     c.SecondsPerPing = c.TimeDuration;
+    c.ProcessingFlags = options_.processing_flags;
     c.Frequency = static_cast<std::uint16_t>(std::lround(options_.frequency_khz));
     c.NumSamples = static_cast<std::uint32_t>(samples.size());
     c.Weight = 0;

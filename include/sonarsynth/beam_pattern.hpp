@@ -26,7 +26,8 @@ enum class VerticalBeamShape {
 ///   b(off) = cos(pi/2 off / w_down)                                for 0 <= off <= w_down,
 ///   b(off) = 0 outside the main lobe,
 /// i.e. two half-period sine lobes (quarter-wave each side) of separate half-widths meeting with
-/// value 1 at the axis; the one-way intensity falls to 1/2 (-3 dB) at off = -w_up/2, +w_down/2.
+/// value 1 at the axis; the one-way intensity b falls to 1/2 (-3 dB) at off = -2 w_up/3,
+/// +2 w_down/3 (the two-way b^2 at -w_up/2, +w_down/2).
 struct VerticalBeamPattern {
   VerticalBeamShape shape = VerticalBeamShape::uniform;
   /// paper_sine_pair: half-width above the axis (towards the horizontal), radians, (0, pi].
@@ -48,6 +49,11 @@ struct VerticalBeamPattern {
   void validate() const;
   /// One-way intensity b(off), dimensionless, >= 0.
   double one_way(double off_axis_rad) const;
+  /// Full width between the one-way -3 dB points (b = 1/2) either side of the axis, radians:
+  /// width_3db_rad for gaussian; found numerically (to 1e-12 rad) for the others (for
+  /// paper_sine_pair that is 2/3 of upper + lower half-widths). 0 when the pattern does not fall to
+  /// -3 dB within 90 deg on both sides (uniform, a flat table): no width to state.
+  double width_3db_full_rad() const;
   /// Two-way pattern b(off)^2.
   double two_way(double off_axis_rad) const {
     const double b = one_way(off_axis_rad);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -138,7 +139,10 @@ struct SimulationConfig {
   QualityConfig quality;
   NoiseConfig noise;
   OutputScaling output;
-  bool truth = true;       ///< per-sample truth in the rendered pings
+  bool truth = true;  ///< per-sample truth in the rendered pings
+  /// Also output the noise-free samples of every ping (SideOutput::clean_samples), rendered in
+  /// the same call as the noisy ones.
+  bool clean_samples = false;
   std::uint64_t seed = 1;  ///< every random draw derives from it
   unsigned threads = 0;    ///< 0 = hardware concurrency; output identical for any value
   void validate() const;
@@ -149,6 +153,9 @@ struct SideOutput {
   std::vector<float> samples;   ///< output units (after TVG and quantisation)
   std::uint32_t saturated = 0;  ///< samples clamped at OutputScaling::max_value
   std::uint32_t invalid = 0;    ///< samples that overflowed to a non-finite value, written as 0
+  /// The same samples without noise (same TVG, gain, clamping and rounding), NEAR -> FAR; empty
+  /// unless SimulationConfig::clean_samples.
+  std::vector<float> clean_samples;
   // Truth (empty unless SimulationConfig::truth).
   std::vector<SampleClass> truth_class;
   std::vector<std::int32_t> truth_label;  ///< object id, 0 seabed, -1 none
@@ -158,19 +165,35 @@ struct SideOutput {
 };
 
 struct RenderedPing {
-  PingPose pose;
+  PingPose pose;  ///< as given, with the noise key the Simulator assigned if it was unset
   SideOutput port;
   SideOutput starboard;
 };
 
+/// What a sink is told before the first ping of a run (Simulator::run).
+struct RunDescription {
+  SimulationConfig config;         ///< the configuration the pings are rendered with
+  double gain_db = 0.0;            ///< the quantiser gain actually applied (automatic resolved), dB
+  double absorption_db_per_m = 0;  ///< one-way absorption alpha used by physics and TVG, dB/m
+  std::uint64_t total_pings = 0;   ///< pings that will be handed to ping()
+  std::size_t line_count = 0;      ///< survey lines
+};
+
 /// Receives rendered pings in survey order, one at a time (streaming: memory does not grow with
-/// survey length).
+/// survey length). Simulator::run calls, in order: begin() once; per line begin_line(), ping()
+/// for each of its pings, end_line(); finish() once after the last line. If anything throws
+/// (rendering, a sink, a progress callback) it calls abort() instead of the remaining hooks and
+/// rethrows: a sink then discards partial output. Every hook is a no-op by default.
 class PingSink {
  public:
   virtual ~PingSink() = default;
+  virtual void begin(const RunDescription& /*run*/) {}
   virtual void begin_line(std::size_t /*line*/) {}
-  virtual void ping(const RenderedPing& ping) = 0;
+  virtual void ping(const RenderedPing& /*ping*/) {}
   virtual void end_line(std::size_t /*line*/) {}
+  virtual void finish() {}
+  /// The run failed: release resources and leave no partial files. Must not throw.
+  virtual void abort() noexcept {}
 };
 
 /// Cumulative time split of the renderer, seconds summed over threads.
@@ -181,11 +204,17 @@ struct RenderTimings {
 };
 
 /// Renders pings of a survey over a scene. Construction derives the global calibration
-/// (absorption, gain, noise level) once; render_ping() is then a pure function of the pose.
+/// (absorption, gain, noise level) once; render_ping() is then a pure function of the pose and
+/// its noise key (PingPose::ping_index).
 class Simulator {
  public:
-  /// `pilot` = poses for the automatic along-track plane count (pilot_poses(survey, ...) for a
-  /// survey); empty = pilot_poses(scene.bathymetry, reference_altitude_m, max range).
+  /// Shares ownership of `scene` (not null): the Simulator keeps it alive. `reference_altitude_m`
+  /// (metres, > 0) is the altitude of the global calibration (docs/physics.md §1.2). `pilot` =
+  /// poses for the automatic along-track plane count (pilot_poses(survey, ...) for a survey);
+  /// empty = pilot_poses(scene.bathymetry, reference_altitude_m, max range).
+  Simulator(std::shared_ptr<const Scene> scene, const SimulationConfig& config,
+            double reference_altitude_m, const std::vector<PingPose>& pilot = {});
+  /// Convenience: copies `scene` into a Simulator-owned one (nothing is borrowed).
   Simulator(const Scene& scene, const SimulationConfig& config, double reference_altitude_m,
             const std::vector<PingPose>& pilot = {});
   ~Simulator();
@@ -199,11 +228,16 @@ class Simulator {
   };
   using WorkspacePtr = std::unique_ptr<Workspace, WorkspaceDeleter>;
   WorkspacePtr make_workspace() const;
+  /// Renders one ping at `pose`: noisy samples, truth (SimulationConfig::truth) and noise-free
+  /// samples (SimulationConfig::clean_samples) in one call. An unset pose.ping_index is given the
+  /// next automatic noise key (see PingPose), stored in out.pose.ping_index.
   void render_ping(const PingPose& pose, Workspace& ws, RenderedPing& out,
                    RenderTimings* timings = nullptr) const;
 
   /// Renders every ping of `survey` on `config.threads` threads and hands them to `sink` in
-  /// order. `progress(done, total)` is called from the calling thread after each block.
+  /// order, with the lifecycle documented on PingSink (begin ... finish, or abort on an
+  /// exception, which is then rethrown). `progress(done, total)` is called from the calling
+  /// thread after each block.
   RenderTimings run(const Survey& survey, PingSink& sink,
                     const std::function<void(std::uint64_t, std::uint64_t)>& progress = {}) const;
 
@@ -211,12 +245,20 @@ class Simulator {
   double gain_db() const { return quantizer_.gain_db; }
   double thermal_noise_power() const { return noise_power_; }
   const SimulationConfig& config() const { return config_; }
+  const Scene& scene() const { return *scene_; }
+  const std::shared_ptr<const Scene>& shared_scene() const { return scene_; }
   const SideParams& side_params() const { return side_; }
   const AlongTrackChoice& along_track() const { return along_track_; }
 
  private:
-  void render_side_output(const PingPose& pose, bool starboard, Workspace& ws, SideOutput& out,
-                          RenderTimings* timings) const;
+  RenderTimings run_pings(const Survey& survey, PingSink& sink,
+                          const std::function<void(std::uint64_t, std::uint64_t)>& progress) const;
+  void render_side_output(const PingPose& pose, std::uint64_t noise_key, bool starboard,
+                          Workspace& ws, SideOutput& out, RenderTimings* timings) const;
+  /// TVG x gain (unless `scaled`), clamping and rounding of ws.accum into `out`; counts
+  /// saturated and non-finite samples.
+  void quantise(const Workspace& ws, bool scaled, std::vector<float>& out, std::uint32_t& saturated,
+                std::uint32_t& invalid) const;
   /// Sums the planes' noise-free intensities of one side into ws.accum; the echo is left
   /// holding the central plane (rendered last, with truth if `truth`).
   struct SideGeometry {
@@ -226,7 +268,9 @@ class Simulator {
                              bool truth, Workspace& ws, RenderTimings* timings) const;
   AlongTrackChoice choose_along_track_planes(const std::vector<PingPose>& pilot) const;
 
-  const Scene& scene_;
+  std::shared_ptr<const Scene> scene_;
+  /// Automatic noise keys handed out so far (PingPose::ping_index unset).
+  mutable std::atomic<std::uint64_t> automatic_keys_{0};
   SimulationConfig config_;
   SideParams side_;
   double alpha_db_per_m_ = 0.0;

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,22 +62,44 @@ struct SurveyLine {
   double length_m() const;
 };
 
-/// The pose of the transducers at one ping (local frame).
+/// The pose of the transducers at one ping.
+///
+/// Frames (how the renderer uses the pose: docs/physics.md §2.1): positions are in the scene's
+/// local frame: x along grid east, y along grid north, z up, metres, z on the bathymetry's
+/// vertical datum. The attitude is the body frame (x forward, y starboard, z down) rotated from
+/// the local level frame by heading about the vertical, then pitch about the rotated starboard
+/// axis, then roll about the forward axis (the order of aircraft and XTF attitude).
+///
+/// Noise key: the noise of a ping (speckle of non-seabed samples, thermal noise, the paper's
+/// multiplicative term) is a pure function of (SimulationConfig::seed, ping_index). A Survey sets
+/// it to the global ping number. Left unset, Simulator::render_ping assigns a fresh key from its
+/// own counter (2^63 + n for the n-th unkeyed ping), so two unkeyed pings never share noise; set
+/// it for noise that is reproducible independently of the call order.
 struct PingPose {
   std::size_t line = 0;  ///< index of the survey line
   std::size_t ping_in_line = 0;
-  std::uint64_t ping_index = 0;  ///< global ping number (0-based, over all lines)
+  /// Global ping number (0-based, over all lines) and noise key; see above. Values >= 2^63 are
+  /// those the Simulator assigns itself.
+  std::optional<std::uint64_t> ping_index;
   UtcTime time_utc{};
   Eigen::Vector2d sensor_xy_m = Eigen::Vector2d::Zero();  ///< transducers, local frame
-  double sensor_z_m = 0.0;  ///< transducers' height, same datum as the bathymetry
+  double sensor_z_m = 0.0;  ///< transducers' height, local frame, same datum as the bathymetry
   Eigen::Vector2d reference_xy_m = Eigen::Vector2d::Zero();  ///< navigation reference (ship)
   double heading_rad = 0.0;  ///< grid azimuth of the body x axis, clockwise from grid north
-  double pitch_rad = 0.0;    ///< + nose up
-  double roll_rad = 0.0;     ///< + starboard down
-  double heave_m = 0.0;      ///< + up
+  double pitch_rad = 0.0;    ///< + nose up, (-pi/2, pi/2)
+  double roll_rad = 0.0;     ///< + starboard down, [-pi, pi]
+  double heave_m = 0.0;      ///< + up (recorded; already included in sensor_z_m)
   double altitude_m = 0.0;   ///< transducers above the seabed under them (NaN if unknown)
   double speed_m_s = 0.0;
 };
+
+/// A full sensor pose for one ping rendered outside a survey: `position_m` (local frame, z on
+/// the bathymetry datum) and attitude as documented on PingPose; the altitude is taken from
+/// `seabed` under the sensor (NaN off the grid), the navigation reference is the sensor itself.
+/// `noise_key` as PingPose::ping_index (nullopt: the Simulator assigns one).
+PingPose sensor_pose(const Eigen::Vector3d& position_m, double heading_rad, double pitch_rad,
+                     double roll_rad, const HeightGrid& seabed,
+                     std::optional<std::uint64_t> noise_key = std::nullopt);
 
 /// A survey: lines, the vehicle, the ping timing. Poses are a pure function of the ping index,
 /// so pings can be rendered in any order or in parallel.

@@ -56,7 +56,12 @@ class RunStatistics : public PingSink {
     std::uint64_t invalid = 0;
     std::uint64_t no_seabed_pings = 0;
   };
-  explicit RunStatistics(std::size_t lines) : lines_(lines) {}
+  explicit RunStatistics(std::size_t lines = 0) : lines_(lines) {}
+  /// Starts counting afresh for run.line_count lines.
+  void begin(const RunDescription& run) override {
+    lines_.assign(run.line_count, Line{});
+    current_ = 0;
+  }
   void begin_line(std::size_t line) override { current_ = line; }
   void ping(const RenderedPing& ping) override;
   const std::vector<Line>& lines() const { return lines_; }

@@ -28,24 +28,31 @@ struct SurveyProductOptions {
 
 /// A ping sink that grids every ping into one survey mosaic (slant->ground against the scene's
 /// own bathymetry, in the scene's UTM frame) and collects a waterfall and a truth waterfall per
-/// line, written when the line ends. Files go to `dir`.
+/// line, written when the line ends; finish() writes the mosaics. Files go to `dir`; abort()
+/// drops the accumulators (files already written stay: the caller's OutputDirectory discards
+/// them).
 class SurveyProducts : public PingSink {
  public:
-  /// `lines` (local frame) and the sonar's range give the mosaic extent.
-  SurveyProducts(std::filesystem::path dir, const Scene& scene, const SonarConfig& sonar,
-                 const std::vector<SurveyLine>& lines, SurveyProductOptions options);
+  /// Shares ownership of `scene` (not null). `lines` (local frame) and the sonar's range give
+  /// the mosaic extent.
+  SurveyProducts(std::filesystem::path dir, std::shared_ptr<const Scene> scene,
+                 const SonarConfig& sonar, const std::vector<SurveyLine>& lines,
+                 SurveyProductOptions options);
   void begin_line(std::size_t line) override;
   void ping(const RenderedPing& ping) override;
   void end_line(std::size_t line) override;
-  /// Writes the mosaic files (call once, after the run).
-  void finish();
+  /// Writes the mosaic files (the Simulator calls it once, after the run).
+  void finish() override;
+  void abort() noexcept override;
+  /// Wall time of finish(), seconds.
+  double finish_s() const { return finish_s_; }
   const std::vector<std::filesystem::path>& files() const { return files_; }
   /// What the user should know about the products (e.g. a waterfall decimated along track).
   const std::vector<std::string>& notes() const { return notes_; }
 
  private:
   std::filesystem::path dir_;
-  const Scene& scene_;
+  std::shared_ptr<const Scene> scene_;
   SonarConfig sonar_;
   std::vector<std::string> names_;
   SurveyProductOptions options_;
@@ -54,6 +61,7 @@ class SurveyProducts : public PingSink {
   std::unique_ptr<TruthWaterfall> truth_;
   std::vector<std::filesystem::path> files_;
   std::vector<std::string> notes_;
+  double finish_s_ = 0.0;
 };
 
 }  // namespace sonarsynth

@@ -33,6 +33,11 @@ inline constexpr std::size_t kMaxSamples = std::size_t{1} << 20;
 /// take a zero coordinate as "no position", and the equator and the prime meridian are valid.
 inline constexpr double kZeroCoordinateDeg = 1e-9;
 
+/// ProcessingFlags bits (docs/xtf.md §1.6).
+inline constexpr std::uint16_t kProcessingTvg = 4;      ///< time-varied gain applied
+inline constexpr std::uint16_t kProcessingBacGac = 8;   ///< beam/grazing-angle corrections
+inline constexpr std::uint16_t kProcessingFilter = 16;  ///< filtered
+
 struct WriterOptions {
   SampleEncoding sample_encoding = SampleEncoding::kUint16;
   /// Accept more than kMaxPortableSamples samples per channel (MB-System then drops the pings).
@@ -45,8 +50,12 @@ struct WriterOptions {
   double frequency_khz = 500.0;                          ///< centre frequency, kHz, (0, 65535]
   double horizontal_beam_angle_rad = rad_from_deg(1.0);  ///< along-track beam width, (0, pi)
   double tilt_angle_rad = rad_from_deg(30.0);  ///< depression of the beam axis below horizontal
-  double vertical_beam_width_rad = rad_from_deg(50.0);  ///< 3 dB across-track width, (0, pi)
-  bool overwrite = false;                               ///< replace an existing file
+  /// One-way -3 dB across-track (vertical) beam width, [0, pi); 0 = not stated.
+  double vertical_beam_width_rad = rad_from_deg(50.0);
+  /// XTFPINGCHANHEADER ProcessingFlags of every channel: a sum of kProcessingTvg,
+  /// kProcessingBacGac, kProcessingFilter (docs/xtf.md §1.6); 0 = raw samples.
+  std::uint16_t processing_flags = 0;
+  bool overwrite = false;  ///< replace an existing file
 
   /// Throws InputError naming the violated constraint.
   void validate() const;

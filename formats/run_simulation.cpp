@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/formats/run_simulation.hpp"
+
+#include <chrono>
+#include <memory>
+
+#include "sonarsynth/formats/output_dir.hpp"
+#include "sonarsynth/formats/product_metadata.hpp"
+#include "sonarsynth/formats/survey_writer.hpp"
+
+namespace sonarsynth {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+RunResult run_simulation(const std::string& scene_path, const std::filesystem::path& out_dir,
+                         const RunOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RunResult result;
+  const auto warn = [&](const std::string& w) {
+    result.warnings.push_back(w);
+    if (options.on_warning) options.on_warning(w);
+  };
+
+  // The setup owns the scene; the Simulator and the products share it (aliasing pointer).
+  const auto setup =
+      std::make_shared<const SimulationSetup>(load_simulation(scene_path, options.overrides));
+  const std::shared_ptr<const Scene> scene(setup, &setup->scene);
+  SurveyProductOptions po = options.products;
+  po.truth = po.truth && setup->config.truth;
+
+  // Check the whole run before anything is created (formats/run_check.cpp).
+  result.plan = check_simulation(scene_path, *setup,
+                                 {po.mosaic, po.waterfalls, po.truth, po.mosaic_pixel_m}, out_dir);
+  for (const auto& w : result.plan.warnings) warn(w);
+  OutputDirectory out(out_dir, options.overwrite, {scene_path});
+
+  const Survey survey = setup->make_survey();
+  const Simulator sim(scene, setup->config, setup->reference_altitude_m,
+                      pilot_poses(survey, scene->bathymetry));
+
+  xtf::WriterOptions xo = xtf_writer_options(sim, xtf_sample_encoding(setup->sample_format),
+                                             scene->name, setup->allow_more_than_8192_samples);
+  xo.overwrite = true;  // inside our own fresh temporary directory
+  result.compatibility_warnings = xo.compatibility_warnings();
+  for (const SurveyLine& l : setup->lines) result.line_names.push_back(l.name);
+  XtfSurveyWriter xtf_out(out.file(""), result.line_names, scene->frame, setup->config.sonar, xo);
+
+  po.write_options.overwrite = true;  // inside our own fresh temporary directory
+  po.write_options.metadata = run_metadata(scene->name, setup->config, sim.gain_db());
+  SurveyProducts products(out.file(""), scene, setup->config.sonar, setup->lines, po);
+  RunStatistics stats;
+  TeeSink sink({&xtf_out, &products, &stats});
+
+  const auto t_render = std::chrono::steady_clock::now();
+  result.timings = sim.run(survey, sink, options.progress);
+  result.products_s = products.finish_s();
+  result.render_s = seconds_since(t_render) - result.products_s;
+  write_effective_config(scene_path, options.overrides, *setup, sim, out.file("effective.yaml"));
+  out.commit();
+
+  for (const auto& w :
+       stats.warnings(result.line_names, setup->config.output.max_value, sim.gain_db())) {
+    warn(w);
+  }
+  for (const auto& f : xtf_out.files()) result.files.push_back(out.final_dir() / f.filename());
+  for (const auto& f : products.files()) result.files.push_back(out.final_dir() / f.filename());
+  result.files.push_back(out.final_dir() / "effective.yaml");
+  result.notes = products.notes();
+  result.line_statistics = stats.lines();
+  result.total_pings = survey.total_pings();
+  result.along_track = sim.along_track();
+  result.along_track_tolerance_db = setup->config.quality.along_track_tolerance_db;
+  result.gain_db = sim.gain_db();
+  result.total_s = seconds_since(t0);
+  return result;
+}
+
+}  // namespace sonarsynth

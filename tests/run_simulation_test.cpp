@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+// run_simulation, the library entry point behind `sonarsynth simulate`: what it returns agrees
+// with what it wrote, and a refused run leaves the output directory as it was.
+#include "sonarsynth/formats/run_simulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/xtf/reader.hpp"
+
+namespace sonarsynth {
+namespace {
+namespace fs = std::filesystem;
+
+const char* const kScene = R"(
+name: lib-run
+seed: 5
+bathymetry:
+  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [100, 100], cell_m: 0.5, depth_m: 12}
+survey:
+  start_time: "2026-03-01T10:00:00Z"
+  speed_m_s: 3.0
+  altitude_m: 5
+  lines:
+    - {name: a, waypoints: [{lat_deg: 43.0, lon_deg: 4.9998}, {lat_deg: 43.0, lon_deg: 5.0002}]}
+    - {name: b, waypoints: [{lat_deg: 43.0001, lon_deg: 5.0002}, {lat_deg: 43.0001, lon_deg: 4.9998}]}
+sonar: {frequency_khz: 600, range_m: 20, samples: 400}
+)";
+
+class RunSimulationTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // One directory per test: ctest runs the tests of this fixture in parallel.
+    dir_ = fs::temp_directory_path() /
+           ("sonarsynth_run_simulation_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    scene_ = (dir_ / "scene.yaml").string();
+    std::ofstream(scene_) << kScene;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+  std::string scene_;
+};
+
+TEST_F(RunSimulationTest, ResultListsWhatWasWrittenAndCountsEveryPing) {
+  RunOptions o;
+  o.products.mosaic = false;
+  std::uint64_t last_done = 0, last_total = 0;
+  o.progress = [&](std::uint64_t done, std::uint64_t total) {
+    last_done = done;
+    last_total = total;
+  };
+  const fs::path out = dir_ / "out";
+  const RunResult r = run_simulation(scene_, out, o);
+
+  std::set<fs::path> listed(r.files.begin(), r.files.end()), present;
+  for (const auto& e : fs::directory_iterator(out)) {
+    if (e.path().filename() != ".sonarsynth-output") present.insert(e.path());
+  }
+  EXPECT_EQ(listed, present);
+  EXPECT_EQ(r.line_names, (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(last_done, r.total_pings);
+  EXPECT_EQ(last_total, r.total_pings);
+  std::uint64_t sum = 0;
+  for (std::size_t i = 0; i < r.line_names.size(); ++i) {
+    // The statistics count exactly the pings in the line's XTF file.
+    xtf::Reader reader(out / (r.line_names[i] + ".xtf"));
+    xtf::Packet p;
+    std::uint64_t pings = 0;
+    while (reader.next(p)) pings += p.kind == xtf::PacketKind::kPing ? 1 : 0;
+    EXPECT_EQ(r.line_statistics[i].pings, pings) << r.line_names[i];
+    EXPECT_EQ(r.line_statistics[i].samples, pings * 2 * 400);
+    sum += pings;
+  }
+  EXPECT_EQ(sum, r.total_pings);
+  EXPECT_EQ(r.plan.total_pings, r.total_pings);
+}
+
+TEST_F(RunSimulationTest, RefusedRunsLeaveTheDirectoryAlone) {
+  RunOptions o;
+  o.products.mosaic = false;
+  o.products.waterfalls = false;
+  const fs::path out = dir_ / "existing";
+  fs::create_directories(out);
+  std::ofstream(out / "keep.txt") << "mine";
+  EXPECT_THROW(run_simulation(scene_, out, o), Error);  // exists, no overwrite
+  EXPECT_TRUE(fs::exists(out / "keep.txt"));
+  o.overwrite = true;
+  EXPECT_THROW(run_simulation(scene_, dir_, o), Error);  // would delete the scene file
+  EXPECT_TRUE(fs::exists(scene_));
+}
+
+}  // namespace
+}  // namespace sonarsynth
