@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "sonarsynth/error.hpp"
@@ -256,6 +257,19 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
   // below the calibrated mid-range seabed level.
   const double mid_out = mid * std::pow(10.0, quantizer_.gain_db / 10.0);
   paper_sigma_out_ = mid_out / (snr * std::sqrt(kPi / 2.0));
+  // A gain that rounds the seabed itself to 0 gives an all-black survey: refuse it before any
+  // ping is rendered (the automatic gain puts this level at max_value / 16).
+  if (quantizer_.round_to_integer && mid > 0.0 && mid_out < 0.5) {
+    const double auto_gain_db = 10.0 * std::log10(config_.output.max_value / 16.0 / mid);
+    char msg[400];
+    std::snprintf(msg, sizeof msg,
+                  "output.gain_db = %.6g puts the mid-range seabed echo at %.3g counts, so every "
+                  "sample would round to 0. Violated constraint: gain_db >= %.4g (the automatic "
+                  "gain, %.4g dB, puts it at %.6g)",
+                  quantizer_.gain_db, mid_out, 10.0 * std::log10(0.5 / mid), auto_gain_db,
+                  config_.output.max_value / 16.0);
+    throw InputError(msg);
+  }
 
   if (config_.quality.along_track_planes == QualityConfig::kAutoPlanes) {
     along_track_ = choose_along_track_planes(

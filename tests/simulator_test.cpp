@@ -544,6 +544,32 @@ TEST(Simulator, RejectsInvalidConfiguration) {
   EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
 }
 
+TEST(Simulator, AGainThatRoundsTheSeabedToZeroIsRefusedBeforeRendering) {
+  const Scene scene = make_scene(-60, -60, 120, 1.0, [](double, double) { return -30.0; });
+  SimulationConfig cfg;
+  cfg.sonar.max_range_m = 40.0;
+  cfg.sonar.samples_per_channel = 400;
+  cfg.quality.along_track_planes = 1;
+  const Simulator automatic(scene, cfg, 10.0);
+  const double auto_gain_db = automatic.gain_db();
+  // The automatic gain puts the mid-range seabed at max_value / 16; 10 log10(32767 / 16 / 0.5)
+  // = 36.1 dB lower it is at half a count, where integer output rounds it to 0.
+  const double floor_db = auto_gain_db - 10.0 * std::log10(cfg.output.max_value / 16.0 / 0.5);
+  cfg.output.gain_db = floor_db + 0.1;
+  EXPECT_NO_THROW(Simulator(scene, cfg, 10.0));
+  cfg.output.gain_db = floor_db - 0.1;
+  try {
+    Simulator sim(scene, cfg, 10.0);
+    ADD_FAILURE() << "gain " << cfg.output.gain_db << " dB accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("every sample would round to 0"), std::string::npos)
+        << e.what();
+  }
+  // Float output keeps values below one count: nothing rounds away.
+  cfg.output.round_to_integer = false;
+  EXPECT_NO_THROW(Simulator(scene, cfg, 10.0));
+}
+
 TEST(Survey, PingTimingLaybackLeverArmAndDisturbances) {
   const Scene scene =
       make_scene(-100, -100, 200, 1.0, [](double x, double) { return -20.0 + 0.01 * x; });
