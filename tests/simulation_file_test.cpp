@@ -299,7 +299,7 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
   fast.quality = "fast";
   const std::vector<Variant> variants = {
       {"vertical_beam: {shape: gaussian, width_deg: 40}", "pulse: {type: cw, length_us: 50}", "",
-       "output: {tvg: none, gain_db: 12, sample_format: u8, truth: false}",
+       "output: {tvg: none, gain_db: 55, sample_format: u8, truth: false}",
        "survey:\n  start_time: \"2013-09-10T21:13:08.25Z\"\n  speed_m_s: 1.5\n  altitude_m: 8\n"
        "  layback_m: 20\n  turn_time_s: 40\n  turn_radius_m: 30\n"
        "  disturbance: {roll_deg: 2, pitch_deg: 1, yaw_deg: 3, heave_m: 0.2, period_s: 6}\n",
