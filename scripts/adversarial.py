@@ -520,6 +520,16 @@ def strict_json(s):
     return json.loads(s, parse_constant=reject)
 
 
+def flagged_no_seabed(info):
+    """True if `info --json` counts pings flagged as having no seabed (altitude 0)."""
+    for v in (info.get("pings_without_altitude"),
+              (info.get("ping_attitude") or {}).get("pings_without_altitude"),
+              (info.get("anomaly_counts") or {}).get("pings_without_altitude")):
+        if isinstance(v, int) and v > 0:
+            return True
+    return False
+
+
 def check_xtf(h, xtf, cwd, allow_dark=False, want_altitude=None):
     """Problems (strings) with an XTF file that a run reported as written successfully."""
     problems = []
@@ -551,7 +561,9 @@ def check_xtf(h, xtf, cwd, allow_dark=False, want_altitude=None):
     amin, amax = alt.get("min"), alt.get("max")
     if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in (amin, amax)):
         problems.append("altitude not finite: %r..%r" % (amin, amax))
-    elif amin <= 0 or not (amax <= max_range):
+    elif (amin < 0 or (amin == 0 and not flagged_no_seabed(info))) or not (amax <= max_range):
+        # Altitude 0 is sonarsynth's flag for "no seabed under the sensor"; it is fine only when
+        # `info` counts those pings as anomalies (pings_without_altitude).
         problems.append("altitude %g..%g outside (0, range %g]" % (amin, amax, max_range))
     elif want_altitude and (abs(amin - want_altitude) > max(1.0, 0.25 * want_altitude) or
                             abs(amax - want_altitude) > max(1.0, 0.25 * want_altitude)):
@@ -948,7 +960,10 @@ def gen_yaml(h, rng):
         (("survey", "lines", 0, "name"), "effective", "line name colliding with a product"),
         (("survey", "lines", 0, "name"), "a/b", "line name with a slash"),
     ]
-    valid_phys = {"redefining sand (allowed: override)", "altitude 19.9 m: the fish at the surface, beyond tilt",
+    # A line partly off the grid is a warning with the fraction, its off-grid pings flagged
+    # (altitude 0, counted by `info`): accepted either way.
+    valid_phys = {"line leaves the grid", "line starts off the grid",
+                  "redefining sand (allowed: override)", "altitude 19.9 m: the fish at the surface, beyond tilt",
                   "grid centre at the pole", "line name colliding with a product",
                   "duplicate object id? (box gets 2 automatically)"}
     for path, value, desc in phys:
