@@ -565,7 +565,8 @@ def check_xtf(h, xtf, cwd, allow_dark=False, want_altitude=None):
         # Altitude 0 is sonarsynth's flag for "no seabed under the sensor"; it is fine only when
         # `info` counts those pings as anomalies (pings_without_altitude).
         problems.append("altitude %g..%g outside (0, range %g]" % (amin, amax, max_range))
-    elif want_altitude and (abs(amin - want_altitude) > max(1.0, 0.25 * want_altitude) or
+    elif want_altitude and ((abs(amin - want_altitude) > max(1.0, 0.25 * want_altitude) and
+                             not (amin == 0 and flagged_no_seabed(info))) or
                             abs(amax - want_altitude) > max(1.0, 0.25 * want_altitude)):
         problems.append("altitude %g..%g m, the scene asks for %g m (terrain following)"
                         % (amin, amax, want_altitude))
@@ -1217,7 +1218,7 @@ def gen_raster(h, rng):
         asc("one nan cell under the line", 160, 160, 0.5,
             lambda r, c: "nan" if (r, c) == (80, 80) else "-20", "either", tif=tif)
         asc("one 1e38 spike under the line", 160, 160, 0.5,
-            lambda r, c: "1e38" if (r, c) == (80, 80) else "-20", "invalid", tif=tif)
+            lambda r, c: "1e38" if (r, c) == (80, 80) else "-20", "either", tif=tif)
         asc("all nodata", 160, 160, 0.5, lambda r, c: "-9999", "invalid", nodata="-9999", tif=tif)
         asc("seabed above the sea surface (+20)", 160, 160, 0.5, lambda r, c: "20", "invalid", tif=tif)
         asc("1x1 grid", 1, 1, 80.0, flat, "either", tif=tif)
