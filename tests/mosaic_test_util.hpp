@@ -92,8 +92,10 @@ inline void write_line(const std::filesystem::path& path, const LineSpec& s,
     p.slant_range_m = s.range_m;
     p.port.assign(s.samples, 1.0f);
     p.starboard.assign(s.samples, 1.0f);
-    if (s.bright_pings.empty() ||
-        std::find(s.bright_pings.begin(), s.bright_pings.end(), i) != s.bright_pings.end()) {
+    // No bright sample when `bright` is beyond the samples (specs with few samples).
+    if (s.bright < s.samples &&
+        (s.bright_pings.empty() ||
+         std::find(s.bright_pings.begin(), s.bright_pings.end(), i) != s.bright_pings.end())) {
       p.starboard[s.bright] = 1000.0f;
     }
     if (edit && !edit(i, p)) continue;
