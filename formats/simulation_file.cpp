@@ -31,8 +31,6 @@ using yaml::Fields;
 // Farthest a waypoint may be from the bathymetry grid's centre, metres per axis: beyond it the
 // local coordinates leave the scene's UTM zone by far.
 constexpr double kMaxWaypointOffsetM = 1e6;
-// Output gain bound, dB: beyond it every sample saturates or underflows to 0 whatever the scene.
-constexpr double kMaxGainDb = 150.0;
 
 Eigen::Vector2d position(const Scene& scene, const Eigen::Vector2d& centre, const Fields& p) {
   p.only({"lat_deg", "lon_deg", "east_m", "north_m"});
