@@ -310,7 +310,8 @@ NUMERIC_RULES = {
     "uniform_half_width": lambda x: True if 0 <= x < 1 else (None if x == 1 else False),
     "snr_db": lambda x: True if -20 <= x <= 100 else (None if abs(x) <= 1000 else False),
     "freeze_cell_m": lambda x: True if 0 <= x <= 2 else (None if x > 0 and x < 100 else False),
-    "gain_db": lambda x: True if -60 <= x <= 120 else (None if -150 <= x < 150 else False),
+    # Below ~36 dB under the automatic gain the seabed rounds to 0 and sonarsynth refuses the gain.
+    "gain_db": lambda x: True if 40 <= x <= 120 else (None if -150 <= x < 150 else False),
     "band": lambda x: True if x == 1 else False,
 }
 ENUMS = {"type", "shape", "backscatter", "model", "tvg", "sample_format", "material",
