@@ -8,9 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/along_track_planes.hpp"
 #include "sonarsynth/ray_renderer.hpp"
 #include "sonarsynth/render_side.hpp"
 #include "sonarsynth/scene.hpp"
+#include "sonarsynth/scene_profile.hpp"
 #include "sonarsynth/simulator.hpp"
 
 namespace bench {

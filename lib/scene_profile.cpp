@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: MIT
+#include "sonarsynth/scene_profile.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -7,8 +7,13 @@
 #include <cstdio>
 #include <numeric>
 
+#include "sonarsynth/along_track_planes.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
+#include "sonarsynth/noise.hpp"
+#include "sonarsynth/render_side.hpp"
+#include "sonarsynth/scene_profile.hpp"
+#include "sonarsynth/tvg.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -184,13 +189,27 @@ struct Simulator::Workspace {
   std::vector<std::uint64_t> sample_hash;
 };
 
+struct Simulator::Calibration {
+  SideParams side;
+  Tvg tvg;
+  Quantizer quantizer;
+  AlongTrackPlanes planes;
+};
+
+double Simulator::gain_db() const {
+  return cal_->quantizer.gain_db;
+}
+const SideParams& Simulator::side_params() const {
+  return cal_->side;
+}
+
 Simulator::Simulator(const Scene& scene, const SimulationConfig& config,
                      double reference_altitude_m, const std::vector<PingPose>& pilot)
     : Simulator(std::make_shared<const Scene>(scene), config, reference_altitude_m, pilot) {}
 
 Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const SimulationConfig& config,
                      double reference_altitude_m, const std::vector<PingPose>& pilot)
-    : scene_(std::move(shared_scene)), config_(config) {
+    : scene_(std::move(shared_scene)), config_(config), cal_(std::make_unique<Calibration>()) {
   if (!scene_) throw InputError("simulator: scene = null. Violated constraint: a scene");
   const Scene& scene = *scene_;
   config_.validate();
@@ -199,28 +218,28 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
   const PhysicsConfig& ph = config_.physics;
   alpha_db_per_m_ = ph.absorption ? francois_garrison_db_per_m(s.frequency_hz, ph.water) : 0.0;
 
-  side_.sample_spacing_m = s.sample_spacing_m();
-  side_.samples = s.samples_per_channel;
-  side_.gauss_points = config_.quality.gauss_points;
-  side_.shadows = ph.shadows;
-  side_.beta_eff_rad = s.beta_eff_rad();
-  side_.vertical_beam = ph.beam_pattern ? s.vertical_beam : VerticalBeamPattern{};
-  side_.beam_axis_depression_rad = s.tilt_rad;
-  side_.backscatter = ph.backscatter;
-  side_.materials = scene.materials.all();
-  side_.spreading = ph.spreading;
-  side_.absorption_db_per_m = alpha_db_per_m_;
-  side_.calibration_k = ph.calibration_k;
-  side_.pulse_window_m = s.pulse_window_m() > s.sample_spacing_m() ? s.pulse_window_m() : 0.0;
-  side_.truth = config_.truth || config_.noise.model == NoiseConfig::Model::kSpeckle;
+  cal_->side.sample_spacing_m = s.sample_spacing_m();
+  cal_->side.samples = s.samples_per_channel;
+  cal_->side.gauss_points = config_.quality.gauss_points;
+  cal_->side.shadows = ph.shadows;
+  cal_->side.beta_eff_rad = s.beta_eff_rad();
+  cal_->side.vertical_beam = ph.beam_pattern ? s.vertical_beam : VerticalBeamPattern{};
+  cal_->side.beam_axis_depression_rad = s.tilt_rad;
+  cal_->side.backscatter = ph.backscatter;
+  cal_->side.materials = scene.materials.all();
+  cal_->side.spreading = ph.spreading;
+  cal_->side.absorption_db_per_m = alpha_db_per_m_;
+  cal_->side.calibration_k = ph.calibration_k;
+  cal_->side.pulse_window_m = s.pulse_window_m() > s.sample_spacing_m() ? s.pulse_window_m() : 0.0;
+  cal_->side.truth = config_.truth || config_.noise.model == NoiseConfig::Model::kSpeckle;
   // The speckle keys need only the contributor's position and material: the grazing angle (an
   // asin per sample) only for the output truth.
-  side_.truth_grazing = config_.truth;
-  side_.validate();
+  cal_->side.truth_grazing = config_.truth;
+  cal_->side.validate();
 
-  tvg_.law = config_.output.tvg;
-  tvg_.absorption_db_per_m = alpha_db_per_m_;
-  tvg_.validate();
+  cal_->tvg.law = config_.output.tvg;
+  cal_->tvg.absorption_db_per_m = alpha_db_per_m_;
+  cal_->tvg.validate();
 
   // Global calibration from a flat seabed of the default material at the reference altitude:
   // the gain (mid-range TVG'd mean -> max_value / 16) and the noise power (SNR at max range).
@@ -228,7 +247,7 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
   flat.sensor_z_m = reference_altitude_m;
   flat.add_node(0.0, 0.0, 0, scene.material_map.default_material());
   flat.add_node(s.max_range_m, 0.0, 0, scene.material_map.default_material());
-  SideParams p = side_;
+  SideParams p = cal_->side;
   p.truth = false;
   SideEcho echo;
   render_side(flat, p, echo);
@@ -244,29 +263,31 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
   const double peak_raw = *std::max_element(echo.intensity.begin(), echo.intensity.end());
   const double snr = std::pow(10.0, config_.noise.snr_at_max_range_db / 10.0);
   noise_power_ = (far_raw > 0.0 ? far_raw : peak_raw) / snr;
-  apply_tvg(tvg_, 0.5 * side_.sample_spacing_m, side_.sample_spacing_m, echo.intensity);
+  apply_tvg(cal_->tvg, 0.5 * cal_->side.sample_spacing_m, cal_->side.sample_spacing_m,
+            echo.intensity);
   const double mid = mean_over(echo.intensity, 0.45, 0.55);
-  quantizer_.max_value = config_.output.max_value;
-  quantizer_.round_to_integer = config_.output.round_to_integer;
-  quantizer_.gain_db = config_.output.gain_db;
-  if (std::isnan(quantizer_.gain_db)) {
-    quantizer_.gain_db = mid > 0.0 ? 10.0 * std::log10(config_.output.max_value / 16.0 / mid) : 0.0;
+  cal_->quantizer.max_value = config_.output.max_value;
+  cal_->quantizer.round_to_integer = config_.output.round_to_integer;
+  cal_->quantizer.gain_db = config_.output.gain_db;
+  if (std::isnan(cal_->quantizer.gain_db)) {
+    cal_->quantizer.gain_db =
+        mid > 0.0 ? 10.0 * std::log10(config_.output.max_value / 16.0 / mid) : 0.0;
   }
-  quantizer_.validate();
+  cal_->quantizer.validate();
   // Paper noise (image domain): the mean of its Rayleigh term, sigma sqrt(pi/2), lies SNR dB
   // below the calibrated mid-range seabed level.
-  const double mid_out = mid * std::pow(10.0, quantizer_.gain_db / 10.0);
+  const double mid_out = mid * std::pow(10.0, cal_->quantizer.gain_db / 10.0);
   paper_sigma_out_ = mid_out / (snr * std::sqrt(kPi / 2.0));
   // A gain that rounds the seabed itself to 0 gives an all-black survey: refuse it before any
   // ping is rendered (the automatic gain puts this level at max_value / 16).
-  if (quantizer_.round_to_integer && mid > 0.0 && mid_out < 0.5) {
+  if (cal_->quantizer.round_to_integer && mid > 0.0 && mid_out < 0.5) {
     const double auto_gain_db = 10.0 * std::log10(config_.output.max_value / 16.0 / mid);
     char msg[400];
     std::snprintf(msg, sizeof msg,
                   "output.gain_db = %.6g puts the mid-range seabed echo at %.3g counts, so every "
                   "sample would round to 0. Violated constraint: gain_db >= %.4g (the automatic "
                   "gain, %.4g dB, puts it at %.6g)",
-                  quantizer_.gain_db, mid_out, 10.0 * std::log10(0.5 / mid), auto_gain_db,
+                  cal_->quantizer.gain_db, mid_out, 10.0 * std::log10(0.5 / mid), auto_gain_db,
                   config_.output.max_value / 16.0);
     throw InputError(msg);
   }
@@ -277,7 +298,7 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
   } else {
     along_track_.planes = config_.quality.along_track_planes;
   }
-  planes_ = make_along_track_planes(s, along_track_.planes, side_.beta_eff_rad);
+  cal_->planes = make_along_track_planes(s, along_track_.planes, cal_->side.beta_eff_rad);
 }
 
 namespace {
@@ -325,7 +346,7 @@ AlongTrackChoice Simulator::choose_along_track_planes(const std::vector<PingPose
   // Noise-free energies of every pilot ping side at one plane count.
   auto energies = [&](int count) {
     const AlongTrackPlanes planes =
-        make_along_track_planes(config_.sonar, count, side_.beta_eff_rad);
+        make_along_track_planes(config_.sonar, count, cal_->side.beta_eff_rad);
     std::vector<std::vector<double>> e;
     for (const PingPose& pose : pilot) {
       for (const bool starboard : {false, true}) {
@@ -372,21 +393,22 @@ void Simulator::WorkspaceDeleter::operator()(Workspace* ws) const {
 
 Simulator::WorkspacePtr Simulator::make_workspace() const {
   WorkspacePtr ws(new Workspace());
-  ws->params = side_;
+  ws->params = cal_->side;
   // TVG and quantiser gain per sample, once: the noise stage then costs one multiply.
-  ws->tvg_gain.assign(side_.samples, 1.0);
-  apply_tvg(tvg_, 0.5 * side_.sample_spacing_m, side_.sample_spacing_m, ws->tvg_gain);
-  const double g = std::pow(10.0, quantizer_.gain_db / 10.0);
+  ws->tvg_gain.assign(cal_->side.samples, 1.0);
+  apply_tvg(cal_->tvg, 0.5 * cal_->side.sample_spacing_m, cal_->side.sample_spacing_m,
+            ws->tvg_gain);
+  const double g = std::pow(10.0, cal_->quantizer.gain_db / 10.0);
   for (double& v : ws->tvg_gain) v *= g;
-  ws->sample_hash.resize(side_.samples);
-  for (std::size_t i = 0; i < side_.samples; ++i) ws->sample_hash[i] = splitmix64(i);
+  ws->sample_hash.resize(cal_->side.samples);
+  for (std::size_t i = 0; i < cal_->side.samples; ++i) ws->sample_hash[i] = splitmix64(i);
   return ws;
 }
 
 Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool starboard,
                                                  const AlongTrackPlanes& planes, bool truth,
                                                  Workspace& ws, RenderTimings* timings) const {
-  const std::size_t n = side_.samples;
+  const std::size_t n = cal_->side.samples;
   const Eigen::Vector2d fwd(std::sin(pose.heading_rad), std::cos(pose.heading_rad));
   const Eigen::Vector2d stbd(fwd.y(), -fwd.x());
   const Eigen::Vector2d across = starboard ? stbd : Eigen::Vector2d(-stbd);
@@ -435,10 +457,10 @@ Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool star
 
 void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& out,
                          std::uint32_t& saturated, std::uint32_t& invalid) const {
-  const std::size_t n = side_.samples;
+  const std::size_t n = cal_->side.samples;
   out.resize(n);
-  const double maxv = quantizer_.max_value;
-  const bool round = quantizer_.round_to_integer;
+  const double maxv = cal_->quantizer.max_value;
+  const bool round = cal_->quantizer.round_to_integer;
   saturated = 0;
   invalid = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -460,9 +482,10 @@ void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& o
 
 void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key, bool starboard,
                                    Workspace& ws, SideOutput& out, RenderTimings* timings) const {
-  const std::size_t n = side_.samples;
+  const std::size_t n = cal_->side.samples;
   const auto now = [timings] { return timings != nullptr ? Clock::now() : Clock::time_point{}; };
-  const SideGeometry geo = render_planes(pose, starboard, planes_, side_.truth, ws, timings);
+  const SideGeometry geo =
+      render_planes(pose, starboard, cal_->planes, cal_->side.truth, ws, timings);
   const Eigen::Vector2d& nadir = geo.nadir_xy_m;
   const Eigen::Vector2d& central_dir = geo.central_dir;
 
@@ -529,7 +552,7 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
           have_last = true;
         }
         ws.keys[i] = last_key;
-        if (nc.texture) ws.nu[i] = side_.materials[e.truth_material[i]].texture_shape_nu;
+        if (nc.texture) ws.nu[i] = cal_->side.materials[e.truth_material[i]].texture_shape_nu;
       } else {
         ws.keys[i] = ws.noise_keys[i];
       }

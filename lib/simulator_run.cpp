@@ -15,7 +15,7 @@ RenderTimings Simulator::run(
   try {
     RunDescription d;
     d.config = config_;
-    d.gain_db = quantizer_.gain_db;
+    d.gain_db = gain_db();
     d.absorption_db_per_m = alpha_db_per_m_;
     d.total_pings = survey.total_pings();
     d.line_count = survey.line_count();

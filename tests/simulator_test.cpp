@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sonarsynth/along_track_planes.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
 

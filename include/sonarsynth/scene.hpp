@@ -5,7 +5,6 @@
 #include <string>
 #include <vector>
 
-#include "sonarsynth/beam_profile.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/height_grid.hpp"
 #include "sonarsynth/material.hpp"
@@ -34,27 +33,5 @@ struct ProfileOptions {
   int object_segments = 16;
   void validate() const;
 };
-
-/// Reusable buffers of build_beam_profile() (one per thread).
-struct ProfileScratch {
-  std::vector<ProfilePoint> seabed;
-  std::vector<std::uint32_t> candidates;
-  struct Span {
-    double s0, s1;
-    std::uint32_t object;
-  };
-  std::vector<Span> spans;
-  std::vector<double> s;
-};
-
-/// The seabed and objects along the horizontal ray nadir_xy + y * across_dir, 0 <= y <= max_y_m,
-/// as the renderer's 2-D profile: the upper envelope of the bilinear seabed and of every object
-/// the ray crosses (objects are sampled analytically, at their own resolution, with vertical
-/// walls at their footprint edges), each facet labelled (0 seabed, else object id) and with its
-/// material. A heightfield: overhangs such as the underside of a free-spanning pipe are filled.
-/// Cost: the grid cells and objects the ray crosses, not the scene size.
-void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
-                        const Eigen::Vector2d& across_dir, double max_y_m, double sensor_z_m,
-                        const ProfileOptions& options, BeamProfile& out, ProfileScratch& scratch);
 
 }  // namespace sonarsynth

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "sonarsynth/colormap.hpp"
-#include "sonarsynth/render_side.hpp"
+#include "sonarsynth/rendered_ping.hpp"
 
 namespace sonarsynth {
 

@@ -4,13 +4,10 @@
 #include <cstddef>
 #include <vector>
 
+#include "sonarsynth/simulation_config.hpp"
+
 namespace sonarsynth {
 
-/// Time-varied gain law (docs/physics.md §1.2).
-enum class TvgLaw {
-  none,       ///< G = constant_db only
-  spherical,  ///< G(r) = 30 log10(r) + 2 alpha r + constant_db (seabed reverberation TVG)
-};
 
 /// Time-varied gain G(r) in dB, applied to linear intensity as I * 10^(G/10).
 struct Tvg {

@@ -8,6 +8,7 @@
 #include "sonarsynth/backscatter.hpp"
 #include "sonarsynth/beam_pattern.hpp"
 #include "sonarsynth/beam_profile.hpp"
+#include "sonarsynth/rendered_ping.hpp"
 
 namespace sonarsynth {
 
@@ -41,15 +42,6 @@ struct SideParams {
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
-};
-
-/// What a sample's dominant contribution is.
-enum class SampleClass : std::uint8_t {
-  water_column,  ///< before the first seabed return: no return
-  seabed,        ///< dominated by a facet with label 0
-  object,        ///< dominated by a facet with label > 0
-  shadow,        ///< no return; the range interval is occluded (hidden) seabed
-  no_seabed,     ///< no return; holes (NaN), beyond the profile end
 };
 
 /// Output of render_side for one side of one ping. All vectors are resized to

@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string_view>
+
+#include "sonarsynth/absorption.hpp"
+#include "sonarsynth/backscatter.hpp"
+#include "sonarsynth/scene.hpp"
+#include "sonarsynth/sonar.hpp"
+
+/// Everything a simulation is configured with (the YAML `sonar`, `physics`, `quality`, `noise`
+/// and `output` sections; docs/scene-format.md): plain values with their defaults; validate()
+/// throws InputError naming the field.
+namespace sonarsynth {
+
+/// Which physics is on. Every switch that is off costs nothing in the inner loop.
+struct PhysicsConfig {
+  /// paper (default, reproduces Gwon et al.: per-ray R K Phi cos(theta), equal to Lambert with
+  /// mu = R) or lambert (per-material mu).
+  BackscatterModel backscatter = BackscatterModel::paper;
+  bool shadows = true;
+  bool spreading = true;     ///< two-way r^-4
+  bool beam_pattern = true;  ///< vertical beam pattern (off: uniform)
+  bool absorption = true;    ///< Francois-Garrison from sonar frequency and `water`
+  Seawater water;
+  double calibration_k = 1.0;  ///< global constant K, > 0 (never per ping)
+};
+
+/// Speed/accuracy knobs of the renderer.
+struct QualityConfig {
+  /// along_track_planes value that lets the Simulator choose the count (see below).
+  static constexpr int kAutoPlanes = 0;
+  ProfileOptions profile;
+  int gauss_points = 2;  ///< [1, 5]
+  /// K beam planes across the horizontal beam, [1, 64], or kAutoPlanes (the default): the fewest
+  /// of 1, 3, 5, 9, 15 planes whose estimated along-track error, the RMS dB difference per lit
+  /// bin against the next count over a few pilot pings, is at most along_track_tolerance_db. A
+  /// smooth seabed gets one plane; one rough on the scale of the beam's along-track footprint
+  /// gets as many as it needs.
+  int along_track_planes = kAutoPlanes;
+  double along_track_tolerance_db = 1.0;  ///< auto only, > 0
+  void validate() const;
+
+  /// The `--quality` presets, applied over the configured values (docs/scene-format.md):
+  /// "fast" = 1 Gauss point, 8 object segments, 1 along-track plane; "default" changes nothing;
+  /// "high" = 4 grid subdivisions, 3 Gauss points, automatic along-track planes with a 0.25 dB
+  /// tolerance. Returns false (and changes nothing) for any other name.
+  bool apply_preset(std::string_view name) {
+    if (name == "fast") {
+      gauss_points = 1;
+      profile.object_segments = 8;
+      along_track_planes = 1;
+    } else if (name == "high") {
+      profile.grid_subdivisions = 4;
+      gauss_points = 3;
+      along_track_planes = kAutoPlanes;
+      along_track_tolerance_db = 0.25;
+    } else if (name != "default") {
+      return false;
+    }
+    return true;
+  }
+  /// "fast, default or high".
+  static constexpr const char* kPresetNames = "fast, default or high";
+};
+
+struct NoiseConfig {
+  enum class Model {
+    kNone,     ///< noise-free intensities
+    kPaper,    ///< Gwon eq. (2): I(1 + u) + r
+    kSpeckle,  ///< complex Gaussian speckle (+ K texture per material) + thermal noise
+  };
+  Model model = Model::kSpeckle;
+  double paper_uniform_half_width = 0.3;  ///< a of eq. (2), [0, 1]
+  /// Signal-to-noise ratio, dB. Speckle model: thermal noise power (added before detection and
+  /// before TVG) is this far below a flat seabed of the default material at maximum range.
+  /// Paper model (image domain, after TVG): the mean of the Rayleigh term is this far below the
+  /// calibrated mid-range seabed level.
+  double snr_at_max_range_db = 20.0;
+  bool texture = true;  ///< K-distribution texture from the materials' shape nu
+  /// Size of the seabed cells whose speckle is frozen (the same for every ping that sees them),
+  /// metres, >= 0; 0 = the sonar's range resolution.
+  double freeze_cell_m = 0.0;
+};
+
+/// Time-varied gain law (docs/physics.md §1.2).
+enum class TvgLaw {
+  none,       ///< G = constant_db only
+  spherical,  ///< G(r) = 30 log10(r) + 2 alpha r + constant_db (seabed reverberation TVG)
+};
+
+/// TVG and quantisation into the output sample range.
+struct OutputScaling {
+  TvgLaw tvg = TvgLaw::spherical;  ///< 30 log R + 2 alpha R (alpha = the simulation's)
+  double max_value = 32767.0;      ///< XTF u16 profile
+  bool round_to_integer = true;
+  /// Gain before quantisation, dB; NaN = automatic: the TVG'd mean of a flat seabed of the
+  /// default material at mid range maps to max_value / 16 (computed once per run, global).
+  double gain_db = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct SimulationConfig {
+  SonarConfig sonar;
+  PhysicsConfig physics;
+  QualityConfig quality;
+  NoiseConfig noise;
+  OutputScaling output;
+  bool truth = true;  ///< per-sample truth in the rendered pings
+  /// Also output the noise-free samples of every ping (SideOutput::clean_samples), rendered in
+  /// the same call as the noisy ones.
+  bool clean_samples = false;
+  std::uint64_t seed = 1;  ///< every random draw derives from it
+  unsigned threads = 0;    ///< 0 = hardware concurrency; output identical for any value
+  void validate() const;
+};
+
+}  // namespace sonarsynth
