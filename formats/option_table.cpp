@@ -194,9 +194,44 @@ std::vector<Option> make_table() {
         s.config.output.max_value = v == 0.0 ? 32767.0 : v == 1.0 ? 255.0 : 3.0e38;
         s.config.output.round_to_integer = v != 2.0;
       }));
+  t.push_back(choice(
+      "output", "quantity", {"amplitude", "intensity"}, "amplitude or intensity",
+      [](const S& s) { return s.config.output.quantity == SampleQuantity::intensity ? 1.0 : 0.0; },
+      [](S& s, double v) {
+        s.config.output.quantity = v != 0.0 ? SampleQuantity::intensity : SampleQuantity::amplitude;
+      }));
+  t.push_back(choice(
+      "output", "detector", {"max", "mean"}, "max or mean",
+      [](const S& s) { return s.config.output.detector == DetectorMode::mean ? 1.0 : 0.0; },
+      [](S& s, double v) {
+        s.config.output.detector = v != 0.0 ? DetectorMode::mean : DetectorMode::max;
+      }));
+  t.push_back(integer("output", "detector_sub_samples", 1, 16, false,
+                      PLAIN(config.output.detector_sub_samples)));
+  t.push_back(real("output", "seabed_median_dbfs", "dB", -200, 0, false,
+                   PLAIN(config.output.seabed_median_dbfs)));
   t.push_back(boolean("output", "truth", BOOL(config.truth)));
   t.push_back(
       boolean("output", "allow_more_than_8192_samples", BOOL(allow_more_than_8192_samples)));
+  // sensor effects: a level or `off`
+  auto sensor_level = [](std::string_view key, std::string_view unit, double lo, double hi,
+                         double (*get)(const S&), void (*set)(S&, double)) {
+    Option o = real("sensor", key, unit, lo, hi, false, get, set);
+    o.word = "off";
+    return o;
+  };
+  t.push_back(
+      sensor_level("noise_floor_dbfs", "dB", -300, 0, PLAIN(config.sensor.noise_floor_dbfs)));
+  t.push_back(sensor_level("volume_reverberation_db", "dB", -300, 100,
+                           PLAIN(config.sensor.volume_reverberation_db)));
+  t.push_back(sensor_level("shadow_fill_db", "dB", -300, 100, PLAIN(config.sensor.shadow_fill_db)));
+  t.push_back(sensor_level("first_return_reflection_db", "dB", -300, 0,
+                           PLAIN(config.sensor.first_return_reflection_db)));
+  t.push_back(real("sensor", "first_return_rms_slope", "", 0, 1, true,
+                   PLAIN(config.sensor.first_return_rms_slope)));
+  t.push_back(
+      real("sensor", "side_lobe_db", "dB", -300, 0, false, PLAIN(config.sensor.side_lobe_db)));
+  t.push_back(sensor_level("ring_down_m", "m", 0, 1e4, PLAIN(config.sensor.ring_down_m)));
   // limits
   t.push_back(integer("limits", "max_pings", 0, 1e15, true, PLAIN(limits.max_pings)));
   t.push_back(real("limits", "max_output_gb", "GB", 0, 1e6, true, PLAIN(limits.max_output_gb)));

@@ -446,7 +446,7 @@ Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path
                   const SceneLoadOptions& options) {
   const Fields top(doc, path, "");
   top.only({"name", "description", "seed", "bathymetry", "materials", "seabed", "objects", "survey",
-            "sonar", "noise", "render", "output", "limits", "derived"});
+            "sonar", "noise", "sensor", "render", "output", "limits", "derived"});
 
   // Bathymetry: from a raster, or generated.
   const Fields b = top.child("bathymetry");

@@ -233,6 +233,13 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     options::read_all(f, "noise", setup);
   }
 
+  // Sensor effects.
+  if (top.has("sensor")) {
+    const Fields f = top.child("sensor");
+    f.only(keys_of("sensor"));
+    options::read_all(f, "sensor", setup);
+  }
+
   // Output scaling and format.
   if (top.has("output")) {
     const Fields f = top.child("output");

@@ -13,6 +13,7 @@
 #include "sonarsynth/noise.hpp"
 #include "sonarsynth/render_side.hpp"
 #include "sonarsynth/scene_profile.hpp"
+#include "sonarsynth/sensor_effects.hpp"
 #include "sonarsynth/tvg.hpp"
 
 namespace sonarsynth {
@@ -172,6 +173,16 @@ void SimulationConfig::validate() const {
     throw InputError("output: max_value = " + std::to_string(output.max_value) +
                      ". Violated constraint: max_value > 0");
   }
+  if (output.detector_sub_samples < 1 || output.detector_sub_samples > 16) {
+    throw InputError(
+        "output: detector_sub_samples = " + std::to_string(output.detector_sub_samples) +
+        ". Violated constraint: 1 <= detector_sub_samples <= 16");
+  }
+  if (!(output.seabed_median_dbfs < 0.0)) {
+    throw InputError("output: seabed_median_dbfs = " + std::to_string(output.seabed_median_dbfs) +
+                     ". Violated constraint: seabed_median_dbfs < 0");
+  }
+  sensor.validate();
 }
 
 struct Simulator::Workspace {
@@ -187,6 +198,7 @@ struct Simulator::Workspace {
   // splitmix64(i) per sample index (precomputed): the per-ping part of the (ping, side, sample)
   // key then costs one splitmix64 per sample (see ping_sample_keys).
   std::vector<std::uint64_t> sample_hash;
+  DetectorScratch detector;
 };
 
 struct Simulator::Calibration {
@@ -194,6 +206,7 @@ struct Simulator::Calibration {
   Tvg tvg;
   Quantizer quantizer;
   AlongTrackPlanes planes;
+  SensorModel sensor;
 };
 
 double Simulator::gain_db() const {
@@ -242,7 +255,7 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
   cal_->tvg.validate();
 
   // Global calibration from a flat seabed of the default material at the reference altitude:
-  // the gain (mid-range TVG'd mean -> max_value / 16) and the noise power (SNR at max range).
+  // the gain (seabed_median_dbfs) and the noise power (SNR at max range).
   BeamProfile flat;
   flat.sensor_z_m = reference_altitude_m;
   flat.add_node(0.0, 0.0, 0, scene.material_map.default_material());
@@ -269,26 +282,44 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
   cal_->quantizer.max_value = config_.output.max_value;
   cal_->quantizer.round_to_integer = config_.output.round_to_integer;
   cal_->quantizer.gain_db = config_.output.gain_db;
-  if (std::isnan(cal_->quantizer.gain_db)) {
-    cal_->quantizer.gain_db =
-        mid > 0.0 ? 10.0 * std::log10(config_.output.max_value / 16.0 / mid) : 0.0;
+  // The stored value of a power p is sqrt(p) (amplitude) or p (intensity).
+  const bool amplitude = config_.output.quantity == SampleQuantity::amplitude;
+  SensorModel looks = SensorModel::make(config_, 0.0, reference_altitude_m);
+  // Automatic gain: the median stored value of the speckled calibration seabed at
+  // seabed_median_dbfs (the median of unit-mean speckle through the detector, q, from the
+  // noise code itself; 1 without speckle).
+  double q = 1.0;
+  if (config_.noise.model == NoiseConfig::Model::kSpeckle) {
+    const std::size_t def = scene.material_map.default_material();
+    const double nu = config_.noise.texture && def < cal_->side.materials.size()
+                          ? cal_->side.materials[def].texture_shape_nu
+                          : 0.0;
+    q = detected_median_of_unit_mean(looks, nu, config_.seed);
   }
+  const double target_power =
+      amplitude
+          ? std::pow(config_.output.max_value, 2.0) *
+                std::pow(10.0, config_.output.seabed_median_dbfs / 10.0)
+          : config_.output.max_value * std::pow(10.0, config_.output.seabed_median_dbfs / 10.0);
+  const double auto_gain_db = mid > 0.0 ? 10.0 * std::log10(target_power / (mid * q)) : 0.0;
+  if (std::isnan(cal_->quantizer.gain_db)) cal_->quantizer.gain_db = auto_gain_db;
   cal_->quantizer.validate();
   // Paper noise (image domain): the mean of its Rayleigh term, sigma sqrt(pi/2), lies SNR dB
   // below the calibrated mid-range seabed level.
   const double mid_out = mid * std::pow(10.0, cal_->quantizer.gain_db / 10.0);
   paper_sigma_out_ = mid_out / (snr * std::sqrt(kPi / 2.0));
+  cal_->sensor = SensorModel::make(config_, mid_out, reference_altitude_m);
   // A gain that rounds the seabed itself to 0 gives an all-black survey: refuse it before any
-  // ping is rendered (the automatic gain puts this level at max_value / 16).
-  if (cal_->quantizer.round_to_integer && mid > 0.0 && mid_out < 0.5) {
-    const double auto_gain_db = 10.0 * std::log10(config_.output.max_value / 16.0 / mid);
+  // ping is rendered.
+  const double stored_mid = amplitude ? std::sqrt(mid_out) : mid_out;
+  if (cal_->quantizer.round_to_integer && mid > 0.0 && stored_mid < 0.5) {
     char msg[400];
     std::snprintf(msg, sizeof msg,
                   "output.gain_db = %.6g puts the mid-range seabed echo at %.3g counts, so every "
                   "sample would round to 0. Violated constraint: gain_db >= %.4g (the automatic "
-                  "gain, %.4g dB, puts it at %.6g)",
-                  cal_->quantizer.gain_db, mid_out, 10.0 * std::log10(0.5 / mid), auto_gain_db,
-                  config_.output.max_value / 16.0);
+                  "gain is %.4g dB)",
+                  cal_->quantizer.gain_db, stored_mid,
+                  10.0 * std::log10((amplitude ? 0.25 : 0.5) / mid), auto_gain_db);
     throw InputError(msg);
   }
 
@@ -461,10 +492,19 @@ void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& o
   out.resize(n);
   const double maxv = cal_->quantizer.max_value;
   const bool round = cal_->quantizer.round_to_integer;
+  const bool amplitude = cal_->sensor.amplitude;
   saturated = 0;
   invalid = 0;
-  for (std::size_t i = 0; i < n; ++i) {
+  // The transmit ring-down saturates the first samples of the integer formats (not counted as
+  // saturation: it is no echo the gain could keep in range; f32 output has no full scale).
+  const double ring = cal_->sensor.ring_down_m / cal_->side.sample_spacing_m - 0.5;
+  const std::size_t ring_samples =
+      ring > 0.0 && round ? std::min(n, static_cast<std::size_t>(std::ceil(ring))) : 0;
+  std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(ring_samples),
+            static_cast<float>(maxv));
+  for (std::size_t i = ring_samples; i < n; ++i) {
     double v = scaled ? ws.accum[i] : ws.accum[i] * ws.tvg_gain[i];
+    if (amplitude) v = std::sqrt(v);
     if (!std::isfinite(v)) {
       v = 0.0;
       ++invalid;
@@ -494,6 +534,8 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
 
   const NoiseConfig& nc = config_.noise;
   const std::uint64_t ping = noise_key;
+  add_sensor_mean_terms(cal_->sensor, cal_->side, pose.altitude_m,
+                        ws.params.beam_axis_depression_rad, ws.tvg_gain, ws.accum);
   if (config_.clean_samples) {
     std::uint32_t unused_saturated = 0, unused_invalid = 0;
     quantise(ws, false, out.clean_samples, unused_saturated, unused_invalid);
@@ -560,7 +602,9 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
     SpeckleNoise sn;
     sn.thermal_noise_power = noise_power_;
     sn.seed = config_.seed;
-    apply_speckle_noise(sn, ws.keys, ws.noise_keys, ws.nu, ws.accum);
+    detect_speckle(cal_->sensor, sn, ws.keys, ws.noise_keys, ws.nu, ws.tvg_gain, ws.detector,
+                   ws.accum);
+    scaled = true;
   }
 
   // TVG and quantisation (precomputed per-sample gain).

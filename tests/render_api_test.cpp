@@ -95,11 +95,13 @@ TEST(RenderApi, UnkeyedPingsGetDifferentNoiseAndTheSameKeyGivesTheSameNoise) {
 TEST(RenderApi, CleanSamplesComeWithTheNoisyOnesAndEqualANoiseFreeRender) {
   const auto scene = flat_scene();
   SimulationConfig cfg = speckle_config();
-  cfg.clean_samples = true;  // the automatic gain does not depend on the noise model
+  cfg.clean_samples = true;
   const Simulator noisy(scene, cfg, kAltitude);
   SimulationConfig quiet_cfg = cfg;
   quiet_cfg.noise.model = NoiseConfig::Model::kNone;
   quiet_cfg.clean_samples = false;
+  // The automatic gain allows for the speckle's median: give the noise-free run the same gain.
+  quiet_cfg.output.gain_db = noisy.gain_db();
   const Simulator quiet(scene, quiet_cfg, kAltitude);
   auto wn = noisy.make_workspace(), wq = quiet.make_workspace();
   RenderedPing n, q;

@@ -323,8 +323,12 @@ TEST_F(RunCheck, GainIsBoundedAndSaturationIsCountedPerLine) {
   s.output = "{gain_db: -5000}";
   expect_refused(s, {"scene.yaml: output.gain_db = '-5000'"});
   // 140 dB saturates every sample that holds any echo: on a flat seabed 10 m below the sensor
-  // with a 30 m range, the samples beyond the first bottom return, (30 - 10) / 30 of them.
-  s.output = "{gain_db: 140}";
+  // with a 30 m range, the samples beyond the first bottom return, (30 - 10) / 30 of them (the
+  // bare echo in intensity: no sensor effects in the water column, no ring-down).
+  s.output = "{gain_db: 140, quantity: intensity}";
+  s.extra =
+      "sensor: {noise_floor_dbfs: off, volume_reverberation_db: off, shadow_fill_db: off, "
+      "first_return_reflection_db: off, ring_down_m: off}\n";
   const auto r = simulate(s);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const double reported = percent_after(r.err, "survey line 'a': ");

@@ -299,14 +299,20 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
   fast.quality = "fast";
   const std::vector<Variant> variants = {
       {"vertical_beam: {shape: gaussian, width_deg: 40}", "pulse: {type: cw, length_us: 50}", "",
-       "output: {tvg: none, gain_db: 55, sample_format: u8, truth: false}",
+       "output: {tvg: none, gain_db: 55, sample_format: u8, truth: false, quantity: intensity, "
+       "detector: mean, detector_sub_samples: 2, seabed_median_dbfs: -20}\n"
+       "sensor: {noise_floor_dbfs: off, volume_reverberation_db: -30, shadow_fill_db: off, "
+       "first_return_reflection_db: -5, first_return_rms_slope: 0.3, side_lobe_db: -25, "
+       "ring_down_m: off}",
        "survey:\n  start_time: \"2013-09-10T21:13:08.25Z\"\n  speed_m_s: 1.5\n  altitude_m: 8\n"
        "  layback_m: 20\n  turn_time_s: 40\n  turn_radius_m: 30\n"
        "  disturbance: {roll_deg: 2, pitch_deg: 1, yaw_deg: 3, heave_m: 0.2, period_s: 6}\n",
        cli},
       {"vertical_beam: {shape: paper, upper_half_width_deg: 20, lower_half_width_deg: 30}",
        "pulse: {type: chirp, bandwidth_khz: 50}", ", along_track_planes: 3",
-       "output: {sample_format: f32, gain_db: 3, allow_more_than_8192_samples: true}",
+       "output: {sample_format: f32, gain_db: 3, allow_more_than_8192_samples: true}\n"
+       "sensor: {noise_floor_dbfs: -50, volume_reverberation_db: off, shadow_fill_db: -20, "
+       "first_return_reflection_db: off, ring_down_m: 0.5}",
        "survey:\n  depth_m: 25\n", fast},
       {"vertical_beam: {shape: sinc, height_over_wavelength: 1.5}", "pulse: {type: cw}",
        ", along_track_planes: auto", "output: {tvg: spherical}", "survey:\n",
@@ -369,6 +375,20 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
     EXPECT_TRUE(same(x.output.gain_db, y.output.gain_db));
     EXPECT_EQ(x.output.max_value, y.output.max_value);
     EXPECT_EQ(x.output.round_to_integer, y.output.round_to_integer);
+    EXPECT_EQ(x.output.quantity, y.output.quantity);
+    EXPECT_EQ(x.output.detector, y.output.detector);
+    EXPECT_EQ(x.output.detector_sub_samples, y.output.detector_sub_samples);
+    EXPECT_TRUE(same(x.output.seabed_median_dbfs, y.output.seabed_median_dbfs));
+    for (auto [u, w] :
+         {std::pair{x.sensor.noise_floor_dbfs, y.sensor.noise_floor_dbfs},
+          std::pair{x.sensor.volume_reverberation_db, y.sensor.volume_reverberation_db},
+          std::pair{x.sensor.shadow_fill_db, y.sensor.shadow_fill_db},
+          std::pair{x.sensor.first_return_reflection_db, y.sensor.first_return_reflection_db},
+          std::pair{x.sensor.first_return_rms_slope, y.sensor.first_return_rms_slope},
+          std::pair{x.sensor.side_lobe_db, y.sensor.side_lobe_db},
+          std::pair{x.sensor.ring_down_m, y.sensor.ring_down_m}}) {
+      EXPECT_TRUE(same(u, w)) << u << " vs " << w;
+    }
     EXPECT_EQ(x.truth, y.truth);
     EXPECT_EQ(a.sample_format, b.sample_format);
     EXPECT_EQ(a.limits.max_pings, b.limits.max_pings);

@@ -43,6 +43,8 @@ SimulationConfig plain_config() {
   c.output.gain_db = 0.0;
   c.output.round_to_integer = false;
   c.output.max_value = 1e30;
+  c.output.quantity = SampleQuantity::intensity;
+  c.sensor = SensorConfig::none();
   c.threads = 1;
   return c;
 }
@@ -551,11 +553,15 @@ TEST(Simulator, AGainThatRoundsTheSeabedToZeroIsRefusedBeforeRendering) {
   cfg.sonar.max_range_m = 40.0;
   cfg.sonar.samples_per_channel = 400;
   cfg.quality.along_track_planes = 1;
+  cfg.noise.model = NoiseConfig::Model::kNone;  // the stored seabed is then its mean
   const Simulator automatic(scene, cfg, 10.0);
   const double auto_gain_db = automatic.gain_db();
-  // The automatic gain puts the mid-range seabed at max_value / 16; 10 log10(32767 / 16 / 0.5)
-  // = 36.1 dB lower it is at half a count, where integer output rounds it to 0.
-  const double floor_db = auto_gain_db - 10.0 * std::log10(cfg.output.max_value / 16.0 / 0.5);
+  // The automatic gain puts the mid-range seabed amplitude at max_value 10^(-12/20), i.e. its
+  // power at max_value^2 10^(-12/10); 10 log10 of that over 0.25 (amplitude 0.5) lower it is at
+  // half a count, where integer output rounds it to 0.
+  const double floor_db =
+      auto_gain_db - 10.0 * std::log10(cfg.output.max_value * cfg.output.max_value *
+                                       std::pow(10.0, cfg.output.seabed_median_dbfs / 10.0) / 0.25);
   cfg.output.gain_db = floor_db + 0.1;
   EXPECT_NO_THROW(Simulator(scene, cfg, 10.0));
   cfg.output.gain_db = floor_db - 0.1;

@@ -91,14 +91,69 @@ enum class TvgLaw {
   spherical,  ///< G(r) = 30 log10(r) + 2 alpha r + constant_db (seabed reverberation TVG)
 };
 
-/// TVG and quantisation into the output sample range.
+/// What a stored sample holds (docs/physics.md §1.7).
+enum class SampleQuantity {
+  amplitude,  ///< the envelope, sqrt of the (TVG'd, scaled) intensity: what side-scan sonars store
+  intensity,  ///< the (TVG'd, scaled) intensity, power
+};
+
+/// How a stored sample combines its detector sub-samples (OutputScaling::detector_sub_samples).
+enum class DetectorMode {
+  max,   ///< the largest envelope (peak-hold downsampling)
+  mean,  ///< the mean envelope (boxcar downsampling)
+};
+
+/// TVG, detection and quantisation into the output sample range.
 struct OutputScaling {
   TvgLaw tvg = TvgLaw::spherical;  ///< 30 log R + 2 alpha R (alpha = the simulation's)
-  double max_value = 32767.0;      ///< XTF u16 profile
+  /// Stored quantity; amplitude by default, as real side-scan sonars store the envelope.
+  SampleQuantity quantity = SampleQuantity::amplitude;
+  /// Envelope sub-samples per stored sample, [1, 16]: a real sonar digitises faster than it
+  /// stores and keeps the maximum (or mean) of each group. Each sub-sample has its own speckle
+  /// and receiver noise (independent looks); 1 = single-look. Speckle model only.
+  int detector_sub_samples = 3;
+  DetectorMode detector = DetectorMode::max;
+  double max_value = 32767.0;  ///< XTF u16 profile
   bool round_to_integer = true;
-  /// Gain before quantisation, dB; NaN = automatic: the TVG'd mean of a flat seabed of the
-  /// default material at mid range maps to max_value / 16 (computed once per run, global).
+  /// Gain before quantisation, dB (applied to intensity); NaN = automatic: the median stored
+  /// value of a flat seabed of the default material at mid range, speckled by the configured
+  /// noise and detector, lands at seabed_median_dbfs (computed once per run, global).
   double gain_db = std::numeric_limits<double>::quiet_NaN();
+  /// Target of the automatic gain, dB re max_value: 20 log10(median / max_value) for amplitude,
+  /// 10 log10 for intensity. Real side-scan sonars sit about 12 dB below full scale. < 0.
+  double seabed_median_dbfs = -12.0;
+};
+
+/// Sensor effects beyond the seabed echo (docs/physics.md §1.7). Each is off when its level is
+/// NaN (`off` in a scene file) and then costs nothing. Levels "re seabed" are relative to the
+/// mean stored intensity of a flat seabed of the default material at mid range (the automatic
+/// gain's reference), in the TVG'd output domain.
+struct SensorConfig {
+  /// Receiver noise after TVG and gain (electronics, ADC): RMS level of the stored quantity,
+  /// dB re max_value (20 log10 for amplitude). Keeps the water column and shadows off zero.
+  double noise_floor_dbfs = -62.0;
+  /// Volume reverberation (water-column scatterers), dB re seabed, at the reference altitude;
+  /// after the spherical TVG it grows in proportion to the range (volume r^-2 against r^-3).
+  double volume_reverberation_db = -38.0;
+  /// Shadow fill (multipath and side-lobe energy reaching occluded ranges), dB re seabed,
+  /// incoherent, everywhere beyond the first bottom return.
+  double shadow_fill_db = -24.0;
+  /// First bottom return: near-normal (Kirchhoff) backscatter of the seabed below the sensor,
+  ///   sigma(theta) = rho / (8 s^2 cos^4 theta) exp(-tan^2 theta / (2 s^2)),
+  /// theta the incidence from the vertical, rho the energy reflection coefficient, s the RMS
+  /// slope, seen through the vertical beam with side lobes no lower than side_lobe_db.
+  /// NaN rho = off.
+  double first_return_reflection_db = -10.0;  ///< 10 log10(rho), <= 0
+  double first_return_rms_slope = 0.15;       ///< s, (0, 1]
+  /// One-way side-lobe level of the vertical beam towards nadir, dB re the main lobe, <= 0.
+  double side_lobe_db = -18.0;
+  /// Transmit pulse and ring-down: samples nearer than this slant range saturate, metres, >= 0;
+  /// NaN or 0 = off.
+  double ring_down_m = 0.15;
+  void validate() const;
+  /// Every effect off: the bare seabed echo (what the closed forms of docs/physics.md §3 hold
+  /// for).
+  static SensorConfig none();
 };
 
 struct SimulationConfig {
@@ -107,6 +162,7 @@ struct SimulationConfig {
   QualityConfig quality;
   NoiseConfig noise;
   OutputScaling output;
+  SensorConfig sensor;
   bool truth = true;  ///< per-sample truth in the rendered pings
   /// Also output the noise-free samples of every ping (SideOutput::clean_samples), rendered in
   /// the same call as the noisy ones.

@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: MIT
+// The sensor stage of the Simulator (docs/physics.md §1.7): volume reverberation, shadow fill
+// and the first bottom return added to the mean echo; speckle looks, receiver noise and the
+// detector; the transmit ring-down. Internal.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "sonarsynth/noise.hpp"
+#include "sonarsynth/render_side.hpp"
+#include "sonarsynth/simulation_config.hpp"
+
+namespace sonarsynth {
+
+/// The per-run sensor model, in the output domain (after TVG and gain; "power" = the stored
+/// value squared for amplitude output, the stored value for intensity output).
+struct SensorModel {
+  bool amplitude = true;
+  int sub_samples = 1;
+  DetectorMode detector = DetectorMode::max;
+  double full_scale_power = 0.0;  ///< max_value^2 (amplitude) or max_value (intensity)
+  double floor_power = 0.0;       ///< mean receiver-noise power; 0 = off
+  double volume_power = 0.0;      ///< volume reverberation at reference_altitude_m; 0 = off
+  double reference_altitude_m = 1.0;
+  double fill_power = 0.0;         ///< shadow fill beyond the first return; 0 = off
+  double first_return_rho = 0.0;   ///< Kirchhoff reflection coefficient; 0 = off
+  double first_return_s2 = 0.0;    ///< RMS slope squared
+  double side_lobe_two_way = 0.0;  ///< two-way side-lobe floor of the vertical beam
+  double ring_down_m = 0.0;        ///< 0 = off
+
+  /// From the configuration: `seabed_power` is the mean output power of the calibration seabed
+  /// (the reference of the "re seabed" levels).
+  static SensorModel make(const SimulationConfig& config, double seabed_power,
+                          double reference_altitude_m);
+};
+
+/// Adds the mean terms of the sensor model to `mean` (linear intensity before TVG, sample i
+/// covering slant ranges [i dr, (i + 1) dr)): volume reverberation everywhere, shadow fill from
+/// the first return (slant range `altitude_m`) on, and the near-normal first bottom return of a
+/// locally flat seabed `altitude_m` below the sensor, integrated per bin in across-track distance
+/// (4-point Gauss–Legendre) with the physics of `side` (K, beta_eff, spreading, absorption, the
+/// vertical beam at `axis_depression_rad` with the side-lobe floor). `out_gain[i]` converts
+/// sample i to the output domain. A non-finite or non-positive altitude skips the terms that
+/// need it.
+void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double altitude_m,
+                           double axis_depression_rad, std::span<const double> out_gain,
+                           std::span<double> mean);
+
+/// Reusable buffers of detect_speckle (one per thread).
+struct DetectorScratch {
+  std::vector<double> sub, combined;
+  std::vector<std::uint64_t> keys, noise_keys;
+};
+
+/// Speckle, receiver noise and detection: `io` holds the mean intensity before TVG on entry and
+/// the detected output power on return. Per sub-sample j < m.sub_samples: apply_speckle_noise with
+/// the keys of look j (look 0 uses `keys` and `noise_keys` themselves), times out_gain, plus
+/// exponential receiver noise of mean m.floor_power keyed by (noise_keys, j); the looks are
+/// combined by the detector on the envelope (max, or the square of the mean envelope).
+void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
+                    std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
+                    std::span<const double> texture_nu, std::span<const double> out_gain,
+                    DetectorScratch& scratch, std::span<double> io);
+
+/// Median of the detected output power of a seabed of unit mean power through speckle with
+/// texture shape `nu` (0 = none) and the detector, without receiver noise: the automatic gain's
+/// speckle correction. Deterministic (fixed keys).
+double detected_median_of_unit_mean(const SensorModel& m, double nu, std::uint64_t seed);
+
+}  // namespace sonarsynth

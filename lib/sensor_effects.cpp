@@ -1,0 +1,248 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/sensor_effects.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/keyed_random.hpp"
+
+namespace sonarsynth {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kHalfPi = 1.57079632679489661923;
+
+bool on(double level) {
+  return std::isfinite(level);
+}
+double db_to_power(double db) {
+  return std::pow(10.0, db / 10.0);
+}
+
+// 4-point Gauss–Legendre on [0, 1] (Abramowitz & Stegun, Table 25.4).
+constexpr double kGx[4] = {
+    0.5 * (1.0 - 0.86113631159405257522), 0.5 * (1.0 - 0.33998104358485626480),
+    0.5 * (1.0 + 0.33998104358485626480), 0.5 * (1.0 + 0.86113631159405257522)};
+constexpr double kGw[4] = {0.5 * 0.34785484513745385737, 0.5 * 0.65214515486254614263,
+                           0.5 * 0.65214515486254614263, 0.5 * 0.34785484513745385737};
+
+// Stream of the receiver noise of look j (distinct from the speckle and thermal streams).
+constexpr std::uint64_t kFloorStream = 0x5e15e0f1001ULL;
+// Key offset of look j >= 1.
+std::uint64_t look_key(std::uint64_t key, int j) {
+  return hash_combine(key, 0x100000000ULL + static_cast<std::uint64_t>(j));
+}
+
+// Across-track distance y (at depth h below the sensor) where the two-way main lobe, followed
+// from the axis towards nadir, first falls to `floor`; NaN if it does not before nadir.
+double side_lobe_crossing_y(const VerticalBeamPattern& beam, double floor, double h,
+                            double axis_depression_rad) {
+  const double nadir_off = kHalfPi - axis_depression_rad;
+  if (!(nadir_off > 0.0) || !(beam.two_way(nadir_off) < floor)) return kNaN;
+  // First off-axis angle below the floor on a 0.5 deg scan, then bisection.
+  double lo = 0.0, hi = nadir_off;
+  for (double off = 0.0; off < nadir_off; off += 0.0087266) {
+    if (beam.two_way(off) < floor) {
+      hi = off;
+      break;
+    }
+    lo = off;
+  }
+  for (int k = 0; k < 60; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (beam.two_way(mid) < floor ? hi : lo) = mid;
+  }
+  return h / std::tan(axis_depression_rad + 0.5 * (lo + hi));
+}
+
+}  // namespace
+
+void SensorConfig::validate() const {
+  auto bad = [](const std::string& what) { throw InputError("sensor: " + what); };
+  auto num = [](double v) { return std::to_string(v); };
+  if (on(first_return_reflection_db) && !(first_return_reflection_db <= 0.0)) {
+    bad("first_return_reflection_db = " + num(first_return_reflection_db) +
+        ". Violated constraint: <= 0 (a reflection coefficient is at most 1)");
+  }
+  if (!(first_return_rms_slope > 0.0 && first_return_rms_slope <= 1.0)) {
+    bad("first_return_rms_slope = " + num(first_return_rms_slope) +
+        ". Violated constraint: 0 < first_return_rms_slope <= 1");
+  }
+  if (!(side_lobe_db <= 0.0)) {
+    bad("side_lobe_db = " + num(side_lobe_db) + ". Violated constraint: side_lobe_db <= 0");
+  }
+  if (on(ring_down_m) && !(ring_down_m >= 0.0)) {
+    bad("ring_down_m = " + num(ring_down_m) + ". Violated constraint: ring_down_m >= 0");
+  }
+  for (const auto& [name, v] : {std::pair{"noise_floor_dbfs", noise_floor_dbfs},
+                                std::pair{"volume_reverberation_db", volume_reverberation_db},
+                                std::pair{"shadow_fill_db", shadow_fill_db}}) {
+    if (std::isinf(v)) bad(std::string(name) + " is infinite. Violated constraint: finite or off");
+  }
+}
+
+SensorConfig SensorConfig::none() {
+  constexpr double kOff = std::numeric_limits<double>::quiet_NaN();
+  SensorConfig c;
+  c.noise_floor_dbfs = kOff;
+  c.volume_reverberation_db = kOff;
+  c.shadow_fill_db = kOff;
+  c.first_return_reflection_db = kOff;
+  c.ring_down_m = kOff;
+  return c;
+}
+
+SensorModel SensorModel::make(const SimulationConfig& config, double seabed_power,
+                              double reference_altitude_m) {
+  const SensorConfig& c = config.sensor;
+  const OutputScaling& o = config.output;
+  SensorModel m;
+  m.amplitude = o.quantity == SampleQuantity::amplitude;
+  m.sub_samples = config.noise.model == NoiseConfig::Model::kSpeckle ? o.detector_sub_samples : 1;
+  m.detector = o.detector;
+  m.full_scale_power = m.amplitude ? o.max_value * o.max_value : o.max_value;
+  if (on(c.noise_floor_dbfs) && config.noise.model == NoiseConfig::Model::kSpeckle) {
+    // RMS level of the stored quantity: amplitude^2 = power; intensity: the power itself.
+    m.floor_power = m.amplitude ? o.max_value * o.max_value * db_to_power(c.noise_floor_dbfs)
+                                : o.max_value * db_to_power(c.noise_floor_dbfs);
+  }
+  if (on(c.volume_reverberation_db))
+    m.volume_power = seabed_power * db_to_power(c.volume_reverberation_db);
+  m.reference_altitude_m = reference_altitude_m > 0.0 ? reference_altitude_m : 1.0;
+  if (on(c.shadow_fill_db)) m.fill_power = seabed_power * db_to_power(c.shadow_fill_db);
+  if (on(c.first_return_reflection_db)) {
+    m.first_return_rho = db_to_power(c.first_return_reflection_db);
+    m.first_return_s2 = c.first_return_rms_slope * c.first_return_rms_slope;
+    m.side_lobe_two_way = db_to_power(2.0 * c.side_lobe_db);
+  }
+  if (on(c.ring_down_m)) m.ring_down_m = c.ring_down_m;
+  return m;
+}
+
+void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double altitude_m,
+                           double axis_depression_rad, std::span<const double> out_gain,
+                           std::span<double> mean) {
+  const std::size_t n = mean.size();
+  const double dr = side.sample_spacing_m;
+  const bool have_altitude = std::isfinite(altitude_m) && altitude_m > 0.0;
+  if (m.volume_power > 0.0) {
+    // After the spherical TVG, volume reverberation (r^-2 before it) grows as r.
+    const double per_m = m.volume_power / m.reference_altitude_m;
+    for (std::size_t i = 0; i < n; ++i) {
+      mean[i] += per_m * (static_cast<double>(i) + 0.5) * dr / out_gain[i];
+    }
+  }
+  if (!have_altitude) return;
+  const auto first = static_cast<std::size_t>(std::floor(altitude_m / dr));
+  if (m.fill_power > 0.0) {
+    for (std::size_t i = first; i < n; ++i) mean[i] += m.fill_power / out_gain[i];
+  }
+  if (m.first_return_rho > 0.0) {
+    const double h = altitude_m, h2 = h * h;
+    const double kappa = 2.0 * side.absorption_db_per_m * std::log(10.0) / 10.0;
+    const double coef =
+        side.calibration_k * side.beta_eff_rad * m.first_return_rho / (8.0 * m.first_return_s2);
+    // sigma < e^-40 of its peak beyond tan^2 theta = 80 s^2: stop there.
+    const double tan2_max = 80.0 * m.first_return_s2;
+    const double y_kink =
+        side_lobe_crossing_y(side.vertical_beam, m.side_lobe_two_way, h, axis_depression_rad);
+    for (std::size_t i = first; i < n; ++i) {
+      const double r0 = static_cast<double>(i) * dr, r1 = r0 + dr;
+      const double y0 = r0 > h ? std::sqrt(r0 * r0 - h2) : 0.0;
+      if (y0 * y0 > tan2_max * h2) break;
+      const double y1 = std::sqrt(std::max(0.0, r1 * r1 - h2));
+      const double dy = y1 - y0;
+      if (!(dy > 0.0)) continue;
+      // The beam term max(b^2, side lobe) has a kink where the main lobe meets the floor: a
+      // split point of the rule.
+      double sum = 0.0;
+      const double cut = y_kink > y0 && y_kink < y1 ? y_kink : y1;
+      for (const auto& [a, b] : {std::pair{y0, cut}, std::pair{cut, y1}}) {
+        const double w = b - a;
+        if (!(w > 0.0)) continue;
+        for (int g = 0; g < 4; ++g) {
+          const double y = a + kGx[g] * w;
+          const double r2 = y * y + h2, r = std::sqrt(r2);
+          const double tan2 = y * y / h2, cos2 = h2 / r2;
+          const double sigma = std::exp(-tan2 / (2.0 * m.first_return_s2)) / (cos2 * cos2);
+          const double off = std::atan2(h, y) - axis_depression_rad;
+          const double beam = std::max(side.vertical_beam.two_way(off), m.side_lobe_two_way);
+          double v = sigma * beam * (side.spreading ? 1.0 / (r2 * r) : r);
+          if (kappa > 0.0) v *= std::exp(-kappa * r);
+          sum += kGw[g] * w * v;
+        }
+      }
+      mean[i] += coef * sum;
+    }
+  }
+}
+
+void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
+                    std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
+                    std::span<const double> texture_nu, std::span<const double> out_gain,
+                    DetectorScratch& s, std::span<double> io) {
+  const std::size_t n = io.size();
+  const int looks = std::max(1, m.sub_samples);
+  s.combined.assign(n, 0.0);
+  s.sub.resize(n);
+  for (int j = 0; j < looks; ++j) {
+    std::copy(io.begin(), io.end(), s.sub.begin());
+    std::span<const std::uint64_t> kj = keys, nkj = noise_keys;
+    if (j > 0) {
+      s.keys.resize(n);
+      s.noise_keys.resize(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        s.keys[i] = look_key(keys[i], j);
+        s.noise_keys[i] = look_key(noise_keys[i], j);
+      }
+      kj = s.keys;
+      nkj = s.noise_keys;
+    }
+    apply_speckle_noise(speckle, kj, nkj, texture_nu, s.sub);
+    for (std::size_t i = 0; i < n; ++i) {
+      double p = s.sub[i] * out_gain[i];
+      if (m.floor_power > 0.0) {
+        const double u =
+            uniform_open0_from_bits(keyed_hash(speckle.seed ^ kFloorStream, nkj[i], 0));
+        p -= m.floor_power * std::log(u);
+      }
+      if (looks == 1) {
+        s.combined[i] = p;
+      } else if (m.detector == DetectorMode::max) {
+        s.combined[i] = std::max(s.combined[i], p);
+      } else {
+        s.combined[i] += std::sqrt(p);
+      }
+    }
+  }
+  if (looks > 1 && m.detector == DetectorMode::mean) {
+    const double inv = 1.0 / static_cast<double>(looks);
+    for (std::size_t i = 0; i < n; ++i) io[i] = (s.combined[i] * inv) * (s.combined[i] * inv);
+  } else {
+    std::copy(s.combined.begin(), s.combined.end(), io.begin());
+  }
+}
+
+double detected_median_of_unit_mean(const SensorModel& m, double nu, std::uint64_t seed) {
+  constexpr std::size_t kSamples = 1 << 14;
+  std::vector<std::uint64_t> keys(kSamples), noise_keys(kSamples);
+  for (std::size_t i = 0; i < kSamples; ++i) {
+    keys[i] = splitmix64(0xca11b4a7e0000000ULL + i);
+    noise_keys[i] = splitmix64(0xca11b4a7f0000000ULL + i);
+  }
+  std::vector<double> io(kSamples, 1.0), gain(kSamples, 1.0);
+  std::vector<double> texture(nu > 0.0 ? kSamples : 0, nu);
+  SensorModel quiet = m;
+  quiet.floor_power = 0.0;
+  SpeckleNoise sn;
+  sn.seed = seed;
+  DetectorScratch scratch;
+  detect_speckle(quiet, sn, keys, noise_keys, texture, gain, scratch, io);
+  std::nth_element(io.begin(), io.begin() + kSamples / 2, io.end());
+  return io[kSamples / 2];
+}
+
+}  // namespace sonarsynth
