@@ -6,7 +6,6 @@
 #include "sonarsynth/sonar_presets.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
@@ -14,6 +13,7 @@
 #include <map>
 #include <sstream>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/simulation_file.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
@@ -148,27 +148,18 @@ const char* kBathy =
     "survey:\n  altitude_m: 8\n"
     "  lines: [{name: a, waypoints: [{east_m: -20, north_m: 0}, {east_m: 20, north_m: 0}]}]\n";
 
-class SonarPresetFile : public ::testing::Test {
+class SonarPresetFile : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_presets_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+  /// A scene file whose `sonar` section is `sonar`.
+  std::string scene(const std::string& name, const std::string& sonar) {
+    return write(name, std::string(kBathy) + "sonar: " + sonar + "\n").string();
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::string& sonar) {
-    std::ofstream(dir_ / name) << kBathy << "sonar: " << sonar << "\n";
-    return (dir_ / name).string();
-  }
-  fs::path dir_;
 };
 
 TEST_F(SonarPresetFile, ThePresetAloneGivesItsConfiguration) {
   for (const SonarPreset& p : sonar_presets()) {
     const SonarConfig s =
-        load_simulation(write("p.yaml", "{preset: " + std::string(p.name) + "}")).config.sonar;
+        load_simulation(scene("p.yaml", "{preset: " + std::string(p.name) + "}")).config.sonar;
     EXPECT_EQ(s.frequency_hz, p.sonar.frequency_hz) << p.name;
     EXPECT_EQ(s.max_range_m, p.sonar.max_range_m) << p.name;
     EXPECT_EQ(s.samples_per_channel, p.sonar.samples_per_channel) << p.name;
@@ -184,10 +175,10 @@ TEST_F(SonarPresetFile, ThePresetAloneGivesItsConfiguration) {
 TEST_F(SonarPresetFile, ExplicitKeysWinInAnyOrder) {
   const SonarConfig k = sonar_preset("klein-3900-445");
   // Keys before and after the preset; a beam of the preset's shape keeps what it does not give.
-  const std::string before = write("before.yaml",
+  const std::string before = scene("before.yaml",
                                    "{range_m: 60, tilt_deg: 12, preset: klein-3900-445, "
                                    "vertical_beam: {width_deg: 30}, pulse: {length_us: 100}}");
-  const std::string after = write("after.yaml",
+  const std::string after = scene("after.yaml",
                                   "{preset: klein-3900-445, range_m: 60, tilt_deg: 12, "
                                   "vertical_beam: {width_deg: 30}, pulse: {length_us: 100}}");
   for (const std::string& path : {before, after}) {
@@ -208,7 +199,7 @@ TEST_F(SonarPresetFile, ExplicitKeysWinInAnyOrder) {
   cli.range_m = 40.0;
   cli.samples = 2000;
   const SonarConfig s =
-      load_simulation(write("other.yaml",
+      load_simulation(scene("other.yaml",
                             "{preset: edgetech-4200-600, range_m: 70, samples: 4000, "
                             "vertical_beam: {shape: sinc}, pulse: {type: cw, length_us: 20}}"),
                       cli)
@@ -223,7 +214,7 @@ TEST_F(SonarPresetFile, ExplicitKeysWinInAnyOrder) {
 }
 
 TEST_F(SonarPresetFile, UnknownPresetNamesTheFileKeyValueAndTheValidNames) {
-  const std::string path = write("bad.yaml", "{preset: klein-3000}");
+  const std::string path = scene("bad.yaml", "{preset: klein-3000}");
   try {
     load_simulation(path);
     FAIL() << "no error";
@@ -243,12 +234,12 @@ TEST_F(SonarPresetFile, EffectiveYamlRecordsTheResolvedValues) {
   cli.samples = 1500;
   for (const SonarPreset& p : sonar_presets()) {
     SCOPED_TRACE(std::string(p.name));
-    const std::string scene =
-        write("s.yaml", "{preset: " + std::string(p.name) + ", horizontal_beam_deg: 0.7}");
-    const SimulationSetup a = load_simulation(scene, cli);
+    const std::string path =
+        scene("s.yaml", "{preset: " + std::string(p.name) + ", horizontal_beam_deg: 0.7}");
+    const SimulationSetup a = load_simulation(path, cli);
     const Simulator sim(a.scene, a.config, a.reference_altitude_m);
     const fs::path eff = dir_ / "effective.yaml";
-    write_effective_config(scene, cli, a, sim, eff);
+    write_effective_config(path, cli, a, sim, eff);
 
     const YAML::Node y = YAML::LoadFile(eff.string())["sonar"];
     EXPECT_EQ(y["preset"].as<std::string>(), p.name);
