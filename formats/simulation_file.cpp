@@ -359,19 +359,9 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     if (!names.insert(line.name).second)
       sv.fail("lines", "line name '" + line.name + "' is used twice");
   }
-  try {
-    cfg.validate();
-  } catch (const InputError& e) {
-    // A value given on the command line is named by its flag, not blamed on the file.
-    const std::string what = e.what();
-    if (overrides.range_m && what.find("max_range_m") != std::string::npos) {
-      throw InputError("--range (overriding sonar.range_m of " + path + "): " + what);
-    }
-    if (overrides.samples && what.find("samples_per_channel") != std::string::npos) {
-      throw InputError("--samples (overriding sonar.samples of " + path + "): " + what);
-    }
-    top.fail("", what);
-  }
+  // --range and --samples passed check_override above, within bounds that SonarConfig's own
+  // (range > 0 and finite, 1-65535 samples) contain: an error here is the file's.
+  wrap(top, [&] { cfg.validate(); });
   return setup;
 }
 
