@@ -108,11 +108,10 @@ std::string why_not_replaceable_output(const fs::path& dir) {
       continue;
     }
     if (name == "effective.yaml") effective = true;
+    // Ours: a regular file (not a link) with the extension of a product.
     std::error_code e2;
-    if (it->is_symlink(e2) || !it->is_regular_file(e2)) {
-      if (foreign.empty())
-        foreign = "it contains " + name + ", which is not a file sonarsynth writes";
-    } else if (!has_product_extension(p) && foreign.empty()) {
+    const bool ours = !it->is_symlink(e2) && it->is_regular_file(e2) && has_product_extension(p);
+    if (!ours && foreign.empty()) {
       foreign = "it contains " + name + ", which is not a file sonarsynth writes";
     }
   }

@@ -20,6 +20,7 @@
 #include "sonarsynth/formats/gdal_util.hpp"
 #include "sonarsynth/formats/scene_file.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
+#include "sonarsynth/sonar_presets.hpp"
 #include "yaml_fields.hpp"
 
 namespace sonarsynth {
@@ -61,12 +62,18 @@ std::set<std::string> keys_of(std::string_view section, std::set<std::string> ex
   return extra;
 }
 
-// sonar.vertical_beam: the keys of its shape only; a beam given without `shape` is gaussian.
+// sonar.vertical_beam: the keys of its shape only; a beam given without `shape` keeps the shape
+// it had (gaussian, or a preset's). Keys left out keep the values of the beam it had (the
+// default one or a preset's) if the shape stays, else VerticalBeamPattern's defaults.
 void read_beam(const Fields& b, SimulationSetup& setup) {
   VerticalBeamPattern& v = setup.config.sonar.vertical_beam;
-  v = VerticalBeamPattern{};
-  v.shape = SonarConfig::default_vertical_beam().shape;
+  const VerticalBeamShape before = v.shape;
   options::read(b, options::at("sonar.vertical_beam.shape"), setup);
+  if (v.shape != before) {
+    const VerticalBeamShape shape = v.shape;
+    v = VerticalBeamPattern{};
+    v.shape = shape;
+  }
   switch (v.shape) {
     case VerticalBeamShape::uniform:
       b.only({"shape"});
@@ -90,6 +97,8 @@ void read_beam(const Fields& b, SimulationSetup& setup) {
       if (!a.IsSequence() || !g.IsSequence() || a.size() != g.size() || a.size() < 2) {
         b.fail("off_axis_deg", "off_axis_deg and gain_db must be lists of equal length >= 2");
       }
+      v.table_off_axis_rad.clear();
+      v.table_gain_db.clear();
       for (std::size_t i = 0; i < a.size(); ++i) {
         v.table_off_axis_rad.push_back(rad_from_deg(b.element_number("off_axis_deg", a[i], i)));
         v.table_gain_db.push_back(b.element_number("gain_db", g[i], i));
@@ -179,7 +188,13 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   SonarConfig& s = cfg.sonar;
   if (top.has("sonar")) {
     const Fields f = top.child("sonar");
-    f.only(keys_of("sonar", {"vertical_beam", "pulse"}));
+    f.only(keys_of("sonar", {"preset", "vertical_beam", "pulse"}));
+    // A preset first (docs/sonar-presets.md): every key given beside it wins, in any order.
+    if (f.given("preset")) {
+      const SonarPreset* p = find_sonar_preset(f.text("preset"));
+      if (!p) f.fail_value("preset", "one of " + sonar_preset_names());
+      s = p->sonar;
+    }
     options::read_all(f, "sonar", setup);
     if (f.has("vertical_beam")) read_beam(f.child("vertical_beam"), setup);
     if (f.has("pulse")) {
@@ -351,19 +366,9 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     if (!names.insert(line.name).second)
       sv.fail("lines", "line name '" + line.name + "' is used twice");
   }
-  try {
-    cfg.validate();
-  } catch (const InputError& e) {
-    // A value given on the command line is named by its flag, not blamed on the file.
-    const std::string what = e.what();
-    if (overrides.range_m && what.find("max_range_m") != std::string::npos) {
-      throw InputError("--range (overriding sonar.range_m of " + path + "): " + what);
-    }
-    if (overrides.samples && what.find("samples_per_channel") != std::string::npos) {
-      throw InputError("--samples (overriding sonar.samples of " + path + "): " + what);
-    }
-    top.fail("", what);
-  }
+  // --range and --samples passed check_override above, within bounds that SonarConfig's own
+  // (range > 0 and finite, 1-65535 samples) contain: an error here is the file's.
+  wrap(top, [&] { cfg.validate(); });
   return setup;
 }
 
@@ -394,6 +399,49 @@ SimulationSetup load_simulation_from_string(const std::string& yaml_text, const 
   });
 }
 
+namespace {
+
+// The resolved sonar of a run into the `sonar` map of effective.yaml: every declared key of the
+// section, the vertical beam and the pulse (the keys of their shape and type).
+void write_resolved_sonar(YAML::Node sonar, const SimulationSetup& setup) {
+  const auto put = [&setup](YAML::Node n, std::string_view path) {
+    const options::Option& o = options::at(path);
+    n[std::string(o.key)] = options::emit(o, setup);
+  };
+  for (const options::Option* o : options::in_section("sonar")) put(sonar, o->path());
+  YAML::Node beam(YAML::NodeType::Map);
+  put(beam, "sonar.vertical_beam.shape");
+  const VerticalBeamPattern& v = setup.config.sonar.vertical_beam;
+  switch (v.shape) {
+    case VerticalBeamShape::uniform:
+      break;
+    case VerticalBeamShape::gaussian:
+      put(beam, "sonar.vertical_beam.width_deg");
+      break;
+    case VerticalBeamShape::paper_sine_pair:
+      put(beam, "sonar.vertical_beam.upper_half_width_deg");
+      put(beam, "sonar.vertical_beam.lower_half_width_deg");
+      break;
+    case VerticalBeamShape::sinc:
+      put(beam, "sonar.vertical_beam.height_over_wavelength");
+      break;
+    case VerticalBeamShape::table:
+      for (std::size_t i = 0; i < v.table_off_axis_rad.size(); ++i) {
+        beam["off_axis_deg"].push_back(deg_from_rad(v.table_off_axis_rad[i]));
+        beam["gain_db"].push_back(v.table_gain_db[i]);
+      }
+      break;
+  }
+  sonar["vertical_beam"] = beam;
+  YAML::Node pulse(YAML::NodeType::Map);
+  put(pulse, "sonar.pulse.type");
+  put(pulse, setup.config.sonar.pulse == SonarConfig::Pulse::kCw ? "sonar.pulse.length_us"
+                                                                 : "sonar.pulse.bandwidth_khz");
+  sonar["pulse"] = pulse;
+}
+
+}  // namespace
+
 void write_effective_config(const std::string& scene_path, const SimulationOverrides& overrides,
                             const SimulationSetup& setup, const Simulator& sim,
                             const std::filesystem::path& out_path) {
@@ -419,6 +467,11 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
     }
   };
   absolutize(root);
+  // A sonar preset stays named, with the values it resolved to beside it: they win over it when
+  // the file is read again, so the run is reproduced whatever the preset later becomes.
+  if (root["sonar"].IsMap() && root["sonar"]["preset"].IsDefined()) {
+    write_resolved_sonar(root["sonar"], setup);
+  }
   // The overridden options, from the declarations (formats/option_table.cpp); the seed always.
   std::set<std::string_view> flags{"--seed"};
   if (overrides.range_m) flags.insert("--range");

@@ -54,26 +54,13 @@ survey:
 sonar: {frequency_khz: 600, range_m: 50, samples: 4096}
 )";
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-std::map<std::string, std::string> snapshot(const fs::path& root) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(root)) {
-    const std::string rel = fs::relative(e.path(), root).string();
-    out[rel] = e.is_regular_file() ? read_text(e.path()) : std::string("<dir>");
-  }
-  return out;
-}
+using test::read_text;
+using test::snapshot;
 
 class OutputSafetyCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("sonarsynth_safety_cli_" + std::to_string(::getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    root_ = test::scratch_path();
     fs::remove_all(root_);
     fs::create_directories(root_ / "work" / "sub");
     std::ofstream(root_ / "work" / "scene.yaml") << kQuickScene;

@@ -10,6 +10,7 @@
 #include <map>
 #include <string>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/atomic_file.hpp"
 #include "sonarsynth/formats/output_dir.hpp"
@@ -22,20 +23,8 @@ void write_text(const fs::path& p, const std::string& text) {
   std::ofstream(p) << text;
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-/// Every path under `root` (recursively, hidden ones included) with its content.
-std::map<std::string, std::string> snapshot(const fs::path& root) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(root)) {
-    const std::string rel = fs::relative(e.path(), root).string();
-    out[rel] = e.is_regular_file() ? read_text(e.path()) : std::string("<dir>");
-  }
-  return out;
-}
+using test::read_text;
+using test::snapshot;
 
 /// The id of a process that has ended.
 long dead_pid() {
@@ -49,9 +38,7 @@ long dead_pid() {
 class OutputSafety : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("sonarsynth_output_safety_" + std::to_string(::getpid()) + "_" +
-             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    root_ = test::scratch_path();
     fs::remove_all(root_);
     fs::create_directories(root_ / "work");
     write_text(root_ / "work" / "scene.yaml", "name: mine\n");

@@ -81,20 +81,8 @@ void write_tif(const fs::path& p, int cols, int rows, const std::vector<float>& 
   GDALClose(ds);
 }
 
-class RunCheck : public ::testing::Test {
+class RunCheck : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_check_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return dir_ / name;
-  }
   test::CliResult simulate(const SceneText& s, const std::string& options = "") {
     const fs::path scene = write("scene.yaml", s.yaml());
     return test::run_cli("simulate " + scene.string() + " -o " + out().string() +
@@ -115,7 +103,6 @@ class RunCheck : public ::testing::Test {
     }
   }
   fs::path out() const { return dir_ / "out"; }
-  fs::path dir_;
 };
 
 TEST_F(RunCheck, TheBaseSceneRuns) {

@@ -111,22 +111,7 @@ Eigen::Vector2d centroid(const Raster& r, F pick) {
   return n > 0 ? Eigen::Vector2d(se / n, sn / n) : Eigen::Vector2d(NAN, NAN);
 }
 
-class SimulateCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_sim_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return dir_ / name;
-  }
-  fs::path dir_;
-};
+class SimulateCli : public test::ScratchDirTest {};
 
 TEST_F(SimulateCli, ProductsExistOpenInGdalAndPutTheObjectWithinOnePixel) {
   const fs::path scene =

@@ -57,20 +57,8 @@ std::string bytes_of(const fs::path& p) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-class TrustCli : public ::testing::Test {
+class TrustCli : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_trust_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return dir_ / name;
-  }
   /// Names of the entries of the scratch directory.
   std::set<std::string> listing() const {
     std::set<std::string> out;
@@ -97,7 +85,6 @@ class TrustCli : public ::testing::Test {
     expect_named_error("simulate " + s.string() + " -o " + (dir_ / "out").string() + " -q " + flags,
                        wanted);
   }
-  fs::path dir_;
 };
 
 // --seed reaches everything seeded, the generated bathymetry included: simulating the

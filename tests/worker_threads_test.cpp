@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 #include <thread>
 
 #include "sonarsynth/bathy_gen.hpp"
@@ -81,13 +82,18 @@ TEST(WorkerThreads, BathymetryComputesTheRefusedThreadsShareItself) {
   }
 }
 
-TEST(WorkerThreads, CountIsClampedToFourPerCore) {
-  const unsigned cap = detail::max_worker_threads();
-  EXPECT_GE(cap, 4u);
-  EXPECT_EQ(cap, std::max(4u, 4u * std::thread::hardware_concurrency()));
-  EXPECT_EQ(detail::worker_thread_count(100000), cap);
-  EXPECT_EQ(detail::worker_thread_count(1), 1u);
-  EXPECT_GE(detail::worker_thread_count(0), 1u);
+// A request is honoured up to four threads per hardware thread (four if that is unknown) and
+// cut to that beyond it; 0 asks for one per hardware thread. Every request up to the limit is
+// tried, and requests past it up to the largest unsigned.
+TEST(WorkerThreads, CountHonoursRequestsUpToFourPerHardwareThread) {
+  const unsigned hardware = std::thread::hardware_concurrency();  // 0 when unknown
+  const unsigned limit = 4u * (hardware > 0 ? hardware : 1u);
+  for (unsigned r = 1; r <= limit; ++r) EXPECT_EQ(detail::worker_thread_count(r), r) << r;
+  for (const unsigned r : {limit + 1, 2 * limit, 100000u, std::numeric_limits<unsigned>::max()}) {
+    EXPECT_EQ(detail::worker_thread_count(r), limit) << r;
+  }
+  EXPECT_EQ(detail::worker_thread_count(0), hardware > 0 ? hardware : 1u);
+  EXPECT_EQ(detail::max_worker_threads(), limit);
 }
 
 }  // namespace
