@@ -54,6 +54,14 @@ Layout check_layout(std::span<const Ping> pings) {
   return l;
 }
 
+/// The same, and one first return per ping.
+Layout check_layout(std::span<const Ping> pings, std::span<const FirstReturn> returns) {
+  if (returns.size() != pings.size())
+    throw InputError("realism: " + std::to_string(returns.size()) + " first returns for " +
+                     std::to_string(pings.size()) + " pings (need one per ping)");
+  return check_layout(pings);
+}
+
 /// Index of the first sample whose centre (i + 0.5) dr is at or beyond `range_m`, in [0, n].
 std::size_t index_at(double range_m, const Layout& l) {
   const double i = std::ceil(range_m / l.dr - 0.5);
@@ -236,7 +244,7 @@ double FirstReturnStats::rise_r0(double below_db) const {
 
 FirstReturnStats first_return_stats(std::span<const Ping> pings, Side side,
                                     std::span<const FirstReturn> returns, const Options& o) {
-  const Layout l = check_layout(pings);
+  const Layout l = check_layout(pings, returns);
   FirstReturnStats s;
   s.sample_m = l.dr;
   s.step_r0 = o.rise_step_r0;
@@ -291,7 +299,7 @@ void Texture::merge(const Texture& o) {
 Texture seabed_texture(std::span<const Ping> pings, Side side, std::span<const FirstReturn> returns,
                        const Options& o) {
   o.validate();
-  const Layout l = check_layout(pings);
+  const Layout l = check_layout(pings, returns);
   std::vector<Span> seabed(pings.size());
   for (std::size_t k = 0; k < pings.size(); ++k) seabed[k] = regions(returns[k], l, o).seabed;
   const std::size_t nbands = o.correlation_bands;
@@ -402,7 +410,7 @@ void Levels::merge(const Levels& o) {
 Levels levels(std::span<const Ping> pings, Side side, std::span<const FirstReturn> returns,
               double clip_value, const Options& o) {
   o.validate();
-  const Layout l = check_layout(pings);
+  const Layout l = check_layout(pings, returns);
   Levels s;
   std::vector<double> water_levels;
   for (std::size_t k = 0; k < pings.size(); ++k) {
@@ -451,7 +459,7 @@ void Shadows::merge(const Shadows& o) {
 Shadows shadows(std::span<const Ping> pings, Side side, std::span<const FirstReturn> returns,
                 const Options& o) {
   o.validate();
-  const Layout l = check_layout(pings);
+  const Layout l = check_layout(pings, returns);
   const std::size_t np = pings.size();
   std::vector<Span> seabed(np);
   for (std::size_t k = 0; k < np; ++k) seabed[k] = regions(returns[k], l, o).seabed;

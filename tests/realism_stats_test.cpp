@@ -322,6 +322,9 @@ TEST(RealismStats, LayoutAndOptionErrorsAreNamed) {
     EXPECT_NE(std::string(e.what()).find("ping 2"), std::string::npos) << e.what();
   }
   EXPECT_THROW(rs::measure(std::vector<rs::Ping>{}), sonarsynth::InputError);
+  pings[2].starboard.resize(kSamples);
+  EXPECT_THROW(rs::seabed_texture(pings, Side::kPort, std::vector<rs::FirstReturn>(2), {}),
+               sonarsynth::InputError);
   rs::Options o;
   o.box_samples = 30;
   try {
