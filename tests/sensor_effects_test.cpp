@@ -186,10 +186,10 @@ TEST(SensorEffects, VolumeReverberationAndShadowFillHaveTheirLevels) {
   const Simulator sim(scene, c, kAltitude);
   const RenderedPing p = render(sim, pose_at(*scene, 0.0, 1));
   // Without noise and speckle, the automatic gain puts the mid-range seabed mean (the levels'
-  // reference) at max_value 10^(-12/10), so volume reverberation at the reference altitude is
+  // reference) at max_value 10^(seabed_median_dbfs/10), so volume reverberation at the reference altitude is
   // that times 10^(-40/10), growing in proportion to the range, and shadow fill adds a constant
   // 10^(-24/10) of it.
-  const double ref = c.output.max_value * std::pow(10.0, -1.2);
+  const double ref = c.output.max_value * std::pow(10.0, c.output.seabed_median_dbfs / 10.0);
   const double dr = c.sonar.sample_spacing_m();
   std::size_t water = 0, shadow = 0;
   for (std::size_t i = 0; i < 600; ++i) {

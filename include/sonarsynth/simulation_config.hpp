@@ -120,8 +120,9 @@ struct OutputScaling {
   /// noise and detector, lands at seabed_median_dbfs (computed once per run, global).
   double gain_db = std::numeric_limits<double>::quiet_NaN();
   /// Target of the automatic gain, dB re max_value: 20 log10(median / max_value) for amplitude,
-  /// 10 log10 for intensity. Real side-scan sonars sit about 12 dB below full scale. < 0.
-  double seabed_median_dbfs = -12.0;
+  /// 10 log10 for intensity. < 0. The default puts the median over a real swath (beam pattern and
+  /// grazing angles included) about 12 dB below full scale, as real side-scan sonars do.
+  double seabed_median_dbfs = -11.0;
 };
 
 /// Sensor effects beyond the seabed echo (docs/physics.md §1.7). Each is off when its level is
@@ -134,19 +135,19 @@ struct SensorConfig {
   double noise_floor_dbfs = -62.0;
   /// Volume reverberation (water-column scatterers), dB re seabed, at the reference altitude;
   /// after the spherical TVG it grows in proportion to the range (volume r^-2 against r^-3).
-  double volume_reverberation_db = -38.0;
+  double volume_reverberation_db = -29.0;
   /// Shadow fill (multipath and side-lobe energy reaching occluded ranges), dB re seabed,
   /// incoherent, everywhere beyond the first bottom return.
-  double shadow_fill_db = -24.0;
+  double shadow_fill_db = -36.0;
   /// First bottom return: near-normal (Kirchhoff) backscatter of the seabed below the sensor,
   ///   sigma(theta) = rho / (8 s^2 cos^4 theta) exp(-tan^2 theta / (2 s^2)),
   /// theta the incidence from the vertical, rho the energy reflection coefficient, s the RMS
   /// slope, seen through the vertical beam with side lobes no lower than side_lobe_db.
   /// NaN rho = off.
-  double first_return_reflection_db = -10.0;  ///< 10 log10(rho), <= 0
+  double first_return_reflection_db = -6.0;   ///< 10 log10(rho), <= 0
   double first_return_rms_slope = 0.15;       ///< s, (0, 1]
   /// One-way side-lobe level of the vertical beam towards nadir, dB re the main lobe, <= 0.
-  double side_lobe_db = -18.0;
+  double side_lobe_db = -16.0;
   /// Transmit pulse and ring-down: samples nearer than this slant range saturate, metres, >= 0;
   /// NaN or 0 = off.
   double ring_down_m = 0.15;
