@@ -173,6 +173,8 @@ std::vector<Option> make_table() {
       real("noise", "snr_db", "dB", -100, 200, false, PLAIN(config.noise.snr_at_max_range_db)));
   t.push_back(boolean("noise", "texture", BOOL(config.noise.texture)));
   t.push_back(
+      boolean("noise", "along_track_correlation", BOOL(config.noise.along_track_correlation)));
+  t.push_back(
       real("noise", "freeze_cell_m", "m", 0, 1e3, false, PLAIN(config.noise.freeze_cell_m)));
   // output
   t.push_back(choice(

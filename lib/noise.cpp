@@ -72,7 +72,7 @@ namespace {
 // The reference sampler: the complex field by Box–Muller, the texture by Marsaglia–Tsang.
 void speckle_exact(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
                    std::span<const std::uint64_t> noise_keys, std::span<const double> texture_nu,
-                   std::span<double> intensity) {
+                   std::span<const double> field, std::span<double> intensity) {
   const double half_n = 0.5 * noise.thermal_noise_power;
   for (std::size_t i = 0; i < intensity.size(); ++i) {
     double mean = intensity[i];
@@ -84,7 +84,9 @@ void speckle_exact(const SpeckleNoise& noise, std::span<const std::uint64_t> key
       }
     }
     double re = 0.0, im = 0.0;
-    if (mean > 0.0) {
+    if (mean > 0.0 && !field.empty()) {
+      re = std::sqrt(mean * field[i]);  // the given field's power; its phase is immaterial
+    } else if (mean > 0.0) {
       const NormalPair s = keyed_normal_pair(noise.seed, keys[i], kStreamSpeckle);
       const double a = std::sqrt(0.5 * mean);
       re = a * s.n1;
@@ -136,7 +138,7 @@ class TextureTables {
 // probability 2^-33 (Exp(1) at ~22.9), far below what the KS / moment tests or an image resolve.
 void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
                     std::span<const std::uint64_t> noise_keys, std::span<const double> texture_nu,
-                    std::span<double> intensity) {
+                    std::span<const double> field, std::span<double> intensity) {
   const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
   const double n_power = noise.thermal_noise_power;
   const std::uint64_t seed_s = splitmix64(noise.seed);
@@ -155,7 +157,7 @@ void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> ke
       const double nu = textured ? texture_nu[i] : 0.0;
       if (!have_frozen || keys[i] != frozen_key || nu != frozen_nu) {
         const std::uint64_t hk = splitmix_stream(seed_s, keys[i]);
-        double m = exp1(high32_midpoint(hk));
+        double m = field.empty() ? exp1(high32_midpoint(hk)) : 1.0;
         if (nu > 0.0) {
           if (nu != last_nu) {
             last_nu = nu;
@@ -170,6 +172,7 @@ void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> ke
         frozen = m;
       }
       a *= frozen;
+      if (!field.empty()) a *= field[i];
     }
     if (n_power > 0.0) {
       const std::uint64_t hn = splitmix_stream(seed_n, noise_keys[i]);
@@ -187,11 +190,19 @@ void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> ke
 void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
                          std::span<const std::uint64_t> noise_keys,
                          std::span<const double> texture_nu, std::span<double> intensity) {
+  apply_speckle_noise(noise, keys, noise_keys, texture_nu, {}, intensity);
+}
+
+void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
+                         std::span<const std::uint64_t> noise_keys,
+                         std::span<const double> texture_nu, std::span<const double> field,
+                         std::span<double> intensity) {
   noise.validate();
   const std::size_t n = intensity.size();
   check_size("keys", keys.size(), n);
   check_size("noise_keys", noise_keys.size(), n);
   if (!texture_nu.empty()) check_size("texture_nu", texture_nu.size(), n);
+  if (!field.empty()) check_size("field", field.size(), n);
   for (std::size_t i = 0; i < texture_nu.size(); ++i) {
     const double nu = texture_nu[i];
     if (!(nu >= 0.0) || !std::isfinite(nu)) {
@@ -200,9 +211,9 @@ void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_
     }
   }
   if (noise.sampler == SpeckleSampler::exact) {
-    speckle_exact(noise, keys, noise_keys, texture_nu, intensity);
+    speckle_exact(noise, keys, noise_keys, texture_nu, field, intensity);
   } else {
-    speckle_tables(noise, keys, noise_keys, texture_nu, intensity);
+    speckle_tables(noise, keys, noise_keys, texture_nu, field, intensity);
   }
 }
 

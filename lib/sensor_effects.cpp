@@ -31,6 +31,8 @@ constexpr double kGw[4] = {0.5 * 0.34785484513745385737, 0.5 * 0.652145154862546
 
 // Stream of the receiver noise of look j (distinct from the speckle and thermal streams).
 constexpr std::uint64_t kFloorStream = 0x5e15e0f1001ULL;
+// Salt of the along-track scatterer lattice.
+constexpr std::uint64_t kFieldSalt = 0xa10e7a0c5ca77e45ULL;
 // Key offset of look j >= 1.
 std::uint64_t look_key(std::uint64_t key, int j) {
   return hash_combine(key, 0x100000000ULL + static_cast<std::uint64_t>(j));
@@ -180,10 +182,44 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double 
   }
 }
 
+void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
+                         std::vector<double>& out) {
+  out.resize(samples);
+  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
+  const double inv_sqrt_8ln2 = 1.0 / std::sqrt(8.0 * std::log(2.0));
+  const std::uint64_t base = hash_combine(hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key),
+                                          static_cast<std::uint64_t>(look));
+  for (std::size_t i = 0; i < samples; ++i) {
+    const double r = (static_cast<double>(i) + 0.5) * f.sample_spacing_m;
+    const double sw = r * f.beam_3db_rad * inv_sqrt_8ln2;
+    const double u = f.along_track_m / sw;
+    const double m0 = std::floor(u);
+    const double frac = u - m0;
+    const auto first = static_cast<std::int64_t>(m0) - 2;
+    const std::uint64_t cell = hash_combine(base, static_cast<std::uint64_t>(i));
+    // Scatterers within 3 sw either side (weights below e^-4.5 beyond) of the ping.
+    double re = 0.0, im = 0.0, w2 = 0.0;
+    for (int k = 0; k < 6; ++k) {
+      const double x = static_cast<double>(k - 2) - frac;
+      const double w = std::exp(-0.5 * x * x);
+      const std::uint64_t h = splitmix_stream(cell, static_cast<std::uint64_t>(first + k));
+      const double amp = w * std::sqrt(exp1(high32_midpoint(h)));
+      // Phase 2 pi z, z uniform in [-1/2, 1/2): from sin(pi z) (|pi z| <= pi/2).
+      const double sh = sin_taylor_half_period(3.14159265358979323846 *
+                                               (uniform_from_bits(high32_midpoint(h << 32)) - 0.5));
+      const double ch = std::sqrt(std::max(0.0, 1.0 - sh * sh));
+      re += amp * (1.0 - 2.0 * sh * sh);
+      im += amp * (2.0 * sh * ch);
+      w2 += w * w;
+    }
+    out[i] = (re * re + im * im) / w2;
+  }
+}
+
 void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
                     std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
                     std::span<const double> texture_nu, std::span<const double> out_gain,
-                    DetectorScratch& s, std::span<double> io) {
+                    const AlongTrackField* field, DetectorScratch& s, std::span<double> io) {
   const std::size_t n = io.size();
   const int looks = std::max(1, m.sub_samples);
   s.combined.assign(n, 0.0);
@@ -201,7 +237,12 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
       kj = s.keys;
       nkj = s.noise_keys;
     }
-    apply_speckle_noise(speckle, kj, nkj, texture_nu, s.sub);
+    if (field != nullptr) {
+      along_track_speckle(*field, n, j, s.field);
+      apply_speckle_noise(speckle, kj, nkj, texture_nu, s.field, s.sub);
+    } else {
+      apply_speckle_noise(speckle, kj, nkj, texture_nu, s.sub);
+    }
     for (std::size_t i = 0; i < n; ++i) {
       double p = s.sub[i] * out_gain[i];
       if (m.floor_power > 0.0) {
@@ -240,7 +281,7 @@ double detected_median_of_unit_mean(const SensorModel& m, double nu, std::uint64
   SpeckleNoise sn;
   sn.seed = seed;
   DetectorScratch scratch;
-  detect_speckle(quiet, sn, keys, noise_keys, texture, gain, scratch, io);
+  detect_speckle(quiet, sn, keys, noise_keys, texture, gain, nullptr, scratch, io);
   std::nth_element(io.begin(), io.begin() + kSamples / 2, io.end());
   return io[kSamples / 2];
 }

@@ -602,8 +602,18 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
     SpeckleNoise sn;
     sn.thermal_noise_power = noise_power_;
     sn.seed = config_.seed;
-    detect_speckle(cal_->sensor, sn, ws.keys, ws.noise_keys, ws.nu, ws.tvg_gain, ws.detector,
-                   ws.accum);
+    AlongTrackField field;
+    if (nc.along_track_correlation) {
+      const Eigen::Vector2d fwd(std::sin(pose.heading_rad), std::cos(pose.heading_rad));
+      field.along_track_m =
+          std::isfinite(pose.along_track_m) ? pose.along_track_m : pose.sensor_xy_m.dot(fwd);
+      field.key = hash_combine(static_cast<std::uint64_t>(pose.line), starboard ? 1 : 0);
+      field.sample_spacing_m = cal_->side.sample_spacing_m;
+      field.beam_3db_rad = config_.sonar.horizontal_beam_width_rad;
+      field.seed = config_.seed;
+    }
+    detect_speckle(cal_->sensor, sn, ws.keys, ws.noise_keys, ws.nu, ws.tvg_gain,
+                   nc.along_track_correlation ? &field : nullptr, ws.detector, ws.accum);
     scaled = true;
   }
 

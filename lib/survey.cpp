@@ -164,6 +164,7 @@ PingPose Survey::pose(std::uint64_t index, const HeightGrid& seabed) const {
   along_line(line, s, p.reference_xy_m, az_ref);
   Eigen::Vector2d fish_xy;
   along_line(line, s - vehicle_.layback_m, fish_xy, az_fish);
+  p.along_track_m = s - vehicle_.layback_m;
 
   const Disturbance& d = vehicle_.disturbance;
   p.heading_rad = az_fish + disturbance(d.yaw_amplitude_rad, d.period_s, t_s, seed_, 1);

@@ -285,6 +285,7 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
       "depth_m: 100}, quality: {grid_subdivisions: 2, object_segments: 12, gauss_points: 3, "
       "along_track_tolerance_db: 0.5 PLANES}}\n"
       "noise: {model: paper, uniform_half_width: 0.2, snr_db: 15, texture: false, "
+      "along_track_correlation: false, "
       "freeze_cell_m: 0.5}\n"
       "limits: {max_pings: 5000, max_output_gb: 2, max_memory_gb: 3}\n";
   struct Variant {
@@ -376,6 +377,7 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
     EXPECT_EQ(x.output.max_value, y.output.max_value);
     EXPECT_EQ(x.output.round_to_integer, y.output.round_to_integer);
     EXPECT_EQ(x.output.quantity, y.output.quantity);
+    EXPECT_EQ(x.noise.along_track_correlation, y.noise.along_track_correlation);
     EXPECT_EQ(x.output.detector, y.output.detector);
     EXPECT_EQ(x.output.detector_sub_samples, y.output.detector_sub_samples);
     EXPECT_TRUE(same(x.output.seabed_median_dbfs, y.output.seabed_median_dbfs));

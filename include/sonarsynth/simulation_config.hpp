@@ -80,6 +80,10 @@ struct NoiseConfig {
   /// calibrated mid-range seabed level.
   double snr_at_max_range_db = 20.0;
   bool texture = true;  ///< K-distribution texture from the materials' shape nu
+  /// Speckle from scatterers frozen per range cell along the track and weighted by the
+  /// horizontal beam (docs/physics.md §1.6): consecutive pings correlate as their footprints
+  /// overlap. false = speckle frozen per seabed cell of freeze_cell_m.
+  bool along_track_correlation = true;
   /// Size of the seabed cells whose speckle is frozen (the same for every ping that sees them),
   /// metres, >= 0; 0 = the sonar's range resolution.
   double freeze_cell_m = 0.0;
@@ -144,8 +148,8 @@ struct SensorConfig {
   /// theta the incidence from the vertical, rho the energy reflection coefficient, s the RMS
   /// slope, seen through the vertical beam with side lobes no lower than side_lobe_db.
   /// NaN rho = off.
-  double first_return_reflection_db = -6.0;   ///< 10 log10(rho), <= 0
-  double first_return_rms_slope = 0.15;       ///< s, (0, 1]
+  double first_return_reflection_db = -6.0;  ///< 10 log10(rho), <= 0
+  double first_return_rms_slope = 0.15;      ///< s, (0, 1]
   /// One-way side-lobe level of the vertical beam towards nadir, dB re the main lobe, <= 0.
   double side_lobe_db = -16.0;
   /// Transmit pulse and ring-down: samples nearer than this slant range saturate, metres, >= 0;

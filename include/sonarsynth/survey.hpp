@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <chrono>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -91,6 +92,11 @@ struct PingPose {
   double heave_m = 0.0;      ///< + up (recorded; already included in sensor_z_m)
   double altitude_m = 0.0;   ///< transducers above the seabed under them (NaN if unknown)
   double speed_m_s = 0.0;
+  /// Distance of the sensor along its survey line, metres (Survey sets it; NaN = unknown). It
+  /// anchors the along-track speckle lattice (NoiseConfig::along_track_correlation), so pings of
+  /// one line share scatterers however the heading jitters; when NaN, the position projected on
+  /// the heading is used (right for a straight track at a constant heading).
+  double along_track_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// A full sensor pose for one ping rendered outside a survey: `position_m` (local frame, z on

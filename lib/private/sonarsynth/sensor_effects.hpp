@@ -48,9 +48,25 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double 
                            double axis_depression_rad, std::span<const double> out_gain,
                            std::span<double> mean);
 
+/// The speckle field of one side of one ping from scatterers frozen per range cell along the
+/// track (docs/physics.md §1.6): sample i (range r = (i + 1/2) dr) sums the complex scatterers
+/// of the lattice m sw (sw = r theta / sqrt(8 ln 2), theta the one-way -3 dB horizontal beam),
+/// weighted by the two-way amplitude pattern exp(-(m sw - s)^2 / (2 sw^2)) around the ping's
+/// along-track position s; the scatterer of (key, i, m, look) is a keyed circular Gaussian.
+struct AlongTrackField {
+  double along_track_m = 0.0;
+  std::uint64_t key = 0;  ///< survey line and side
+  double sample_spacing_m = 1.0;
+  double beam_3db_rad = 0.0;
+  std::uint64_t seed = 0;
+};
+/// Unit-mean speckle power per sample of look `look` into `out` (resized to `samples`).
+void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
+                         std::vector<double>& out);
+
 /// Reusable buffers of detect_speckle (one per thread).
 struct DetectorScratch {
-  std::vector<double> sub, combined;
+  std::vector<double> sub, combined, field;
   std::vector<std::uint64_t> keys, noise_keys;
 };
 
@@ -59,10 +75,12 @@ struct DetectorScratch {
 /// the keys of look j (look 0 uses `keys` and `noise_keys` themselves), times out_gain, plus
 /// exponential receiver noise of mean m.floor_power keyed by (noise_keys, j); the looks are
 /// combined by the detector on the envelope (max, or the square of the mean envelope).
+/// With `field`, the frozen speckle of each look is along_track_speckle (keys then key the
+/// texture only).
 void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
                     std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
                     std::span<const double> texture_nu, std::span<const double> out_gain,
-                    DetectorScratch& scratch, std::span<double> io);
+                    const AlongTrackField* field, DetectorScratch& scratch, std::span<double> io);
 
 /// Median of the detected output power of a seabed of unit mean power through speckle with
 /// texture shape `nu` (0 = none) and the detector, without receiver noise: the automatic gain's

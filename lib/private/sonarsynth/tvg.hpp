@@ -8,7 +8,6 @@
 
 namespace sonarsynth {
 
-
 /// Time-varied gain G(r) in dB, applied to linear intensity as I * 10^(G/10).
 struct Tvg {
   TvgLaw law = TvgLaw::spherical;
