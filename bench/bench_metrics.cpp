@@ -43,6 +43,31 @@ void ErrorStats::add(const std::vector<double>& got, const std::vector<double>& 
   }
 }
 
+void worst_bins(const std::vector<double>& got, const std::vector<double>& ref, std::size_t block,
+                std::size_t count, std::size_t offset, std::vector<BinError>& out) {
+  for (std::size_t b0 = 0; b0 < ref.size(); b0 += block) {
+    const std::size_t b1 = std::min(ref.size(), b0 + block);
+    std::vector<double> lit;
+    for (std::size_t i = b0; i < b1; ++i)
+      if (ref[i] > 0.0) lit.push_back(ref[i]);
+    if (lit.empty()) continue;
+    const double floor = kFloorRel * median(lit);
+    for (std::size_t i = b0; i < b1; ++i) {
+      if (!(ref[i] >= floor)) continue;
+      const bool edge =
+          (i > b0 && !(ref[i - 1] >= floor)) || (i + 1 < b1 && !(ref[i + 1] >= floor));
+      double e = kCapDb;
+      if (std::isfinite(got[i]) && got[i] > 1e-4 * ref[i]) {
+        e = std::min(kCapDb, std::abs(10.0 * std::log10(got[i] / ref[i])));
+      }
+      out.push_back({e, offset + i, edge});
+    }
+  }
+  std::sort(out.begin(), out.end(),
+            [](const BinError& a, const BinError& b) { return a.error_db > b.error_db; });
+  if (out.size() > count) out.resize(count);
+}
+
 double ErrorStats::rms_db() const {
   return bins ? std::sqrt(sum_sq_db / static_cast<double>(bins)) : 0.0;
 }

@@ -38,6 +38,19 @@ struct ErrorStats {
   double empty_fraction() const;
 };
 
+/// One compared bin's error (see ErrorStats::add for which bins are compared).
+struct BinError {
+  double error_db = 0.0;  ///< |10 log10(got / ref)|, capped at kCapDb
+  std::size_t index = 0;  ///< bin index in the compared vector
+  bool edge = false;      ///< next to a reference bin below the floor
+};
+
+/// The `count` largest errors of `got` against `ref` (same bins, floor and cap as ErrorStats::add),
+/// largest first, appended to `out` (which is kept sorted and cut to `count`); `offset` is added
+/// to the indices (e.g. ping x bins).
+void worst_bins(const std::vector<double>& got, const std::vector<double>& ref, std::size_t block,
+                std::size_t count, std::size_t offset, std::vector<BinError>& out);
+
 double median(std::vector<double> v);
 double now_s();
 /// Peak resident set size of this process, MiB (getrusage).

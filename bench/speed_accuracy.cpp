@@ -12,7 +12,11 @@
 // equal (pareto_strict: plain dominance).
 //
 // Usage: speed_accuracy [--out DIR] [--pings N] [--runs R] [--min-time S] [--time-tolerance F]
-//                       [--scenes flat,rough,paper] [--tiny]
+//                       [--scenes flat,rough,paper] [--tiny] [--worst N]
+//
+// --worst N prints the default's N worst bins (error, ping, side, slant range, and the
+// depression of that range over a flat seabed at the track altitude with its off-axis angle
+// from the beam axis): where its error sits, e.g. at the edge of the paper beam.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -78,6 +82,33 @@ std::vector<Method> methods(bool tiny, int default_planes) {
   return out;
 }
 
+// The default's `count` worst bins (see --worst in the header comment).
+void print_worst(SceneKind kind, const std::vector<PingPose>& poses,
+                 const std::vector<std::vector<double>>& ref, std::vector<double>& got,
+                 const SideParams& side, const SimulationConfig& cfg, const Method& m,
+                 const Scene& scene, std::size_t count) {
+  const std::size_t n = side.samples;
+  std::vector<BinError> worst;
+  PingWorkspace ws;
+  for (std::size_t p = 0; p < poses.size(); ++p) {
+    render_ping_energy(scene, side, cfg.sonar, poses[p], m, ws, got);
+    worst_bins(got, ref[p], n, count, p * 2 * n, worst);
+  }
+  constexpr double kDeg = 180.0 / 3.14159265358979323846;
+  std::printf("%s: the default's %zu worst bins\n", to_string(kind), worst.size());
+  for (const BinError& b : worst) {
+    const std::size_t ping = b.index / (2 * n), bin = b.index % (2 * n);
+    const std::size_t i = bin % n;
+    const double r = (static_cast<double>(i) + 0.5) * side.sample_spacing_m;
+    const double alt = poses[ping].altitude_m;
+    const double dep = r > alt ? std::asin(alt / r) : 0.5 * 3.14159265358979323846;
+    std::printf(
+        "  %6.2f dB  ping %zu %s bin %zu  r %.3f m  depression %.2f deg  off-axis %.2f deg%s\n",
+        b.error_db, ping, bin < n ? "port" : "stbd", i, r, dep * kDeg,
+        (dep - cfg.sonar.tilt_rad) * kDeg, b.edge ? "  (edge)" : "");
+  }
+}
+
 Method reference_method() {
   Method m;
   m.family = "reference";
@@ -91,7 +122,7 @@ Method reference_method() {
 }
 
 void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, double min_time_s,
-               double time_tolerance, bool tiny) {
+               double time_tolerance, bool tiny, std::size_t worst) {
   const std::string yaml = SONARSYNTH_SAMPLES_DIR "/paper_pipes.yaml";
   const Track track = track_for(kind, pings);
   std::map<double, Scene> scenes;
@@ -166,6 +197,7 @@ void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, 
       row.e.add(got, ref[p], n);
     }
     rows.push_back(row);
+    if (worst > 0 && m.is_default) print_worst(kind, use_poses, ref, got, side, cfg, m, sc, worst);
   }
   // Timing: runs outer, methods inner, so that drifts of the machine load hit every method alike;
   // each run starts at a different method (the first one timed after a switch of scene pays for
@@ -237,6 +269,7 @@ int run(int argc, char** argv) {
   int pings = 10, runs = 15;
   double min_time_s = 0.03, time_tolerance = 0.05;
   bool tiny = false;
+  std::size_t worst = 0;
   std::vector<SceneKind> kinds = {SceneKind::flat, SceneKind::rough, SceneKind::paper};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -259,6 +292,8 @@ int run(int argc, char** argv) {
       pings = 2;
       runs = 1;
       min_time_s = 0.0;
+    } else if (a == "--worst") {
+      worst = static_cast<std::size_t>(std::stoul(next()));
     } else if (a == "--scenes") {
       kinds.clear();
       std::stringstream ss(next());
@@ -271,7 +306,8 @@ int run(int argc, char** argv) {
       throw std::runtime_error("unknown argument " + a);
     }
   }
-  for (const SceneKind k : kinds) run_scene(k, out, pings, runs, min_time_s, time_tolerance, tiny);
+  for (const SceneKind k : kinds)
+    run_scene(k, out, pings, runs, min_time_s, time_tolerance, tiny, worst);
   return 0;
 }
 

@@ -109,8 +109,10 @@ void write_intensity(const std::string& path, const std::string& temp, const Geo
 void write_rgb(const std::string& path, const std::string& temp, const GeoFrame& frame,
                const MosaicImage& image, const MosaicWriteOptions& options) {
   const GridGeometry& g = image.geometry;
-  const DisplayRange range =
-      robust_db_range(image.intensity, options.lo_percentile, options.hi_percentile);
+  const bool linear = options.linear_full_scale > 0.0;
+  DisplayRange range{0.0, 1.0, options.linear_full_scale};
+  if (!linear)
+    range = robust_db_range(image.intensity, options.lo_percentile, options.hi_percentile);
   const std::size_t n = g.size();
   std::vector<std::uint8_t> rgba(4 * n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -126,12 +128,13 @@ void write_rgb(const std::string& path, const std::string& temp, const GeoFrame&
   const bool png = raster::lower_extension(path) == ".png";
   if (!png) raster::set_georeferencing(*mem, frame, g, kWho, path);
   std::ostringstream scale;
-  scale << "10 log10(linear) from " << range.lo_db << " dB (0) to " << range.hi_db
-        << " dB (1), percentiles " << options.lo_percentile << " / " << options.hi_percentile;
+  scale << range.describe();
+  if (!linear) scale << ", percentiles " << options.lo_percentile << " / " << options.hi_percentile;
   if (!png) {
     set_metadata(*mem, options,
                  std::string("display colour: ") + colormap_name(options.colormap) +
-                     " colormap of the dB value of " + options.quantity,
+                     " colormap of the " + (linear ? "linear" : "dB") + " value of " +
+                     options.quantity,
                  "none (8-bit colour)");
     mem->SetMetadataItem("SONARSYNTH_DISPLAY_SCALE", scale.str().c_str());
     mem->SetMetadataItem("SONARSYNTH_NODATA", "alpha 0: no sample gridded into the pixel");
@@ -183,6 +186,10 @@ void MosaicWriteOptions::validate() const {
        << ", hi_percentile = " << hi_percentile
        << ". Violated constraint: 0 <= lo_percentile < hi_percentile <= 100";
     throw InputError(os.str());
+  }
+  if (!(linear_full_scale >= 0.0 && std::isfinite(linear_full_scale))) {
+    throw InputError("mosaic writer: linear_full_scale = " + std::to_string(linear_full_scale) +
+                     ". Violated constraint: linear_full_scale >= 0 (0 = dB scaling)");
   }
   // The display copy's format follows its name: a name ending in anything else would get a
   // file whose contents do not match it.

@@ -169,6 +169,9 @@ std::vector<Option> make_table() {
       [](S& s, double v) { s.config.noise.model = static_cast<NoiseConfig::Model>(v); }));
   t.push_back(real("noise", "uniform_half_width", "", 0, 1, false,
                    PLAIN(config.noise.paper_uniform_half_width)));
+  // The paper's gamma (docs/physics.md §1.6); not given: the half-width above.
+  t.push_back(real("noise", "uniform_variance", "", 0, 1.0 / 3.0, false,
+                   PLAIN(config.noise.paper_uniform_variance)));
   t.push_back(
       real("noise", "snr_db", "dB", -100, 200, false, PLAIN(config.noise.snr_at_max_range_db)));
   t.push_back(boolean("noise", "texture", BOOL(config.noise.texture)));
@@ -212,6 +215,19 @@ std::vector<Option> make_table() {
                       PLAIN(config.output.detector_sub_samples)));
   t.push_back(real("output", "seabed_median_dbfs", "dB", -200, 0, false,
                    PLAIN(config.output.seabed_median_dbfs)));
+  t.push_back(choice(
+      "output", "normalise", {"none", "per_ping_max"}, "none or per_ping_max",
+      [](const S& s) {
+        return s.config.output.normalise == OutputScaling::Normalise::per_ping_max ? 1.0 : 0.0;
+      },
+      [](S& s, double v) {
+        s.config.output.normalise =
+            v != 0.0 ? OutputScaling::Normalise::per_ping_max : OutputScaling::Normalise::none;
+      }));
+  t.push_back(choice(
+      "output", "display", {"db", "linear"}, "db or linear",
+      [](const S& s) { return s.display_linear ? 1.0 : 0.0; },
+      [](S& s, double v) { s.display_linear = v != 0.0; }));
   t.push_back(boolean("output", "truth", BOOL(config.truth)));
   t.push_back(
       boolean("output", "allow_more_than_8192_samples", BOOL(allow_more_than_8192_samples)));

@@ -63,7 +63,7 @@ std::string metadata_number(double value) {
 MetadataItems run_metadata(const std::string& scene_name, const SimulationConfig& config,
                            double gain_db) {
   const SonarConfig& s = config.sonar;
-  return {
+  MetadataItems items = {
       {"SONARSYNTH_SCENE", scene_name},
       {"SONARSYNTH_SEED", std::to_string(config.seed)},
       {"SONARSYNTH_SONAR_FREQUENCY_HZ", metadata_number(s.frequency_hz)},
@@ -80,6 +80,13 @@ MetadataItems run_metadata(const std::string& scene_name, const SimulationConfig
       {"SONARSYNTH_GAIN_DB", metadata_number(gain_db)},
       {"SONARSYNTH_FULL_SCALE", metadata_number(config.output.max_value)},
   };
+  if (config.output.normalise == OutputScaling::Normalise::per_ping_max) {
+    items.emplace_back("SONARSYNTH_NORMALISATION",
+                       "K = 1/Imax per ping: the largest noise-free sample of each ping (both "
+                       "sides, after TVG) is the full scale, before the noise; "
+                       "SONARSYNTH_GAIN_DB does not apply");
+  }
+  return items;
 }
 
 }  // namespace sonarsynth

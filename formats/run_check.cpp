@@ -309,10 +309,15 @@ std::vector<std::string> RunStatistics::warnings(const std::vector<std::string>&
     const std::string name = i < names.size() ? names[i] : std::to_string(i + 1);
     const double n = static_cast<double>(std::max<std::uint64_t>(l.samples, 1));
     if (static_cast<double>(l.saturated) > max_fraction * n) {
+      const std::string why =
+          std::isnan(gain_db)
+              ? " (output.normalise: per_ping_max puts each ping's largest noise-free sample at "
+                "full scale: the noise takes the brightest samples above it)"
+              : " with gain " + num(gain_db, 4) +
+                    " dB (lower output.gain_db, or leave it out for the automatic gain)";
       out.push_back("survey line '" + name + "': " + percent(static_cast<double>(l.saturated) / n) +
                     " of the samples (" + std::to_string(l.saturated) + ") are saturated at " +
-                    num(max_value) + " with gain " + num(gain_db, 4) +
-                    " dB (lower output.gain_db, or leave it out for the automatic gain)");
+                    num(max_value) + why);
     }
     if (static_cast<double>(l.invalid) > max_fraction * n) {
       out.push_back("survey line '" + name + "': " + percent(static_cast<double>(l.invalid) / n) +

@@ -2,6 +2,7 @@
 #include "sonarsynth/formats/run_simulation.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <memory>
 
 #include "sonarsynth/formats/output_dir.hpp"
@@ -32,6 +33,7 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   const std::shared_ptr<const Scene> scene(setup, &setup->scene);
   SurveyProductOptions po = options.products;
   po.truth = po.truth && setup->config.truth;
+  if (setup->display_linear) po.display_linear_full_scale = setup->config.output.max_value;
 
   // Check the whole run before anything is created (formats/run_check.cpp).
   result.plan = check_simulation(scene_path, *setup,
@@ -63,8 +65,9 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   write_effective_config(scene_path, options.overrides, *setup, sim, out.file("effective.yaml"));
   out.commit();
 
-  for (const auto& w :
-       stats.warnings(result.line_names, setup->config.output.max_value, sim.gain_db())) {
+  const bool per_ping = setup->config.output.normalise == OutputScaling::Normalise::per_ping_max;
+  for (const auto& w : stats.warnings(result.line_names, setup->config.output.max_value,
+                                      per_ping ? std::nan("") : sim.gain_db())) {
     warn(w);
   }
   for (const auto& f : xtf_out.files()) result.files.push_back(out.final_dir() / f.filename());

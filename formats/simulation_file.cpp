@@ -245,6 +245,11 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   if (top.has("noise")) {
     const Fields f = top.child("noise");
     f.only(keys_of("noise"));
+    if (f.given("uniform_variance") && f.given("uniform_half_width")) {
+      f.fail("uniform_variance",
+             "give uniform_variance (the paper's gamma: u ~ U(0, sqrt(12 gamma))) or "
+             "uniform_half_width (u ~ U(-a, a)), not both");
+    }
     options::read_all(f, "noise", setup);
   }
 

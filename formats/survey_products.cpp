@@ -63,6 +63,7 @@ void SurveyProducts::begin_line(std::size_t /*line*/) {
     WaterfallOptions wo;
     wo.spool_dir = dir_;
     wo.max_pixels = options_.waterfall_max_pixels;
+    wo.linear_full_scale = options_.display_linear_full_scale;
     wo.metadata = options_.write_options.metadata;  // the run's items, in every product
     waterfall_ = std::make_unique<Waterfall>(wo);
   }
@@ -130,6 +131,7 @@ void SurveyProducts::finish() {
   const auto t0 = std::chrono::steady_clock::now();
   MosaicWriteOptions w = options_.write_options;
   w.rgb_path = (dir_ / "mosaic_rgb.tif").string();
+  w.linear_full_scale = options_.display_linear_full_scale;
   if (options_.truth) w.labels_path = (dir_ / "truth_mosaic.tif").string();
   const auto path = dir_ / "mosaic.tif";
   write_mosaic(path.string(), scene_->frame, mosaic_->finish(), w);

@@ -157,6 +157,9 @@ void WaterfallOptions::validate() const {
        << ". Violated constraint: finite lo_db < hi_db";
   } else if (max_pixels == 0) {
     os << "waterfall: max_pixels = 0. Violated constraint: max_pixels > 0";
+  } else if (!(linear_full_scale >= 0.0 && std::isfinite(linear_full_scale))) {
+    os << "waterfall: linear_full_scale = " << linear_full_scale
+       << ". Violated constraint: linear_full_scale >= 0 (0 = dB scaling)";
   }
   if (!os.str().empty()) throw InputError(os.str());
 }
@@ -230,8 +233,9 @@ void Waterfall::write(const std::string& path) const {
   gdal::ensure_registered();
   AtomicOutput out(path, options_.overwrite);
   const std::size_t per_row = pings_per_row();
-  DisplayRange range{options_.lo_db, options_.hi_db};
-  if (!options_.fixed_db) {
+  DisplayRange range{options_.lo_db, options_.hi_db, options_.linear_full_scale};
+  const bool linear = options_.linear_full_scale > 0.0;
+  if (!options_.fixed_db && !linear) {
     // First pass: the subsample robust_db_range would take of the whole image.
     DbRangeSampler sampler(cols() * image_rows());
     MeanRows reader(*spool_, per_row);
@@ -250,8 +254,8 @@ void Waterfall::write(const std::string& path) const {
   raster::RasterLabels labels;
   labels.metadata = options_.metadata;
   std::ostringstream scale;
-  scale << "10 log10(linear) from " << range.lo_db << " dB (0) to " << range.hi_db << " dB (1), ";
-  if (options_.fixed_db) {
+  scale << range.describe() << ", ";
+  if (options_.fixed_db || linear) {
     scale << "fixed";
   } else {
     scale << "percentiles " << options_.lo_percentile << " / " << options_.hi_percentile;
@@ -264,8 +268,9 @@ void Waterfall::write(const std::string& path) const {
       labels.metadata.end(),
       {{"SONARSYNTH_VERSION", kVersion},
        {"SONARSYNTH_QUANTITY", std::string("display colour: ") +
-                                   (grey ? "grey" : "black-brown-yellow") +
-                                   " colormap of the dB value of backscatter (linear intensity)"},
+                                   (grey ? "grey" : "black-brown-yellow") + " colormap of the " +
+                                   (linear ? "linear" : "dB") +
+                                   " value of backscatter (linear intensity)"},
        {"SONARSYNTH_UNITS", "none (8-bit colour)"},
        {"SONARSYNTH_DISPLAY_SCALE", scale.str()},
        {"SONARSYNTH_WATERFALL_LAYOUT", layout.str()},

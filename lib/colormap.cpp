@@ -3,18 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 
 namespace sonarsynth {
 namespace {
 std::uint8_t channel(double v) {
   return static_cast<std::uint8_t>(std::clamp(std::floor(v + 0.5), 0.0, 255.0));
 }
-struct Anchor {
-  double v, r, g, b;
-};
-// Black -> brown -> yellow (documented in colormap.hpp).
-constexpr Anchor kBby[] = {{0.0, 0.0, 0.0, 0.0}, {0.5, 150.0, 75.0, 0.0}, {1.0, 255.0, 255.0, 0.0}};
 }  // namespace
 
 Rgb8 colormap(Colormap map, double v) {
@@ -24,13 +18,11 @@ Rgb8 colormap(Colormap map, double v) {
     const std::uint8_t c = channel(255.0 * v);
     return {c, c, c};
   }
-  std::size_t k = 1;
-  while (k + 1 < std::size(kBby) && v > kBby[k].v) ++k;
-  const Anchor& a = kBby[k - 1];
-  const Anchor& b = kBby[k];
-  const double s = (v - a.v) / (b.v - a.v);
-  return {channel(a.r + s * (b.r - a.r)), channel(a.g + s * (b.g - a.g)),
-          channel(a.b + s * (b.b - a.b))};
+  // The founding paper's eq. (3) (colormap.hpp, docs/physics.md §1.9).
+  if (v < 0.8)
+    return {channel(255.0 * 1.25 * v), channel(255.0 * 0.7812 * v), channel(255.0 * 0.4975 * v)};
+  return {channel(255.0), channel(255.0 * (1.883 * v - 0.883)),
+          channel(255.0 * (-1.99 * v + 1.99))};
 }
 
 }  // namespace sonarsynth

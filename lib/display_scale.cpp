@@ -14,8 +14,21 @@ namespace sonarsynth {
 double DisplayRange::value(float linear) const {
   if (std::isnan(linear)) return std::numeric_limits<double>::quiet_NaN();
   if (!(linear > 0.0f)) return 0.0;
+  if (linear_full_scale > 0.0) {
+    return std::clamp(static_cast<double>(linear) / linear_full_scale, 0.0, 1.0);
+  }
   const double db = 10.0 * std::log10(static_cast<double>(linear));
   return std::clamp((db - lo_db) / (hi_db - lo_db), 0.0, 1.0);
+}
+
+std::string DisplayRange::describe() const {
+  std::ostringstream os;
+  if (linear_full_scale > 0.0) {
+    os << "linear: value / " << linear_full_scale << " (1)";
+  } else {
+    os << "10 log10(linear) from " << lo_db << " dB (0) to " << hi_db << " dB (1)";
+  }
+  return os.str();
 }
 
 namespace {

@@ -53,8 +53,10 @@ void apply_paper_noise(const PaperNoise& noise, std::span<const std::uint64_t> k
   check_size("keys", keys.size(), intensity.size());
   const double a = noise.uniform_half_width;
   const double sigma = noise.rayleigh_sigma;
+  const double shift = noise.uniform_from_zero ? a : 0.0;  // U(-a, a) + a = U(0, 2 a)
   for (std::size_t i = 0; i < intensity.size(); ++i) {
     const double u =
+        shift +
         a * (2.0 * uniform_from_bits(keyed_hash(noise.seed, keys[i], kStreamPaperUniform)) - 1.0);
     double r = 0.0;
     if (sigma > 0.0) {

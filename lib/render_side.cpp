@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <span>
 #include <string>
 
 #include "sonarsynth/error.hpp"
@@ -58,7 +59,24 @@ struct Integrand {
   bool spreading;
   double kappa_per_m;  // 2 alpha ln(10) / 10 (two-way, nepers of intensity per metre); 0 = off
   const GaussRule* rule;
+  // Off-axis angles where the beam is not smooth, increasing (docs/physics.md §2.1 step 4): the
+  // paper sine pair's edges and axis, a table's angles; empty for smooth beams.
+  std::span<const double> kinks;
+  // The beam is 0 outside [lit_lo, lit_hi] (off-axis, radians): the paper sine pair.
+  double lit_lo, lit_hi;
 };
+
+// The kinks of a beam (Integrand::kinks), in `storage` (3 entries) or the table itself.
+std::span<const double> beam_kinks(const VerticalBeamPattern& b, double (&storage)[3]) {
+  if (b.shape == VerticalBeamShape::paper_sine_pair) {
+    storage[0] = -b.upper_half_width_rad;
+    storage[1] = 0.0;
+    storage[2] = b.lower_half_width_rad;
+    return storage;
+  }
+  if (b.shape == VerticalBeamShape::table) return b.table_off_axis_rad;
+  return {};
+}
 
 // One visible linear facet A + t u, t in [0, 1].
 struct Facet {
@@ -280,6 +298,52 @@ void render_piece(const Facet& f, const Integrand& in, const Grid& grid, double 
   }
 }
 
+// Renders the lit part [t0, t1] of facet f, whose slant range is least at tm in [t0, t1]: cut
+// at tm (two monotone pieces) and, for a beam with kinks, where the depression crosses
+// axis + kink, so that every Gauss rule sees a smooth integrand; pieces where the beam is 0 are
+// skipped. The depression is monotone along a straight facet, so the crossings come in the
+// order of the kinks (increasing or decreasing) and no sort is needed.
+template <bool kTruth, class Grid>
+void render_lit(const Facet& f, const Integrand& in, const Grid& grid, double t0, double t1,
+                double tm, const Workspace& ws) {
+  const auto piece = [&](double a, double b) {
+    if (!(b > a)) return;
+    if (tm > a && tm < b) {
+      render_piece<kTruth>(f, in, grid, a, tm, -1.0, ws);
+      render_piece<kTruth>(f, in, grid, tm, b, +1.0, ws);
+    } else {
+      render_piece<kTruth>(f, in, grid, a, b, b <= tm ? -1.0 : +1.0, ws);
+    }
+  };
+  if (in.kinks.empty()) return piece(t0, t1);
+  const auto depression = [&](double t) {
+    return t == 0.0 ? f.theta_a : f.depression(t, f.ay + t * f.uy, f.az_rel + t * f.uz);
+  };
+  const double off0 = depression(t0) - in.axis_rad, off1 = depression(t1) - in.axis_rad;
+  const bool rising = off1 > off0;
+  const std::size_t nk = in.kinks.size();
+  double q = t0;  // start of the current piece
+  double q_off = off0;
+  for (std::size_t k = 0; k < nk; ++k) {
+    const double kink = in.kinks[rising ? k : nk - 1 - k];
+    if (!(rising ? (kink > off0 && kink < off1) : (kink < off0 && kink > off1))) continue;
+    // P(t) - S = (ay + t uy, az_rel + t uz) is along the ray of depression th = axis + kink:
+    // cos(th) (az_rel + t uz) + sin(th) (ay + t uy) = 0.
+    const double th = in.axis_rad + kink;
+    const double c = std::cos(th), s = std::sin(th);
+    const double den = c * f.uz + s * f.uy;
+    if (den == 0.0) continue;
+    const double t = std::clamp(-(c * f.az_rel + s * f.ay) / den, q, t1);
+    // Between two kinks the beam is 0 everywhere or nowhere: test the middle of the angles.
+    const double mid_off = 0.5 * (q_off + kink);
+    if (mid_off > in.lit_lo && mid_off < in.lit_hi) piece(q, t);
+    q = t;
+    q_off = kink;
+  }
+  const double mid_off = 0.5 * (q_off + off1);
+  if (mid_off > in.lit_lo && mid_off < in.lit_hi) piece(q, t1);
+}
+
 // Marks the fine bins spanned by the hidden part [h0, h1] of a facet as shadow (truth only).
 template <class Grid>
 void mark_shadow(const Facet& f, const Grid& grid, double h0, double h1,
@@ -303,15 +367,24 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
   const VerticalBeamShape shape = par.vertical_beam.shape;
   const double w3 = par.vertical_beam.width_3db_rad;
   // Two-way Gaussian: (exp(-4 ln2 (off/W)^2))^2 = exp(-8 ln2 off^2 / W^2), docs/physics.md §1.3.
-  const Integrand in{prof.sensor_z_m,
-                     par.beam_axis_depression_rad,
-                     (shape == VerticalBeamShape::uniform || shape == VerticalBeamShape::gaussian)
-                         ? nullptr
-                         : &par.vertical_beam,
-                     shape == VerticalBeamShape::gaussian ? 8.0 * std::log(2.0) / (w3 * w3) : 0.0,
-                     par.spreading,
-                     par.absorption_db_per_m * 2.0 * std::log(10.0) / 10.0,
-                     &kRules[par.gauss_points - 1]};
+  Integrand in{prof.sensor_z_m,
+               par.beam_axis_depression_rad,
+               (shape == VerticalBeamShape::uniform || shape == VerticalBeamShape::gaussian)
+                   ? nullptr
+                   : &par.vertical_beam,
+               shape == VerticalBeamShape::gaussian ? 8.0 * std::log(2.0) / (w3 * w3) : 0.0,
+               par.spreading,
+               par.absorption_db_per_m * 2.0 * std::log(10.0) / 10.0,
+               &kRules[par.gauss_points - 1],
+               {},
+               -kInf,
+               kInf};
+  double kink_storage[3];
+  if (in.beam != nullptr) in.kinks = beam_kinks(par.vertical_beam, kink_storage);
+  if (shape == VerticalBeamShape::paper_sine_pair) {
+    in.lit_lo = -par.vertical_beam.upper_half_width_rad;
+    in.lit_hi = par.vertical_beam.lower_half_width_rad;
+  }
   const double hs = prof.sensor_z_m;
   const double r_max = grid.edge(grid.n);
   const double kb = par.calibration_k * par.beta_eff_rad;
@@ -376,9 +449,7 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     if constexpr (kTruth) mark_shadow(f, grid, h0, h1, w.shadowed);
     // Lit part only; a facet seen from behind or edge-on (c0 <= 0) returns nothing.
     if (!(t1 > t0) || !(c0 > 0.0)) continue;
-    const double tm = std::clamp(f.tm0, t0, t1);
-    render_piece<kTruth>(f, in, grid, t0, tm, -1.0, ws);
-    render_piece<kTruth>(f, in, grid, tm, t1, +1.0, ws);
+    render_lit<kTruth>(f, in, grid, t0, t1, std::clamp(f.tm0, t0, t1), ws);
   }
   return any_valid;
 }

@@ -165,6 +165,12 @@ void SimulationConfig::validate() const {
   if (!std::isfinite(noise.snr_at_max_range_db)) {
     throw InputError("noise: snr_db is not finite");
   }
+  if (!std::isnan(noise.paper_uniform_variance) &&
+      !(noise.paper_uniform_variance >= 0.0 && noise.paper_uniform_variance <= 1.0 / 3.0)) {
+    throw InputError(
+        "noise: uniform_variance = " + std::to_string(noise.paper_uniform_variance) +
+        ". Violated constraint: 0 <= uniform_variance <= 1/3 (u ~ U(0, sqrt(12 gamma)) <= 2)");
+  }
   if (!(noise.freeze_cell_m >= 0.0)) {
     throw InputError("noise: freeze_cell_m = " + std::to_string(noise.freeze_cell_m) +
                      ". Violated constraint: freeze_cell_m >= 0");
@@ -309,10 +315,14 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
   const double mid_out = mid * std::pow(10.0, cal_->quantizer.gain_db / 10.0);
   paper_sigma_out_ = mid_out / (snr * std::sqrt(kPi / 2.0));
   cal_->sensor = SensorModel::make(config_, mid_out, reference_altitude_m);
+  // K = 1/Imax per ping: the image is in units of each ping's maximum (full scale), the gain
+  // cancels, and the Rayleigh mean lies SNR dB below full scale.
+  const bool per_ping = config_.output.normalise == OutputScaling::Normalise::per_ping_max;
+  if (per_ping) paper_sigma_out_ = cal_->sensor.full_scale_power / (snr * std::sqrt(kPi / 2.0));
   // A gain that rounds the seabed itself to 0 gives an all-black survey: refuse it before any
   // ping is rendered.
   const double stored_mid = amplitude ? std::sqrt(mid_out) : mid_out;
-  if (cal_->quantizer.round_to_integer && mid > 0.0 && stored_mid < 0.5) {
+  if (!per_ping && cal_->quantizer.round_to_integer && mid > 0.0 && stored_mid < 0.5) {
     char msg[400];
     std::snprintf(msg, sizeof msg,
                   "output.gain_db = %.6g puts the mid-range seabed echo at %.3g counts, so every "
@@ -520,12 +530,27 @@ void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& o
   }
 }
 
+double Simulator::per_ping_max_scale(const PingPose& pose, Workspace& ws) const {
+  double imax = 0.0;
+  for (const bool starboard : {false, true}) {
+    render_planes(pose, starboard, cal_->planes, false, ws, nullptr);
+    for (std::size_t i = 0; i < cal_->side.samples; ++i) {
+      imax = std::max(imax, ws.accum[i] * ws.tvg_gain[i]);
+    }
+  }
+  return imax > 0.0 && std::isfinite(imax) ? cal_->sensor.full_scale_power / imax : 1.0;
+}
+
 void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key, bool starboard,
-                                   Workspace& ws, SideOutput& out, RenderTimings* timings) const {
+                                   Workspace& ws, SideOutput& out, RenderTimings* timings,
+                                   double scale) const {
   const std::size_t n = cal_->side.samples;
   const auto now = [timings] { return timings != nullptr ? Clock::now() : Clock::time_point{}; };
   const SideGeometry geo =
       render_planes(pose, starboard, cal_->planes, cal_->side.truth, ws, timings);
+  if (scale != 1.0) {
+    for (std::size_t i = 0; i < n; ++i) ws.accum[i] *= scale;  // K = 1/Imax (output.normalise)
+  }
   const Eigen::Vector2d& nadir = geo.nadir_xy_m;
   const Eigen::Vector2d& central_dir = geo.central_dir;
 
@@ -553,6 +578,10 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
     pn.uniform_half_width = nc.paper_uniform_half_width;
     pn.rayleigh_sigma = paper_sigma_out_;
     pn.seed = config_.seed;
+    if (!std::isnan(nc.paper_uniform_variance)) {  // the paper's U(0, g'), variance gamma
+      pn.uniform_half_width = std::sqrt(3.0 * nc.paper_uniform_variance);
+      pn.uniform_from_zero = true;
+    }
     apply_paper_noise(pn, ws.noise_keys, ws.accum);
   } else if (nc.model == NoiseConfig::Model::kSpeckle) {
     ping_sample_keys(ping, starboard, ws.sample_hash, ws.noise_keys);
@@ -600,7 +629,7 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
       }
     }
     SpeckleNoise sn;
-    sn.thermal_noise_power = noise_power_;
+    sn.thermal_noise_power = noise_power_ * scale;
     sn.seed = config_.seed;
     AlongTrackField field;
     if (nc.along_track_correlation) {
@@ -646,8 +675,11 @@ void Simulator::render_ping(const PingPose& pose, Workspace& ws, RenderedPing& o
     out.pose.ping_index = kAutomaticKeyBase | automatic_keys_.fetch_add(1);
   }
   const std::uint64_t key = *out.pose.ping_index;
-  render_side_output(pose, key, false, ws, out.port, timings);
-  render_side_output(pose, key, true, ws, out.starboard, timings);
+  const double scale = config_.output.normalise == OutputScaling::Normalise::per_ping_max
+                           ? per_ping_max_scale(pose, ws)
+                           : 1.0;
+  render_side_output(pose, key, false, ws, out.port, timings, scale);
+  render_side_output(pose, key, true, ws, out.starboard, timings, scale);
 }
 
 }  // namespace sonarsynth

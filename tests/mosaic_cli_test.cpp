@@ -217,6 +217,44 @@ TEST_F(MosaicCliTest, ExistingOutputNeedsOverwrite) {
   EXPECT_EQ(fs::file_size(path("w.png")), 1u);
 }
 
+// --linear V: grey level = sample / V, clamped (the founding paper's display, docs/paper-model.md);
+// a scale that is not positive, or one given with --lo-db/--hi-db, is refused.
+TEST_F(MosaicCliTest, LinearDisplayScaleOfWaterfallAndMosaic) {
+  test::LineSpec s;
+  s.start = {48.4456, -68.8281};
+  s.pings = 10;
+  s.samples = 100;
+  s.bright = 37;  // 1000; every other sample is 1
+  test::write_line(path("line.xtf"), s);
+  ASSERT_EQ(run("waterfall " + path("line.xtf") + " -o " + path("l.png") + " --grey --linear 4 -q"),
+            0)
+      << err_;
+  const test::Raster l = test::read_band(path("l.png"));
+  ASSERT_EQ(l.cols, 200);
+  for (int r = 0; r < l.rows; ++r) {
+    EXPECT_EQ(l.data[static_cast<std::size_t>(r * l.cols + 100 + 37)], 255.0f);  // 1000/4 -> 1
+    EXPECT_EQ(l.data[static_cast<std::size_t>(r * l.cols + 100 + 36)], 64.0f);   // 255 / 4
+    EXPECT_EQ(l.data[static_cast<std::size_t>(r * l.cols + 5)], 64.0f);
+  }
+  EXPECT_EQ(run("waterfall " + path("line.xtf") + " -o " + path("z.png") + " --linear 0"), 1);
+  EXPECT_NE(err_.find("--linear"), std::string::npos) << err_;
+  EXPECT_EQ(run("waterfall " + path("line.xtf") + " -o " + path("z.png") +
+                " --linear 5 --lo-db 0 --hi-db 10"),
+            1);
+  EXPECT_NE(err_.find("--linear and --lo-db/--hi-db"), std::string::npos) << err_;
+  EXPECT_EQ(run("mosaic " + path("line.xtf") + " -o " + path("m.tif") + " --linear -3"), 1);
+  EXPECT_NE(err_.find("--linear"), std::string::npos) << err_;
+  EXPECT_FALSE(fs::exists(path("z.png")));
+  EXPECT_FALSE(fs::exists(path("m.tif")));
+  ASSERT_EQ(run("mosaic " + path("line.xtf") + " -o " + path("m.tif") + " --linear 4 -q"), 0)
+      << err_;
+  GDALAllRegister();
+  GDALDataset* ds = GDALDataset::Open(path("m_rgb.tif").c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
+  ASSERT_NE(ds, nullptr);
+  EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_DISPLAY_SCALE"), "linear: value / 4 (1)");
+  GDALClose(ds);
+}
+
 TEST_F(MosaicCliTest, RealFileMosaicWarnsAboutTheZeroNavigationPing) {
   const std::string xtf = SONARSYNTH_TEST_DATA_DIR "/xtf/scotsman-iver2.xtf";
   ASSERT_EQ(run("mosaic " + xtf + " -o " + path("m.tif") + " --no-rgb -q"), 0) << err_;

@@ -325,5 +325,43 @@ TEST(PaperNoise, MomentsOfEquationTwo) {
   EXPECT_THROW(apply_paper_noise(PaperNoise{1.5, 0.0, 0}, iota_keys(kN), w), InputError);
 }
 
+// The paper's reading u ~ U(0, g') with variance gamma: g' = sqrt(12 gamma), E[u] = g' / 2,
+// Var[u] = gamma, u in [0, g'] (a = sqrt(3 gamma), from zero).
+TEST(PaperNoise, UniformFromZeroHasThePapersVarianceGamma) {
+  const double intensity = 2.0, gamma = 0.03;
+  const double g = std::sqrt(12.0 * gamma);  // 0.6
+  const double n = static_cast<double>(kN);
+  std::vector<double> v(kN, intensity);
+  PaperNoise pn{std::sqrt(3.0 * gamma), 0.0, 9};
+  pn.uniform_from_zero = true;
+  apply_paper_noise(pn, iota_keys(kN), v);
+  const Moments m = moments(v);
+  // I' = I (1 + u): mean I (1 + g/2), variance I^2 gamma.
+  const double var = intensity * intensity * gamma;
+  EXPECT_NEAR(m.m1, intensity * (1.0 + 0.5 * g), 4.0 * std::sqrt(var / n));
+  const double sample_var = m.m2 - m.m1 * m.m1;
+  // SE of a sample variance: sqrt((mu4 / sigma^4 - 1) / N) relative, mu4 / sigma^4 = 1.8.
+  EXPECT_NEAR(sample_var, var, 4.0 * var * std::sqrt(0.8 / n));
+  // Support [I, I (1 + g)], filled to its ends; the quartiles of a uniform.
+  const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  EXPECT_GE(*lo, intensity);
+  EXPECT_LE(*hi, intensity * (1.0 + g));
+  EXPECT_LT(*lo, intensity * (1.0 + 1e-3 * g));
+  EXPECT_GT(*hi, intensity * (1.0 + (1.0 - 1e-3) * g));
+  const double below_quarter =
+      static_cast<double>(std::count_if(
+          v.begin(), v.end(), [&](double x) { return x < intensity * (1.0 + 0.25 * g); })) /
+      n;
+  EXPECT_NEAR(below_quarter, 0.25, 4.0 * std::sqrt(0.25 * 0.75 / n));
+  // The same variance as the zero-mean reading U(-a, a) with a = sqrt(3 gamma), shifted by a:
+  // the same keys give exactly I a more.
+  std::vector<double> w(kN, intensity);
+  pn.uniform_from_zero = false;
+  apply_paper_noise(pn, iota_keys(kN), w);
+  for (std::size_t i = 0; i < kN; i += 997) {
+    EXPECT_NEAR(v[i] - w[i], intensity * pn.uniform_half_width, 1e-12) << i;
+  }
+}
+
 }  // namespace
 }  // namespace sonarsynth

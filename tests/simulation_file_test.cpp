@@ -239,10 +239,13 @@ TEST_F(SimulationFile, DefaultsAreTheStructsDefaults) {
     EXPECT_EQ(c.noise.snr_at_max_range_db, noise.snr_at_max_range_db);
     EXPECT_EQ(c.noise.texture, noise.texture);
     EXPECT_EQ(c.noise.freeze_cell_m, noise.freeze_cell_m);
+    EXPECT_TRUE(std::isnan(c.noise.paper_uniform_variance));
     const OutputScaling output;
     EXPECT_EQ(c.output.tvg, output.tvg);
     EXPECT_TRUE(std::isnan(c.output.gain_db));
     EXPECT_EQ(c.output.max_value, output.max_value);
+    EXPECT_EQ(c.output.normalise, OutputScaling::Normalise::none);
+    EXPECT_FALSE(s->display_linear);
     EXPECT_EQ(c.truth, SimulationConfig{}.truth);
     EXPECT_EQ(c.seed, SimulationConfig{}.seed);
     EXPECT_EQ(s->sample_format, "u16");
@@ -284,13 +287,14 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
       "absorption: false, calibration_k: 2.5, water: {temperature_c: 4, salinity_psu: 30, ph: 7.5, "
       "depth_m: 100}, quality: {grid_subdivisions: 2, object_segments: 12, gauss_points: 3, "
       "along_track_tolerance_db: 0.5 PLANES}}\n"
-      "noise: {model: paper, uniform_half_width: 0.2, snr_db: 15, texture: false, "
+      "noise: {model: paper, NOISEU, snr_db: 15, texture: false, "
       "along_track_correlation: false, "
       "freeze_cell_m: 0.5}\n"
       "limits: {max_pings: 5000, max_output_gb: 2, max_memory_gb: 3}\n";
   struct Variant {
     std::string vb, pulse, planes, output, survey;
     SimulationOverrides ov;
+    std::string noise_u = "uniform_half_width: 0.2";
   };
   SimulationOverrides cli;
   cli.seed = 77;
@@ -316,10 +320,11 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
        "first_return_reflection_db: off, ring_down_m: 0.5}",
        "survey:\n  depth_m: 25\n", fast},
       {"vertical_beam: {shape: sinc, height_over_wavelength: 1.5}", "pulse: {type: cw}",
-       ", along_track_planes: auto", "output: {tvg: spherical}", "survey:\n",
+       ", along_track_planes: auto",
+       "output: {tvg: spherical, normalise: per_ping_max, display: linear}", "survey:\n",
        SimulationOverrides{}},
       {"vertical_beam: {shape: uniform}", "pulse: {type: cw}", "", "output: {}", "survey:\n",
-       SimulationOverrides{}},
+       SimulationOverrides{}, "uniform_variance: 0.03"},
   };
   std::set<std::string> changed;  // options given a non-default value by some variant
   const SimulationSetup defaults =
@@ -330,6 +335,7 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
     text.replace(text.find("VB"), 2, v.vb);
     text.replace(text.find("PULSE"), 5, v.pulse);
     text.replace(text.find(" PLANES"), 7, v.planes);
+    text.replace(text.find("NOISEU"), 6, v.noise_u);
     const std::string scene =
         write("s" + std::to_string(i) + ".yaml",
               std::string(kBathy) + text + v.output + "\n" + v.survey + kLine);
@@ -372,6 +378,9 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
     EXPECT_EQ(x.quality.along_track_tolerance_db, y.quality.along_track_tolerance_db);
     EXPECT_EQ(x.noise.model, y.noise.model);
     EXPECT_EQ(x.noise.freeze_cell_m, y.noise.freeze_cell_m);
+    EXPECT_TRUE(same(x.noise.paper_uniform_variance, y.noise.paper_uniform_variance));
+    EXPECT_EQ(x.output.normalise, y.output.normalise);
+    EXPECT_EQ(a.display_linear, b.display_linear);
     EXPECT_EQ(x.output.tvg, y.output.tvg);
     EXPECT_TRUE(same(x.output.gain_db, y.output.gain_db));
     EXPECT_EQ(x.output.max_value, y.output.max_value);
@@ -409,6 +418,58 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
   for (const options::Option& o : options::all()) {
     EXPECT_TRUE(changed.count(o.path())) << o.path() << " is never given a non-default value";
   }
+}
+
+// The founding paper's knobs: gamma (uniform_variance) instead of the half-width, never both;
+// K = 1/Imax and the linear display.
+TEST_F(SimulationFile, PaperNoiseVarianceNormalisationAndDisplay) {
+  const std::string head = std::string(kBathy) + "survey:\n" + kLine;
+  const SimulationSetup s = load_simulation(
+      write("p.yaml", head + "noise: {model: paper, uniform_variance: 0.03}\n"
+                             "output: {normalise: per_ping_max, display: linear}\n"));
+  EXPECT_EQ(s.config.noise.paper_uniform_variance, 0.03);
+  EXPECT_EQ(s.config.output.normalise, OutputScaling::Normalise::per_ping_max);
+  EXPECT_TRUE(s.display_linear);
+  const SimulationSetup old =
+      load_simulation(write("o.yaml", head + "noise: {model: paper, uniform_half_width: 0.4}\n"));
+  EXPECT_EQ(old.config.noise.paper_uniform_half_width, 0.4);
+  EXPECT_TRUE(std::isnan(old.config.noise.paper_uniform_variance));
+  auto expect = [&](const std::string& extra, std::vector<const char*> fragments) {
+    const std::string path = write("bad.yaml", head + extra);
+    try {
+      load_simulation(path);
+      ADD_FAILURE() << "no error for " << extra;
+    } catch (const InputError& e) {
+      for (const char* f : fragments) {
+        EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+      }
+    }
+  };
+  expect("noise: {model: paper, uniform_variance: 0.03, uniform_half_width: 0.3}\n",
+         {"bad.yaml", "noise.uniform_variance", "not both"});
+  expect("noise: {uniform_variance: 0.5}\n",
+         {"bad.yaml", "noise.uniform_variance = '0.5'", "<= 0.333"});
+  expect("noise: {uniform_variance: -0.1}\n", {"noise.uniform_variance = '-0.1'"});
+  expect("output: {normalise: per_ping}\n",
+         {"output.normalise = 'per_ping'", "none or per_ping_max"});
+  expect("output: {display: log}\n", {"output.display = 'log'", "db or linear"});
+}
+
+// samples/paper_exact.yaml is the paper's model where the paper is explicit (docs/paper-model.md).
+TEST_F(SimulationFile, PaperExactSampleIsThePapersModel) {
+  const SimulationSetup s = load_simulation(SONARSYNTH_SAMPLES_DIR "/paper_exact.yaml");
+  const SimulationConfig& c = s.config;
+  EXPECT_EQ(c.physics.backscatter, BackscatterModel::paper);
+  const Material& sand = s.scene.materials[s.scene.material_map.default_material()];
+  EXPECT_EQ(sand.paper_reflectivity, 0.5);  // R = 0.5
+  EXPECT_EQ(c.sonar.vertical_beam.shape, VerticalBeamShape::paper_sine_pair);
+  EXPECT_FALSE(c.physics.absorption);
+  EXPECT_EQ(c.noise.model, NoiseConfig::Model::kPaper);
+  EXPECT_FALSE(std::isnan(c.noise.paper_uniform_variance));
+  EXPECT_EQ(c.output.normalise, OutputScaling::Normalise::per_ping_max);
+  EXPECT_TRUE(s.display_linear);
+  EXPECT_FALSE(s.scene.objects.empty());  // the pipes and rocks
+  EXPECT_EQ(s.lines.size(), 1u);
 }
 
 }  // namespace

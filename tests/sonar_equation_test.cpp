@@ -174,20 +174,50 @@ double luminance(const Rgb8& c) {
   return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
 }
 
-TEST(Colormap, AnchorsAndMonotoneLuminance) {
+// The founding paper's eq. (3), written out here from the paper's text (docs/physics.md §1.9):
+// channels in [0, 1] of a grey level I in [0, 1].
+struct Rgb01 {
+  double r, g, b;
+};
+Rgb01 paper_eq3(double i) {
+  if (i < 0.8) return {1.25 * i, 0.7812 * i, 0.4975 * i};
+  return {1.0, 1.883 * i - 0.883, -1.99 * i + 1.99};
+}
+
+TEST(Colormap, BlackBrownYellowIsPaperEquationThree) {
+  for (const double i : {0.0, 0.4, 0.8, 0.9, 1.0, 0.1, 0.6, 0.79, 0.95}) {
+    const Rgb01 want = paper_eq3(i);
+    const Rgb8 got = colormap(Colormap::black_brown_yellow, i);
+    EXPECT_NEAR(got.r, 255.0 * want.r, 1.0) << "I = " << i;
+    EXPECT_NEAR(got.g, 255.0 * want.g, 1.0) << "I = " << i;
+    EXPECT_NEAR(got.b, 255.0 * want.b, 1.0) << "I = " << i;
+  }
+  // The paper's named colours: black, brown (1, 0.625, 0.398) at 0.8, yellow.
   EXPECT_EQ(colormap(Colormap::black_brown_yellow, 0.0), (Rgb8{0, 0, 0}));
-  EXPECT_EQ(colormap(Colormap::black_brown_yellow, 0.5), (Rgb8{150, 75, 0}));
+  EXPECT_EQ(colormap(Colormap::black_brown_yellow, 0.8), (Rgb8{255, 159, 101}));
   EXPECT_EQ(colormap(Colormap::black_brown_yellow, 1.0), (Rgb8{255, 255, 0}));
+  // Blue is not zero below 0.8 (the earlier reading had no blue at all).
+  EXPECT_EQ(colormap(Colormap::black_brown_yellow, 0.4).b, 51);
+  // Clamped outside [0, 1]; NaN is black.
   EXPECT_EQ(colormap(Colormap::black_brown_yellow, 2.0), (Rgb8{255, 255, 0}));
+  EXPECT_EQ(colormap(Colormap::black_brown_yellow, -1.0), (Rgb8{0, 0, 0}));
+  EXPECT_EQ(colormap(Colormap::black_brown_yellow, std::nan("")), (Rgb8{0, 0, 0}));
   EXPECT_EQ(colormap(Colormap::grey, 0.5), (Rgb8{128, 128, 128}));
   EXPECT_EQ(colormap(Colormap::grey, std::nan("")), (Rgb8{0, 0, 0}));
+}
+
+TEST(Colormap, LuminanceRisesWithTheGreyLevel) {
+  // Rec. 709 luminance of eq. (3) rises on both branches; after rounding to 8 bits a step may
+  // lose at most one level of blue (weight 0.0722) where B falls above 0.8.
   for (const Colormap m : {Colormap::grey, Colormap::black_brown_yellow}) {
     double prev = -1.0;
     for (int i = 0; i <= 1000; ++i) {
       const double l = luminance(colormap(m, i / 1000.0));
-      EXPECT_GE(l, prev) << i;
+      EXPECT_GE(l, prev - 0.0722 - 1e-12) << i;
       prev = l;
     }
+    EXPECT_GT(luminance(colormap(m, 1.0)), luminance(colormap(m, 0.8)));
+    EXPECT_GT(luminance(colormap(m, 0.8)), luminance(colormap(m, 0.4)));
   }
 }
 

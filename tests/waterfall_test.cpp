@@ -470,5 +470,53 @@ TEST(Waterfall, MaxPixelsDecimatesOnlyWhenNeededAndBoundsTheRowWidth) {
   EXPECT_EQ(wf.cols(), 20u);
 }
 
+// The linear display (output.display: linear, docs/paper-model.md): the colour of a sample is
+// eq. (3) of the founding paper at I = sample / full scale, clamped to [0, 1].
+TEST(Waterfall, LinearDisplayIsPaperEquationThreeOfSampleOverFullScale) {
+  const auto dir = test::mosaic_temp_dir("wf_linear");
+  const std::vector<float> port = {0.0f, 25.0f, 50.0f, 80.0f};
+  const std::vector<float> stbd = {90.0f, 100.0f, 150.0f, kNaN};
+  WaterfallOptions o;
+  o.linear_full_scale = 100.0;
+  o.spool_dir = dir;
+  Waterfall wf(o);
+  wf.add_ping(port, stbd, 0.0, 0.0);
+  const std::string path = (dir / "linear.tif").string();
+  wf.write(path);
+  int c = 0, r = 0;
+  std::string driver;
+  const std::vector<std::uint8_t> bytes = read_bytes(path, &c, &r, &driver);
+  ASSERT_EQ(c, 8);
+  ASSERT_EQ(r, 1);
+  // Columns: port far -> near, then starboard near -> far; eq. (3) written out here.
+  const double level[8] = {0.8, 0.5, 0.25, 0.0, 0.9, 1.0, 1.0, -1.0};
+  for (int i = 0; i < 8; ++i) {
+    const double v = level[i];
+    double want[3] = {0.0, 0.0, 0.0};  // NaN: black
+    if (v >= 0.8) {
+      want[0] = 255.0;
+      want[1] = 255.0 * (1.883 * v - 0.883);
+      want[2] = 255.0 * (-1.99 * v + 1.99);
+    } else if (v >= 0.0) {
+      want[0] = 255.0 * 1.25 * v;
+      want[1] = 255.0 * 0.7812 * v;
+      want[2] = 255.0 * 0.4975 * v;
+    }
+    for (int b = 0; b < 3; ++b) {
+      EXPECT_NEAR(bytes[static_cast<std::size_t>(b * 8 + i)], want[b], 0.5 + 1e-9)
+          << "column " << i << " band " << b;
+    }
+  }
+  GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
+  ASSERT_NE(ds, nullptr);
+  EXPECT_NE(
+      std::string(ds->GetMetadataItem("SONARSYNTH_DISPLAY_SCALE")).find("linear: value / 100"),
+      std::string::npos);
+  GDALClose(ds);
+  o.linear_full_scale = -1.0;
+  EXPECT_THROW(o.validate(), InputError);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace sonarsynth

@@ -44,6 +44,7 @@ int run_mosaic(const std::vector<std::string>& args) {
   po::options_description opts("options");
   std::vector<std::string> inputs, co;
   std::string output, rule = "mean", bathymetry, format = "COG", rgb_path;
+  double wo_linear = 0.0;
   XtfMosaicOptions mo;
   // clang-format off
   opts.add_options()
@@ -66,6 +67,9 @@ int run_mosaic(const std::vector<std::string>& args) {
     ("rgb", po::value(&rgb_path), "display copy path (default MOSAIC_rgb.tif; .png allowed)")
     ("no-rgb", "do not write the display copy")
     ("grey", "display copy in grey instead of black-brown-yellow")
+    ("linear", po::value(&wo_linear),
+     "display copy: value / VALUE linearly instead of a dB window (e.g. 32767, the full scale "
+     "of sonarsynth's u16 samples: the founding paper's grey level)")
     ("overwrite", "replace existing output files")
     ("quiet,q", "print nothing on success (warnings still go to stderr)");
   // clang-format on
@@ -92,6 +96,11 @@ int run_mosaic(const std::vector<std::string>& args) {
   wo.creation_options = parse_key_values(co, "co");
   if (vm.count("no-rgb") == 0) wo.rgb_path = rgb_path.empty() ? default_rgb_path(output) : rgb_path;
   wo.colormap = vm.count("grey") ? Colormap::grey : Colormap::black_brown_yellow;
+  if (vm.count("linear") && !(wo_linear > 0.0)) {
+    throw InputError("--linear = " + std::to_string(wo_linear) +
+                     ". Violated constraint: --linear > 0");
+  }
+  wo.linear_full_scale = vm.count("linear") ? wo_linear : 0.0;
   std::string command = "sonarsynth mosaic";
   for (const std::string& a : args) command += " " + a;
   wo.metadata.push_back({"SONARSYNTH_COMMAND", command});

@@ -22,6 +22,9 @@ int run_waterfall(const std::vector<std::string>& args) {
     ("slant-correct", "resample to ground range on a flat bottom (altitude of each ping)")
     ("lo-db", po::value(&wo.lo_db), "fixed scaling: dB shown black (with --hi-db)")
     ("hi-db", po::value(&wo.hi_db), "fixed scaling: dB shown at full colour (with --lo-db)")
+    ("linear", po::value(&wo.linear_full_scale),
+     "linear scaling: sample / VALUE (e.g. 32767, the full scale of sonarsynth's u16 samples: "
+     "the founding paper's grey level)")
     ("max-pixels", po::value(&wo.max_pixels)->default_value(wo.max_pixels),
      "largest image (columns x rows); a longer line is decimated along track (mean of N pings per row)")
     ("overwrite", "replace an existing output file")
@@ -34,13 +37,21 @@ int run_waterfall(const std::vector<std::string>& args) {
              "usage: sonarsynth waterfall FILE.xtf -o IMAGE.png [options]\n\n"
              "Draws one row per ping: port far -> near | starboard near -> far (nadir in the\n"
              "middle), 10 log10 of the samples between the 1st and 99th percentiles of the file\n"
-             "(or --lo-db/--hi-db) through the black-brown-yellow colormap (or --grey).")) {
+             "(or --lo-db/--hi-db, or the samples linearly with --linear) through the\n"
+             "black-brown-yellow colormap (or --grey).")) {
     return 0;
   }
   if (vm.count("lo-db") != vm.count("hi-db")) {
     throw InputError("--lo-db and --hi-db. Violated constraint: give both or neither");
   }
   wo.fixed_db = vm.count("lo-db") > 0;
+  if (wo.fixed_db && vm.count("linear")) {
+    throw InputError("--linear and --lo-db/--hi-db. Violated constraint: give one scaling");
+  }
+  if (vm.count("linear") && !(wo.linear_full_scale > 0.0)) {
+    throw InputError("--linear = " + std::to_string(wo.linear_full_scale) +
+                     ". Violated constraint: --linear > 0");
+  }
   wo.colormap = vm.count("grey") ? Colormap::grey : Colormap::black_brown_yellow;
   wo.slant_correct = vm.count("slant-correct") > 0;
   wo.overwrite = vm.count("overwrite") > 0;

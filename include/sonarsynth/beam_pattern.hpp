@@ -20,8 +20,8 @@ enum class VerticalBeamShape {
 /// plane). b(0) = 1 for every analytic shape. The echo is weighted by the two-way pattern
 /// b_tx b_rx = b^2 (same array transmits and receives).
 ///
-/// paper_sine_pair: the founding paper (Gwon et al., URAI 2017) builds the vertical beam "from a
-/// pair of sine functions"; its text is unavailable, so this is our documented interpretation:
+/// paper_sine_pair: the founding paper (Gwon et al., URAI 2017) models the vertical beam "using a
+/// pair of sine wave functions" without a formula, so this is our documented interpretation:
 ///   b(off) = sin(pi/2 (1 + off / w_up))  = cos(pi/2 off / w_up)   for -w_up <= off <= 0,
 ///   b(off) = cos(pi/2 off / w_down)                                for 0 <= off <= w_down,
 ///   b(off) = 0 outside the main lobe,

@@ -20,14 +20,12 @@ enum class Colormap {
 
 /// Colour of a display value v in [0, 1] (clamped; NaN -> black).
 ///
-/// black_brown_yellow: the founding paper (Gwon et al., URAI 2017, eq. 3) maps intensity to a
-/// black-brown-yellow ramp; its equation is unavailable, so this is our documented version, a
-/// piecewise-linear RGB ramp through the anchors
-///   v = 0    -> (  0,   0, 0)  black
-///   v = 0.5  -> (150,  75, 0)  brown
-///   v = 1    -> (255, 255, 0)  yellow
-/// Rec. 709 luminance 0.2126 R + 0.7152 G + 0.0722 B is linear in RGB and increases at each
-/// anchor (0, 85.5, 236.6), so it is monotone in v.
+/// black_brown_yellow: the founding paper's map (Gwon et al., URAI 2017, eq. 3; docs/physics.md
+/// §1.9), its coefficients as printed, channels in [0, 1] scaled by 255:
+///   R = 1.25 v,    G = 0.7812 v,         B = 0.4975 v            for 0 <= v < 0.8,
+///   R = 1,         G = 1.883 v - 0.883,  B = -1.99 v + 1.99      for 0.8 <= v <= 1:
+/// black at 0, brown (1, 0.625, 0.398) at 0.8, yellow (1, 1, 0) at 1. (As printed, G steps down
+/// by 0.0016 at 0.8, 0.4 of an 8-bit level.)
 /// Channels are rounded to nearest.
 Rgb8 colormap(Colormap map, double v);
 

@@ -87,6 +87,10 @@ struct NoiseConfig {
   /// Size of the seabed cells whose speckle is frozen (the same for every ping that sees them),
   /// metres, >= 0; 0 = the sonar's range resolution.
   double freeze_cell_m = 0.0;
+  /// Paper model: the founding paper's gamma, the variance of u ~ U(0, sqrt(12 gamma)) in
+  /// eq. (2), [0, 1/3]; NaN (default) = u ~ U(-a, a) with a = paper_uniform_half_width
+  /// (docs/physics.md §1.6: the same variance for a = sqrt(3 gamma), shifted by a).
+  double paper_uniform_variance = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Time-varied gain law (docs/physics.md §1.2).
@@ -127,6 +131,13 @@ struct OutputScaling {
   /// 10 log10 for intensity. < 0. The default puts the median over a real swath (beam pattern and
   /// grazing angles included) about 12 dB below full scale, as real side-scan sonars do.
   double seabed_median_dbfs = -11.0;
+  /// The founding paper's K = 1/Imax (docs/paper-model.md). none (default): the global
+  /// calibration above. per_ping_max: every ping is scaled so that its largest noise-free sample
+  /// after TVG (over both sides) is max_value, before the noise; gain_db then cancels out. This
+  /// breaks the radiometry from ping to ping (a bright target darkens its whole ping): for the
+  /// paper preset and display only. Costs a second noise-free render of each ping.
+  enum class Normalise { none, per_ping_max };
+  Normalise normalise = Normalise::none;
 };
 
 /// Sensor effects beyond the seabed echo (docs/physics.md §1.7). Each is off when its level is

@@ -103,8 +103,13 @@ class Simulator {
  private:
   RenderTimings run_pings(const Survey& survey, PingSink& sink,
                           const std::function<void(std::uint64_t, std::uint64_t)>& progress) const;
+  /// `scale` multiplies the noise-free intensities before the noise (OutputScaling::normalise).
   void render_side_output(const PingPose& pose, std::uint64_t noise_key, bool starboard,
-                          Workspace& ws, SideOutput& out, RenderTimings* timings) const;
+                          Workspace& ws, SideOutput& out, RenderTimings* timings,
+                          double scale = 1.0) const;
+  /// max_value / (largest noise-free sample after TVG and gain over both sides of the ping), or
+  /// 1 for a ping without echo: the factor of OutputScaling::Normalise::per_ping_max.
+  double per_ping_max_scale(const PingPose& pose, Workspace& ws) const;
   /// TVG x gain (unless `scaled`), clamping and rounding of ws.accum into `out`; counts
   /// saturated and non-finite samples.
   void quantise(const Workspace& ws, bool scaled, std::vector<float>& out, std::uint32_t& saturated,

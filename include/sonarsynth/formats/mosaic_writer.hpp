@@ -43,6 +43,9 @@ struct MosaicWriteOptions {
   Colormap colormap = Colormap::black_brown_yellow;
   double lo_percentile = 1.0;
   double hi_percentile = 99.0;
+  /// > 0: the display copy maps value / linear_full_scale linearly instead (the percentiles are
+  /// unused): the founding paper's grey level, docs/paper-model.md.
+  double linear_full_scale = 0.0;
   /// Truth mosaic (int32 GeoTIFF on the same grid, band "object_id", nodata INT32_MIN, nearest
   /// overviews) if the image has labels. Empty = none.
   std::string labels_path;

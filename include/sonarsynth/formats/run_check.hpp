@@ -67,7 +67,8 @@ class RunStatistics : public PingSink {
   const std::vector<Line>& lines() const { return lines_; }
 
   /// One warning per line with more than `max_fraction` of its samples saturated or invalid,
-  /// and per line with pings over no seabed; `max_value` and `gain_db` are named in them.
+  /// and per line with pings over no seabed; `max_value` and `gain_db` are named in them
+  /// (gain_db NaN: the run was normalised per ping, OutputScaling::Normalise::per_ping_max).
   std::vector<std::string> warnings(const std::vector<std::string>& names, double max_value,
                                     double gain_db, double max_fraction = 0.02) const;
 

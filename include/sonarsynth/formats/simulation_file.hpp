@@ -54,6 +54,9 @@ struct SimulationSetup {
   /// output.allow_more_than_8192_samples: write more samples per channel than common XTF
   /// readers accept.
   bool allow_more_than_8192_samples = false;
+  /// output.display: the waterfalls and mosaic_rgb show sample / full scale linearly (the
+  /// founding paper's grey level, docs/paper-model.md) instead of a dB window.
+  bool display_linear = false;
   /// Where the range came from, for messages: "sonar.range_m" or "--range".
   std::string range_key = "sonar.range_m";
   Survey make_survey() const;

@@ -23,6 +23,9 @@ struct SurveyProductOptions {
   std::size_t waterfall_max_pixels = WaterfallOptions{}.max_pixels;
   MosaicOptions mosaic_options;
   MosaicWriteOptions write_options;  ///< format, creation options (paths are set here)
+  /// > 0: the waterfalls and mosaic_rgb show value / this linearly (output.display: linear, the
+  /// samples' full scale); 0: a dB window (percentiles).
+  double display_linear_full_scale = 0.0;
   void validate() const;
 };
 

@@ -28,10 +28,13 @@ struct WaterfallOptions {
   /// Scaling: dB of the linear value mapped to [0, 1] between these percentiles of the image...
   double lo_percentile = 1.0;
   double hi_percentile = 99.0;
-  /// ...or between fixed dB values when fixed_db is true.
+  /// ...or between fixed dB values when fixed_db is true...
   bool fixed_db = false;
   double lo_db = 0.0;
   double hi_db = 90.0;
+  /// ...or, when > 0, linearly: value / linear_full_scale (e.g. the samples' full scale, 32767
+  /// for sonarsynth's u16: the founding paper's grey level, docs/paper-model.md).
+  double linear_full_scale = 0.0;
   bool overwrite = false;
   /// Largest image (columns x rows) written: a longer line is decimated along track (each image
   /// row the mean of pings_per_row() consecutive pings) so that the image fits; add_ping throws

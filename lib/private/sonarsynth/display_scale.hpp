@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace sonarsynth {
@@ -12,9 +13,15 @@ namespace sonarsynth {
 struct DisplayRange {
   double lo_db = 0.0;  ///< maps to 0
   double hi_db = 1.0;  ///< maps to 1, > lo_db
+  /// > 0: linear display instead, value = linear / linear_full_scale (the founding paper's grey
+  /// level I of eq. 1 with K = 1/Imax, docs/paper-model.md); lo_db and hi_db are then unused.
+  double linear_full_scale = 0.0;
 
   /// Display value in [0, 1] of a linear intensity: NaN for NaN (nodata), 0 for values <= 0.
   double value(float linear) const;
+  /// What the window is, for SONARSYNTH_DISPLAY_SCALE: "10 log10(linear) from A dB (0) to B dB
+  /// (1)" or "linear: value / F (1)".
+  std::string describe() const;
 };
 
 /// Percentiles (in [0, 100], lo < hi) of 10 log10 of the finite positive values, from a regular

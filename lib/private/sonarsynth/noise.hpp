@@ -7,12 +7,17 @@
 namespace sonarsynth {
 
 /// The founding paper's noise, eq. (2) of Gwon et al. (URAI 2017), kept for parity:
-///   I' = I (1 + u) + r,  u ~ U(-a, a),  r ~ Rayleigh(sigma).
-/// Moments: E[I'] = I + sigma sqrt(pi/2) (biased), multiplicative contrast a / sqrt(3).
+///   I' = I (1 + u) + r,  r ~ Rayleigh(sigma),
+///   u ~ U(-a, a) (zero mean), or u ~ U(0, 2 a) with uniform_from_zero (docs/physics.md §1.6).
+/// Either way Var[u] = a^2 / 3: the paper's "U(0, gamma), variance gamma" is uniform_from_zero
+/// with a = sqrt(3 gamma) (support [0, sqrt(12 gamma)], E[u] = sqrt(3 gamma)).
+/// Moments: E[I'] = I (1 + E[u]) + sigma sqrt(pi/2), multiplicative contrast
+/// std(1 + u) / E[1 + u] = (a / sqrt(3)) / (1 + E[u]).
 struct PaperNoise {
   double uniform_half_width = 0.1;  ///< a, dimensionless, [0, 1]
   double rayleigh_sigma = 0.0;      ///< sigma of the additive Rayleigh term, intensity units, >= 0
   std::uint64_t seed = 0;
+  bool uniform_from_zero = false;  ///< u ~ U(0, 2 a) instead of U(-a, a)
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
