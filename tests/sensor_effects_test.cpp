@@ -186,9 +186,9 @@ TEST(SensorEffects, VolumeReverberationAndShadowFillHaveTheirLevels) {
   const Simulator sim(scene, c, kAltitude);
   const RenderedPing p = render(sim, pose_at(*scene, 0.0, 1));
   // Without noise and speckle, the automatic gain puts the mid-range seabed mean (the levels'
-  // reference) at max_value 10^(seabed_median_dbfs/10), so volume reverberation at the reference altitude is
-  // that times 10^(-40/10), growing in proportion to the range, and shadow fill adds a constant
-  // 10^(-24/10) of it.
+  // reference) at max_value 10^(seabed_median_dbfs/10), so volume reverberation at the reference
+  // altitude is that times 10^(-40/10), growing in proportion to the range, and shadow fill adds a
+  // constant 10^(-24/10) of it.
   const double ref = c.output.max_value * std::pow(10.0, c.output.seabed_median_dbfs / 10.0);
   const double dr = c.sonar.sample_spacing_m();
   std::size_t water = 0, shadow = 0;
@@ -258,6 +258,79 @@ TEST(SensorEffects, FirstBottomReturnMatchesAnIndependentQuadratureAndStartsAtTh
   // The near-normal return dominates the first bin (the diffuse seabed there is seen through the
   // lower edge of the main lobe).
   EXPECT_GT(double{on.starboard.samples[first]}, 5.0 * off.starboard.samples[first]);
+}
+
+TEST(SensorEffects, SpeckleCorrelatesAlongTrackAsTheFootprintsOverlap) {
+  // Pings 0.25 m apart along a straight track; the footprint L = r beta_eff (docs/physics.md
+  // §1.6) grows with range from 0.6 to 1.5 times the spacing. The Gaussian beam gives
+  // exp(-1.571 (d / L)^2): within 0.1 of 1 - (d / L)^2 up to d = 0.9 L, below 0.2 from d = L on.
+  // Intensity, one look, no thermal noise: the ratio of noisy to noise-free samples is the speckle
+  // field itself.
+  const auto scene = scene_with(false);
+  SimulationConfig c = base_config();
+  c.output.quantity = SampleQuantity::intensity;
+  c.output.detector_sub_samples = 1;
+  c.output.round_to_integer = false;
+  c.clean_samples = true;
+  const Simulator sim(scene, c, kAltitude);
+  const double spacing = 0.25, dr = c.sonar.sample_spacing_m();
+  std::vector<std::vector<double>> field;
+  for (int k = 0; k < 240; ++k) {
+    PingPose pose = pose_at(*scene, -30.0 + spacing * k, static_cast<std::uint64_t>(k));
+    pose.along_track_m = spacing * k;
+    const RenderedPing p = render(sim, pose);
+    std::vector<double> f(600);
+    for (std::size_t i = 0; i < 600; ++i) {
+      f[i] = p.starboard.clean_samples[i] > 0.0f
+                 ? double{p.starboard.samples[i]} / p.starboard.clean_samples[i]
+                 : 0.0;
+    }
+    field.push_back(f);
+  }
+  // Pearson correlation of consecutive pings over samples [i0, i1).
+  auto lag1 = [&](std::size_t i0, std::size_t i1) {
+    double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0, n = 0;
+    for (std::size_t k = 0; k + 1 < field.size(); ++k) {
+      for (std::size_t i = i0; i < i1; ++i) {
+        const double x = field[k][i], y = field[k + 1][i];
+        sx += x, sy += y, sxx += x * x, syy += y * y, sxy += x * y, n += 1;
+      }
+    }
+    const double cov = sxy / n - sx / n * sy / n;
+    return cov / std::sqrt((sxx / n - sx * sx / n / n) * (syy / n - sy * sy / n / n));
+  };
+  std::size_t above = 0, below = 0;
+  for (std::size_t i0 = 240; i0 + 20 <= 580; i0 += 20) {  // 12-29 m, past the first return
+    const double r = (static_cast<double>(i0) + 10.0) * dr;
+    const double ratio = spacing / (r * c.sonar.beta_eff_rad());
+    const double measured = lag1(i0, i0 + 20);
+    if (ratio > 1.05) {
+      EXPECT_LE(measured, 0.2) << "r = " << r << " spacing / footprint = " << ratio;
+      ++above;
+    } else if (ratio <= 0.9) {
+      EXPECT_NEAR(measured, 1.0 - ratio * ratio, 0.1) << "r = " << r << " ratio " << ratio;
+      ++below;
+    }
+  }
+  EXPECT_GE(above, 2u);
+  EXPECT_GE(below, 5u);
+  // The legacy per-seabed-cell speckle: cells of one range resolution (5 cm) are 5 times finer
+  // than the spacing, so consecutive pings are independent at every range.
+  c.noise.along_track_correlation = false;
+  const Simulator legacy(scene, c, kAltitude);
+  field.clear();
+  for (int k = 0; k < 120; ++k) {
+    const RenderedPing p =
+        render(legacy, pose_at(*scene, -30.0 + spacing * k, static_cast<std::uint64_t>(k)));
+    std::vector<double> f(600);
+    for (std::size_t i = 0; i < 600; ++i) {
+      f[i] = p.starboard.clean_samples[i] > 0.0f
+                 ? double{p.starboard.samples[i]} / p.starboard.clean_samples[i]
+                 : 0.0;
+    }
+    field.push_back(f);
+  }
+  EXPECT_LT(std::abs(lag1(400, 580)), 0.1);
 }
 
 TEST(SensorEffects, RingDownSaturatesTheFirstSamples) {
