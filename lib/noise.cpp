@@ -86,7 +86,7 @@ void speckle_exact(const SpeckleNoise& noise, std::span<const std::uint64_t> key
       }
     }
     double re = 0.0, im = 0.0;
-    if (mean > 0.0 && !field.empty()) {
+    if (mean > 0.0 && !field.empty() && !std::isnan(field[i])) {
       re = std::sqrt(mean * field[i]);  // the given field's power; its phase is immaterial
     } else if (mean > 0.0) {
       const NormalPair s = keyed_normal_pair(noise.seed, keys[i], kStreamSpeckle);
@@ -153,13 +153,15 @@ void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> ke
   bool have_frozen = false;
   std::uint64_t frozen_key = 0;
   double frozen_nu = 0.0, frozen = 0.0;
+  bool frozen_given = false;
   for (std::size_t i = 0; i < intensity.size(); ++i) {
     double a = intensity[i];  // A = I T E_s
     if (a > 0.0) {
       const double nu = textured ? texture_nu[i] : 0.0;
-      if (!have_frozen || keys[i] != frozen_key || nu != frozen_nu) {
+      const bool given = !field.empty() && !std::isnan(field[i]);
+      if (!have_frozen || keys[i] != frozen_key || nu != frozen_nu || given != frozen_given) {
         const std::uint64_t hk = splitmix_stream(seed_s, keys[i]);
-        double m = field.empty() ? exp1(high32_midpoint(hk)) : 1.0;
+        double m = given ? 1.0 : exp1(high32_midpoint(hk));
         if (nu > 0.0) {
           if (nu != last_nu) {
             last_nu = nu;
@@ -171,10 +173,11 @@ void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> ke
         have_frozen = true;
         frozen_key = keys[i];
         frozen_nu = nu;
+        frozen_given = given;
         frozen = m;
       }
       a *= frozen;
-      if (!field.empty()) a *= field[i];
+      if (given) a *= field[i];
     }
     if (n_power > 0.0) {
       const std::uint64_t hn = splitmix_stream(seed_n, noise_keys[i]);

@@ -31,6 +31,11 @@ constexpr double kGw[4] = {0.5 * 0.34785484513745385737, 0.5 * 0.652145154862546
 
 // Stream of the receiver noise of look j (distinct from the speckle and thermal streams).
 constexpr std::uint64_t kFloorStream = 0x5e15e0f1001ULL;
+// Lattice step of along_track_speckle in units of the weight's standard deviation, and the
+// weight recurrence factors e^-(2.25 (k - 1) + 1.125), k = 0 .. 3.
+constexpr double kLatticeStep = 1.5;
+constexpr double kWeightStep[4] = {3.0802168489180310, 0.32465246735834974, 0.034218118311666060,
+                                   0.0036065631360157305};
 // Salt of the along-track scatterer lattice.
 constexpr std::uint64_t kFieldSalt = 0xa10e7a0c5ca77e45ULL;
 // Key offset of look j >= 1.
@@ -192,16 +197,24 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
   for (std::size_t i = 0; i < samples; ++i) {
     const double r = (static_cast<double>(i) + 0.5) * f.sample_spacing_m;
     const double sw = r * f.beam_3db_rad * inv_sqrt_8ln2;
-    const double u = f.along_track_m / sw;
+    // Below the first return, and where consecutive pings are more than 2.5 footprints
+    // (r beta_eff = 1.77 sw) apart (correlation < 1e-4), the speckle is drawn independently.
+    if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw) {
+      out[i] = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    // Lattice step 1.5 sw: the lattice sum reproduces the continuous one to ~1e-4 (Poisson
+    // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5.
+    const double u = f.along_track_m / (kLatticeStep * sw);
     const double m0 = std::floor(u);
     const double frac = u - m0;
-    const auto first = static_cast<std::int64_t>(m0) - 2;
+    const auto first = static_cast<std::int64_t>(m0) - 1;
     const std::uint64_t cell = hash_combine(base, static_cast<std::uint64_t>(i));
-    // Scatterers within 3 sw either side (weights below e^-4.5 beyond) of the ping.
+    // w_k = exp(-1.125 (k - 1 - frac)^2), by w_{k+1} = w_k e^(2.25 frac) e^-(2.25 (k - 1) + 1.125).
     double re = 0.0, im = 0.0, w2 = 0.0;
-    for (int k = 0; k < 6; ++k) {
-      const double x = static_cast<double>(k - 2) - frac;
-      const double w = std::exp(-0.5 * x * x);
+    double w = std::exp(-1.125 * (1.0 + frac) * (1.0 + frac));
+    const double ef = std::exp(2.25 * frac);
+    for (int k = 0; k < 4; ++k) {
       const std::uint64_t h = splitmix_stream(cell, static_cast<std::uint64_t>(first + k));
       const double amp = w * std::sqrt(exp1(high32_midpoint(h)));
       // Phase 2 pi z, z uniform in [-1/2, 1/2): from sin(pi z) (|pi z| <= pi/2).
@@ -211,6 +224,7 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
       re += amp * (1.0 - 2.0 * sh * sh);
       im += amp * (2.0 * sh * ch);
       w2 += w * w;
+      w *= ef * kWeightStep[k];
     }
     out[i] = (re * re + im * im) / w2;
   }
@@ -224,6 +238,8 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
   const int looks = std::max(1, m.sub_samples);
   s.combined.assign(n, 0.0);
   s.sub.resize(n);
+  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
+  const std::uint64_t floor_seed = splitmix64(speckle.seed ^ kFloorStream);
   for (int j = 0; j < looks; ++j) {
     std::copy(io.begin(), io.end(), s.sub.begin());
     std::span<const std::uint64_t> kj = keys, nkj = noise_keys;
@@ -246,9 +262,7 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
     for (std::size_t i = 0; i < n; ++i) {
       double p = s.sub[i] * out_gain[i];
       if (m.floor_power > 0.0) {
-        const double u =
-            uniform_open0_from_bits(keyed_hash(speckle.seed ^ kFloorStream, nkj[i], 0));
-        p -= m.floor_power * std::log(u);
+        p += m.floor_power * exp1(high32_midpoint(splitmix_stream(floor_seed, nkj[i])));
       }
       if (looks == 1) {
         s.combined[i] = p;

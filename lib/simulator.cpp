@@ -56,141 +56,6 @@ inline double round_nonnegative(double v) {
 
 }  // namespace
 
-void QualityConfig::validate() const {
-  profile.validate();
-  if (gauss_points < 1 || gauss_points > 5) {
-    throw InputError("quality: gauss_points = " + std::to_string(gauss_points) +
-                     ". Violated constraint: 1 <= gauss_points <= 5");
-  }
-  if (along_track_planes != kAutoPlanes && (along_track_planes < 1 || along_track_planes > 64)) {
-    throw InputError("quality: along_track_planes = " + std::to_string(along_track_planes) +
-                     ". Violated constraint: 1 <= along_track_planes <= 64 (or auto)");
-  }
-  if (!(along_track_tolerance_db > 0.0) || !std::isfinite(along_track_tolerance_db)) {
-    throw InputError(
-        "quality: along_track_tolerance_db = " + std::to_string(along_track_tolerance_db) +
-        ". Violated constraint: along_track_tolerance_db > 0");
-  }
-}
-
-AlongTrackPlanes make_along_track_planes(const SonarConfig& sonar, int count, double beta_eff_rad) {
-  if (count < 1) throw InputError("along-track planes: count < 1");
-  AlongTrackPlanes p;
-  if (count == 1) {
-    p.azimuth_rad = {0.0};
-    p.beta_eff_rad = {beta_eff_rad};
-    return p;
-  }
-  const double step = 2.5 * sonar.horizontal_beam_width_rad / count;
-  double wsum = 0.0;
-  for (int k = 0; k < count; ++k) {
-    const double psi = (k - 0.5 * (count - 1)) * step;
-    p.azimuth_rad.push_back(psi);
-    p.beta_eff_rad.push_back(sonar.horizontal_two_way(psi));
-    wsum += p.beta_eff_rad.back();
-  }
-  for (double& b : p.beta_eff_rad) b *= beta_eff_rad / wsum;
-  return p;
-}
-
-std::vector<PingPose> pilot_poses(const Survey& survey, const HeightGrid& seabed,
-                                  std::size_t count) {
-  std::vector<PingPose> out;
-  const std::uint64_t total = survey.total_pings();
-  if (total == 0 || count == 0) return out;
-  const std::uint64_t n = std::min<std::uint64_t>(count, total);
-  for (std::uint64_t k = 0; k < n; ++k) {
-    // Centres of n equal shares of the survey.
-    out.push_back(survey.pose((2 * k + 1) * total / (2 * n), seabed));
-  }
-  return out;
-}
-
-std::vector<PingPose> pilot_poses(const HeightGrid& seabed, double altitude_m, double margin_m,
-                                  std::size_t count) {
-  std::vector<PingPose> out;
-  if (seabed.empty() || count == 0) return out;
-  const GridGeometry& g = seabed.geometry();
-  // Column/row interval [lo, hi] kept `margin_m` from the edges where the grid is wide enough
-  // (else its middle), so that the beams of the pilot pings stay on the grid.
-  const auto inset = [margin_m](double cell, std::size_t nodes) {
-    const double span = static_cast<double>(nodes - 1);
-    const double m = std::min(margin_m / std::abs(cell), 0.5 * span);
-    return std::pair{m, span - m};
-  };
-  const auto [c_lo, c_hi] = inset(g.dx_m, g.cols);
-  const auto [r_lo, r_hi] = inset(g.dy_m, g.rows);
-  const auto side = static_cast<std::size_t>(std::ceil(std::sqrt(static_cast<double>(count))));
-  constexpr std::uint64_t kPilotSeed = 0x70696c6f74ULL;  // "pilot": independent of the run's seed
-  constexpr int kAttempts = 8;
-  for (std::size_t k = 0; k < count; ++k) {
-    const double cu = static_cast<double>(k % side), cv = static_cast<double>(k / side);
-    for (int a = 0; a < kAttempts; ++a) {
-      const std::uint64_t key = hash_combine(k, static_cast<std::uint64_t>(a));
-      const double u =
-          (cu + uniform_from_bits(keyed_hash(kPilotSeed, key, 0))) / static_cast<double>(side);
-      const double v =
-          (cv + uniform_from_bits(keyed_hash(kPilotSeed, key, 1))) / static_cast<double>(side);
-      const double x = g.x_of_col(c_lo + u * (c_hi - c_lo));
-      const double y = g.y_of_row(r_lo + v * (r_hi - r_lo));
-      const double z = seabed.height_m(x, y);
-      if (!std::isfinite(z)) continue;
-      PingPose p;
-      p.ping_index = k;
-      p.sensor_xy_m = Eigen::Vector2d(x, y);
-      p.reference_xy_m = p.sensor_xy_m;
-      p.heading_rad = 2.0 * kPi * uniform_from_bits(keyed_hash(kPilotSeed, key, 2));
-      p.altitude_m = altitude_m;
-      p.sensor_z_m = z + altitude_m;
-      out.push_back(p);
-      break;
-    }
-  }
-  return out;
-}
-
-void SimulationConfig::validate() const {
-  sonar.validate();
-  quality.validate();
-  if (!(physics.calibration_k > 0.0) || !std::isfinite(physics.calibration_k)) {
-    throw InputError("physics: calibration_k = " + std::to_string(physics.calibration_k) +
-                     ". Violated constraint: calibration_k > 0");
-  }
-  if (physics.absorption) physics.water.validate();
-  if (!(noise.paper_uniform_half_width >= 0.0 && noise.paper_uniform_half_width <= 1.0)) {
-    throw InputError(
-        "noise: uniform_half_width = " + std::to_string(noise.paper_uniform_half_width) +
-        ". Violated constraint: 0 <= uniform_half_width <= 1");
-  }
-  if (!std::isfinite(noise.snr_at_max_range_db)) {
-    throw InputError("noise: snr_db is not finite");
-  }
-  if (!std::isnan(noise.paper_uniform_variance) &&
-      !(noise.paper_uniform_variance >= 0.0 && noise.paper_uniform_variance <= 1.0 / 3.0)) {
-    throw InputError(
-        "noise: uniform_variance = " + std::to_string(noise.paper_uniform_variance) +
-        ". Violated constraint: 0 <= uniform_variance <= 1/3 (u ~ U(0, sqrt(12 gamma)) <= 2)");
-  }
-  if (!(noise.freeze_cell_m >= 0.0)) {
-    throw InputError("noise: freeze_cell_m = " + std::to_string(noise.freeze_cell_m) +
-                     ". Violated constraint: freeze_cell_m >= 0");
-  }
-  if (!(output.max_value > 0.0)) {
-    throw InputError("output: max_value = " + std::to_string(output.max_value) +
-                     ". Violated constraint: max_value > 0");
-  }
-  if (output.detector_sub_samples < 1 || output.detector_sub_samples > 16) {
-    throw InputError(
-        "output: detector_sub_samples = " + std::to_string(output.detector_sub_samples) +
-        ". Violated constraint: 1 <= detector_sub_samples <= 16");
-  }
-  if (!(output.seabed_median_dbfs < 0.0)) {
-    throw InputError("output: seabed_median_dbfs = " + std::to_string(output.seabed_median_dbfs) +
-                     ". Violated constraint: seabed_median_dbfs < 0");
-  }
-  sensor.validate();
-}
-
 struct Simulator::Workspace {
   SideParams params;
   BeamProfile profile;
@@ -640,6 +505,11 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
       field.sample_spacing_m = cal_->side.sample_spacing_m;
       field.beam_3db_rad = config_.sonar.horizontal_beam_width_rad;
       field.seed = config_.seed;
+      field.first_sample =
+          std::isfinite(pose.altitude_m) && pose.altitude_m > 0.0
+              ? static_cast<std::size_t>(pose.altitude_m / cal_->side.sample_spacing_m)
+              : 0;
+      field.ping_spacing_m = pose.speed_m_s * config_.sonar.effective_ping_period_s();
     }
     detect_speckle(cal_->sensor, sn, ws.keys, ws.noise_keys, ws.nu, ws.tvg_gain,
                    nc.along_track_correlation ? &field : nullptr, ws.detector, ws.accum);

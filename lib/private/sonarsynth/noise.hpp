@@ -73,7 +73,7 @@ void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_
                          std::span<const double> texture_nu, std::span<double> intensity);
 /// The same with the frozen speckle power given: `field[i]` (unit mean, >= 0) replaces E_s, so a
 /// caller can supply a speckle field correlated between pings (keys[i] then keys the texture
-/// only). An empty field draws E_s as above.
+/// only). An empty field, or a NaN entry, draws E_s as above.
 void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
                          std::span<const std::uint64_t> noise_keys,
                          std::span<const double> texture_nu, std::span<const double> field,

@@ -59,6 +59,8 @@ struct AlongTrackField {
   double sample_spacing_m = 1.0;
   double beam_3db_rad = 0.0;
   std::uint64_t seed = 0;
+  std::size_t first_sample = 0;  ///< the first bottom return's sample
+  double ping_spacing_m = 0.0;   ///< distance between consecutive pings; 0 = unknown
 };
 /// Unit-mean speckle power per sample of look `look` into `out` (resized to `samples`).
 void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
