@@ -78,6 +78,10 @@ MetadataItems run_metadata(const std::string& scene_name, const SimulationConfig
       {"SONARSYNTH_TVG",
        config.output.tvg == TvgLaw::spherical ? "30 log10(R) + 2 alpha R" : "none"},
       {"SONARSYNTH_GAIN_DB", metadata_number(gain_db)},
+      {"SONARSYNTH_SAMPLE_QUANTITY",
+       config.output.quantity == SampleQuantity::amplitude ? "amplitude" : "intensity"},
+      {"SONARSYNTH_DETECTOR", std::to_string(config.output.detector_sub_samples) + " looks, " +
+                                  (config.output.detector == DetectorMode::max ? "max" : "mean")},
       {"SONARSYNTH_FULL_SCALE", metadata_number(config.output.max_value)},
   };
   if (config.output.normalise == OutputScaling::Normalise::per_ping_max) {

@@ -54,6 +54,9 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
 
   po.write_options.overwrite = true;  // inside our own fresh temporary directory
   po.write_options.metadata = run_metadata(scene->name, setup->config, sim.gain_db());
+  po.write_options.quantity = setup->config.output.quantity == SampleQuantity::amplitude
+                                  ? "backscatter (linear amplitude: the stored envelope)"
+                                  : "backscatter (linear intensity)";
   SurveyProducts products(out.file(""), scene, setup->config.sonar, setup->lines, po);
   RunStatistics stats;
   TeeSink sink({&xtf_out, &products, &stats});

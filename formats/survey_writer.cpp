@@ -44,7 +44,9 @@ xtf::WriterOptions xtf_writer_options(const Simulator& sim, xtf::SampleEncoding 
                         : std::string("no TVG");
   const std::string head =
       law + ", gain " + format_g(sim.gain_db(), 10) + " dB; sonarsynth scene '";
-  const std::string tail = "', seed " + std::to_string(c.seed);
+  const std::string tail =
+      "', seed " + std::to_string(c.seed) + "; samples: " +
+      (c.output.quantity == SampleQuantity::amplitude ? "amplitude (envelope)" : "intensity");
   constexpr std::size_t kNoteChars = 200;
   std::string name = scene_name;
   const std::size_t room = kNoteChars - head.size() - tail.size();

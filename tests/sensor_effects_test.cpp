@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The sensor stage (docs/physics.md §1.7): amplitude output, the detector, the automatic gain's
+// The sensor stage (docs/physics.md §1.10): amplitude output, the detector, the automatic gain's
 // target, the receiver noise floor, volume reverberation, shadow fill, the first bottom return
 // and the ring-down, each against a closed form or an independent computation.
 #include <gtest/gtest.h>

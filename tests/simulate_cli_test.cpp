@@ -203,14 +203,17 @@ TEST_F(SimulateCli, ProductsCarryTheRunsMetadataAndSayWhatTheyHold) {
     EXPECT_TRUE(std::isfinite(number(*ds, "SONARSYNTH_GAIN_DB")));
     EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_FULL_SCALE"), 32767.0);  // u16 samples
     EXPECT_NE(item(*ds, "SONARSYNTH_QUANTITY"), "(missing)");
+    EXPECT_EQ(item(*ds, "SONARSYNTH_SAMPLE_QUANTITY"), "amplitude");  // the default
+    EXPECT_EQ(item(*ds, "SONARSYNTH_DETECTOR"), "3 looks, max");
     EXPECT_NE(item(*ds, "SONARSYNTH_UNITS"), "(missing)");
     EXPECT_NE(item(*ds, "SONARSYNTH_NODATA"), "(missing)");
   }
-  // The float mosaic: linear intensity in XTF sample counts, NaN nodata.
+  // The float mosaic: the samples' amplitude (the default quantity) gridded linearly, in XTF
+  // sample counts, NaN nodata.
   const auto mosaic = open("mosaic.tif");
   ASSERT_NE(mosaic, nullptr);
   GDALRasterBand* b = mosaic->GetRasterBand(1);
-  EXPECT_STREQ(b->GetDescription(), "backscatter (linear intensity)");
+  EXPECT_STREQ(b->GetDescription(), "backscatter (linear amplitude: the stored envelope)");
   EXPECT_STREQ(b->GetUnitType(), "counts");
   int has = 0;
   EXPECT_TRUE(std::isnan(b->GetNoDataValue(&has)));

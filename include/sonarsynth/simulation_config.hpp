@@ -99,7 +99,7 @@ enum class TvgLaw {
   spherical,  ///< G(r) = 30 log10(r) + 2 alpha r + constant_db (seabed reverberation TVG)
 };
 
-/// What a stored sample holds (docs/physics.md §1.7).
+/// What a stored sample holds (docs/physics.md §1.10).
 enum class SampleQuantity {
   amplitude,  ///< the envelope, sqrt of the (TVG'd, scaled) intensity: what side-scan sonars store
   intensity,  ///< the (TVG'd, scaled) intensity, power
@@ -140,7 +140,7 @@ struct OutputScaling {
   Normalise normalise = Normalise::none;
 };
 
-/// Sensor effects beyond the seabed echo (docs/physics.md §1.7). Each is off when its level is
+/// Sensor effects beyond the seabed echo (docs/physics.md §1.10). Each is off when its level is
 /// NaN (`off` in a scene file) and then costs nothing. Levels "re seabed" are relative to the
 /// mean stored intensity of a flat seabed of the default material at mid range (the automatic
 /// gain's reference), in the TVG'd output domain.

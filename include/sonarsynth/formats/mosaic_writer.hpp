@@ -31,7 +31,7 @@ struct MosaicWriteOptions {
   std::vector<std::pair<std::string, std::string>> metadata;
   /// What the mosaic's values are (band 1 description, SONARSYNTH_QUANTITY) and their unit (band
   /// 1 unit type, SONARSYNTH_UNITS): the samples' own, gridded linearly. XTF sample values
-  /// (simulate's: intensity after TVG and gain, docs/physics.md §1.2) by default.
+  /// (after TVG and gain, docs/physics.md §1.2; simulate says amplitude or intensity, §1.10).
   std::string quantity = "backscatter (linear intensity)";
   std::string units = "counts";
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The sensor stage of the Simulator (docs/physics.md §1.7): volume reverberation, shadow fill
+// The sensor stage of the Simulator (docs/physics.md §1.10): volume reverberation, shadow fill
 // and the first bottom return added to the mean echo; speckle looks, receiver noise and the
 // detector; the transmit ring-down. Internal.
 #pragma once
