@@ -50,7 +50,8 @@ survey:
   speed_m_s: 0.5
   altitude_m: 8
   lines:
-    - {name: L1, waypoints: [{lat_deg: 43.0, lon_deg: 4.9983}, {lat_deg: 43.0, lon_deg: 5.0017}]}
+    - {name: L1, waypoints: [{lat_deg: 43.0, lon_deg: 4.9983}, {lat_deg: 43.0, lon_deg: 4.9985}]}
+    - {name: L2, waypoints: [{lat_deg: 43.0, lon_deg: 4.9983}, {lat_deg: 43.0, lon_deg: 5.0017}]}
 sonar: {frequency_khz: 600, range_m: 50, samples: 4096}
 )";
 
@@ -226,7 +227,8 @@ TEST_F(OutputSafetyCli, InterruptRemovesThePartialOutput) {
         spawn_cli(work, {"simulate", "slow.yaml", "-q", "--threads", "1", "-o", "out"});
     ASSERT_GT(pid, 0);
     const fs::path part = work / (".out.part-" + std::to_string(pid));
-    // SIGINT as soon as the output directory exists, SIGTERM once the renderer is writing.
+    // SIGINT as soon as the output directory exists, SIGTERM once the renderer is writing (the
+    // short first line is complete, the long second one under way).
     const char* wait_name = sig == SIGINT ? ".sonarsynth-output" : "L1.xtf";
     ASSERT_TRUE(wait_for(part / wait_name)) << "the run never got that far";
     ::kill(pid, sig);
