@@ -8,6 +8,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
+#include "sonarsynth/render_math.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -212,8 +213,8 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
     const std::uint64_t cell = hash_combine(base, static_cast<std::uint64_t>(i));
     // w_k = exp(-1.125 (k - 1 - frac)^2), by w_{k+1} = w_k e^(2.25 frac) e^-(2.25 (k - 1) + 1.125).
     double re = 0.0, im = 0.0, w2 = 0.0;
-    double w = std::exp(-1.125 * (1.0 + frac) * (1.0 + frac));
-    const double ef = std::exp(2.25 * frac);
+    double w = render_math::exp_table(-1.125 * (1.0 + frac) * (1.0 + frac));
+    const double ef = render_math::exp_table(2.25 * frac);
     for (int k = 0; k < 4; ++k) {
       const std::uint64_t h = splitmix_stream(cell, static_cast<std::uint64_t>(first + k));
       const double amp = w * std::sqrt(exp1(high32_midpoint(h)));
