@@ -274,19 +274,24 @@ TEST(SensorEffects, SpeckleCorrelatesAlongTrackAsTheFootprintsOverlap) {
   c.clean_samples = true;
   const Simulator sim(scene, c, kAltitude);
   const double spacing = 0.25, dr = c.sonar.sample_spacing_m();
+  // The speckle field of `pings` pings along the track: noisy over noise-free samples.
   std::vector<std::vector<double>> field;
-  for (int k = 0; k < 240; ++k) {
-    PingPose pose = pose_at(*scene, -30.0 + spacing * k, static_cast<std::uint64_t>(k));
-    pose.along_track_m = spacing * k;
-    const RenderedPing p = render(sim, pose);
-    std::vector<double> f(600);
-    for (std::size_t i = 0; i < 600; ++i) {
-      f[i] = p.starboard.clean_samples[i] > 0.0f
-                 ? double{p.starboard.samples[i]} / p.starboard.clean_samples[i]
-                 : 0.0;
+  auto sample_field = [&](const Simulator& s, int pings) {
+    field.clear();
+    for (int k = 0; k < pings; ++k) {
+      PingPose pose = pose_at(*scene, -30.0 + spacing * k, static_cast<std::uint64_t>(k));
+      pose.along_track_m = spacing * k;
+      const RenderedPing p = render(s, pose);
+      std::vector<double> f(600);
+      for (std::size_t i = 0; i < 600; ++i) {
+        f[i] = p.starboard.clean_samples[i] > 0.0f
+                   ? double{p.starboard.samples[i]} / p.starboard.clean_samples[i]
+                   : 0.0;
+      }
+      field.push_back(f);
     }
-    field.push_back(f);
-  }
+  };
+  sample_field(sim, 240);
   // Pearson correlation of consecutive pings over samples [i0, i1).
   auto lag1 = [&](std::size_t i0, std::size_t i1) {
     double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0, n = 0;
@@ -318,18 +323,7 @@ TEST(SensorEffects, SpeckleCorrelatesAlongTrackAsTheFootprintsOverlap) {
   // than the spacing, so consecutive pings are independent at every range.
   c.noise.along_track_correlation = false;
   const Simulator legacy(scene, c, kAltitude);
-  field.clear();
-  for (int k = 0; k < 120; ++k) {
-    const RenderedPing p =
-        render(legacy, pose_at(*scene, -30.0 + spacing * k, static_cast<std::uint64_t>(k)));
-    std::vector<double> f(600);
-    for (std::size_t i = 0; i < 600; ++i) {
-      f[i] = p.starboard.clean_samples[i] > 0.0f
-                 ? double{p.starboard.samples[i]} / p.starboard.clean_samples[i]
-                 : 0.0;
-    }
-    field.push_back(f);
-  }
+  sample_field(legacy, 120);
   EXPECT_LT(std::abs(lag1(400, 580)), 0.1);
 }
 
