@@ -269,8 +269,7 @@ void Waterfall::write(const std::string& path) const {
       {{"SONARSYNTH_VERSION", kVersion},
        {"SONARSYNTH_QUANTITY", std::string("display colour: ") +
                                    (grey ? "grey" : "black-brown-yellow") + " colormap of the " +
-                                   (linear ? "linear" : "dB") +
-                                   " value of backscatter (linear intensity)"},
+                                   (linear ? "linear" : "dB") + " value of the samples"},
        {"SONARSYNTH_UNITS", "none (8-bit colour)"},
        {"SONARSYNTH_DISPLAY_SCALE", scale.str()},
        {"SONARSYNTH_WATERFALL_LAYOUT", layout.str()},

@@ -394,11 +394,11 @@ TEST(MosaicWriter, GeoTiffConventions) {
     int has_nodata = 0;
     EXPECT_TRUE(std::isnan(b->GetNoDataValue(&has_nodata)));
     EXPECT_TRUE(has_nodata);
-    EXPECT_STREQ(b->GetDescription(), "backscatter (linear intensity)");
+    EXPECT_STREQ(b->GetDescription(), "backscatter (the XTF sample values, gridded linearly)");
     EXPECT_STREQ(b->GetUnitType(), "counts");
     EXPECT_STREQ(ds->GetRasterBand(2)->GetDescription(), "count");
     EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_SEED"), "77");  // the caller's items
-    EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_QUANTITY"), "backscatter (linear intensity)");
+    EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_QUANTITY"), "backscatter (the XTF sample values, gridded linearly)");
     EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_UNITS"), "counts");
     {
       // The display copy: the caller's items, averaged overviews (down to < 256 pixels).

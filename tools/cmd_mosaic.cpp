@@ -22,7 +22,7 @@ const char* const kUsage =
     "usage: sonarsynth mosaic FILES.xtf... -o MOSAIC.tif [options]\n\n"
     "Georeferences every sample of the XTF files (sensor position, fish heading converted to grid\n"
     "north, pitch; slant->ground on a flat bottom from the altitude, or against --bathymetry) and\n"
-    "grids them in linear intensity into a float32 GeoTIFF (NaN nodata, AREA_OR_POINT=Area) in\n"
+    "grids the sample values linearly into a float32 GeoTIFF (NaN nodata, AREA_OR_POINT=Area) in\n"
     "the WGS 84 UTM/UPS zone of the data, Cloud-Optimized by default, plus an 8-bit RGBA display\n"
     "copy MOSAIC_rgb.tif with the black-brown-yellow colormap. Pings without navigation are\n"
     "skipped and counted; navigation outliers (a position jump of a few pings, a non-finite\n"

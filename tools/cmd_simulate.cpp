@@ -18,7 +18,8 @@ const char* const kUsage =
     "Renders the survey described in SCENE.yaml (format: docs/scene-format.md) and writes into\n"
     "OUTDIR: one XTF file per survey line (<line>.xtf), a waterfall image per line\n"
     "(<line>_waterfall.png), per-sample truth per line (<line>_truth.tif: class, object id,\n"
-    "grazing angle), the survey mosaic (mosaic.tif, float32 linear intensity, COG by default),\n"
+    "grazing angle), the survey mosaic (mosaic.tif, float32, the samples gridded linearly, COG by "
+    "default),\n"
     "its display copy (mosaic_rgb.tif), the truth mosaic (truth_mosaic.tif: object ids on the\n"
     "same grid) and effective.yaml, the configuration that reproduces the run exactly.\n"
     "OUTDIR appears only when everything in it is complete.";

@@ -32,7 +32,7 @@ struct MosaicWriteOptions {
   /// What the mosaic's values are (band 1 description, SONARSYNTH_QUANTITY) and their unit (band
   /// 1 unit type, SONARSYNTH_UNITS): the samples' own, gridded linearly. XTF sample values
   /// (after TVG and gain, docs/physics.md §1.2; simulate says amplitude or intensity, §1.10).
-  std::string quantity = "backscatter (linear intensity)";
+  std::string quantity = "backscatter (the XTF sample values, gridded linearly)";
   std::string units = "counts";
 
   /// 8-bit display copy, RGBA (alpha 0 = nodata): GeoTIFF, or PNG if the name ends in .png
