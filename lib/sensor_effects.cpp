@@ -200,13 +200,14 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
     const double sw = r * f.beam_3db_rad * inv_sqrt_8ln2;
     // Below the first return, and where consecutive pings are more than 2.5 footprints
     // (r beta_eff = 1.77 sw) apart (correlation < 1e-4), the speckle is drawn independently.
-    if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw) {
+    const double u = f.along_track_m / (kLatticeStep * sw);
+    // (and where the lattice index would not fit an integer: a degenerate beam or position)
+    if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw || !(std::abs(u) < 1e15)) {
       out[i] = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
     // Lattice step 1.5 sw: the lattice sum reproduces the continuous one to ~1e-4 (Poisson
     // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5.
-    const double u = f.along_track_m / (kLatticeStep * sw);
     const double m0 = std::floor(u);
     const double frac = u - m0;
     const auto first = static_cast<std::int64_t>(m0) - 1;
