@@ -398,7 +398,8 @@ TEST(MosaicWriter, GeoTiffConventions) {
     EXPECT_STREQ(b->GetUnitType(), "counts");
     EXPECT_STREQ(ds->GetRasterBand(2)->GetDescription(), "count");
     EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_SEED"), "77");  // the caller's items
-    EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_QUANTITY"), "backscatter (the XTF sample values, gridded linearly)");
+    EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_QUANTITY"),
+                 "backscatter (the XTF sample values, gridded linearly)");
     EXPECT_STREQ(ds->GetMetadataItem("SONARSYNTH_UNITS"), "counts");
     {
       // The display copy: the caller's items, averaged overviews (down to < 256 pixels).
