@@ -245,18 +245,21 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
   for (int j = 0; j < looks; ++j) {
     std::copy(io.begin(), io.end(), s.sub.begin());
     std::span<const std::uint64_t> kj = keys, nkj = noise_keys;
+    if (field != nullptr) along_track_speckle(*field, n, j, s.field);
     if (j > 0) {
-      s.keys.resize(n);
+      // Fresh receiver noise per look. The keys key the speckle (and the texture) where it is
+      // drawn here; where the along-track field gives the speckle they key the texture only,
+      // which the looks of one sample share (it is the seabed patch's).
       s.noise_keys.resize(n);
+      s.keys.resize(n);
       for (std::size_t i = 0; i < n; ++i) {
-        s.keys[i] = look_key(keys[i], j);
         s.noise_keys[i] = look_key(noise_keys[i], j);
+        s.keys[i] = field != nullptr && !std::isnan(s.field[i]) ? keys[i] : look_key(keys[i], j);
       }
-      kj = s.keys;
       nkj = s.noise_keys;
+      kj = s.keys;
     }
     if (field != nullptr) {
-      along_track_speckle(*field, n, j, s.field);
       apply_speckle_noise(speckle, kj, nkj, texture_nu, s.field, s.sub);
     } else {
       apply_speckle_noise(speckle, kj, nkj, texture_nu, s.sub);
