@@ -474,3 +474,29 @@ TEST_F(SimulationFile, PaperExactSampleIsThePapersModel) {
 
 }  // namespace
 }  // namespace sonarsynth
+
+namespace sonarsynth {
+namespace {
+
+// Every bundled sample is a valid simulation file (new keys and presets included), and the
+// paper preset is the paper's model: intensity without the sensor stage.
+TEST(Samples, EverySampleLoadsAsASimulation) {
+  std::size_t count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(SONARSYNTH_SAMPLES_DIR)) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_NO_THROW(load_simulation(entry.path().string()));
+    ++count;
+  }
+  EXPECT_GE(count, 6u);
+  const SimulationSetup paper = load_simulation(SONARSYNTH_SAMPLES_DIR "/paper_exact.yaml");
+  EXPECT_EQ(paper.config.output.quantity, SampleQuantity::intensity);
+  EXPECT_TRUE(std::isnan(paper.config.sensor.noise_floor_dbfs));
+  EXPECT_EQ(paper.config.output.normalise, OutputScaling::Normalise::per_ping_max);
+  const SimulationSetup seascan = load_simulation(SONARSYNTH_SAMPLES_DIR "/seascan_survey.yaml");
+  EXPECT_EQ(seascan.config.output.quantity, SampleQuantity::amplitude);
+  EXPECT_DOUBLE_EQ(seascan.config.sonar.frequency_hz, 600e3);
+}
+
+}  // namespace
+}  // namespace sonarsynth
