@@ -96,11 +96,24 @@ NUMERIC_RULES = {
     # Below ~36 dB under the automatic gain the seabed rounds to 0 and sonarsynth refuses the gain.
     "gain_db": lambda x: True if 40 <= x <= 120 else (None if -150 <= x < 150 else False),
     "band": lambda x: True if x == 1 else False,
+    # sensor stage (docs/physics.md §1.10); the bounds of formats/option_table.cpp are "either"
+    "noise_floor_dbfs": lambda x: True if -120 <= x <= -20 else (None if -300 <= x <= 0 else False),
+    "volume_reverberation_db": lambda x: True if -80 <= x <= -10 else (
+        None if -300 <= x <= 100 else False),
+    "shadow_fill_db": lambda x: True if -80 <= x <= -10 else (None if -300 <= x <= 100 else False),
+    "first_return_reflection_db": lambda x: True if -40 <= x <= 0 else (
+        None if -300 <= x <= 0 else False),
+    "first_return_rms_slope": lambda x: True if 0.01 <= x <= 1 else (None if 0 < x <= 1 else False),
+    "side_lobe_db": lambda x: True if -60 <= x <= -3 else (None if -300 <= x <= 0 else False),
+    "ring_down_m": lambda x: True if 0 <= x <= 2 else (None if 0 <= x <= 1e4 else False),
+    "detector_sub_samples": rng_(1, 16, integer=True),
+    "seabed_median_dbfs": lambda x: True if -40 <= x <= -1 else (None if -200 <= x < 0 else False),
+    "uniform_variance": lambda x: True if 0 <= x <= 1 / 3 else False,
 }
 ENUMS = {"type", "shape", "backscatter", "model", "tvg", "sample_format", "material",
-         "along_track_planes", "gain_db"}
+         "along_track_planes", "gain_db", "quantity", "detector", "normalise", "display", "preset"}
 BOOLS = {"shadows", "spreading", "beam_pattern", "absorption", "texture", "truth",
-         "depth_positive_down"}
+         "depth_positive_down", "along_track_correlation"}
 
 
 def rule_for(path):

@@ -6,6 +6,7 @@ import random
 
 from .case import Case, sim
 from .expectations import REPLACEMENTS, expectation_for_leaf
+from .gen_keys import gen_keys
 from .scene import (Raw, base_scene, containers, get_path, leaves, path_str, scene_text,
                     set_path, yaml_scalar)
 
@@ -216,4 +217,5 @@ def gen_yaml(h, rng):
     many["objects"] = [{"type": "rock", "position": {"east_m": (i % 40) - 20, "north_m": (i // 40) % 40 - 20},
                         "diameter_m": 0.3} for i in range(2000)]
     C("2000 rocks", many, "either")
+    cases += gen_keys(scene0)
     return cases

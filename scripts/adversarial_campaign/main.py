@@ -4,6 +4,7 @@ import argparse
 import json
 import os
 import random
+import re
 import shutil
 import sys
 import time
@@ -29,6 +30,8 @@ def main(doc):
                     help="address-space limit per run, MiB (0 = none; off for ASan builds)")
     ap.add_argument("--tmp", default=None, help="where the sandboxes go (default $TMPDIR)")
     ap.add_argument("--list", action="store_true", help="list the selected cases and exit")
+    ap.add_argument("--match", metavar="REGEX",
+                    help="only the generated cases whose description matches (before selection)")
     ap.add_argument("--keep-sandboxes", action="store_true")
     ap.add_argument("-v", "--verbose", action="store_true")
     args = ap.parse_args()
@@ -44,6 +47,8 @@ def main(doc):
         for cat in CATEGORIES:
             r_cat = random.Random("%d-%s" % (args.seed, cat))
             by_cat[cat] = GENERATORS[cat](h, r_cat) if cat in cats else []
+            if args.match:
+                by_cat[cat] = [c for c in by_cat[cat] if re.search(args.match, c.desc)]
         chosen = select(by_cat, args.cases, rng)
         universe = sum(len(v) for v in by_cat.values())
         print("sonarsynth adversarial campaign: %d of %d generated cases, seed %d, timeout %g s, cli %s"

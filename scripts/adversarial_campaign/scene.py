@@ -65,8 +65,15 @@ def base_scene(bathy_file=None):
                         "along_track_planes": "auto", "along_track_tolerance_db": 1.0},
         },
         "noise": {"model": "speckle", "uniform_half_width": 0.3, "snr_db": 20, "texture": True,
-                  "freeze_cell_m": 0},
-        "output": {"tvg": "spherical", "gain_db": "auto", "sample_format": "u16", "truth": True},
+                  "freeze_cell_m": 0, "along_track_correlation": True},
+        # The sensor stage and the new output keys at their defaults (docs/scene-format.md): the
+        # XTF is the same as without them.
+        "sensor": {"noise_floor_dbfs": -62, "volume_reverberation_db": -29, "shadow_fill_db": -36,
+                   "first_return_reflection_db": -6, "first_return_rms_slope": 0.15,
+                   "side_lobe_db": -16, "ring_down_m": 0.15},
+        "output": {"tvg": "spherical", "gain_db": "auto", "sample_format": "u16", "truth": True,
+                   "quantity": "amplitude", "detector": "max", "detector_sub_samples": 3,
+                   "seabed_median_dbfs": -11, "normalise": "none", "display": "db"},
     }
 
 
