@@ -109,11 +109,13 @@ def gen_yaml(h, rng):
             s = copy.deepcopy(scene0)
             del get_path(s, path)[k]
             p = path + (k,)
+            # a vertical_beam or pulse block without its shape or type keeps the current one
+            # (docs/sonar-presets.md), so deleting those keys is not required to fail
             required = p in (("bathymetry",), ("survey",), ("survey", "lines"),
                              ("bathymetry", "generate"), ("bathymetry", "generate", "centre"),
                              ("bathymetry", "generate", "size_m"), ("bathymetry", "generate", "cell_m"),
-                             ("survey", "lines", 0, "waypoints"), ("sonar", "vertical_beam", "shape"),
-                             ("sonar", "pulse", "type")) or k in ("type", "lat_deg", "lon_deg") or (
+                             ("survey", "lines", 0, "waypoints")) or k in ("lat_deg", "lon_deg") or (
+                k == "type" and p != ("sonar", "pulse", "type")) or (
                 k in ("east_m", "north_m") and "components" not in p)
             C("delete %s" % path_str(p), s, "invalid" if required else "either",
               needles=[str(k)])

@@ -58,7 +58,9 @@ def xtf_sample_stats(path, max_bytes=64 << 20):
                     a.frombytes(raw[: len(raw) // 2 * 2])
                     vals = a
                     zeros += a.count(0)
-                    sat += a.count(65535)
+                    # sonarsynth clamps u16 samples to 0..32767 (docs/xtf.md); other writers
+                    # may use the whole 0..65535
+                    sat += sum(1 for v in a if v >= 32767)
                 else:
                     a = array("I")
                     a.frombytes(raw[: len(raw) // 4 * 4])
