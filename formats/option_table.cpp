@@ -213,7 +213,7 @@ std::vector<Option> make_table() {
       }));
   t.push_back(integer("output", "detector_sub_samples", 1, 16, false,
                       PLAIN(config.output.detector_sub_samples)));
-  t.push_back(real("output", "seabed_median_dbfs", "dB", -200, 0, false,
+  t.push_back(real("output", "seabed_median_dbfs", "dB", -80, 0, false,
                    PLAIN(config.output.seabed_median_dbfs)));
   t.push_back(choice(
       "output", "normalise", {"none", "per_ping_max"}, "none or per_ping_max",
@@ -240,9 +240,9 @@ std::vector<Option> make_table() {
   };
   t.push_back(
       sensor_level("noise_floor_dbfs", "dB", -300, 0, PLAIN(config.sensor.noise_floor_dbfs)));
-  t.push_back(sensor_level("volume_reverberation_db", "dB", -300, 100,
+  t.push_back(sensor_level("volume_reverberation_db", "dB", -300, 0,
                            PLAIN(config.sensor.volume_reverberation_db)));
-  t.push_back(sensor_level("shadow_fill_db", "dB", -300, 100, PLAIN(config.sensor.shadow_fill_db)));
+  t.push_back(sensor_level("shadow_fill_db", "dB", -300, 0, PLAIN(config.sensor.shadow_fill_db)));
   t.push_back(sensor_level("first_return_reflection_db", "dB", -300, 0,
                            PLAIN(config.sensor.first_return_reflection_db)));
   t.push_back(real("sensor", "first_return_rms_slope", "", 0, 1, true,
@@ -364,6 +364,9 @@ void read(const yaml::Fields& f, const Option& o, SimulationSetup& s) {
       }
       const double v = f.number(key);
       if (!o.accepts(v)) f.fail_value(key, o.constraint());
+      if (o.kind == Kind::integer && v != std::floor(v)) {
+        f.fail_value(key, std::string(o.key) + " a whole number");
+      }
       return o.set(s, v);
     }
   }

@@ -258,6 +258,12 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     const Fields f = top.child("sensor");
     f.only(keys_of("sensor"));
     options::read_all(f, "sensor", setup);
+    // The library caps the ring-down at a tenth of the range; a file asking for more is refused.
+    if (f.given("ring_down_m") && std::isfinite(cfg.sensor.ring_down_m) &&
+        cfg.sensor.ring_down_m > 0.1 * s.max_range_m) {
+      f.fail_value("ring_down_m", "ring_down_m <= a tenth of the range (" +
+                                      std::to_string(0.1 * s.max_range_m) + " m)");
+    }
   }
 
   // Output scaling and format.

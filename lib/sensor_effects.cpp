@@ -85,6 +85,13 @@ void SensorConfig::validate() const {
   if (on(ring_down_m) && !(ring_down_m >= 0.0)) {
     bad("ring_down_m = " + num(ring_down_m) + ". Violated constraint: ring_down_m >= 0");
   }
+  for (const auto& [name, v] : {std::pair{"volume_reverberation_db", volume_reverberation_db},
+                                std::pair{"shadow_fill_db", shadow_fill_db}}) {
+    if (on(v) && !(v <= 0.0)) {
+      bad(std::string(name) + " = " + num(v) +
+          ". Violated constraint: <= 0 (not above the seabed it is relative to)");
+    }
+  }
   for (const auto& [name, v] : {std::pair{"noise_floor_dbfs", noise_floor_dbfs},
                                 std::pair{"volume_reverberation_db", volume_reverberation_db},
                                 std::pair{"shadow_fill_db", shadow_fill_db}}) {
@@ -126,7 +133,8 @@ SensorModel SensorModel::make(const SimulationConfig& config, double seabed_powe
     m.first_return_s2 = c.first_return_rms_slope * c.first_return_rms_slope;
     m.side_lobe_two_way = db_to_power(2.0 * c.side_lobe_db);
   }
-  if (on(c.ring_down_m)) m.ring_down_m = c.ring_down_m;
+  // At most a tenth of the range: a ring-down marks the record's start, it does not fill it.
+  if (on(c.ring_down_m)) m.ring_down_m = std::min(c.ring_down_m, 0.1 * config.sonar.max_range_m);
   return m;
 }
 

@@ -472,6 +472,31 @@ TEST_F(SimulationFile, PaperExactSampleIsThePapersModel) {
   EXPECT_EQ(s.lines.size(), 1u);
 }
 
+TEST_F(SimulationFile, SensorAndCountValuesOutOfRangeAreNamedErrors) {
+  const std::string head = std::string(kBathy) + "survey:\n" + kLine +
+                           "sonar: {frequency_khz: 400, range_m: 20, samples: 1000}\n";
+  for (const auto& [extra, fragment] :
+       {std::pair<std::string, std::string>{"output: {detector_sub_samples: 2.5}\n",
+                                            "output.detector_sub_samples = '2.5'"},
+        {"limits: {max_pings: 100.5}\n", "limits.max_pings = '100.5'"},
+        {"sensor: {volume_reverberation_db: 3}\n", "sensor.volume_reverberation_db = '3'"},
+        {"sensor: {shadow_fill_db: 1}\n", "sensor.shadow_fill_db = '1'"},
+        {"output: {seabed_median_dbfs: -200}\n", "output.seabed_median_dbfs = '-200'"},
+        {"sensor: {ring_down_m: 2.5}\n", "ring_down_m <= a tenth of the range"}}) {
+    try {
+      load_simulation(write("bad.yaml", head + extra));
+      ADD_FAILURE() << "no error for " << extra;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+  // The bounds themselves are accepted.
+  EXPECT_NO_THROW(load_simulation(write(
+      "ok.yaml", head +
+                     "sensor: {ring_down_m: 2, volume_reverberation_db: 0, shadow_fill_db: off}\n"
+                     "output: {detector_sub_samples: 16, seabed_median_dbfs: -80}\n")));
+}
+
 }  // namespace
 }  // namespace sonarsynth
 

@@ -163,8 +163,8 @@ struct SensorConfig {
   double first_return_rms_slope = 0.15;      ///< s, (0, 1]
   /// One-way side-lobe level of the vertical beam towards nadir, dB re the main lobe, <= 0.
   double side_lobe_db = -16.0;
-  /// Transmit pulse and ring-down: samples nearer than this slant range saturate, metres, >= 0;
-  /// NaN or 0 = off.
+  /// Transmit pulse and ring-down: samples nearer than this slant range (at most a tenth of
+  /// the range) saturate, metres, >= 0; NaN or 0 = off.
   double ring_down_m = 0.15;
   void validate() const;
   /// Every effect off: the bare seabed echo (what the closed forms of docs/physics.md §3 hold
