@@ -254,20 +254,19 @@ std::vector<Row> rows(const rs::Report& r) {
       [](auto& x) { return pct(x.levels.lead_clipped, x.levels.lead.count()); });
   // 6. along-track correlation per band
   const std::size_t bands = r.pooled.texture.bands.size();
-  for (std::size_t b = 0; b < bands; ++b) {
+  auto band_label = [&](std::size_t b, const char* what) {
     const double lo = static_cast<double>(b) * r.pooled.texture.band_m;
-    const double hi = lo + r.pooled.texture.band_m;
     char label[96];
-    std::snprintf(label, sizeof label, "6 lag-1 correlation %.1f-%.1f m, median tile", lo, hi);
-    add("lag1_tile_band_" + std::to_string(b), label, "",
+    std::snprintf(label, sizeof label, "6 lag-1 correlation %.1f-%.1f m, %s", lo,
+                  lo + r.pooled.texture.band_m, what);
+    return std::string(label);
+  };
+  for (std::size_t b = 0; b < bands; ++b) {
+    add("lag1_tile_band_" + std::to_string(b), band_label(b, "median tile"), "",
         [b](auto& x) { return x.texture.median_tile_lag1(b); });
   }
   for (std::size_t b = 0; b < bands; ++b) {
-    const double lo = static_cast<double>(b) * r.pooled.texture.band_m;
-    const double hi = lo + r.pooled.texture.band_m;
-    char label[96];
-    std::snprintf(label, sizeof label, "6 lag-1 correlation %.1f-%.1f m, all seabed", lo, hi);
-    add("lag1_band_" + std::to_string(b), label, "",
+    add("lag1_band_" + std::to_string(b), band_label(b, "all seabed"), "",
         [b](auto& x) { return x.texture.bands[b].correlation(); });
   }
   return out;
