@@ -162,6 +162,10 @@ std::vector<Option> make_table() {
   t.push_back(planes);
   t.push_back(real("render.quality", "along_track_tolerance_db", "dB", 0, 40, true,
                    PLAIN(config.quality.along_track_tolerance_db), "--quality"));
+  Option small =
+      boolean("render.quality", "small_object_planes", BOOL(config.quality.small_object_planes));
+  small.flag = "--quality";
+  t.push_back(small);
   // noise
   t.push_back(choice(
       "noise", "model", {"none", "paper", "speckle"}, "none, paper or speckle",

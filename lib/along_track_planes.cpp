@@ -29,7 +29,124 @@ AlongTrackPlanes make_along_track_planes(const SonarConfig& sonar, int count, do
     wsum += p.beta_eff_rad.back();
   }
   for (double& b : p.beta_eff_rad) b *= beta_eff_rad / wsum;
+  p.central = static_cast<std::size_t>(count / 2);
   return p;
+}
+
+double horizontal_two_way_integral(double beam_width_rad, double psi0_rad, double psi1_rad) {
+  // exp(-c (psi / bw)^2) integrates to bw sqrt(pi / c) / 2 [erf(sqrt(c) psi / bw)].
+  const double c = 8.0 * std::log(2.0), bw = beam_width_rad;
+  const double k = std::sqrt(c) / bw;
+  return 0.5 * std::sqrt(kPi / c) * bw * (std::erf(k * psi1_rad) - std::erf(k * psi0_rad));
+}
+
+ObjectPlaneRefiner::ObjectPlaneRefiner(const ObjectSet& objects, const SonarConfig& sonar,
+                                       const AlongTrackPlanes& base, double beta_eff_rad)
+    : base_(base),
+      beam_width_rad_(sonar.horizontal_beam_width_rad),
+      beta_eff_rad_(beta_eff_rad),
+      half_fan_rad_(1.25 * sonar.horizontal_beam_width_rad) {
+  for (const ObjectPrimitive& p : objects.primitives()) {
+    const Eigen::Vector2d u = p.axis_u();
+    const Eigen::Vector2d v(u.y(), -u.x());
+    const Eigen::Vector2d eu = p.half_extent_m.x() * u, ev = p.half_extent_m.y() * v;
+    Footprint f;
+    f.centre_xy_m = p.centre_xy_m;
+    f.corner_xy_m[0] = p.centre_xy_m - eu - ev;
+    f.corner_xy_m[1] = p.centre_xy_m + eu - ev;
+    f.corner_xy_m[2] = p.centre_xy_m + eu + ev;
+    f.corner_xy_m[3] = p.centre_xy_m - eu + ev;
+    f.radius_m = (eu + ev).norm();
+    footprints_.push_back(f);
+  }
+}
+
+bool ObjectPlaneRefiner::refine(const Eigen::Vector2d& nadir_xy_m, const Eigen::Vector2d& across,
+                                double max_y_m, AlongTrackPlanes& out,
+                                std::vector<double>& scratch) const {
+  const double h = half_fan_rad_;
+  // The base planes' largest gap (the whole fan for one plane).
+  const double base_step = base_.size() > 1 ? 2.0 * h / static_cast<double>(base_.size()) : 2.0 * h;
+  // Azimuth intervals [a, b] of the objects that need finer planes, and the finest step.
+  scratch.clear();
+  double step = base_step;
+  for (const Footprint& f : footprints_) {
+    const Eigen::Vector2d d = f.centre_xy_m - nadir_xy_m;
+    const double y = d.dot(across);
+    if (y + f.radius_m <= 0.0 || y - f.radius_m > max_y_m) continue;  // behind or out of range
+    if (std::abs(across.x() * d.y() - across.y() * d.x()) - f.radius_m >
+        std::tan(h) * (y + f.radius_m))
+      continue;  // outside the fan
+    double a = kPi, b = -kPi;
+    bool ahead = true;
+    for (const Eigen::Vector2d& c : f.corner_xy_m) {
+      const Eigen::Vector2d e = c - nadir_xy_m;
+      const double ey = e.dot(across);
+      // A footprint reaching under the sonar spans every azimuth: the base planes see it.
+      if (!(ey > 0.0)) ahead = false;
+      const double psi = std::atan2(across.x() * e.y() - across.y() * e.x(), ey);
+      a = std::min(a, psi);
+      b = std::max(b, psi);
+    }
+    if (!ahead || b <= -h || a >= h) continue;
+    const double width = b - a;
+    if (width >= kPlanesPerObject * base_step) continue;  // the base planes resolve it
+    step = std::min(step, width / kPlanesPerObject);
+    scratch.push_back(a);
+    scratch.push_back(b);
+  }
+  if (scratch.empty()) return false;
+  // At most kMaxPlanes: coarser steps (doubling) until the planes fit.
+  std::size_t fine = 0;
+  for (;;) {
+    fine = 0;
+    for (std::size_t i = 0; i < scratch.size(); i += 2) {
+      fine += static_cast<std::size_t>(std::ceil(std::min(scratch[i + 1], h) / step) -
+                                       std::floor(std::max(scratch[i], -h) / step)) +
+              1;
+    }
+    if (fine + base_.size() <= kMaxPlanes) break;
+    step *= 2.0;
+  }
+  std::vector<double>& az = out.azimuth_rad;
+  az.clear();
+  for (std::size_t i = 0; i < scratch.size(); i += 2) {
+    const auto j0 = static_cast<long>(std::floor(std::max(scratch[i], -h) / step));
+    const auto j1 = static_cast<long>(std::ceil(std::min(scratch[i + 1], h) / step));
+    for (long j = j0; j <= j1; ++j) {
+      const double psi = static_cast<double>(j) * step;
+      if (psi >= -h && psi <= h) az.push_back(psi);
+    }
+  }
+  std::sort(az.begin(), az.end());
+  az.erase(std::unique(az.begin(), az.end()), az.end());
+  // Base planes closer than step / 2 to a fine one would only make a sliver of a cell.
+  const std::size_t fine_count = az.size();
+  for (const double psi : base_.azimuth_rad) {
+    const auto it =
+        std::lower_bound(az.begin(), az.begin() + static_cast<std::ptrdiff_t>(fine_count), psi);
+    const bool near =
+        (it != az.begin() + static_cast<std::ptrdiff_t>(fine_count) && *it - psi < 0.5 * step) ||
+        (it != az.begin() && psi - *(it - 1) < 0.5 * step);
+    if (!near || psi == 0.0) az.push_back(psi);
+  }
+  std::sort(az.begin(), az.end());
+  az.erase(std::unique(az.begin(), az.end()), az.end());
+  // Shares: the pattern's integral over each plane's cell, summing to beta_eff.
+  std::vector<double>& w = out.beta_eff_rad;
+  w.assign(az.size(), 0.0);
+  double sum = 0.0;
+  for (std::size_t k = 0; k < az.size(); ++k) {
+    const double lo = k == 0 ? -h : 0.5 * (az[k - 1] + az[k]);
+    const double hi = k + 1 == az.size() ? h : 0.5 * (az[k] + az[k + 1]);
+    w[k] = horizontal_two_way_integral(beam_width_rad_, lo, hi);
+    sum += w[k];
+  }
+  for (double& x : w) x *= beta_eff_rad_ / sum;
+  // The central plane: azimuth 0 (kept above), else the first past it.
+  out.central = static_cast<std::size_t>(std::lower_bound(az.begin(), az.end(), 0.0) - az.begin());
+  if (out.central == az.size()) out.central = az.size() - 1;
+  return true;
 }
 
 std::vector<PingPose> pilot_poses(const Survey& survey, const HeightGrid& seabed,

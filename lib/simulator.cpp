@@ -70,6 +70,8 @@ struct Simulator::Workspace {
   // key then costs one splitmix64 per sample (see ping_sample_keys).
   std::vector<std::uint64_t> sample_hash;
   DetectorScratch detector;
+  AlongTrackPlanes refined;  // the planes of a ping side that sees a small object
+  std::vector<double> refine_scratch;
 };
 
 struct Simulator::Calibration {
@@ -77,6 +79,8 @@ struct Simulator::Calibration {
   Tvg tvg;
   Quantizer quantizer;
   AlongTrackPlanes planes;
+  /// Set when render.quality.small_object_planes is on and the scene has objects.
+  std::unique_ptr<ObjectPlaneRefiner> refiner;
   SensorModel sensor;
 };
 
@@ -205,6 +209,10 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
     along_track_.planes = config_.quality.along_track_planes;
   }
   cal_->planes = make_along_track_planes(s, along_track_.planes, cal_->side.beta_eff_rad);
+  if (config_.quality.small_object_planes && !scene.objects.empty()) {
+    cal_->refiner = std::make_unique<ObjectPlaneRefiner>(scene.objects, s, cal_->planes,
+                                                         cal_->side.beta_eff_rad);
+  }
 }
 
 namespace {
@@ -256,7 +264,7 @@ AlongTrackChoice Simulator::choose_along_track_planes(const std::vector<PingPose
     std::vector<std::vector<double>> e;
     for (const PingPose& pose : pilot) {
       for (const bool starboard : {false, true}) {
-        render_planes(pose, starboard, planes, false, *ws, nullptr);
+        render_planes(pose, starboard, planes, false, false, *ws, nullptr);
         e.push_back(ws->accum);
       }
     }
@@ -312,8 +320,9 @@ Simulator::WorkspacePtr Simulator::make_workspace() const {
 }
 
 Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool starboard,
-                                                 const AlongTrackPlanes& planes, bool truth,
-                                                 Workspace& ws, RenderTimings* timings) const {
+                                                 const AlongTrackPlanes& run_planes, bool refine,
+                                                 bool truth, Workspace& ws,
+                                                 RenderTimings* timings) const {
   const std::size_t n = cal_->side.samples;
   const Eigen::Vector2d fwd(std::sin(pose.heading_rad), std::cos(pose.heading_rad));
   const Eigen::Vector2d stbd(fwd.y(), -fwd.x());
@@ -331,8 +340,17 @@ Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool star
 
   // Clock reads only when timings are requested.
   const auto now = [timings] { return timings != nullptr ? Clock::now() : Clock::time_point{}; };
+  const AlongTrackPlanes& planes =
+      refine && cal_->refiner &&
+              cal_->refiner->refine(geo.nadir_xy_m, across, max_y, ws.refined, ws.refine_scratch)
+          ? ws.refined
+          : run_planes;
   const std::size_t count = planes.size();
-  const std::size_t central = count / 2;
+  const std::size_t central = planes.central;
+  if (timings != nullptr && &planes == &ws.refined) {
+    ++timings->refined_sides;
+    timings->refined_planes += count;
+  }
   // The central plane is rendered last, so its truth is what the echo holds afterwards.
   for (std::size_t idx = 0; idx < count; ++idx) {
     const std::size_t k = (idx + central + 1) % count;
@@ -398,7 +416,7 @@ void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& o
 double Simulator::per_ping_max_scale(const PingPose& pose, Workspace& ws) const {
   double imax = 0.0;
   for (const bool starboard : {false, true}) {
-    render_planes(pose, starboard, cal_->planes, false, ws, nullptr);
+    render_planes(pose, starboard, cal_->planes, true, false, ws, nullptr);
     for (std::size_t i = 0; i < cal_->side.samples; ++i) {
       imax = std::max(imax, ws.accum[i] * ws.tvg_gain[i]);
     }
@@ -412,7 +430,7 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
   const std::size_t n = cal_->side.samples;
   const auto now = [timings] { return timings != nullptr ? Clock::now() : Clock::time_point{}; };
   const SideGeometry geo =
-      render_planes(pose, starboard, cal_->planes, cal_->side.truth, ws, timings);
+      render_planes(pose, starboard, cal_->planes, true, cal_->side.truth, ws, timings);
   if (scale != 1.0) {
     for (std::size_t i = 0; i < n; ++i) ws.accum[i] *= scale;  // K = 1/Imax (output.normalise)
   }

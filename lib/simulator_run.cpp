@@ -119,6 +119,8 @@ RenderTimings Simulator::run_pings(
     sum.profile_s += t.profile_s;
     sum.render_s += t.render_s;
     sum.noise_s += t.noise_s;
+    sum.refined_sides += t.refined_sides;
+    sum.refined_planes += t.refined_planes;
   }
   return sum;
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "simulator_test_util.hpp"
 #include "sonarsynth/along_track_planes.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
@@ -13,50 +14,9 @@
 namespace sonarsynth {
 namespace {
 
-// Scene on a grid of `cell` m spacing over [x0, x0 + size] x [y0, y0 + size], heights from f.
-Scene make_scene(double x0, double y0, double size, double cell,
-                 const std::function<double(double, double)>& f) {
-  Scene scene(GeoFrame(31, true, 500000.0, 5000000.0));
-  const auto n = static_cast<std::size_t>(std::llround(size / cell)) + 1;
-  GridGeometry g{x0, y0 + size, cell, -cell, n, n};
-  std::vector<float> z(g.size());
-  for (std::size_t r = 0; r < n; ++r) {
-    for (std::size_t c = 0; c < n; ++c) {
-      z[r * n + c] = static_cast<float>(
-          f(g.x_of_col(static_cast<double>(c)), g.y_of_row(static_cast<double>(r))));
-    }
-  }
-  scene.bathymetry = HeightGrid(g, std::move(z));
-  scene.material_map = MaterialMap(scene.materials.index_of("sand"));
-  return scene;
-}
-
-// Noise-free, physically plain configuration whose output is the linear intensity itself.
-SimulationConfig plain_config() {
-  SimulationConfig c;
-  c.sonar.max_range_m = 40.0;
-  c.sonar.samples_per_channel = 800;
-  c.physics.absorption = false;
-  c.physics.beam_pattern = false;
-  c.noise.model = NoiseConfig::Model::kNone;
-  c.output.tvg = TvgLaw::none;
-  c.output.gain_db = 0.0;
-  c.output.round_to_integer = false;
-  c.output.max_value = 1e30;
-  c.output.quantity = SampleQuantity::intensity;
-  c.sensor = SensorConfig::none();
-  c.threads = 1;
-  return c;
-}
-
-PingPose pose_at(const Scene& s, Eigen::Vector2d xy, double heading, double altitude) {
-  PingPose p;
-  p.sensor_xy_m = xy;
-  p.heading_rad = heading;
-  p.sensor_z_m = s.bathymetry.height_m(xy.x(), xy.y()) + altitude;
-  p.altitude_m = altitude;
-  return p;
-}
+using test::make_scene;
+using test::plain_config;
+using test::pose_at;
 
 struct CollectSink : PingSink {
   std::vector<RenderedPing> pings;
@@ -291,6 +251,7 @@ TEST(Simulator, AlongTrackPlanesShareTheBeamAndSeeObjectsBetweenPings) {
   Scene scene = make_scene(-60, -60, 120, 0.5, [](double, double) { return -20.0; });
   SimulationConfig cfg = plain_config();
   cfg.sonar.horizontal_beam_width_rad = rad_from_deg(1.0);
+  cfg.quality.small_object_planes = false;  // the planes alone (small_object_planes_test.cpp)
   const PingPose pose = pose_at(scene, {0.0, 0.0}, 0.0, 10.0);  // heading north, stbd = +x
   auto render = [&](const Scene& s, int planes) {
     cfg.quality.along_track_planes = planes;

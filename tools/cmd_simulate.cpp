@@ -41,6 +41,13 @@ void print_summary(const RunResult& r) {
               << r.along_track_tolerance_db << " dB, " << std::setprecision(0) << 1e3 * at.pilot_s
               << " ms)";
   }
+  if (r.timings.refined_sides > 0) {
+    std::cout << "; " << r.timings.refined_sides << " ping sides near small objects with "
+              << std::setprecision(1)
+              << static_cast<double>(r.timings.refined_planes) /
+                     static_cast<double>(r.timings.refined_sides)
+              << " planes on average";
+  }
   std::cout << "\n  estimated before the run: " << r.plan.total_pings << " pings, "
             << std::setprecision(3) << static_cast<double>(r.plan.output_bytes) / 1e9
             << " GB written at most, " << static_cast<double>(r.plan.memory_bytes) / 1e9

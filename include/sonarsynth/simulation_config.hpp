@@ -41,10 +41,16 @@ struct QualityConfig {
   /// gets as many as it needs.
   int along_track_planes = kAutoPlanes;
   double along_track_tolerance_db = 1.0;  ///< auto only, > 0
+  /// Finer planes in the pings that see an object narrower along the track than the planes'
+  /// spacing at its range, so that it appears in every ping whose beam covers it, weighted by
+  /// the horizontal pattern (docs/physics.md §1.3). Off: such an object shows in the pings
+  /// whose planes happen to cross it, at a whole plane's share.
+  bool small_object_planes = true;
   void validate() const;
 
   /// The `--quality` presets, applied over the configured values (docs/scene-format.md):
-  /// "fast" = 1 Gauss point, 8 object segments, 1 along-track plane; "default" changes nothing;
+  /// "fast" = 1 Gauss point, 8 object segments, 1 along-track plane, no small-object planes;
+  /// "default" changes nothing;
   /// "high" = 4 grid subdivisions, 3 Gauss points, automatic along-track planes with a 0.25 dB
   /// tolerance. Returns false (and changes nothing) for any other name.
   bool apply_preset(std::string_view name) {
@@ -52,6 +58,7 @@ struct QualityConfig {
       gauss_points = 1;
       profile.object_segments = 8;
       along_track_planes = 1;
+      small_object_planes = false;
     } else if (name == "high") {
       profile.grid_subdivisions = 4;
       gauss_points = 3;

@@ -49,6 +49,10 @@ struct RenderTimings {
   double profile_s = 0.0;
   double render_s = 0.0;  ///< horizon sweep, clipping, integration
   double noise_s = 0.0;   ///< noise, TVG, quantisation
+  /// Ping sides given finer planes for a small object (render.quality.small_object_planes),
+  /// and the planes rendered on them.
+  std::uint64_t refined_sides = 0;
+  std::uint64_t refined_planes = 0;
 };
 
 /// Renders pings of a survey over a scene. Construction derives the global calibration
@@ -115,12 +119,15 @@ class Simulator {
   void quantise(const Workspace& ws, bool scaled, std::vector<float>& out, std::uint32_t& saturated,
                 std::uint32_t& invalid) const;
   /// Sums the planes' noise-free intensities of one side into ws.accum; the echo is left
-  /// holding the central plane (rendered last, with truth if `truth`).
+  /// holding the central plane (rendered last, with truth if `truth`). With `refine`, a side
+  /// that sees an object narrower than the planes' spacing gets finer planes there
+  /// (ObjectPlaneRefiner, render.quality.small_object_planes).
   struct SideGeometry {
     Eigen::Vector2d nadir_xy_m, central_dir;
   };
-  SideGeometry render_planes(const PingPose& pose, bool starboard, const AlongTrackPlanes& planes,
-                             bool truth, Workspace& ws, RenderTimings* timings) const;
+  SideGeometry render_planes(const PingPose& pose, bool starboard,
+                             const AlongTrackPlanes& run_planes, bool refine, bool truth,
+                             Workspace& ws, RenderTimings* timings) const;
   AlongTrackChoice choose_along_track_planes(const std::vector<PingPose>& pilot) const;
 
   std::shared_ptr<const Scene> scene_;
