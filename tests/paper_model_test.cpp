@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "simulator_test_util.hpp"
 #include "sonarsynth/simulator.hpp"
 
 namespace sonarsynth {
@@ -16,18 +17,7 @@ namespace {
 
 // A plane z = z0 + slope_x x on a `cell` m grid over [x0, x0 + size] x [y0, y0 + size].
 Scene plane_scene(double x0, double y0, double size, double cell, double z0, double slope_x) {
-  Scene scene(GeoFrame(31, true, 500000.0, 5000000.0));
-  const auto n = static_cast<std::size_t>(std::llround(size / cell)) + 1;
-  GridGeometry g{x0, y0 + size, cell, -cell, n, n};
-  std::vector<float> z(g.size());
-  for (std::size_t r = 0; r < n; ++r) {
-    for (std::size_t c = 0; c < n; ++c) {
-      z[r * n + c] = static_cast<float>(z0 + slope_x * g.x_of_col(static_cast<double>(c)));
-    }
-  }
-  scene.bathymetry = HeightGrid(g, std::move(z));
-  scene.material_map = MaterialMap(scene.materials.index_of("sand"));
-  return scene;
+  return test::make_scene(x0, y0, size, cell, [=](double x, double) { return z0 + slope_x * x; });
 }
 
 PingPose pose_at(const Scene& s, double x, double y, double altitude) {
