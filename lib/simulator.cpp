@@ -72,6 +72,10 @@ struct Simulator::Workspace {
   DetectorScratch detector;
   AlongTrackPlanes refined;  // the planes of a ping side that sees a small object
   std::vector<double> refine_scratch;
+  // Refined sides: per sample, the energy of the planes whose contributor is an object, and the
+  // truth of the brightest of them (see render_planes).
+  std::vector<double> object_energy, best_object_energy;
+  SideEcho best_object;
 };
 
 struct Simulator::Calibration {
@@ -351,6 +355,10 @@ Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool star
     ++timings->refined_sides;
     timings->refined_planes += count;
   }
+  // A refined side renders every plane with truth: an object its central plane misses is
+  // labelled where the planes that see it hold most of a sample's energy.
+  const bool object_truth = truth && &planes == &ws.refined;
+  if (object_truth) begin_object_truth(ws);
   // The central plane is rendered last, so its truth is what the echo holds afterwards.
   for (std::size_t idx = 0; idx < count; ++idx) {
     const std::size_t k = (idx + central + 1) % count;
@@ -361,8 +369,9 @@ Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool star
                        config_.quality.profile, ws.profile, ws.scratch);
     const auto t1 = now();
     ws.params.beta_eff_rad = planes.beta_eff_rad[k];
-    ws.params.truth = truth && k == central;
+    ws.params.truth = truth && (k == central || object_truth);
     render_side(ws.profile, ws.params, ws.echo);
+    if (object_truth) collect_object_truth(ws);
     if (timings) {
       timings->profile_s += std::chrono::duration<double>(t1 - t0).count();
       timings->render_s += seconds_since(t1);
@@ -376,7 +385,54 @@ Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool star
     }
     if (k == central) geo.central_dir = dir;
   }
+  if (object_truth) apply_object_truth(ws);
   return geo;
+}
+
+void Simulator::begin_object_truth(Workspace& ws) const {
+  const std::size_t n = cal_->side.samples;
+  ws.object_energy.assign(n, 0.0);
+  ws.best_object_energy.assign(n, 0.0);
+  SideEcho& b = ws.best_object;
+  b.truth_label.assign(n, 0);
+  b.truth_material.assign(n, 0);
+  b.truth_grazing_rad.assign(cal_->side.truth_grazing ? n : 0, 0.0);
+  b.truth_ground_y_m.assign(n, 0.0);
+  b.truth_ground_z_m.assign(n, 0.0);
+}
+
+void Simulator::collect_object_truth(Workspace& ws) const {
+  const SideEcho& e = ws.echo;
+  SideEcho& b = ws.best_object;
+  const bool grazing = !b.truth_grazing_rad.empty();
+  for (std::size_t i = 0; i < e.intensity.size(); ++i) {
+    if (e.truth_class[i] != SampleClass::object) continue;
+    const double v = e.intensity[i];
+    ws.object_energy[i] += v;
+    if (v <= ws.best_object_energy[i]) continue;
+    ws.best_object_energy[i] = v;
+    b.truth_label[i] = e.truth_label[i];
+    b.truth_material[i] = e.truth_material[i];
+    if (grazing) b.truth_grazing_rad[i] = e.truth_grazing_rad[i];
+    b.truth_ground_y_m[i] = e.truth_ground_y_m[i];
+    b.truth_ground_z_m[i] = e.truth_ground_z_m[i];
+  }
+}
+
+void Simulator::apply_object_truth(Workspace& ws) const {
+  SideEcho& e = ws.echo;  // the central plane's truth
+  const SideEcho& b = ws.best_object;
+  const bool grazing = !b.truth_grazing_rad.empty();
+  for (std::size_t i = 0; i < e.truth_class.size(); ++i) {
+    if (e.truth_class[i] == SampleClass::object || !(ws.object_energy[i] > 0.5 * ws.accum[i]))
+      continue;
+    e.truth_class[i] = SampleClass::object;
+    e.truth_label[i] = b.truth_label[i];
+    e.truth_material[i] = b.truth_material[i];
+    if (grazing) e.truth_grazing_rad[i] = b.truth_grazing_rad[i];
+    e.truth_ground_y_m[i] = b.truth_ground_y_m[i];
+    e.truth_ground_z_m[i] = b.truth_ground_z_m[i];
+  }
 }
 
 void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& out,

@@ -129,6 +129,12 @@ class Simulator {
                              const AlongTrackPlanes& run_planes, bool refine, bool truth,
                              Workspace& ws, RenderTimings* timings) const;
   AlongTrackChoice choose_along_track_planes(const std::vector<PingPose>& pilot) const;
+  /// Truth of a refined side: object energy per sample over the planes, the brightest object
+  /// contributor's truth, and the central plane's truth overridden where objects hold more than
+  /// half of the sample's energy.
+  void begin_object_truth(Workspace& ws) const;
+  void collect_object_truth(Workspace& ws) const;
+  void apply_object_truth(Workspace& ws) const;
 
   std::shared_ptr<const Scene> scene_;
   /// Automatic noise keys handed out so far (PingPose::ping_index unset).
