@@ -211,6 +211,19 @@ double UnitGammaTable::tail(std::uint64_t k, std::uint64_t m) const {
   return exact_quantile(1.0 - q, q);
 }
 
+PhaseTable::PhaseTable() {
+  for (std::size_t k = 0; k < kPoints; ++k) {
+    const double phi =
+        6.283185307179586476925 * static_cast<double>(k) / static_cast<double>(kPoints);
+    table_[k] = {std::cos(phi), std::sin(phi)};
+  }
+}
+
+const PhaseTable& PhaseTable::get() {
+  static const PhaseTable table;
+  return table;
+}
+
 const UnitGammaTable& UnitGammaTable::get(double shape) {
   static std::mutex mutex;
   static std::map<double, std::unique_ptr<UnitGammaTable>> cache;

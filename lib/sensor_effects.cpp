@@ -8,6 +8,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
+#include "sonarsynth/noise.hpp"
 #include "sonarsynth/render_math.hpp"
 
 namespace sonarsynth {
@@ -39,10 +40,10 @@ constexpr double kWeightStep[4] = {3.0802168489180310, 0.32465246735834974, 0.03
                                    0.0036065631360157305};
 // Salt of the along-track scatterer lattice.
 constexpr std::uint64_t kFieldSalt = 0xa10e7a0c5ca77e45ULL;
-// Key offset of look j >= 1.
-std::uint64_t look_key(std::uint64_t key, int j) {
-  return hash_combine(key, 0x100000000ULL + static_cast<std::uint64_t>(j));
-}
+// Salt of the seeds of look j >= 1.
+constexpr std::uint64_t kLookSalt = 0x100000000ULL;
+// Stream of the texture's Marsaglia–Tsang fallback beyond the tables (as in noise.cpp).
+constexpr std::uint64_t kStreamTexture = 1u << 20;
 
 // Across-track distance y (at depth h below the sensor) where the two-way main lobe, followed
 // from the axis towards nadir, first falls to `floor`; NaN if it does not before nadir.
@@ -196,86 +197,147 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double 
   }
 }
 
+void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t samples) {
+  if (spacing_m == sample_spacing_m && beam_rad == beam_3db_rad && sw.size() == samples) return;
+  sample_spacing_m = spacing_m;
+  beam_3db_rad = beam_rad;
+  sw.resize(samples);
+  inv_step.resize(samples);
+  const double inv_sqrt_8ln2 = 1.0 / std::sqrt(8.0 * std::log(2.0));
+  for (std::size_t i = 0; i < samples; ++i) {
+    const double r = (static_cast<double>(i) + 0.5) * spacing_m;
+    sw[i] = r * beam_rad * inv_sqrt_8ln2;
+    inv_step[i] = 1.0 / (kLatticeStep * sw[i]);
+  }
+}
+
 void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
                          std::vector<double>& out) {
+  AlongTrackTable table;
+  along_track_speckle(f, samples, look, table, out);
+}
+
+void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
+                         AlongTrackTable& table, std::vector<double>& out) {
   out.resize(samples);
+  table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples);
   const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
-  const double inv_sqrt_8ln2 = 1.0 / std::sqrt(8.0 * std::log(2.0));
+  const PhaseTable& phase = PhaseTable::get();
   const std::uint64_t base = hash_combine(hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key),
                                           static_cast<std::uint64_t>(look));
+  const double* sw = table.sw.data();
+  const double* inv_step = table.inv_step.data();
   for (std::size_t i = 0; i < samples; ++i) {
-    const double r = (static_cast<double>(i) + 0.5) * f.sample_spacing_m;
-    const double sw = r * f.beam_3db_rad * inv_sqrt_8ln2;
+    // u = along-track position in lattice steps of 1.5 sw (sw = r theta / sqrt(8 ln 2)).
+    const double u = f.along_track_m * inv_step[i];
     // Below the first return, and where consecutive pings are more than 2.5 footprints
-    // (r beta_eff = 1.77 sw) apart (correlation < 1e-4), the speckle is drawn independently.
-    const double u = f.along_track_m / (kLatticeStep * sw);
-    // (and where the lattice index would not fit an integer: a degenerate beam or position)
-    if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw || !(std::abs(u) < 1e15)) {
+    // (r beta_eff = 1.77 sw) apart (correlation < 1e-4), the speckle is drawn independently
+    // (and where the lattice index would not fit an integer: a degenerate beam or position).
+    if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw[i] || !(std::abs(u) < 1e15)) {
       out[i] = std::numeric_limits<double>::quiet_NaN();
       continue;
     }
     // Lattice step 1.5 sw: the lattice sum reproduces the continuous one to ~1e-4 (Poisson
     // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5.
-    const double m0 = std::floor(u);
-    const double frac = u - m0;
-    const auto first = static_cast<std::int64_t>(m0) - 1;
-    const std::uint64_t cell = hash_combine(base, static_cast<std::uint64_t>(i));
+    auto m0 = static_cast<std::int64_t>(u);  // floor(u), |u| < 1e15
+    if (static_cast<double>(m0) > u) --m0;
+    const double frac = u - static_cast<double>(m0);
+    const std::uint64_t first = static_cast<std::uint64_t>(m0 - 1);
+    const std::uint64_t cell = splitmix_stream(base, static_cast<std::uint64_t>(i));
     // w_k = exp(-1.125 (k - 1 - frac)^2), by w_{k+1} = w_k e^(2.25 frac) e^-(2.25 (k - 1) + 1.125).
-    double re = 0.0, im = 0.0, w2 = 0.0;
-    double w = render_math::exp_table(-1.125 * (1.0 + frac) * (1.0 + frac));
     const double ef = render_math::exp_table(2.25 * frac);
+    double w[4];
+    w[0] = render_math::exp_table(-1.125 * (1.0 + frac) * (1.0 + frac));
+    for (int k = 1; k < 4; ++k) w[k] = w[k - 1] * ef * kWeightStep[k - 1];
+    // Scatterer k: a circular complex Gaussian of unit power, sqrt(E) e^(i phi) with E ~ Exp(1)
+    // from the high half of its keyed word and phi from the low half.
+    double e[4];
+    Phasor ph[4];
     for (int k = 0; k < 4; ++k) {
-      const std::uint64_t h = splitmix_stream(cell, static_cast<std::uint64_t>(first + k));
-      const double amp = w * std::sqrt(exp1(high32_midpoint(h)));
-      // Phase 2 pi z, z uniform in [-1/2, 1/2): from sin(pi z) (|pi z| <= pi/2).
-      const double sh = sin_taylor_half_period(3.14159265358979323846 *
-                                               (uniform_from_bits(high32_midpoint(h << 32)) - 0.5));
-      const double ch = std::sqrt(std::max(0.0, 1.0 - sh * sh));
-      re += amp * (1.0 - 2.0 * sh * sh);
-      im += amp * (2.0 * sh * ch);
-      w2 += w * w;
-      w *= ef * kWeightStep[k];
+      const std::uint64_t h = splitmix_stream(cell, first + static_cast<std::uint64_t>(k));
+      e[k] = exp1(high32_midpoint(h));
+      ph[k] = phase(h << 32);
+    }
+    double re = 0.0, im = 0.0, w2 = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      const double amp = w[k] * std::sqrt(e[k]);
+      re += amp * ph[k].c;
+      im += amp * ph[k].s;
+      w2 += w[k] * w[k];
     }
     out[i] = (re * re + im * im) / w2;
   }
 }
 
-void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
-                    std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
-                    std::span<const double> texture_nu, std::span<const double> out_gain,
-                    const AlongTrackField* field, DetectorScratch& s, std::span<double> io) {
+namespace {
+
+// Seed of the keyed words of look j: look 0 uses `seed` itself (what apply_speckle_noise
+// draws), look j > 0 a seed of its own.
+std::uint64_t look_seed(std::uint64_t seed, int j) {
+  return j == 0 ? seed : splitmix64(seed ^ (kLookSalt + static_cast<std::uint64_t>(j)));
+}
+
+// The texture per sample, T (unit-mean Gamma(nu)), times the mean intensity: keyed by the
+// sample's key as apply_speckle_noise keys it (runs of equal (key, nu) share one draw).
+void textured_mean(const SpeckleNoise& speckle, std::span<const std::uint64_t> keys,
+                   std::span<const double> texture_nu, std::span<const double> io,
+                   std::span<double> base) {
+  const std::uint64_t seed_s = speckle_seed(speckle.seed);
+  const UnitGammaTable* table = nullptr;
+  double table_nu = 0.0, t = 1.0, last_nu = 0.0;
+  std::uint64_t last_key = 0;
+  bool have_last = false;
+  for (std::size_t i = 0; i < io.size(); ++i) {
+    const double nu = texture_nu.empty() ? 0.0 : texture_nu[i];
+    if (!(io[i] > 0.0) || !(nu > 0.0)) {
+      base[i] = io[i];
+      continue;
+    }
+    if (!have_last || keys[i] != last_key || nu != last_nu) {
+      if (table == nullptr || nu != table_nu) {
+        table = nu <= UnitGammaTable::kMaxShape ? &UnitGammaTable::get(nu) : nullptr;
+        table_nu = nu;
+      }
+      const std::uint64_t hk = splitmix_stream(seed_s, keys[i]);
+      t = table != nullptr ? (*table)(high32_midpoint(hk << 32))
+                           : keyed_gamma(nu, speckle.seed, keys[i], kStreamTexture) / nu;
+      have_last = true;
+      last_key = keys[i];
+      last_nu = nu;
+    }
+    base[i] = io[i] * t;
+  }
+}
+
+// The reference path (SpeckleSampler::exact): apply_speckle_noise per look with look-keyed keys.
+void detect_speckle_exact(const SensorModel& m, const SpeckleNoise& speckle,
+                          std::span<const std::uint64_t> keys,
+                          std::span<const std::uint64_t> noise_keys,
+                          std::span<const double> texture_nu, std::span<const double> out_gain,
+                          const AlongTrackField* field, DetectorScratch& s, std::span<double> io) {
   const std::size_t n = io.size();
   const int looks = std::max(1, m.sub_samples);
+  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
   s.combined.assign(n, 0.0);
   s.sub.resize(n);
-  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
-  const std::uint64_t floor_seed = splitmix64(speckle.seed ^ kFloorStream);
+  s.keys.resize(n);
+  s.noise_keys.resize(n);
   for (int j = 0; j < looks; ++j) {
     std::copy(io.begin(), io.end(), s.sub.begin());
-    std::span<const std::uint64_t> kj = keys, nkj = noise_keys;
-    if (field != nullptr) along_track_speckle(*field, n, j, s.field);
-    if (j > 0) {
-      // Fresh receiver noise per look. The keys key the speckle (and the texture) where it is
-      // drawn here; where the along-track field gives the speckle they key the texture only,
-      // which the looks of one sample share (it is the seabed patch's).
-      s.noise_keys.resize(n);
-      s.keys.resize(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        s.noise_keys[i] = look_key(noise_keys[i], j);
-        s.keys[i] = field != nullptr && !std::isnan(s.field[i]) ? keys[i] : look_key(keys[i], j);
-      }
-      nkj = s.noise_keys;
-      kj = s.keys;
+    if (field != nullptr) along_track_speckle(*field, n, j, s.along_track, s.field);
+    const std::uint64_t ks = look_seed(0, j);
+    for (std::size_t i = 0; i < n; ++i) {
+      s.keys[i] = j == 0 ? keys[i] : splitmix_stream(ks, keys[i]);
+      s.noise_keys[i] = j == 0 ? noise_keys[i] : splitmix_stream(ks, noise_keys[i]);
     }
-    if (field != nullptr) {
-      apply_speckle_noise(speckle, kj, nkj, texture_nu, s.field, s.sub);
-    } else {
-      apply_speckle_noise(speckle, kj, nkj, texture_nu, s.sub);
-    }
+    apply_speckle_noise(
+        speckle, s.keys, s.noise_keys, texture_nu,
+        field != nullptr ? std::span<const double>(s.field) : std::span<const double>{}, s.sub);
+    const std::uint64_t fs = look_seed(splitmix64(speckle.seed ^ kFloorStream), j);
     for (std::size_t i = 0; i < n; ++i) {
       double p = s.sub[i] * out_gain[i];
       if (m.floor_power > 0.0) {
-        p += m.floor_power * exp1(high32_midpoint(splitmix_stream(floor_seed, nkj[i])));
+        p += m.floor_power * exp1(high32_midpoint(splitmix_stream(fs, noise_keys[i])));
       }
       if (looks == 1) {
         s.combined[i] = p;
@@ -287,6 +349,81 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
     }
   }
   if (looks > 1 && m.detector == DetectorMode::mean) {
+    const double inv = 1.0 / static_cast<double>(looks);
+    for (std::size_t i = 0; i < n; ++i) io[i] = (s.combined[i] * inv) * (s.combined[i] * inv);
+  } else {
+    std::copy(s.combined.begin(), s.combined.end(), io.begin());
+  }
+}
+
+}  // namespace
+
+void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
+                    std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
+                    std::span<const double> texture_nu, std::span<const double> out_gain,
+                    const AlongTrackField* field, DetectorScratch& s, std::span<double> io) {
+  const std::size_t n = io.size();
+  check_speckle_inputs(speckle, n, keys, noise_keys, texture_nu, {});
+  if (out_gain.size() != n) {
+    throw InputError("detect_speckle: out_gain.size() = " + std::to_string(out_gain.size()) +
+                     ". Violated constraint: size == io.size() = " + std::to_string(n));
+  }
+  if (speckle.sampler == SpeckleSampler::exact) {
+    detect_speckle_exact(m, speckle, keys, noise_keys, texture_nu, out_gain, field, s, io);
+    return;
+  }
+  // One pass per look over the samples (no copies, no per-look key arrays): the keyed words of
+  // look j come from seeds of its own (look_seed), the texture is drawn once for all looks.
+  const int looks = std::max(1, m.sub_samples);
+  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
+  const PhaseTable& phase = PhaseTable::get();
+  const double n_power = speckle.thermal_noise_power;
+  const double floor_power = m.floor_power;
+  const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
+  s.base.resize(n);
+  textured_mean(speckle, keys, texture_nu, io, s.base);
+  s.combined.resize(n);
+  for (int j = 0; j < looks; ++j) {
+    if (field != nullptr) along_track_speckle(*field, n, j, s.along_track, s.field);
+    const double* f = field != nullptr ? s.field.data() : nullptr;
+    const std::uint64_t seed_s = look_seed(speckle_seed(speckle.seed), j);
+    const std::uint64_t seed_n = look_seed(thermal_seed(speckle.seed), j);
+    const std::uint64_t seed_f = look_seed(splitmix64(speckle.seed ^ kFloorStream), j);
+    // Frozen speckle E_s of the last key (runs of samples in one seabed cell share it).
+    std::uint64_t last_key = 0;
+    double last_es = 0.0;
+    bool have_last = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      double a = s.base[i];
+      if (a > 0.0) {
+        if (f != nullptr && !std::isnan(f[i])) {
+          a *= f[i];
+        } else {
+          if (!have_last || keys[i] != last_key) {
+            last_es = exp1(high32_midpoint(splitmix_stream(seed_s, keys[i])));
+            last_key = keys[i];
+            have_last = true;
+          }
+          a *= last_es;
+        }
+      }
+      if (n_power > 0.0) {
+        a = add_thermal_noise(a, n_power, splitmix_stream(seed_n, noise_keys[i]), exp1, phase);
+      }
+      double p = a * out_gain[i];
+      if (floor_power > 0.0) {
+        p += floor_power * exp1(high32_midpoint(splitmix_stream(seed_f, noise_keys[i])));
+      }
+      if (j == 0) {
+        s.combined[i] = max_detector ? p : std::sqrt(p);
+      } else if (max_detector) {
+        s.combined[i] = std::max(s.combined[i], p);
+      } else {
+        s.combined[i] += std::sqrt(p);
+      }
+    }
+  }
+  if (!max_detector) {
     const double inv = 1.0 / static_cast<double>(looks);
     for (std::size_t i = 0; i < n; ++i) io[i] = (s.combined[i] * inv) * (s.combined[i] * inv);
   } else {

@@ -95,6 +95,28 @@ inline double cos_uniform_phase_from_bits(std::uint64_t bits) {
   return sin_taylor_half_period(3.14159265358979323846 * z);
 }
 
+/// cos and sin of a uniform phase from 64 random bits by a table of kPoints equally spaced
+/// phases 2 pi k / kPoints, k from the top kBits bits: a discrete uniform phase, whose circular
+/// moments E[e^(i m phi)] vanish for 0 < |m| < kPoints exactly as those of the continuous one,
+/// so a complex amplitude A e^(i phi) with it has the same moments E[z^p conj(z)^q] for
+/// |p - q| < kPoints (tests/noise_test.cpp). One load instead of a polynomial.
+struct Phasor {
+  double c;
+  double s;
+};
+class PhaseTable {
+ public:
+  static constexpr unsigned kBits = 10;
+  static constexpr std::size_t kPoints = std::size_t{1} << kBits;
+  /// The process-wide table (built on first use, thread-safe).
+  static const PhaseTable& get();
+  Phasor operator()(std::uint64_t bits) const { return table_[bits >> (64 - kBits)]; }
+
+ private:
+  PhaseTable();
+  Phasor table_[kPoints];
+};
+
 /// Gamma(shape, scale = 1) by Marsaglia & Tsang, "A simple method for generating gamma
 /// variables", ACM TOMS 26(3):363-372, 2000; for shape < 1 the boost Gamma(shape + 1) * U^(1/shape)
 /// from the same paper. Keyed: uses streams stream, stream + 1, ... (at most 4 per attempt).

@@ -62,23 +62,36 @@ struct AlongTrackField {
   std::size_t first_sample = 0;  ///< the first bottom return's sample
   double ping_spacing_m = 0.0;   ///< distance between consecutive pings; 0 = unknown
 };
+/// Per-run factors of along_track_speckle that depend on the sample index only (the lattice
+/// step and footprint per range), rebuilt when the spacing, beam or sample count change.
+struct AlongTrackTable {
+  double sample_spacing_m = 0.0, beam_3db_rad = 0.0;
+  std::vector<double> sw;        ///< r theta / sqrt(8 ln 2) per sample
+  std::vector<double> inv_step;  ///< 1 / (lattice step) per sample
+  void prepare(double sample_spacing_m, double beam_3db_rad, std::size_t samples);
+};
+
 /// Unit-mean speckle power per sample of look `look` into `out` (resized to `samples`).
+void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
+                         AlongTrackTable& table, std::vector<double>& out);
 void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
                          std::vector<double>& out);
 
 /// Reusable buffers of detect_speckle (one per thread).
 struct DetectorScratch {
-  std::vector<double> sub, combined, field;
+  std::vector<double> sub, combined, field, base;
   std::vector<std::uint64_t> keys, noise_keys;
+  AlongTrackTable along_track;
 };
 
 /// Speckle, receiver noise and detection: `io` holds the mean intensity before TVG on entry and
-/// the detected output power on return. Per sub-sample j < m.sub_samples: apply_speckle_noise with
-/// the keys of look j (look 0 uses `keys` and `noise_keys` themselves), times out_gain, plus
-/// exponential receiver noise of mean m.floor_power keyed by (noise_keys, j); the looks are
-/// combined by the detector on the envelope (max, or the square of the mean envelope).
-/// With `field`, the frozen speckle of each look is along_track_speckle (keys then key the
-/// texture only).
+/// the detected output power on return. Per sub-sample j < m.sub_samples: the speckle of
+/// apply_speckle_noise with the keyed words of look j, times out_gain, plus exponential receiver
+/// noise of mean m.floor_power keyed by (noise_keys, j); the looks are combined by the detector
+/// on the envelope (max, or the square of the mean envelope). Look 0 draws exactly what
+/// apply_speckle_noise draws for `keys` and `noise_keys`; look j > 0 the same with seeds of its
+/// own. The texture (keyed by `keys`) is the seabed patch's: all looks share it. With `field`,
+/// the frozen speckle of each look is along_track_speckle where it is not NaN.
 void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
                     std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
                     std::span<const double> texture_nu, std::span<const double> out_gain,
