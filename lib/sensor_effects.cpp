@@ -9,7 +9,6 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/noise.hpp"
-#include "sonarsynth/render_math.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -33,11 +32,8 @@ constexpr double kGw[4] = {0.5 * 0.34785484513745385737, 0.5 * 0.652145154862546
 
 // Stream of the receiver noise of look j (distinct from the speckle and thermal streams).
 constexpr std::uint64_t kFloorStream = 0x5e15e0f1001ULL;
-// Lattice step of along_track_speckle in units of the weight's standard deviation, and the
-// weight recurrence factors e^-(2.25 (k - 1) + 1.125), k = 0 .. 3.
+// Lattice step of along_track_speckle in units of the weight's standard deviation.
 constexpr double kLatticeStep = 1.5;
-constexpr double kWeightStep[4] = {3.0802168489180310, 0.32465246735834974, 0.034218118311666060,
-                                   0.0036065631360157305};
 // Salt of the along-track scatterer lattice.
 constexpr std::uint64_t kFieldSalt = 0xa10e7a0c5ca77e45ULL;
 // Salt of the seeds of look j >= 1.
@@ -197,6 +193,46 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double 
   }
 }
 
+namespace {
+
+// The lattice weights w_k(frac) = exp(-1.125 (k - 1 - frac)^2), k = 0 .. 3, of along_track_speckle
+// (the two-way amplitude pattern at the scatterers around the ping, frac in [0, 1) the ping's
+// position between lattice points), tabulated at frac = j / kSteps and interpolated linearly:
+// |w''| <= 2.25, so the error is below 2.25 / (8 kSteps^2) = 4.3e-6 (the sample is normalised by
+// the interpolated sum of w^2, so its mean stays exactly 1).
+class LatticeWeights {
+ public:
+  static constexpr int kSteps = 256;
+  static const LatticeWeights& get() {
+    static const LatticeWeights table;
+    return table;
+  }
+  // The four weights at `frac`.
+  void at(double frac, double w[4]) const {
+    const double x = frac * kSteps;
+    auto j = static_cast<int>(x);
+    j = j < 0 ? 0 : (j >= kSteps ? kSteps - 1 : j);
+    const double t = x - j;
+    const double* a = w_[j];
+    const double* b = w_[j + 1];
+    for (int k = 0; k < 4; ++k) w[k] = a[k] + t * (b[k] - a[k]);
+  }
+
+ private:
+  LatticeWeights() {
+    for (int j = 0; j <= kSteps; ++j) {
+      const double frac = static_cast<double>(j) / kSteps;
+      for (int k = 0; k < 4; ++k) {
+        const double d = k - 1 - frac;
+        w_[j][k] = std::exp(-1.125 * d * d);
+      }
+    }
+  }
+  double w_[kSteps + 1][4];
+};
+
+}  // namespace
+
 void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t samples) {
   if (spacing_m == sample_spacing_m && beam_rad == beam_3db_rad && sw.size() == samples) return;
   sample_spacing_m = spacing_m;
@@ -225,6 +261,7 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
   const PhaseTable& phase = PhaseTable::get();
   const std::uint64_t base = hash_combine(hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key),
                                           static_cast<std::uint64_t>(look));
+  const LatticeWeights& weights = LatticeWeights::get();
   const double* sw = table.sw.data();
   const double* inv_step = table.inv_step.data();
   for (std::size_t i = 0; i < samples; ++i) {
@@ -242,21 +279,25 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
     auto m0 = static_cast<std::int64_t>(u);  // floor(u), |u| < 1e15
     if (static_cast<double>(m0) > u) --m0;
     const double frac = u - static_cast<double>(m0);
-    const std::uint64_t first = static_cast<std::uint64_t>(m0 - 1);
-    const std::uint64_t cell = splitmix_stream(base, static_cast<std::uint64_t>(i));
-    // w_k = exp(-1.125 (k - 1 - frac)^2), by w_{k+1} = w_k e^(2.25 frac) e^-(2.25 (k - 1) + 1.125).
-    const double ef = render_math::exp_table(2.25 * frac);
     double w[4];
-    w[0] = render_math::exp_table(-1.125 * (1.0 + frac) * (1.0 + frac));
-    for (int k = 1; k < 4; ++k) w[k] = w[k - 1] * ef * kWeightStep[k - 1];
-    // Scatterer k: a circular complex Gaussian of unit power, sqrt(E) e^(i phi) with E ~ Exp(1)
-    // from the high half of its keyed word and phi from the low half.
+    weights.at(frac, w);
+    // Scatterer m (lattice index m0 - 1 + k): a circular complex Gaussian of unit power,
+    // sqrt(E) e^(i phi), E ~ Exp(1) and phi from one half of the keyed word of the pair m >> 1
+    // (high22_midpoint). Two or three words per sample.
+    const std::uint64_t cell = splitmix_stream(base, static_cast<std::uint64_t>(i));
+    const std::int64_t first = m0 - 1;
+    std::uint64_t h[3];
+    for (int q = 0; q < 3; ++q) {
+      h[q] = splitmix_stream(cell, static_cast<std::uint64_t>((first >> 1) + q));
+    }
+    const int odd = static_cast<int>(first & 1);
     double e[4];
     Phasor ph[4];
     for (int k = 0; k < 4; ++k) {
-      const std::uint64_t h = splitmix_stream(cell, first + static_cast<std::uint64_t>(k));
-      e[k] = exp1(high32_midpoint(h));
-      ph[k] = phase(h << 32);
+      const int j = k + odd;  // index into the pairs from (first >> 1) * 2
+      const std::uint64_t word = h[j >> 1] << (32 * (j & 1));  // this scatterer's half on top
+      e[k] = exp1(high22_midpoint(word));
+      ph[k] = phase(word << 22);
     }
     double re = 0.0, im = 0.0, w2 = 0.0;
     for (int k = 0; k < 4; ++k) {
@@ -388,7 +429,6 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
     const double* f = field != nullptr ? s.field.data() : nullptr;
     const std::uint64_t seed_s = look_seed(speckle_seed(speckle.seed), j);
     const std::uint64_t seed_n = look_seed(thermal_seed(speckle.seed), j);
-    const std::uint64_t seed_f = look_seed(splitmix64(speckle.seed ^ kFloorStream), j);
     // Frozen speckle E_s of the last key (runs of samples in one seabed cell share it).
     std::uint64_t last_key = 0;
     double last_es = 0.0;
@@ -407,13 +447,12 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
           a *= last_es;
         }
       }
-      if (n_power > 0.0) {
-        a = add_thermal_noise(a, n_power, splitmix_stream(seed_n, noise_keys[i]), exp1, phase);
-      }
+      // One keyed word per sample and look: its high half the thermal noise, its low half the
+      // receiver noise.
+      const std::uint64_t hn = splitmix_stream(seed_n, noise_keys[i]);
+      if (n_power > 0.0) a = add_thermal_noise(a, n_power, hn, exp1, phase);
       double p = a * out_gain[i];
-      if (floor_power > 0.0) {
-        p += floor_power * exp1(high32_midpoint(splitmix_stream(seed_f, noise_keys[i])));
-      }
+      if (floor_power > 0.0) p += floor_power * exp1(high32_midpoint(hn << 32));
       if (j == 0) {
         s.combined[i] = max_detector ? p : std::sqrt(p);
       } else if (max_detector) {
