@@ -257,11 +257,11 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
                          AlongTrackTable& table, std::vector<double>& out) {
   out.resize(samples);
   table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples);
-  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
   const PhaseTable& phase = PhaseTable::get();
   const std::uint64_t base = hash_combine(hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key),
                                           static_cast<std::uint64_t>(look));
   const LatticeWeights& weights = LatticeWeights::get();
+  const RayleighTable& rayleigh = RayleighTable::get();
   const double* sw = table.sw.data();
   const double* inv_step = table.inv_step.data();
   for (std::size_t i = 0; i < samples; ++i) {
@@ -282,8 +282,8 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
     double w[4];
     weights.at(frac, w);
     // Scatterer m (lattice index m0 - 1 + k): a circular complex Gaussian of unit power,
-    // sqrt(E) e^(i phi), E ~ Exp(1) and phi from one half of the keyed word of the pair m >> 1
-    // (high22_midpoint). Two or three words per sample.
+    // R e^(i phi), R Rayleigh (RayleighTable, 22 bits) and phi (PhaseTable, 10 bits) from one
+    // half of the keyed word of the pair m >> 1. Two or three words per sample.
     const std::uint64_t cell = splitmix_stream(base, static_cast<std::uint64_t>(i));
     const std::int64_t first = m0 - 1;
     std::uint64_t h[3];
@@ -291,19 +291,14 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
       h[q] = splitmix_stream(cell, static_cast<std::uint64_t>((first >> 1) + q));
     }
     const int odd = static_cast<int>(first & 1);
-    double e[4];
-    Phasor ph[4];
-    for (int k = 0; k < 4; ++k) {
-      const int j = k + odd;  // index into the pairs from (first >> 1) * 2
-      const std::uint64_t word = h[j >> 1] << (32 * (j & 1));  // this scatterer's half on top
-      e[k] = exp1(high22_midpoint(word));
-      ph[k] = phase(word << 22);
-    }
     double re = 0.0, im = 0.0, w2 = 0.0;
     for (int k = 0; k < 4; ++k) {
-      const double amp = w[k] * std::sqrt(e[k]);
-      re += amp * ph[k].c;
-      im += amp * ph[k].s;
+      const int j = k + odd;  // the scatterer's half among the words: word j / 2, half j % 2
+      const std::uint64_t word = h[j >> 1] << (32 * (j & 1));  // this scatterer's half on top
+      const double amp = w[k] * rayleigh(word);
+      const Phasor ph = phase(word << 22);
+      re += amp * ph.c;
+      im += amp * ph.s;
       w2 += w[k] * w[k];
     }
     out[i] = (re * re + im * im) / w2;
