@@ -135,24 +135,43 @@ SensorModel SensorModel::make(const SimulationConfig& config, double seabed_powe
   return m;
 }
 
-void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double altitude_m,
-                           double axis_depression_rad, std::span<const double> out_gain,
-                           std::span<double> mean) {
-  const std::size_t n = mean.size();
+SensorMeanTables::SensorMeanTables(const SensorModel& m, const SideParams& side,
+                                   std::span<const double> out_gain) {
+  const std::size_t n = out_gain.size();
   const double dr = side.sample_spacing_m;
-  const bool have_altitude = std::isfinite(altitude_m) && altitude_m > 0.0;
   if (m.volume_power > 0.0) {
     // After the spherical TVG, volume reverberation (r^-2 before it) grows as r.
     const double per_m = m.volume_power / m.reference_altitude_m;
+    volume.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      mean[i] += per_m * (static_cast<double>(i) + 0.5) * dr / out_gain[i];
+      volume[i] = per_m * (static_cast<double>(i) + 0.5) * dr / out_gain[i];
     }
   }
+  if (m.fill_power > 0.0) {
+    fill.resize(n);
+    for (std::size_t i = 0; i < n; ++i) fill[i] = m.fill_power / out_gain[i];
+  }
+}
+
+void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double altitude_m,
+                           double axis_depression_rad, std::span<const double> out_gain,
+                           std::span<double> mean) {
+  add_sensor_mean_terms(m, side, SensorMeanTables(m, side, out_gain), altitude_m,
+                        axis_depression_rad, mean);
+}
+
+void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
+                           const SensorMeanTables& tables, double altitude_m,
+                           double axis_depression_rad, std::span<double> mean) {
+  const std::size_t n = mean.size();
+  const double dr = side.sample_spacing_m;
+  const bool have_altitude = std::isfinite(altitude_m) && altitude_m > 0.0;
+  const std::size_t nv = std::min(n, tables.volume.size());
+  for (std::size_t i = 0; i < nv; ++i) mean[i] += tables.volume[i];
   if (!have_altitude) return;
   const auto first = static_cast<std::size_t>(std::floor(altitude_m / dr));
-  if (m.fill_power > 0.0) {
-    for (std::size_t i = first; i < n; ++i) mean[i] += m.fill_power / out_gain[i];
-  }
+  const std::size_t nf = std::min(n, tables.fill.size());
+  for (std::size_t i = first; i < nf; ++i) mean[i] += tables.fill[i];
   if (m.first_return_rho > 0.0) {
     const double h = altitude_m, h2 = h * h;
     const double kappa = 2.0 * side.absorption_db_per_m * std::log(10.0) / 10.0;

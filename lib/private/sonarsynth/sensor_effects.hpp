@@ -48,6 +48,18 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double 
                            double axis_depression_rad, std::span<const double> out_gain,
                            std::span<double> mean);
 
+/// The range-only factors of add_sensor_mean_terms, once per run: volume reverberation and
+/// shadow fill per sample, already divided by out_gain (empty when off).
+struct SensorMeanTables {
+  std::vector<double> volume, fill;
+  SensorMeanTables() = default;
+  SensorMeanTables(const SensorModel& m, const SideParams& side, std::span<const double> out_gain);
+};
+/// The same with the tables (identical values): no division per sample and ping.
+void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
+                           const SensorMeanTables& tables, double altitude_m,
+                           double axis_depression_rad, std::span<double> mean);
+
 /// The speckle field of one side of one ping from scatterers frozen per range cell along the
 /// track (docs/physics.md §1.6): sample i (range r = (i + 1/2) dr) sums the complex scatterers
 /// of the lattice m sw (sw = r theta / sqrt(8 ln 2), theta the one-way -3 dB horizontal beam),
