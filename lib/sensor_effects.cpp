@@ -274,13 +274,31 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
 
 void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
                          AlongTrackTable& table, std::vector<double>& out) {
-  out.resize(samples);
+  along_track_speckle_looks(f, samples, look, 1, table, out);
+}
+
+void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, int first_look,
+                               int looks, AlongTrackTable& table, std::vector<double>& out) {
+  const auto nl = static_cast<std::size_t>(std::max(0, looks));
+  out.resize(samples * nl);
   table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples);
   const PhaseTable& phase = PhaseTable::get();
-  const std::uint64_t base = hash_combine(hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key),
-                                          static_cast<std::uint64_t>(look));
   const LatticeWeights& weights = LatticeWeights::get();
   const RayleighTable& rayleigh = RayleighTable::get();
+  constexpr std::size_t kMaxLooks = 16;
+  std::uint64_t base[kMaxLooks];
+  const std::uint64_t line = hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key);
+  for (std::size_t j = 0; j < std::min(nl, kMaxLooks); ++j) {
+    base[j] = hash_combine(line, static_cast<std::uint64_t>(first_look) + j);
+  }
+  if (nl > kMaxLooks) {  // (more looks than any detector uses: one look at a time)
+    for (std::size_t j = 0; j < nl; ++j) {
+      std::vector<double> one;
+      along_track_speckle_looks(f, samples, first_look + static_cast<int>(j), 1, table, one);
+      std::copy(one.begin(), one.end(), out.begin() + static_cast<std::ptrdiff_t>(j * samples));
+    }
+    return;
+  }
   const double* sw = table.sw.data();
   const double* inv_step = table.inv_step.data();
   for (std::size_t i = 0; i < samples; ++i) {
@@ -290,37 +308,44 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
     // (r beta_eff = 1.77 sw) apart (correlation < 1e-4), the speckle is drawn independently
     // (and where the lattice index would not fit an integer: a degenerate beam or position).
     if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw[i] || !(std::abs(u) < 1e15)) {
-      out[i] = std::numeric_limits<double>::quiet_NaN();
+      for (std::size_t j = 0; j < nl; ++j) {
+        out[j * samples + i] = std::numeric_limits<double>::quiet_NaN();
+      }
       continue;
     }
     // Lattice step 1.5 sw: the lattice sum reproduces the continuous one to ~1e-4 (Poisson
-    // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5.
+    // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5. The
+    // lattice position and weights are the same for every look.
     auto m0 = static_cast<std::int64_t>(u);  // floor(u), |u| < 1e15
     if (static_cast<double>(m0) > u) --m0;
     const double frac = u - static_cast<double>(m0);
     double w[4];
     weights.at(frac, w);
-    // Scatterer m (lattice index m0 - 1 + k): a circular complex Gaussian of unit power,
-    // R e^(i phi), R Rayleigh (RayleighTable, 22 bits) and phi (PhaseTable, 10 bits) from one
-    // half of the keyed word of the pair m >> 1. Two or three words per sample.
-    const std::uint64_t cell = splitmix_stream(base, static_cast<std::uint64_t>(i));
+    const double inv_w2 = 1.0 / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3]);
     const std::int64_t first = m0 - 1;
-    std::uint64_t h[3];
-    for (int q = 0; q < 3; ++q) {
-      h[q] = splitmix_stream(cell, static_cast<std::uint64_t>((first >> 1) + q));
-    }
+    const auto pair0 = static_cast<std::uint64_t>(first >> 1);
     const int odd = static_cast<int>(first & 1);
-    double re = 0.0, im = 0.0, w2 = 0.0;
-    for (int k = 0; k < 4; ++k) {
-      const int j = k + odd;  // the scatterer's half among the words: word j / 2, half j % 2
-      const std::uint64_t word = h[j >> 1] << (32 * (j & 1));  // this scatterer's half on top
-      const double amp = w[k] * rayleigh(word);
-      const Phasor ph = phase(word << 22);
-      re += amp * ph.c;
-      im += amp * ph.s;
-      w2 += w[k] * w[k];
+    for (std::size_t j = 0; j < nl; ++j) {
+      // Scatterer m (lattice index m0 - 1 + k): a circular complex Gaussian of unit power,
+      // R e^(i phi), R Rayleigh (RayleighTable, 22 bits) and phi (PhaseTable, 10 bits) from one
+      // half of the keyed word of the pair m >> 1: two words per sample, three when m0 - 1 is
+      // odd.
+      const std::uint64_t cell = splitmix_stream(base[j], static_cast<std::uint64_t>(i));
+      std::uint64_t h[3];
+      h[0] = splitmix_stream(cell, pair0);
+      h[1] = splitmix_stream(cell, pair0 + 1);
+      h[2] = odd != 0 ? splitmix_stream(cell, pair0 + 2) : 0;
+      double re = 0.0, im = 0.0;
+      for (int k = 0; k < 4; ++k) {
+        const int q = k + odd;  // the scatterer's half among the words: word q / 2, half q % 2
+        const std::uint64_t word = h[q >> 1] << (32 * (q & 1));  // its half on top
+        const double amp = w[k] * rayleigh(word);
+        const Phasor ph = phase(word << 22);
+        re += amp * ph.c;
+        im += amp * ph.s;
+      }
+      out[j * samples + i] = (re * re + im * im) * inv_w2;
     }
-    out[i] = (re * re + im * im) / w2;
   }
 }
 
@@ -438,9 +463,9 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
   s.base.resize(n);
   textured_mean(speckle, keys, texture_nu, io, s.base);
   s.combined.resize(n);
+  if (field != nullptr) along_track_speckle_looks(*field, n, 0, looks, s.along_track, s.field);
   for (int j = 0; j < looks; ++j) {
-    if (field != nullptr) along_track_speckle(*field, n, j, s.along_track, s.field);
-    const double* f = field != nullptr ? s.field.data() : nullptr;
+    const double* f = field != nullptr ? s.field.data() + static_cast<std::size_t>(j) * n : nullptr;
     const std::uint64_t seed_s = look_seed(speckle_seed(speckle.seed), j);
     const std::uint64_t seed_n = look_seed(thermal_seed(speckle.seed), j);
     // Frozen speckle E_s of the last key (runs of samples in one seabed cell share it).
