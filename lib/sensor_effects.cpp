@@ -462,7 +462,8 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
   const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
   s.base.resize(n);
   textured_mean(speckle, keys, texture_nu, io, s.base);
-  s.combined.resize(n);
+  // io is read once (into base) and then holds the detector's running combination.
+  double* out = io.data();
   if (field != nullptr) along_track_speckle_looks(*field, n, 0, looks, s.along_track, s.field);
   for (int j = 0; j < looks; ++j) {
     const double* f = field != nullptr ? s.field.data() + static_cast<std::size_t>(j) * n : nullptr;
@@ -493,19 +494,17 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
       double p = a * out_gain[i];
       if (floor_power > 0.0) p += floor_power * exp1(high32_midpoint(hn << 32));
       if (j == 0) {
-        s.combined[i] = max_detector ? p : std::sqrt(p);
+        out[i] = max_detector ? p : std::sqrt(p);
       } else if (max_detector) {
-        s.combined[i] = std::max(s.combined[i], p);
+        out[i] = std::max(out[i], p);
       } else {
-        s.combined[i] += std::sqrt(p);
+        out[i] += std::sqrt(p);
       }
     }
   }
   if (!max_detector) {
     const double inv = 1.0 / static_cast<double>(looks);
-    for (std::size_t i = 0; i < n; ++i) io[i] = (s.combined[i] * inv) * (s.combined[i] * inv);
-  } else {
-    std::copy(s.combined.begin(), s.combined.end(), io.begin());
+    for (std::size_t i = 0; i < n; ++i) out[i] = (out[i] * inv) * (out[i] * inv);
   }
 }
 
