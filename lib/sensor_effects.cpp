@@ -9,6 +9,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/noise.hpp"
+#include "sonarsynth/render_math.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -199,11 +200,12 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
           const double y = a + kGx[g] * w;
           const double r2 = y * y + h2, r = std::sqrt(r2);
           const double tan2 = y * y / h2, cos2 = h2 / r2;
-          const double sigma = std::exp(-tan2 / (2.0 * m.first_return_s2)) / (cos2 * cos2);
+          const double sigma =
+              render_math::exp_table(-tan2 / (2.0 * m.first_return_s2)) / (cos2 * cos2);
           const double off = std::atan2(h, y) - axis_depression_rad;
           const double beam = std::max(side.vertical_beam.two_way(off), m.side_lobe_two_way);
           double v = sigma * beam * (side.spreading ? 1.0 / (r2 * r) : r);
-          if (kappa > 0.0) v *= std::exp(-kappa * r);
+          if (kappa > 0.0) v *= render_math::exp_table(-kappa * r);
           sum += kGw[g] * w * v;
         }
       }
