@@ -133,11 +133,13 @@ class TextureTables {
 // quality):
 //  - frozen part: hk = stream(seed, key), E_s from its high half, T from its low half; runs of
 //    samples sharing (key, nu) reuse the product T E_s;
-//  - thermal part: hn = stream(seed', noise_key), E_n from the high half, the phase from the low.
+//  - thermal part: hn = stream(seed', noise_key), E_n from its top 22 bits (high22_midpoint),
+//    the phase from the next 10 (PhaseTable); the low 32 bits are the detector's receiver noise.
 // UnitGammaTable takes the top 12 bits of a half as the bin and the next 20 as the position in
 // it, completed by high32_midpoint so the position is the centre of one of 2^20 equal cells
-// (unbiased); the phase likewise. Resolution 2^-32 in probability: the tails are cut at
-// probability 2^-33 (Exp(1) at ~22.9), far below what the KS / moment tests or an image resolve.
+// (unbiased). Resolution 2^-32 in probability for E_s and T (tails cut at probability 2^-33,
+// Exp(1) at ~22.9), 2^-22 for E_n (cut at 2^-23, Exp(1) at 15.9, where the thermal noise is
+// a small additive term), far below what the KS / moment tests or an image resolve.
 void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
                     std::span<const std::uint64_t> noise_keys, std::span<const double> texture_nu,
                     std::span<const double> field, std::span<double> intensity) {
