@@ -133,8 +133,9 @@ class TextureTables {
 // quality):
 //  - frozen part: hk = stream(seed, key), E_s from its high half, T from its low half; runs of
 //    samples sharing (key, nu) reuse the product T E_s;
-//  - thermal part: hn = stream(seed', noise_key), E_n from its top 22 bits (high22_midpoint),
-//    the phase from the next 10 (PhaseTable); the low 32 bits are the detector's receiver noise.
+//  - thermal part: hn = stream(seed', noise_key), E_n = R^2 with R from its top 22 bits
+//    (RayleighTable), the phase from the next 10 (PhaseTable); the low 32 bits are the
+//    detector's receiver noise.
 // UnitGammaTable takes the top 12 bits of a half as the bin and the next 20 as the position in
 // it, completed by high32_midpoint so the position is the centre of one of 2^20 equal cells
 // (unbiased). Resolution 2^-32 in probability for E_s and T (tails cut at probability 2^-33,
@@ -145,6 +146,7 @@ void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> ke
                     std::span<const double> field, std::span<double> intensity) {
   const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
   const PhaseTable& phase = PhaseTable::get();
+  const RayleighTable& rayleigh = RayleighTable::get();
   const double n_power = noise.thermal_noise_power;
   const std::uint64_t seed_s = speckle_seed(noise.seed);
   const std::uint64_t seed_n = thermal_seed(noise.seed);
@@ -183,7 +185,7 @@ void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> ke
       if (given) a *= field[i];
     }
     if (n_power > 0.0)
-      a = add_thermal_noise(a, n_power, splitmix_stream(seed_n, noise_keys[i]), exp1, phase);
+      a = add_thermal_noise(a, n_power, splitmix_stream(seed_n, noise_keys[i]), rayleigh, phase);
     intensity[i] = a;
   }
 }

@@ -459,6 +459,7 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
   const int looks = std::max(1, m.sub_samples);
   const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
   const PhaseTable& phase = PhaseTable::get();
+  const RayleighTable& rayleigh = RayleighTable::get();
   const double n_power = speckle.thermal_noise_power;
   const double floor_power = m.floor_power;
   const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
@@ -492,9 +493,12 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
       // One keyed word per sample and look: its high half the thermal noise, its low half the
       // receiver noise.
       const std::uint64_t hn = splitmix_stream(seed_n, noise_keys[i]);
-      if (n_power > 0.0) a = add_thermal_noise(a, n_power, hn, exp1, phase);
+      if (n_power > 0.0) a = add_thermal_noise(a, n_power, hn, rayleigh, phase);
       double p = a * out_gain[i];
-      if (floor_power > 0.0) p += floor_power * exp1(high32_midpoint(hn << 32));
+      if (floor_power > 0.0) {
+        const double rf = rayleigh(hn << 32);  // Exp(1) = R^2
+        p += floor_power * (rf * rf);
+      }
       if (j == 0) {
         out[i] = max_detector ? p : std::sqrt(p);
       } else if (max_detector) {

@@ -43,15 +43,6 @@ constexpr std::uint64_t high32_midpoint(std::uint64_t bits) {
   return (bits & 0xffffffff00000000ULL) | 0x80000000ULL;
 }
 
-/// 64 random bits from 22 (the top 22 of `bits`), for UnitGammaTable where 2^-22 resolution in
-/// probability is enough (the tail is then cut at probability 2^-23, Exp(1) at 15.9): the top
-/// 22 bits kept, bit 41 set (the midpoint of the selected cell), the rest 0. A 64-bit word then
-/// feeds two such draws (bits 63..42 and, shifted left by 32, bits 31..10) and two 10-bit
-/// PhaseTable phases (bits 41..32 and 9..0).
-constexpr std::uint64_t high22_midpoint(std::uint64_t bits) {
-  return (bits & 0xfffffc0000000000ULL) | (std::uint64_t{1} << 41);
-}
-
 /// Uniform double in [0, 1) from the top 53 bits of a 64-bit word.
 /// (The shifted word fits in int64: the signed conversion is one instruction on x86-64.)
 constexpr double uniform_from_bits(std::uint64_t bits) {

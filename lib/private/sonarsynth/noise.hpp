@@ -67,13 +67,14 @@ inline std::uint64_t thermal_seed(std::uint64_t seed) {
 }
 
 /// The thermal step of the tables sampler: |s + n|^2 = A + B + 2 sqrt(A B) cos(dphi) with
-/// A = a, B = n_power E_n, E_n from the top 22 bits of the keyed word `hn` (high22_midpoint),
-/// the phase from the next 10; the low 32 bits are left for the caller (the receiver noise of
-/// detect_speckle). |s + n|^2 >= 0; the max() only removes rounding below zero when A ~ B,
-/// cos ~ -1.
+/// A = a, B = n_power R^2 (R^2 = E_n ~ Exp(1)), R from the top 22 bits of the keyed word `hn`
+/// (RayleighTable), the phase from the next 10 (PhaseTable); the low 32 bits are left for the
+/// caller (the receiver noise of detect_speckle). |s + n|^2 >= 0; the max() only removes
+/// rounding below zero when A ~ B, cos ~ -1.
 inline double add_thermal_noise(double a, double n_power, std::uint64_t hn,
-                                const UnitGammaTable& exp1, const PhaseTable& phase) {
-  const double b = n_power * exp1(high22_midpoint(hn));
+                                const RayleighTable& rayleigh, const PhaseTable& phase) {
+  const double r = rayleigh(hn);
+  const double b = n_power * (r * r);
   const double c = phase(hn << 22).c;
   const double v = a + b + 2.0 * std::sqrt(a * b) * c;
   return v > 0.0 ? v : 0.0;
