@@ -133,18 +133,23 @@ class TextureTables {
 // quality):
 //  - frozen part: hk = stream(seed, key), E_s from its high half, T from its low half; runs of
 //    samples sharing (key, nu) reuse the product T E_s;
-//  - thermal part: hn = stream(seed', noise_key), E_n from the high half, the phase from the low.
+//  - thermal part: hn = stream(seed', noise_key), E_n = R^2 with R from its top 22 bits
+//    (RayleighTable), the phase from the next 10 (PhaseTable); the low 32 bits are the
+//    detector's receiver noise.
 // UnitGammaTable takes the top 12 bits of a half as the bin and the next 20 as the position in
 // it, completed by high32_midpoint so the position is the centre of one of 2^20 equal cells
-// (unbiased); the phase likewise. Resolution 2^-32 in probability: the tails are cut at
-// probability 2^-33 (Exp(1) at ~22.9), far below what the KS / moment tests or an image resolve.
+// (unbiased). Resolution 2^-32 in probability for E_s and T (tails cut at probability 2^-33,
+// Exp(1) at ~22.9), 2^-22 for E_n (cut at 2^-23, Exp(1) at 15.9, where the thermal noise is
+// a small additive term), far below what the KS / moment tests or an image resolve.
 void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
                     std::span<const std::uint64_t> noise_keys, std::span<const double> texture_nu,
                     std::span<const double> field, std::span<double> intensity) {
   const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
+  const PhaseTable& phase = PhaseTable::get();
+  const RayleighTable& rayleigh = RayleighTable::get();
   const double n_power = noise.thermal_noise_power;
-  const std::uint64_t seed_s = splitmix64(noise.seed);
-  const std::uint64_t seed_n = splitmix64(noise.seed ^ kThermalSalt);
+  const std::uint64_t seed_s = speckle_seed(noise.seed);
+  const std::uint64_t seed_n = thermal_seed(noise.seed);
   const bool textured = !texture_nu.empty();
   TextureTables tables;
   double last_nu = 0.0;
@@ -179,31 +184,19 @@ void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> ke
       a *= frozen;
       if (given) a *= field[i];
     }
-    if (n_power > 0.0) {
-      const std::uint64_t hn = splitmix_stream(seed_n, noise_keys[i]);
-      const double b = n_power * exp1(high32_midpoint(hn));
-      const double c = cos_uniform_phase_from_bits(high32_midpoint(hn << 32));
-      // |s + n|^2 >= 0; the max() only removes rounding below zero when A ~ B, cos ~ -1.
-      a = std::max(0.0, a + b + 2.0 * std::sqrt(a * b) * c);
-    }
+    if (n_power > 0.0)
+      a = add_thermal_noise(a, n_power, splitmix_stream(seed_n, noise_keys[i]), rayleigh, phase);
     intensity[i] = a;
   }
 }
 
 }  // namespace
 
-void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
-                         std::span<const std::uint64_t> noise_keys,
-                         std::span<const double> texture_nu, std::span<double> intensity) {
-  apply_speckle_noise(noise, keys, noise_keys, texture_nu, {}, intensity);
-}
-
-void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
-                         std::span<const std::uint64_t> noise_keys,
-                         std::span<const double> texture_nu, std::span<const double> field,
-                         std::span<double> intensity) {
+void check_speckle_inputs(const SpeckleNoise& noise, std::size_t n,
+                          std::span<const std::uint64_t> keys,
+                          std::span<const std::uint64_t> noise_keys,
+                          std::span<const double> texture_nu, std::span<const double> field) {
   noise.validate();
-  const std::size_t n = intensity.size();
   check_size("keys", keys.size(), n);
   check_size("noise_keys", noise_keys.size(), n);
   if (!texture_nu.empty()) check_size("texture_nu", texture_nu.size(), n);
@@ -215,6 +208,19 @@ void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_
                        "] = " + std::to_string(nu) + ". Violated constraint: texture_nu >= 0");
     }
   }
+}
+
+void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
+                         std::span<const std::uint64_t> noise_keys,
+                         std::span<const double> texture_nu, std::span<double> intensity) {
+  apply_speckle_noise(noise, keys, noise_keys, texture_nu, {}, intensity);
+}
+
+void apply_speckle_noise(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
+                         std::span<const std::uint64_t> noise_keys,
+                         std::span<const double> texture_nu, std::span<const double> field,
+                         std::span<double> intensity) {
+  check_speckle_inputs(noise, intensity.size(), keys, noise_keys, texture_nu, field);
   if (noise.sampler == SpeckleSampler::exact) {
     speckle_exact(noise, keys, noise_keys, texture_nu, field, intensity);
   } else {

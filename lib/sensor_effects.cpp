@@ -8,6 +8,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
+#include "sonarsynth/noise.hpp"
 #include "sonarsynth/render_math.hpp"
 
 namespace sonarsynth {
@@ -32,17 +33,14 @@ constexpr double kGw[4] = {0.5 * 0.34785484513745385737, 0.5 * 0.652145154862546
 
 // Stream of the receiver noise of look j (distinct from the speckle and thermal streams).
 constexpr std::uint64_t kFloorStream = 0x5e15e0f1001ULL;
-// Lattice step of along_track_speckle in units of the weight's standard deviation, and the
-// weight recurrence factors e^-(2.25 (k - 1) + 1.125), k = 0 .. 3.
+// Lattice step of along_track_speckle in units of the weight's standard deviation.
 constexpr double kLatticeStep = 1.5;
-constexpr double kWeightStep[4] = {3.0802168489180310, 0.32465246735834974, 0.034218118311666060,
-                                   0.0036065631360157305};
 // Salt of the along-track scatterer lattice.
 constexpr std::uint64_t kFieldSalt = 0xa10e7a0c5ca77e45ULL;
-// Key offset of look j >= 1.
-std::uint64_t look_key(std::uint64_t key, int j) {
-  return hash_combine(key, 0x100000000ULL + static_cast<std::uint64_t>(j));
-}
+// Salt of the seeds of look j >= 1.
+constexpr std::uint64_t kLookSalt = 0x100000000ULL;
+// Stream of the texture's Marsaglia–Tsang fallback beyond the tables (as in noise.cpp).
+constexpr std::uint64_t kStreamTexture = 1u << 20;
 
 // Across-track distance y (at depth h below the sensor) where the two-way main lobe, followed
 // from the axis towards nadir, first falls to `floor`; NaN if it does not before nadir.
@@ -138,24 +136,43 @@ SensorModel SensorModel::make(const SimulationConfig& config, double seabed_powe
   return m;
 }
 
-void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double altitude_m,
-                           double axis_depression_rad, std::span<const double> out_gain,
-                           std::span<double> mean) {
-  const std::size_t n = mean.size();
+SensorMeanTables::SensorMeanTables(const SensorModel& m, const SideParams& side,
+                                   std::span<const double> out_gain) {
+  const std::size_t n = out_gain.size();
   const double dr = side.sample_spacing_m;
-  const bool have_altitude = std::isfinite(altitude_m) && altitude_m > 0.0;
   if (m.volume_power > 0.0) {
     // After the spherical TVG, volume reverberation (r^-2 before it) grows as r.
     const double per_m = m.volume_power / m.reference_altitude_m;
+    volume.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      mean[i] += per_m * (static_cast<double>(i) + 0.5) * dr / out_gain[i];
+      volume[i] = per_m * (static_cast<double>(i) + 0.5) * dr / out_gain[i];
     }
   }
+  if (m.fill_power > 0.0) {
+    fill.resize(n);
+    for (std::size_t i = 0; i < n; ++i) fill[i] = m.fill_power / out_gain[i];
+  }
+}
+
+void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double altitude_m,
+                           double axis_depression_rad, std::span<const double> out_gain,
+                           std::span<double> mean) {
+  add_sensor_mean_terms(m, side, SensorMeanTables(m, side, out_gain), altitude_m,
+                        axis_depression_rad, mean);
+}
+
+void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
+                           const SensorMeanTables& tables, double altitude_m,
+                           double axis_depression_rad, std::span<double> mean) {
+  const std::size_t n = mean.size();
+  const double dr = side.sample_spacing_m;
+  const bool have_altitude = std::isfinite(altitude_m) && altitude_m > 0.0;
+  const std::size_t nv = std::min(n, tables.volume.size());
+  for (std::size_t i = 0; i < nv; ++i) mean[i] += tables.volume[i];
   if (!have_altitude) return;
   const auto first = static_cast<std::size_t>(std::floor(altitude_m / dr));
-  if (m.fill_power > 0.0) {
-    for (std::size_t i = first; i < n; ++i) mean[i] += m.fill_power / out_gain[i];
-  }
+  const std::size_t nf = std::min(n, tables.fill.size());
+  for (std::size_t i = first; i < nf; ++i) mean[i] += tables.fill[i];
   if (m.first_return_rho > 0.0) {
     const double h = altitude_m, h2 = h * h;
     const double kappa = 2.0 * side.absorption_db_per_m * std::log(10.0) / 10.0;
@@ -183,11 +200,12 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double 
           const double y = a + kGx[g] * w;
           const double r2 = y * y + h2, r = std::sqrt(r2);
           const double tan2 = y * y / h2, cos2 = h2 / r2;
-          const double sigma = std::exp(-tan2 / (2.0 * m.first_return_s2)) / (cos2 * cos2);
+          const double sigma =
+              render_math::exp_table(-tan2 / (2.0 * m.first_return_s2)) / (cos2 * cos2);
           const double off = std::atan2(h, y) - axis_depression_rad;
           const double beam = std::max(side.vertical_beam.two_way(off), m.side_lobe_two_way);
           double v = sigma * beam * (side.spreading ? 1.0 / (r2 * r) : r);
-          if (kappa > 0.0) v *= std::exp(-kappa * r);
+          if (kappa > 0.0) v *= render_math::exp_table(-kappa * r);
           sum += kGw[g] * w * v;
         }
       }
@@ -196,86 +214,212 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double 
   }
 }
 
-void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
-                         std::vector<double>& out) {
-  out.resize(samples);
-  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
+namespace {
+
+// The lattice weights w_k(frac) = exp(-1.125 (k - 1 - frac)^2), k = 0 .. 3, of along_track_speckle
+// (the two-way amplitude pattern at the scatterers around the ping, frac in [0, 1) the ping's
+// position between lattice points), tabulated at frac = j / kSteps and interpolated linearly:
+// |w''| <= 2.25, so the error is below 2.25 / (8 kSteps^2) = 4.3e-6 (the sample is normalised by
+// the interpolated sum of w^2, so its mean stays exactly 1).
+class LatticeWeights {
+ public:
+  static constexpr int kSteps = 256;
+  static const LatticeWeights& get() {
+    static const LatticeWeights table;
+    return table;
+  }
+  // The four weights at `frac`.
+  void at(double frac, double w[4]) const {
+    const double x = frac * kSteps;
+    auto j = static_cast<int>(x);
+    j = j < 0 ? 0 : (j >= kSteps ? kSteps - 1 : j);
+    const double t = x - j;
+    const double* a = w_[j];
+    const double* b = w_[j + 1];
+    for (int k = 0; k < 4; ++k) w[k] = a[k] + t * (b[k] - a[k]);
+  }
+
+ private:
+  LatticeWeights() {
+    for (int j = 0; j <= kSteps; ++j) {
+      const double frac = static_cast<double>(j) / kSteps;
+      for (int k = 0; k < 4; ++k) {
+        const double d = k - 1 - frac;
+        w_[j][k] = std::exp(-1.125 * d * d);
+      }
+    }
+  }
+  double w_[kSteps + 1][4];
+};
+
+}  // namespace
+
+void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t samples) {
+  if (spacing_m == sample_spacing_m && beam_rad == beam_3db_rad && sw.size() == samples) return;
+  sample_spacing_m = spacing_m;
+  beam_3db_rad = beam_rad;
+  sw.resize(samples);
+  inv_step.resize(samples);
   const double inv_sqrt_8ln2 = 1.0 / std::sqrt(8.0 * std::log(2.0));
-  const std::uint64_t base = hash_combine(hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key),
-                                          static_cast<std::uint64_t>(look));
   for (std::size_t i = 0; i < samples; ++i) {
-    const double r = (static_cast<double>(i) + 0.5) * f.sample_spacing_m;
-    const double sw = r * f.beam_3db_rad * inv_sqrt_8ln2;
-    // Below the first return, and where consecutive pings are more than 2.5 footprints
-    // (r beta_eff = 1.77 sw) apart (correlation < 1e-4), the speckle is drawn independently.
-    const double u = f.along_track_m / (kLatticeStep * sw);
-    // (and where the lattice index would not fit an integer: a degenerate beam or position)
-    if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw || !(std::abs(u) < 1e15)) {
-      out[i] = std::numeric_limits<double>::quiet_NaN();
-      continue;
-    }
-    // Lattice step 1.5 sw: the lattice sum reproduces the continuous one to ~1e-4 (Poisson
-    // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5.
-    const double m0 = std::floor(u);
-    const double frac = u - m0;
-    const auto first = static_cast<std::int64_t>(m0) - 1;
-    const std::uint64_t cell = hash_combine(base, static_cast<std::uint64_t>(i));
-    // w_k = exp(-1.125 (k - 1 - frac)^2), by w_{k+1} = w_k e^(2.25 frac) e^-(2.25 (k - 1) + 1.125).
-    double re = 0.0, im = 0.0, w2 = 0.0;
-    double w = render_math::exp_table(-1.125 * (1.0 + frac) * (1.0 + frac));
-    const double ef = render_math::exp_table(2.25 * frac);
-    for (int k = 0; k < 4; ++k) {
-      const std::uint64_t h = splitmix_stream(cell, static_cast<std::uint64_t>(first + k));
-      const double amp = w * std::sqrt(exp1(high32_midpoint(h)));
-      // Phase 2 pi z, z uniform in [-1/2, 1/2): from sin(pi z) (|pi z| <= pi/2).
-      const double sh = sin_taylor_half_period(3.14159265358979323846 *
-                                               (uniform_from_bits(high32_midpoint(h << 32)) - 0.5));
-      const double ch = std::sqrt(std::max(0.0, 1.0 - sh * sh));
-      re += amp * (1.0 - 2.0 * sh * sh);
-      im += amp * (2.0 * sh * ch);
-      w2 += w * w;
-      w *= ef * kWeightStep[k];
-    }
-    out[i] = (re * re + im * im) / w2;
+    const double r = (static_cast<double>(i) + 0.5) * spacing_m;
+    sw[i] = r * beam_rad * inv_sqrt_8ln2;
+    inv_step[i] = 1.0 / (kLatticeStep * sw[i]);
   }
 }
 
-void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
-                    std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
-                    std::span<const double> texture_nu, std::span<const double> out_gain,
-                    const AlongTrackField* field, DetectorScratch& s, std::span<double> io) {
+void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
+                         std::vector<double>& out) {
+  AlongTrackTable table;
+  along_track_speckle(f, samples, look, table, out);
+}
+
+void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
+                         AlongTrackTable& table, std::vector<double>& out) {
+  along_track_speckle_looks(f, samples, look, 1, table, out);
+}
+
+void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, int first_look,
+                               int looks, AlongTrackTable& table, std::vector<double>& out) {
+  const auto nl = static_cast<std::size_t>(std::max(0, looks));
+  out.resize(samples * nl);
+  table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples);
+  const PhaseTable& phase = PhaseTable::get();
+  const LatticeWeights& weights = LatticeWeights::get();
+  const RayleighTable& rayleigh = RayleighTable::get();
+  constexpr std::size_t kMaxLooks = 16;
+  std::uint64_t base[kMaxLooks];
+  const std::uint64_t line = hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key);
+  for (std::size_t j = 0; j < std::min(nl, kMaxLooks); ++j) {
+    base[j] = hash_combine(line, static_cast<std::uint64_t>(first_look) + j);
+  }
+  if (nl > kMaxLooks) {  // (more looks than any detector uses: one look at a time)
+    for (std::size_t j = 0; j < nl; ++j) {
+      std::vector<double> one;
+      along_track_speckle_looks(f, samples, first_look + static_cast<int>(j), 1, table, one);
+      std::copy(one.begin(), one.end(), out.begin() + static_cast<std::ptrdiff_t>(j * samples));
+    }
+    return;
+  }
+  const double* sw = table.sw.data();
+  const double* inv_step = table.inv_step.data();
+  for (std::size_t i = 0; i < samples; ++i) {
+    // u = along-track position in lattice steps of 1.5 sw (sw = r theta / sqrt(8 ln 2)).
+    const double u = f.along_track_m * inv_step[i];
+    // Below the first return, and where consecutive pings are more than 2.5 footprints
+    // (r beta_eff = 1.77 sw) apart (correlation < 1e-4), the speckle is drawn independently
+    // (and where the lattice index would not fit an integer: a degenerate beam or position).
+    if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw[i] || !(std::abs(u) < 1e15)) {
+      for (std::size_t j = 0; j < nl; ++j) {
+        out[j * samples + i] = std::numeric_limits<double>::quiet_NaN();
+      }
+      continue;
+    }
+    // Lattice step 1.5 sw: the lattice sum reproduces the continuous one to ~1e-4 (Poisson
+    // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5. The
+    // lattice position and weights are the same for every look.
+    auto m0 = static_cast<std::int64_t>(u);  // floor(u), |u| < 1e15
+    if (static_cast<double>(m0) > u) --m0;
+    const double frac = u - static_cast<double>(m0);
+    double w[4];
+    weights.at(frac, w);
+    const double inv_w2 = 1.0 / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3]);
+    const std::int64_t first = m0 - 1;
+    const auto pair0 = static_cast<std::uint64_t>(first >> 1);
+    const int odd = static_cast<int>(first & 1);
+    for (std::size_t j = 0; j < nl; ++j) {
+      // Scatterer m (lattice index m0 - 1 + k): a circular complex Gaussian of unit power,
+      // R e^(i phi), R Rayleigh (RayleighTable, 22 bits) and phi (PhaseTable, 10 bits) from one
+      // half of the keyed word of the pair m >> 1: two words per sample, three when m0 - 1 is
+      // odd.
+      const std::uint64_t cell = splitmix_stream(base[j], static_cast<std::uint64_t>(i));
+      std::uint64_t h[3];
+      h[0] = splitmix_stream(cell, pair0);
+      h[1] = splitmix_stream(cell, pair0 + 1);
+      h[2] = odd != 0 ? splitmix_stream(cell, pair0 + 2) : 0;
+      double re = 0.0, im = 0.0;
+      for (int k = 0; k < 4; ++k) {
+        const int q = k + odd;  // the scatterer's half among the words: word q / 2, half q % 2
+        const std::uint64_t word = h[q >> 1] << (32 * (q & 1));  // its half on top
+        const double amp = w[k] * rayleigh(word);
+        const Phasor ph = phase(word << 22);
+        re += amp * ph.c;
+        im += amp * ph.s;
+      }
+      out[j * samples + i] = (re * re + im * im) * inv_w2;
+    }
+  }
+}
+
+namespace {
+
+// Seed of the keyed words of look j: look 0 uses `seed` itself (what apply_speckle_noise
+// draws), look j > 0 a seed of its own.
+std::uint64_t look_seed(std::uint64_t seed, int j) {
+  return j == 0 ? seed : splitmix64(seed ^ (kLookSalt + static_cast<std::uint64_t>(j)));
+}
+
+// The texture per sample, T (unit-mean Gamma(nu)), times the mean intensity: keyed by the
+// sample's key as apply_speckle_noise keys it (runs of equal (key, nu) share one draw).
+void textured_mean(const SpeckleNoise& speckle, std::span<const std::uint64_t> keys,
+                   std::span<const double> texture_nu, std::span<const double> io,
+                   std::span<double> base) {
+  const std::uint64_t seed_s = speckle_seed(speckle.seed);
+  const UnitGammaTable* table = nullptr;
+  double table_nu = 0.0, t = 1.0, last_nu = 0.0;
+  std::uint64_t last_key = 0;
+  bool have_last = false;
+  for (std::size_t i = 0; i < io.size(); ++i) {
+    const double nu = texture_nu.empty() ? 0.0 : texture_nu[i];
+    if (!(io[i] > 0.0) || !(nu > 0.0)) {
+      base[i] = io[i];
+      continue;
+    }
+    if (!have_last || keys[i] != last_key || nu != last_nu) {
+      if (table == nullptr || nu != table_nu) {
+        table = nu <= UnitGammaTable::kMaxShape ? &UnitGammaTable::get(nu) : nullptr;
+        table_nu = nu;
+      }
+      const std::uint64_t hk = splitmix_stream(seed_s, keys[i]);
+      t = table != nullptr ? (*table)(high32_midpoint(hk << 32))
+                           : keyed_gamma(nu, speckle.seed, keys[i], kStreamTexture) / nu;
+      have_last = true;
+      last_key = keys[i];
+      last_nu = nu;
+    }
+    base[i] = io[i] * t;
+  }
+}
+
+// The reference path (SpeckleSampler::exact): apply_speckle_noise per look with look-keyed keys.
+void detect_speckle_exact(const SensorModel& m, const SpeckleNoise& speckle,
+                          std::span<const std::uint64_t> keys,
+                          std::span<const std::uint64_t> noise_keys,
+                          std::span<const double> texture_nu, std::span<const double> out_gain,
+                          const AlongTrackField* field, DetectorScratch& s, std::span<double> io) {
   const std::size_t n = io.size();
   const int looks = std::max(1, m.sub_samples);
+  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
   s.combined.assign(n, 0.0);
   s.sub.resize(n);
-  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
-  const std::uint64_t floor_seed = splitmix64(speckle.seed ^ kFloorStream);
+  s.keys.resize(n);
+  s.noise_keys.resize(n);
   for (int j = 0; j < looks; ++j) {
     std::copy(io.begin(), io.end(), s.sub.begin());
-    std::span<const std::uint64_t> kj = keys, nkj = noise_keys;
-    if (field != nullptr) along_track_speckle(*field, n, j, s.field);
-    if (j > 0) {
-      // Fresh receiver noise per look. The keys key the speckle (and the texture) where it is
-      // drawn here; where the along-track field gives the speckle they key the texture only,
-      // which the looks of one sample share (it is the seabed patch's).
-      s.noise_keys.resize(n);
-      s.keys.resize(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        s.noise_keys[i] = look_key(noise_keys[i], j);
-        s.keys[i] = field != nullptr && !std::isnan(s.field[i]) ? keys[i] : look_key(keys[i], j);
-      }
-      nkj = s.noise_keys;
-      kj = s.keys;
+    if (field != nullptr) along_track_speckle(*field, n, j, s.along_track, s.field);
+    const std::uint64_t ks = look_seed(0, j);
+    for (std::size_t i = 0; i < n; ++i) {
+      s.keys[i] = j == 0 ? keys[i] : splitmix_stream(ks, keys[i]);
+      s.noise_keys[i] = j == 0 ? noise_keys[i] : splitmix_stream(ks, noise_keys[i]);
     }
-    if (field != nullptr) {
-      apply_speckle_noise(speckle, kj, nkj, texture_nu, s.field, s.sub);
-    } else {
-      apply_speckle_noise(speckle, kj, nkj, texture_nu, s.sub);
-    }
+    apply_speckle_noise(
+        speckle, s.keys, s.noise_keys, texture_nu,
+        field != nullptr ? std::span<const double>(s.field) : std::span<const double>{}, s.sub);
+    const std::uint64_t fs = look_seed(splitmix64(speckle.seed ^ kFloorStream), j);
     for (std::size_t i = 0; i < n; ++i) {
       double p = s.sub[i] * out_gain[i];
       if (m.floor_power > 0.0) {
-        p += m.floor_power * exp1(high32_midpoint(splitmix_stream(floor_seed, nkj[i])));
+        p += m.floor_power * exp1(high32_midpoint(splitmix_stream(fs, noise_keys[i])));
       }
       if (looks == 1) {
         s.combined[i] = p;
@@ -291,6 +435,82 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
     for (std::size_t i = 0; i < n; ++i) io[i] = (s.combined[i] * inv) * (s.combined[i] * inv);
   } else {
     std::copy(s.combined.begin(), s.combined.end(), io.begin());
+  }
+}
+
+}  // namespace
+
+void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
+                    std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
+                    std::span<const double> texture_nu, std::span<const double> out_gain,
+                    const AlongTrackField* field, DetectorScratch& s, std::span<double> io) {
+  const std::size_t n = io.size();
+  check_speckle_inputs(speckle, n, keys, noise_keys, texture_nu, {});
+  if (out_gain.size() != n) {
+    throw InputError("detect_speckle: out_gain.size() = " + std::to_string(out_gain.size()) +
+                     ". Violated constraint: size == io.size() = " + std::to_string(n));
+  }
+  if (speckle.sampler == SpeckleSampler::exact) {
+    detect_speckle_exact(m, speckle, keys, noise_keys, texture_nu, out_gain, field, s, io);
+    return;
+  }
+  // One pass per look over the samples (no copies, no per-look key arrays): the keyed words of
+  // look j come from seeds of its own (look_seed), the texture is drawn once for all looks.
+  const int looks = std::max(1, m.sub_samples);
+  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
+  const PhaseTable& phase = PhaseTable::get();
+  const RayleighTable& rayleigh = RayleighTable::get();
+  const double n_power = speckle.thermal_noise_power;
+  const double floor_power = m.floor_power;
+  const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
+  s.base.resize(n);
+  textured_mean(speckle, keys, texture_nu, io, s.base);
+  // io is read once (into base) and then holds the detector's running combination.
+  double* out = io.data();
+  if (field != nullptr) along_track_speckle_looks(*field, n, 0, looks, s.along_track, s.field);
+  for (int j = 0; j < looks; ++j) {
+    const double* f = field != nullptr ? s.field.data() + static_cast<std::size_t>(j) * n : nullptr;
+    const std::uint64_t seed_s = look_seed(speckle_seed(speckle.seed), j);
+    const std::uint64_t seed_n = look_seed(thermal_seed(speckle.seed), j);
+    // Frozen speckle E_s of the last key (runs of samples in one seabed cell share it).
+    std::uint64_t last_key = 0;
+    double last_es = 0.0;
+    bool have_last = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      double a = s.base[i];
+      if (a > 0.0) {
+        if (f != nullptr && !std::isnan(f[i])) {
+          a *= f[i];
+        } else {
+          if (!have_last || keys[i] != last_key) {
+            last_es = exp1(high32_midpoint(splitmix_stream(seed_s, keys[i])));
+            last_key = keys[i];
+            have_last = true;
+          }
+          a *= last_es;
+        }
+      }
+      // One keyed word per sample and look: its high half the thermal noise, its low half the
+      // receiver noise.
+      const std::uint64_t hn = splitmix_stream(seed_n, noise_keys[i]);
+      if (n_power > 0.0) a = add_thermal_noise(a, n_power, hn, rayleigh, phase);
+      double p = a * out_gain[i];
+      if (floor_power > 0.0) {
+        const double rf = rayleigh(hn << 32);  // Exp(1) = R^2
+        p += floor_power * (rf * rf);
+      }
+      if (j == 0) {
+        out[i] = max_detector ? p : std::sqrt(p);
+      } else if (max_detector) {
+        out[i] = std::max(out[i], p);
+      } else {
+        out[i] += std::sqrt(p);
+      }
+    }
+  }
+  if (!max_detector) {
+    const double inv = 1.0 / static_cast<double>(looks);
+    for (std::size_t i = 0; i < n; ++i) out[i] = (out[i] * inv) * (out[i] * inv);
   }
 }
 

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <span>
 
+#include "sonarsynth/keyed_random.hpp"
+
 namespace sonarsynth {
 
 /// The founding paper's noise, eq. (2) of Gwon et al. (URAI 2017), kept for parity:
@@ -31,8 +33,9 @@ enum class SpeckleSampler : std::uint8_t {
   /// with A = I T E_s, B = N E_n, E_s, E_n ~ Exp(1) and the phase difference dphi ~ U(0, 2 pi)
   /// independent of A and B (the phases of circular Gaussians are uniform and independent of
   /// their moduli): exact in distribution, also jointly over pings (s frozen, n fresh). E_s, E_n
-  /// and T come from UnitGammaTable (tabulated inverse CDF, error bounded in the tests), cos by
-  /// a polynomial (error < 1e-15); no Box–Muller, no rejection. B is skipped when N = 0.
+  /// and T come from UnitGammaTable (tabulated inverse CDF, error bounded in the tests), cos
+  /// from PhaseTable (a discrete uniform phase with the continuous one's moments); no
+  /// Box–Muller, no rejection. B is skipped when N = 0.
   tables,
   /// Reference: Box–Muller pairs (keyed_normal_pair) and Marsaglia–Tsang Gamma (keyed_gamma)
   /// per sample, exactly as the formula below.
@@ -52,6 +55,37 @@ struct SpeckleNoise {
   /// Throws InputError naming the violated constraint.
   void validate() const;
 };
+
+/// Seeds of the tables sampler's keyed words: the frozen part (E_s and T) is
+/// splitmix_stream(seed_s, key), the thermal part splitmix_stream(seed_n, noise_key).
+inline std::uint64_t speckle_seed(std::uint64_t seed) {
+  return splitmix64(seed);
+}
+inline std::uint64_t thermal_seed(std::uint64_t seed) {
+  constexpr std::uint64_t kThermalSalt = 0x7468657266616c21ULL;
+  return splitmix64(seed ^ kThermalSalt);
+}
+
+/// The thermal step of the tables sampler: |s + n|^2 = A + B + 2 sqrt(A B) cos(dphi) with
+/// A = a, B = n_power R^2 (R^2 = E_n ~ Exp(1)), R from the top 22 bits of the keyed word `hn`
+/// (RayleighTable), the phase from the next 10 (PhaseTable); the low 32 bits are left for the
+/// caller (the receiver noise of detect_speckle). |s + n|^2 >= 0; the max() only removes
+/// rounding below zero when A ~ B, cos ~ -1.
+inline double add_thermal_noise(double a, double n_power, std::uint64_t hn,
+                                const RayleighTable& rayleigh, const PhaseTable& phase) {
+  const double r = rayleigh(hn);
+  const double b = n_power * (r * r);
+  const double c = phase(hn << 22).c;
+  const double v = a + b + 2.0 * std::sqrt(a * b) * c;
+  return v > 0.0 ? v : 0.0;
+}
+
+/// The input checks of apply_speckle_noise for `n` samples (InputError naming the violated
+/// constraint); `field` may be empty.
+void check_speckle_inputs(const SpeckleNoise& noise, std::size_t n,
+                          std::span<const std::uint64_t> keys,
+                          std::span<const std::uint64_t> noise_keys,
+                          std::span<const double> texture_nu, std::span<const double> field);
 
 /// Random numbers are keyed, not sequential: sample i draws from hash(seed, keys[i], stream),
 /// so output is bit-identical whatever the thread count or processing order. Callers give a

@@ -48,6 +48,18 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double 
                            double axis_depression_rad, std::span<const double> out_gain,
                            std::span<double> mean);
 
+/// The range-only factors of add_sensor_mean_terms, once per run: volume reverberation and
+/// shadow fill per sample, already divided by out_gain (empty when off).
+struct SensorMeanTables {
+  std::vector<double> volume, fill;
+  SensorMeanTables() = default;
+  SensorMeanTables(const SensorModel& m, const SideParams& side, std::span<const double> out_gain);
+};
+/// The same with the tables (identical values): no division per sample and ping.
+void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
+                           const SensorMeanTables& tables, double altitude_m,
+                           double axis_depression_rad, std::span<double> mean);
+
 /// The speckle field of one side of one ping from scatterers frozen per range cell along the
 /// track (docs/physics.md §1.6): sample i (range r = (i + 1/2) dr) sums the complex scatterers
 /// of the lattice m sw (sw = r theta / sqrt(8 ln 2), theta the one-way -3 dB horizontal beam),
@@ -62,23 +74,41 @@ struct AlongTrackField {
   std::size_t first_sample = 0;  ///< the first bottom return's sample
   double ping_spacing_m = 0.0;   ///< distance between consecutive pings; 0 = unknown
 };
+/// Per-run factors of along_track_speckle that depend on the sample index only (the lattice
+/// step and footprint per range), rebuilt when the spacing, beam or sample count change.
+struct AlongTrackTable {
+  double sample_spacing_m = 0.0, beam_3db_rad = 0.0;
+  std::vector<double> sw;        ///< r theta / sqrt(8 ln 2) per sample
+  std::vector<double> inv_step;  ///< 1 / (lattice step) per sample
+  void prepare(double sample_spacing_m, double beam_3db_rad, std::size_t samples);
+};
+
 /// Unit-mean speckle power per sample of look `look` into `out` (resized to `samples`).
 void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
+                         AlongTrackTable& table, std::vector<double>& out);
+void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look,
                          std::vector<double>& out);
+/// Looks first_look .. first_look + looks - 1 at once (the lattice geometry and weights shared):
+/// look first_look + j in out[j samples .. (j + 1) samples), the same values as one look at a
+/// time.
+void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, int first_look,
+                               int looks, AlongTrackTable& table, std::vector<double>& out);
 
 /// Reusable buffers of detect_speckle (one per thread).
 struct DetectorScratch {
-  std::vector<double> sub, combined, field;
+  std::vector<double> sub, combined, field, base;
   std::vector<std::uint64_t> keys, noise_keys;
+  AlongTrackTable along_track;
 };
 
 /// Speckle, receiver noise and detection: `io` holds the mean intensity before TVG on entry and
-/// the detected output power on return. Per sub-sample j < m.sub_samples: apply_speckle_noise with
-/// the keys of look j (look 0 uses `keys` and `noise_keys` themselves), times out_gain, plus
-/// exponential receiver noise of mean m.floor_power keyed by (noise_keys, j); the looks are
-/// combined by the detector on the envelope (max, or the square of the mean envelope).
-/// With `field`, the frozen speckle of each look is along_track_speckle (keys then key the
-/// texture only).
+/// the detected output power on return. Per sub-sample j < m.sub_samples: the speckle of
+/// apply_speckle_noise with the keyed words of look j, times out_gain, plus exponential receiver
+/// noise of mean m.floor_power keyed by (noise_keys, j); the looks are combined by the detector
+/// on the envelope (max, or the square of the mean envelope). Look 0 draws exactly what
+/// apply_speckle_noise draws for `keys` and `noise_keys`; look j > 0 the same with seeds of its
+/// own. The texture (keyed by `keys`) is the seabed patch's: all looks share it. With `field`,
+/// the frozen speckle of each look is along_track_speckle where it is not NaN.
 void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
                     std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
                     std::span<const double> texture_nu, std::span<const double> out_gain,
