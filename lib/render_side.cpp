@@ -359,6 +359,156 @@ void mark_shadow(const Facet& f, const Grid& grid, double h0, double h1,
   for (std::ptrdiff_t j = j0; j <= j1; ++j) shadowed[static_cast<std::size_t>(j)] = 1;
 }
 
+using Segment = SideEcho::Workspace::Segment;
+
+// The part [h0, h1] of the segment P(t) = a + t u, t in [0, 1] (relative to the sensor), that
+// segment o hides: the points whose ray from the sensor crosses o before reaching them. That set
+// is convex (the wedge of o seen from the sensor, cross(o0, P) >= 0 and cross(P, o1) >= 0,
+// intersected with the far side of o's line), so a straight segment meets it in one interval
+// (Cyrus–Beck clipping; docs/physics.md §2.1 step 3). False if it hides nothing.
+bool hidden_by(const Segment& o, double ay, double az, double uy, double uz, double& h0,
+               double& h1) {
+  double lo = 0.0, hi = 1.0;
+  const auto keep = [&](double g0, double g1) {  // keep g0 + t g1 >= 0
+    if (g1 == 0.0) return g0 >= 0.0;
+    const double t = -g0 / g1;
+    if (g1 > 0.0) {
+      lo = std::max(lo, t);
+    } else {
+      hi = std::min(hi, t);
+    }
+    return lo < hi;
+  };
+  const double ey = o.y1 - o.y0, ez = o.z1 - o.z0;
+  if (!keep(o.y0 * az - o.z0 * ay, o.y0 * uz - o.z0 * uy)) return false;
+  if (!keep(ay * o.z1 - az * o.y1, uy * o.z1 - uz * o.y1)) return false;
+  if (!keep(-(ey * (az - o.z0) - ez * (ay - o.y0)), -(ey * uz - ez * uy))) return false;
+  h0 = lo;
+  h1 = hi;
+  return true;
+}
+
+// Removes [h0, h1] from the sorted disjoint intervals `v` (flattened pairs); `tmp` is scratch.
+void subtract_interval(std::vector<double>& v, std::vector<double>& tmp, double h0, double h1) {
+  tmp.clear();
+  for (std::size_t i = 0; i + 1 < v.size(); i += 2) {
+    const double a = v[i], b = v[i + 1];
+    if (h1 <= a || h0 >= b) {
+      tmp.push_back(a);
+      tmp.push_back(b);
+      continue;
+    }
+    if (h0 > a) {
+      tmp.push_back(a);
+      tmp.push_back(h0);
+    }
+    if (h1 < b) {
+      tmp.push_back(h1);
+      tmp.push_back(b);
+    }
+  }
+  v.swap(tmp);
+}
+
+// Hidden parts shorter than this (in facet parameter) are round-off at shared or touching
+// points, not occlusion.
+constexpr double kMinHidden = 1e-12;
+
+// tan(depression) of a point relative to the sensor (docs/physics.md §1.1), y guarded at nadir.
+inline double tan_depression(double y_rel, double z_rel) {
+  return -z_rel / std::max(y_rel, kMinTanY);
+}
+
+// The facet A -> B (absolute coordinates) of the integrand; returns c0 = cos(incidence) r (> 0
+// iff it faces the sensor); f.a = 0 for a zero-length facet (then nothing else is set).
+double setup_facet(Facet& f, const Integrand& in, double hs, double ya, double za, double yb,
+                   double zb, std::int32_t index, double coef_per_c0sq) {
+  f.ay = ya;
+  f.az = za;
+  f.uy = yb - ya;
+  f.uz = zb - za;
+  f.a = f.uy * f.uy + f.uz * f.uz;
+  if (!(f.a > 0.0)) return 0.0;
+  f.len_m = std::sqrt(f.a);
+  f.inv_a = 1.0 / f.a;
+  const double wy = ya, wz = za - hs;  // w = A - S
+  f.tm0 = -(wy * f.uy + wz * f.uz) / f.a;
+  const double cross = wy * f.uz - wz * f.uy;
+  const double c0 = cross / f.len_m;  // cos(incidence) r, > 0 iff the facet faces the sensor
+  f.p2 = cross * cross / f.a;
+  f.cross = cross;
+  f.w2 = wy * wy + wz * wz;
+  f.wu = wy * f.uy + wz * f.uz;
+  f.theta_a = std::atan2(-wz, wy);
+  f.az_rel = wz;
+  f.theta_off = f.theta_a - in.axis_rad;
+  f.set_series_terms();
+  f.index = index;
+  f.coef = coef_per_c0sq * c0 * c0;
+  return c0;
+}
+
+// The front-facing facets of the profile's closed sections, relative to the sensor (`out`).
+void section_occluders(const BeamProfile& prof, std::vector<Segment>& out) {
+  out.clear();
+  const double hs = prof.sensor_z_m;
+  const auto base = static_cast<std::int32_t>(prof.seabed_facets());
+  for (std::size_t s = 0; s < prof.sections(); ++s) {
+    const std::uint32_t first = prof.section_start[s], end = prof.section_start[s + 1];
+    for (std::uint32_t k = first; k < end; ++k) {
+      const std::uint32_t next = k + 1 < end ? k + 1 : first;
+      const double y0 = prof.section_y_m[k], z0 = prof.section_z_m[k] - hs;
+      const double y1 = prof.section_y_m[next], z1 = prof.section_z_m[next] - hs;
+      if (!(y0 * z1 - z0 * y1 > 0.0)) continue;  // seen from behind or edge-on
+      const double ta = tan_depression(y0, z0), tb = tan_depression(y1, z1);
+      out.push_back({y0, z0, y1, z1, std::min(ta, tb), std::max(ta, tb),
+                     static_cast<std::uint32_t>(s), base + static_cast<std::int32_t>(k)});
+    }
+  }
+}
+
+// Renders the front facets of the closed sections (w.occluders), each minus what the seabed
+// (w.seabed_pieces: the visible seabed facing the sensor, in order of decreasing tan(depression))
+// and the other sections hide.
+template <bool kTruth, class Grid>
+void render_sections(const BeamProfile& prof, const SideParams& par, const Grid& grid,
+                     const Integrand& in, double kb, const Workspace& ws, SideEcho::Workspace& w) {
+  const double hs = prof.sensor_z_m;
+  const auto& pieces = w.seabed_pieces;
+  for (const Segment& s : w.occluders) {
+    Facet f{};
+    const double c0 =
+        setup_facet(f, in, hs, s.y0, s.z0 + hs, s.y1, s.z1 + hs, s.facet,
+                    kb * backscatter_coefficient(par.backscatter,
+                                                 par.materials[prof.section_material[s.section]]));
+    if (!(f.a > 0.0) || !(c0 > 0.0)) continue;
+    auto& vis = w.visible;
+    vis.assign({0.0, 1.0});
+    if (par.shadows) {
+      const double uy = s.y1 - s.y0, uz = s.z1 - s.z0;
+      const auto hide = [&](const Segment& o) {
+        double q0 = 0.0, q1 = 0.0;
+        if (!hidden_by(o, s.y0, s.z0, uy, uz, q0, q1) || !(q1 - q0 > kMinHidden)) return;
+        subtract_interval(vis, w.visible_next, q0, q1);
+        if constexpr (kTruth) mark_shadow(f, grid, q0, q1, w.shadowed);
+      };
+      // Seabed pieces whose tan range meets [tan_lo, tan_hi]: they are sorted by decreasing tan.
+      auto it = std::partition_point(pieces.begin(), pieces.end(),
+                                     [&](const Segment& p) { return p.tan_lo > s.tan_hi; });
+      for (; it != pieces.end() && it->tan_hi >= s.tan_lo && vis.size() > 1; ++it) hide(*it);
+      for (const Segment& o : w.occluders) {
+        if (o.section == s.section || o.tan_hi < s.tan_lo || o.tan_lo > s.tan_hi) continue;
+        if (vis.size() < 2) break;
+        hide(o);
+      }
+    }
+    for (std::size_t v = 0; v + 1 < vis.size(); v += 2) {
+      render_lit<kTruth>(f, in, grid, vis[v], vis[v + 1], std::clamp(f.tm0, vis[v], vis[v + 1]),
+                         ws);
+    }
+  }
+}
+
 template <bool kTruth, class Grid>
 bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, SideEcho& out) {
   auto& w = out.workspace;
@@ -391,6 +541,17 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
   bool any_valid = false;
   double tan_h = kInf;  // running minimum of tan(depression) (the horizon)
   const std::size_t n = prof.nodes();
+  // Closed sections (objects off the seabed, BeamProfile): their front facets occlude the
+  // seabed and each other; visible seabed pieces facing the sensor are kept to occlude them.
+  auto& occluders = w.occluders;
+  section_occluders(prof, occluders);
+  const bool sections = !occluders.empty();
+  w.seabed_pieces.clear();
+  double sec_tan_lo = kInf, sec_tan_hi = -kInf;
+  for (const Segment& o : occluders) {
+    sec_tan_lo = std::min(sec_tan_lo, o.tan_lo);
+    sec_tan_hi = std::max(sec_tan_hi, o.tan_hi);
+  }
   for (std::size_t i = 0; i + 1 < n; ++i) {
     const double ya = prof.y_m[i], za = prof.z_m[i];
     const double yb = prof.y_m[i + 1], zb = prof.z_m[i + 1];
@@ -398,11 +559,7 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     if (std::isnan(za) || std::isnan(zb)) continue;  // hole: no return, horizon unchanged
     any_valid = true;
     Facet f{};
-    f.ay = ya;
-    f.az = za;
-    f.uy = yb - ya;
-    f.uz = zb - za;
-    f.a = f.uy * f.uy + f.uz * f.uz;
+    f.a = (yb - ya) * (yb - ya) + (zb - za) * (zb - za);
     double t0 = 0.0, t1 = 1.0;  // visible part
     double h0 = 0.0, h1 = 0.0;  // hidden part (truth)
     if (par.shadows) {
@@ -429,29 +586,43 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
       tan_h = std::min({tan_h, ta, tb});
     }
     if (!(f.a > 0.0)) continue;  // zero-length facet
-    f.len_m = std::sqrt(f.a);
-    f.inv_a = 1.0 / f.a;
-    const double wy = ya, wz = za - hs;  // w = A - S
-    f.tm0 = -(wy * f.uy + wz * f.uz) / f.a;
-    const double cross = wy * f.uz - wz * f.uy;
-    const double c0 = cross / f.len_m;  // cos(incidence) r, > 0 iff the facet faces the sensor
-    f.p2 = cross * cross / f.a;
-    f.cross = cross;
-    f.w2 = wy * wy + wz * wz;
-    f.wu = wy * f.uy + wz * f.uz;
-    f.theta_a = std::atan2(-wz, wy);
-    f.az_rel = wz;
-    f.theta_off = f.theta_a - in.axis_rad;
-    f.set_series_terms();
-    f.index = static_cast<std::int32_t>(i);
-    f.coef =
-        kb * backscatter_coefficient(par.backscatter, par.materials[prof.material[i]]) * c0 * c0;
+    const double c0 =
+        setup_facet(f, in, hs, ya, za, yb, zb, static_cast<std::int32_t>(i),
+                    kb * backscatter_coefficient(par.backscatter, par.materials[prof.material[i]]));
     if constexpr (kTruth) mark_shadow(f, grid, h0, h1, w.shadowed);
     // Lit part only; a facet seen from behind or edge-on (c0 <= 0) returns nothing.
     if (!(t1 > t0) || !(c0 > 0.0)) continue;
+    if (sections && par.shadows) {
+      // Keep the piece to occlude the sections, then remove what the sections hide.
+      const double wz = za - hs, uy = f.uy, uz = f.uz;
+      const double ya0 = ya + t0 * uy, za0 = wz + t0 * uz, ya1 = ya + t1 * uy, za1 = wz + t1 * uz;
+      const double tp0 = tan_depression(ya0, za0), tp1 = tan_depression(ya1, za1);
+      const double tlo = std::min(tp0, tp1), thi = std::max(tp0, tp1);
+      w.seabed_pieces.push_back({ya0, za0, ya1, za1, tlo, thi, 0, static_cast<std::int32_t>(i)});
+      if (thi >= sec_tan_lo && tlo <= sec_tan_hi) {
+        auto& vis = w.visible;
+        vis.assign({t0, t1});
+        for (const Segment& o : occluders) {
+          if (o.tan_hi < tlo || o.tan_lo > thi) continue;
+          double q0 = 0.0, q1 = 0.0;
+          if (!hidden_by(o, ya, wz, uy, uz, q0, q1)) continue;
+          q0 = std::max(q0, t0);
+          q1 = std::min(q1, t1);
+          if (!(q1 - q0 > kMinHidden)) continue;
+          subtract_interval(vis, w.visible_next, q0, q1);
+          if constexpr (kTruth) mark_shadow(f, grid, q0, q1, w.shadowed);
+        }
+        for (std::size_t v = 0; v + 1 < vis.size(); v += 2) {
+          render_lit<kTruth>(f, in, grid, vis[v], vis[v + 1], std::clamp(f.tm0, vis[v], vis[v + 1]),
+                             ws);
+        }
+        continue;
+      }
+    }
     render_lit<kTruth>(f, in, grid, t0, t1, std::clamp(f.tm0, t0, t1), ws);
   }
-  return any_valid;
+  if (sections) render_sections<kTruth>(prof, par, grid, in, kb, ws, w);
+  return any_valid || sections;
 }
 
 // Sample i <- fine bins [first(i), last(i)] (clipped at 0).
@@ -502,13 +673,15 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
           facet = fi;
           const auto k = static_cast<std::size_t>(fi);
           if (grazing) {
-            const double uy = prof.y_m[k + 1] - prof.y_m[k], uz = prof.z_m[k + 1] - prof.z_m[k];
+            double ya, za, yb, zb;
+            prof.facet_ends(k, ya, za, yb, zb);
+            const double uy = yb - ya, uz = zb - za;
             const double len = std::sqrt(uy * uy + uz * uz);
             ny = -uz / len;  // upward unit normal
             nz = uy / len;
           }
-          label = prof.label[k];
-          material = prof.material[k];
+          label = prof.facet_label(k);
+          material = prof.facet_material(k);
         }
         const double my = w.best_y_m[b], mz = w.best_dz_m[b];
         out.truth_class[i] = label > 0 ? SampleClass::object : SampleClass::seabed;
