@@ -634,8 +634,11 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
   const std::ptrdiff_t nf = static_cast<std::ptrdiff_t>(w.fine_energy.size());
   std::ptrdiff_t first_return = nf;
   if constexpr (kTruth) {
+    // The first seabed return: a target in mid-water (a section) has water column behind it.
+    const auto seabed_facets = static_cast<std::int32_t>(prof.seabed_facets());
     for (std::ptrdiff_t j = 0; j < nf; ++j) {
-      if (w.fine_energy[static_cast<std::size_t>(j)] > 0.0) {
+      const auto u = static_cast<std::size_t>(j);
+      if (w.fine_energy[u] > 0.0 && (prof.sections() == 0 || w.best_facet[u] < seabed_facets)) {
         first_return = j;
         break;
       }
