@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Objects off the seabed as closed beam-plane sections (docs/physics.md §2.1, §3.14): a
+// Objects off the seabed as closed beam-plane sections (docs/physics.md §2.1, §3.15): a
 // free-spanning pipe and a moored sphere against geometry computed by hand from the tangent
 // lines of a circle, and their echo against an independent fine integration of the circle's
 // lit arc.
@@ -185,7 +185,7 @@ TEST(RenderSolids, FreeSpanningPipeMatchesTangentGeometryAndArcIntegral) {
 }
 
 TEST(RenderSolids, NarrowPipeAtOneMetreNoLongerReturnsAColumnsEcho) {
-  // docs/physics.md §3.14: a 5 cm pipe 1 m above the seabed. As a heightfield it was a solid
+  // docs/physics.md §3.15: a 5 cm pipe 1 m above the seabed. As a heightfield it was a solid
   // column down to the seabed (25x the energy); as a closed section it returns its lit arc.
   Scene scene(GeoFrame(19, true, 500000.0, 5000000.0));
   GridGeometry g{-50.0, 50.0, 1.0, -1.0, 101, 101};
@@ -273,6 +273,64 @@ objects:
     EXPECT_NEAR(e.intensity[i], analytic::flat_seabed_energy(r1, r1 + dr, 10.0, mu_sand, kBeta),
                 1e-9 * e.intensity[i])
         << "bin " << i;
+  }
+}
+
+TEST(RenderSolids, StableFromTouchingToFarAboveAndAroundTheSensor) {
+  // Clearance from 0+ to 5 diameters, a sphere cut at nadir, one above the sensor and one around
+  // it: finite, non-negative echoes, the seabed's shadow never larger than the tangent rays say.
+  Scene base(GeoFrame(19, true, 500000.0, 5000000.0));
+  GridGeometry g{-50.0, 50.0, 0.5, -0.5, 201, 201};
+  base.bathymetry = HeightGrid(g, std::vector<float>(g.size(), -20.0f));
+  base.material_map = MaterialMap(base.materials.index_of("sand"));
+  struct Case {
+    ObjectShape shape;
+    double x, radius, clearance;
+  };
+  std::vector<Case> cases;
+  for (double k : {1e-9, 1e-6, 1e-3, 0.1, 0.5, 1.0, 2.5, 5.0})
+    cases.push_back({ObjectShape::kCylinder, 12.0, 0.25, k * 0.5});
+  cases.push_back({ObjectShape::kEllipsoid, 0.3, 1.0, 3.0});   // cut at y = 0
+  cases.push_back({ObjectShape::kEllipsoid, 3.0, 0.5, 14.0});  // above the sensor
+  cases.push_back({ObjectShape::kEllipsoid, 0.5, 2.0, 8.0});   // the sensor inside it
+  for (const Case& k : cases) {
+    Scene scene = base;
+    ObjectPrimitive o;
+    o.shape = k.shape;
+    o.id = 3;
+    o.material = scene.materials.index_of("steel");
+    o.centre_xy_m = {k.x, 0.0};
+    o.half_extent_m = k.shape == ObjectShape::kCylinder
+                          ? Eigen::Vector3d(20.0, k.radius, k.radius)
+                          : Eigen::Vector3d(k.radius, k.radius, k.radius);
+    o.place_on_seabed(scene.bathymetry, k.clearance, 0.0, "object");
+    scene.objects = ObjectSet{};
+    scene.objects.add(o);
+    scene.objects.build_index();
+    BeamProfile prof;
+    ProfileScratch scratch;
+    build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 45.0, -10.0, {}, prof, scratch);
+    ASSERT_EQ(prof.sections(), 1u) << k.clearance;
+    SideParams p = params(0.05, 900, 0.01);
+    p.materials = scene.materials.all();
+    SideEcho e;
+    render_side(prof, p, e);
+    double total = 0.0;
+    for (std::size_t i = 0; i < p.samples; ++i) {
+      ASSERT_TRUE(std::isfinite(e.intensity[i]) && e.intensity[i] >= 0.0) << i;
+      total += e.intensity[i];
+    }
+    EXPECT_GT(total, 0.0);
+    if (k.shape == ObjectShape::kCylinder) {
+      // No shadow sample outside the tangent rays' landing ranges (one bin of slack).
+      const Circle c{k.x, k.clearance + k.radius, k.radius, 10.0};
+      for (std::size_t i = 0; i < p.samples; ++i) {
+        if (e.truth_class[i] != SampleClass::shadow) continue;
+        const double r = 0.05 * static_cast<double>(i);
+        EXPECT_GE(r, c.shadow_start() - 0.1) << k.clearance;
+        EXPECT_LE(r, c.shadow_end() + 0.1) << k.clearance;
+      }
+    }
   }
 }
 
