@@ -42,6 +42,10 @@ void add_object_section(const ObjectPrimitive& p, const Eigen::Vector2d& start,
     const Eigen::Vector2d q = start + std::clamp(s[k], a0 + eps, a1 - eps) * dir;
     double zb = 0, zt = 0;
     if (!p.vertical_extent(q.x(), q.y(), zb, zt)) zb = zt = kNaN;
+    // The rim of a curved section (evaluated a hair inside it): one node, not two.
+    if (p.shape != ObjectShape::kBox && zt - zb <= 2e-4 * p.half_extent_m.z()) {
+      zb = zt = 0.5 * (zb + zt);
+    }
     ext.push_back(zt);
     ext.push_back(zb);
   }
@@ -105,7 +109,7 @@ void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
     const ObjectPrimitive& prim = scene.objects.primitives()[i];
     if (prim.footprint_interval(nadir_xy_m, across_dir, s0, s1) && s1 > 0.0 && s0 < max_y_m &&
         s1 > s0) {
-      if (prim.clearance_m > 0.0) {  // off the seabed: a closed section
+      if (prim.clearance_m > 0.0 || options.solid_resting_objects) {  // a closed section
         add_object_section(prim, nadir_xy_m, across_dir, s0, s1, options.object_segments, out,
                            scratch);
       } else {

@@ -37,8 +37,8 @@ struct ObjectPrimitive {
   std::vector<float> base_z_m;
   double base_step_m = 0.0;
   /// Gap between the seabed and the body, metres, >= 0 (set by place_on_seabed). A body with a
-  /// gap is a solid off the seabed: the renderer intersects it with the beam plane as a closed
-  /// section (free span, moored target); one without enters the seabed's height profile.
+  /// gap (free span, moored target) always enters the beam plane as a closed section; one
+  /// without does too unless ProfileOptions::solid_resting_objects is false.
   double clearance_m = 0.0;
 
   Eigen::Vector2d axis_u() const;
