@@ -11,6 +11,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/render_math.hpp"
+#include "sonarsynth/render_sections.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -359,64 +360,15 @@ void mark_shadow(const Facet& f, const Grid& grid, double h0, double h1,
   for (std::ptrdiff_t j = j0; j <= j1; ++j) shadowed[static_cast<std::size_t>(j)] = 1;
 }
 
-using Segment = SideEcho::Workspace::Segment;
+using sections::hidden_by;
+using sections::kMinHidden;
+using sections::section_occluders;
+using sections::Segment;
+using sections::subtract_interval;
 
-// The part [h0, h1] of the segment P(t) = a + t u, t in [0, 1] (relative to the sensor), that
-// segment o hides: the points whose ray from the sensor crosses o before reaching them. That set
-// is convex (the wedge of o seen from the sensor, cross(o0, P) >= 0 and cross(P, o1) >= 0,
-// intersected with the far side of o's line), so a straight segment meets it in one interval
-// (Cyrus–Beck clipping; docs/physics.md §2.1 step 3). False if it hides nothing.
-bool hidden_by(const Segment& o, double ay, double az, double uy, double uz, double& h0,
-               double& h1) {
-  double lo = 0.0, hi = 1.0;
-  const auto keep = [&](double g0, double g1) {  // keep g0 + t g1 >= 0
-    if (g1 == 0.0) return g0 >= 0.0;
-    const double t = -g0 / g1;
-    if (g1 > 0.0) {
-      lo = std::max(lo, t);
-    } else {
-      hi = std::min(hi, t);
-    }
-    return lo < hi;
-  };
-  const double ey = o.y1 - o.y0, ez = o.z1 - o.z0;
-  if (!keep(o.y0 * az - o.z0 * ay, o.y0 * uz - o.z0 * uy)) return false;
-  if (!keep(ay * o.z1 - az * o.y1, uy * o.z1 - uz * o.y1)) return false;
-  if (!keep(-(ey * (az - o.z0) - ez * (ay - o.y0)), -(ey * uz - ez * uy))) return false;
-  h0 = lo;
-  h1 = hi;
-  return true;
-}
-
-// Removes [h0, h1] from the sorted disjoint intervals `v` (flattened pairs); `tmp` is scratch.
-void subtract_interval(std::vector<double>& v, std::vector<double>& tmp, double h0, double h1) {
-  tmp.clear();
-  for (std::size_t i = 0; i + 1 < v.size(); i += 2) {
-    const double a = v[i], b = v[i + 1];
-    if (h1 <= a || h0 >= b) {
-      tmp.push_back(a);
-      tmp.push_back(b);
-      continue;
-    }
-    if (h0 > a) {
-      tmp.push_back(a);
-      tmp.push_back(h0);
-    }
-    if (h1 < b) {
-      tmp.push_back(h1);
-      tmp.push_back(b);
-    }
-  }
-  v.swap(tmp);
-}
-
-// Hidden parts shorter than this (in facet parameter) are round-off at shared or touching
-// points, not occlusion.
-constexpr double kMinHidden = 1e-12;
-
-// tan(depression) of a point relative to the sensor (docs/physics.md §1.1), y guarded at nadir.
+// tan(depression) relative to the sensor, guarded at nadir as the horizon sweep is.
 inline double tan_depression(double y_rel, double z_rel) {
-  return -z_rel / std::max(y_rel, kMinTanY);
+  return sections::tan_depression(y_rel, z_rel, kMinTanY);
 }
 
 // The facet A -> B (absolute coordinates) of the integrand; returns c0 = cos(incidence) r (> 0
@@ -446,25 +398,6 @@ double setup_facet(Facet& f, const Integrand& in, double hs, double ya, double z
   f.index = index;
   f.coef = coef_per_c0sq * c0 * c0;
   return c0;
-}
-
-// The front-facing facets of the profile's closed sections, relative to the sensor (`out`).
-void section_occluders(const BeamProfile& prof, std::vector<Segment>& out) {
-  out.clear();
-  const double hs = prof.sensor_z_m;
-  const auto base = static_cast<std::int32_t>(prof.seabed_facets());
-  for (std::size_t s = 0; s < prof.sections(); ++s) {
-    const std::uint32_t first = prof.section_start[s], end = prof.section_start[s + 1];
-    for (std::uint32_t k = first; k < end; ++k) {
-      const std::uint32_t next = k + 1 < end ? k + 1 : first;
-      const double y0 = prof.section_y_m[k], z0 = prof.section_z_m[k] - hs;
-      const double y1 = prof.section_y_m[next], z1 = prof.section_z_m[next] - hs;
-      if (!(y0 * z1 - z0 * y1 > 0.0)) continue;  // seen from behind or edge-on
-      const double ta = tan_depression(y0, z0), tb = tan_depression(y1, z1);
-      out.push_back({y0, z0, y1, z1, std::min(ta, tb), std::max(ta, tb),
-                     static_cast<std::uint32_t>(s), base + static_cast<std::int32_t>(k)});
-    }
-  }
 }
 
 // Renders the front facets of the closed sections (w.occluders), each minus what the seabed
@@ -544,8 +477,8 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
   // Closed sections (objects off the seabed, BeamProfile): their front facets occlude the
   // seabed and each other; visible seabed pieces facing the sensor are kept to occlude them.
   auto& occluders = w.occluders;
-  section_occluders(prof, occluders);
-  const bool sections = !occluders.empty();
+  section_occluders(prof, kMinTanY, occluders);
+  const bool has_sections = !occluders.empty();
   w.seabed_pieces.clear();
   double sec_tan_lo = kInf, sec_tan_hi = -kInf;
   for (const Segment& o : occluders) {
@@ -592,7 +525,7 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     if constexpr (kTruth) mark_shadow(f, grid, h0, h1, w.shadowed);
     // Lit part only; a facet seen from behind or edge-on (c0 <= 0) returns nothing.
     if (!(t1 > t0) || !(c0 > 0.0)) continue;
-    if (sections && par.shadows) {
+    if (has_sections && par.shadows) {
       // Keep the piece to occlude the sections, then remove what the sections hide.
       const double wz = za - hs, uy = f.uy, uz = f.uz;
       const double ya0 = ya + t0 * uy, za0 = wz + t0 * uz, ya1 = ya + t1 * uy, za1 = wz + t1 * uz;
@@ -621,8 +554,8 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     }
     render_lit<kTruth>(f, in, grid, t0, t1, std::clamp(f.tm0, t0, t1), ws);
   }
-  if (sections) render_sections<kTruth>(prof, par, grid, in, kb, ws, w);
-  return any_valid || sections;
+  if (has_sections) render_sections<kTruth>(prof, par, grid, in, kb, ws, w);
+  return any_valid || has_sections;
 }
 
 // Sample i <- fine bins [first(i), last(i)] (clipped at 0).

@@ -140,8 +140,8 @@ void ObjectPrimitive::validate(const std::string& what) const {
   }
 }
 
-void ObjectPrimitive::place_on_seabed(const HeightGrid& seabed, double gap_m,
-                                      double embed_fraction, const std::string& what) {
+void ObjectPrimitive::place_on_seabed(const HeightGrid& seabed, double gap_m, double embed_fraction,
+                                      const std::string& what) {
   validate(what);
   if (!(gap_m >= 0.0)) {
     throw InputError(what + ": clearance_m = " + std::to_string(gap_m) +
