@@ -145,6 +145,8 @@ std::vector<Option> make_table() {
                       PLAIN(config.quality.profile.grid_subdivisions), "--quality"));
   t.push_back(integer("render.quality", "object_segments", 2, 256, false,
                       PLAIN(config.quality.profile.object_segments), "--quality"));
+  t.push_back(boolean("render.quality", "solid_resting_objects",
+                      BOOL(config.quality.profile.solid_resting_objects)));
   t.push_back(integer("render.quality", "gauss_points", 1, 5, false,
                       PLAIN(config.quality.gauss_points), "--quality"));
   Option planes = integer(

@@ -166,8 +166,39 @@ struct Builder {
         b.half_extent_m = 0.5 * Eigen::Vector3d(s[0], s[1], s[2]);
         place(b, part, clearance + part.number_in("lift_m", 0.0, 0.0, 1e3), embed);
       }
+    } else if (type == "moored") {
+      // A target held off the seabed by a tether (not rendered): a sphere or a level horizontal
+      // cylinder whose centre is height_m above the seabed under it.
+      o.only({"type", "id", "name", "material", "position", "heading_deg", "shape", "diameter_m",
+              "length_m", "height_m"});
+      const std::string shape = o.text("shape", "sphere");
+      const double radius = 0.5 * o.number_in("diameter_m", 0.0, 0.0, 1e3, true);
+      const double height = o.number_in("height_m", 0.0, 0.0, 1e4, true);
+      if (!(height > radius)) {
+        o.fail_value("height_m", "height_m > diameter_m / 2 (the target is off the seabed)");
+      }
+      p.material = material(o, "steel");
+      p.centre_xy_m = position(o, "position");
+      p.heading_rad = heading;
+      if (shape == "sphere") {
+        if (o.has("length_m")) o.fail("length_m", "a sphere has no length_m");
+        p.shape = ObjectShape::kEllipsoid;
+        p.half_extent_m = {radius, radius, radius};
+      } else if (shape == "cylinder") {
+        p.shape = ObjectShape::kCylinder;
+        p.half_extent_m = {0.5 * o.number_in("length_m", 0.0, 0.0, 1e5, true), radius, radius};
+      } else {
+        o.fail_value("shape", "sphere or cylinder");
+      }
+      p.id = take_id(o);
+      p.place_on_seabed(scene.bathymetry, height - radius, 0.0, o.file() + ": " + o.path());
+      if (p.shape == ObjectShape::kCylinder) {  // level, not draped: the seabed under its centre
+        p.base_z_m = {static_cast<float>(p.base_at(0.0))};
+        p.base_step_m = 0.0;
+      }
+      scene.objects.add(std::move(p));
     } else {
-      o.fail_value("type", "one of pipe, cylinder, box, rock, wreck");
+      o.fail_value("type", "one of pipe, cylinder, box, rock, wreck, moored");
     }
   }
 

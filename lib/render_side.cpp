@@ -11,6 +11,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/render_math.hpp"
+#include "sonarsynth/render_sections.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -359,6 +360,88 @@ void mark_shadow(const Facet& f, const Grid& grid, double h0, double h1,
   for (std::ptrdiff_t j = j0; j <= j1; ++j) shadowed[static_cast<std::size_t>(j)] = 1;
 }
 
+using sections::hidden_by;
+using sections::kMinHidden;
+using sections::section_occluders;
+using sections::Segment;
+using sections::subtract_interval;
+
+// tan(depression) relative to the sensor, guarded at nadir as the horizon sweep is.
+inline double tan_depression(double y_rel, double z_rel) {
+  return sections::tan_depression(y_rel, z_rel, kMinTanY);
+}
+
+// The facet A -> B (absolute coordinates) of the integrand; returns c0 = cos(incidence) r (> 0
+// iff it faces the sensor); f.a = 0 for a zero-length facet (then nothing else is set).
+double setup_facet(Facet& f, const Integrand& in, double hs, double ya, double za, double yb,
+                   double zb, std::int32_t index, double coef_per_c0sq) {
+  f.ay = ya;
+  f.az = za;
+  f.uy = yb - ya;
+  f.uz = zb - za;
+  f.a = f.uy * f.uy + f.uz * f.uz;
+  if (!(f.a > 0.0)) return 0.0;
+  f.len_m = std::sqrt(f.a);
+  f.inv_a = 1.0 / f.a;
+  const double wy = ya, wz = za - hs;  // w = A - S
+  f.tm0 = -(wy * f.uy + wz * f.uz) / f.a;
+  const double cross = wy * f.uz - wz * f.uy;
+  const double c0 = cross / f.len_m;  // cos(incidence) r, > 0 iff the facet faces the sensor
+  f.p2 = cross * cross / f.a;
+  f.cross = cross;
+  f.w2 = wy * wy + wz * wz;
+  f.wu = wy * f.uy + wz * f.uz;
+  f.theta_a = std::atan2(-wz, wy);
+  f.az_rel = wz;
+  f.theta_off = f.theta_a - in.axis_rad;
+  f.set_series_terms();
+  f.index = index;
+  f.coef = coef_per_c0sq * c0 * c0;
+  return c0;
+}
+
+// Renders the front facets of the closed sections (w.occluders), each minus what the seabed
+// (w.seabed_pieces: the visible seabed facing the sensor, in order of decreasing tan(depression))
+// and the other sections hide.
+template <bool kTruth, class Grid>
+void render_sections(const BeamProfile& prof, const SideParams& par, const Grid& grid,
+                     const Integrand& in, double kb, const Workspace& ws, SideEcho::Workspace& w) {
+  const double hs = prof.sensor_z_m;
+  const auto& pieces = w.seabed_pieces;
+  for (const Segment& s : w.occluders) {
+    Facet f{};
+    const double c0 =
+        setup_facet(f, in, hs, s.y0, s.z0 + hs, s.y1, s.z1 + hs, s.facet,
+                    kb * backscatter_coefficient(par.backscatter,
+                                                 par.materials[prof.section_material[s.section]]));
+    if (!(f.a > 0.0) || !(c0 > 0.0)) continue;
+    auto& vis = w.visible;
+    vis.assign({0.0, 1.0});
+    if (par.shadows) {
+      const double uy = s.y1 - s.y0, uz = s.z1 - s.z0;
+      const auto hide = [&](const Segment& o) {
+        double q0 = 0.0, q1 = 0.0;
+        if (!hidden_by(o, s.y0, s.z0, uy, uz, q0, q1) || !(q1 - q0 > kMinHidden)) return;
+        subtract_interval(vis, w.visible_next, q0, q1);
+        if constexpr (kTruth) mark_shadow(f, grid, q0, q1, w.shadowed);
+      };
+      // Seabed pieces whose tan range meets [tan_lo, tan_hi]: they are sorted by decreasing tan.
+      auto it = std::partition_point(pieces.begin(), pieces.end(),
+                                     [&](const Segment& p) { return p.tan_lo > s.tan_hi; });
+      for (; it != pieces.end() && it->tan_hi >= s.tan_lo && vis.size() > 1; ++it) hide(*it);
+      for (const Segment& o : w.occluders) {
+        if (o.section == s.section || o.tan_hi < s.tan_lo || o.tan_lo > s.tan_hi) continue;
+        if (vis.size() < 2) break;
+        hide(o);
+      }
+    }
+    for (std::size_t v = 0; v + 1 < vis.size(); v += 2) {
+      render_lit<kTruth>(f, in, grid, vis[v], vis[v + 1], std::clamp(f.tm0, vis[v], vis[v + 1]),
+                         ws);
+    }
+  }
+}
+
 template <bool kTruth, class Grid>
 bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, SideEcho& out) {
   auto& w = out.workspace;
@@ -391,6 +474,17 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
   bool any_valid = false;
   double tan_h = kInf;  // running minimum of tan(depression) (the horizon)
   const std::size_t n = prof.nodes();
+  // Closed sections (objects off the seabed, BeamProfile): their front facets occlude the
+  // seabed and each other; visible seabed pieces facing the sensor are kept to occlude them.
+  auto& occluders = w.occluders;
+  section_occluders(prof, kMinTanY, occluders);
+  const bool has_sections = !occluders.empty();
+  w.seabed_pieces.clear();
+  double sec_tan_lo = kInf, sec_tan_hi = -kInf;
+  for (const Segment& o : occluders) {
+    sec_tan_lo = std::min(sec_tan_lo, o.tan_lo);
+    sec_tan_hi = std::max(sec_tan_hi, o.tan_hi);
+  }
   for (std::size_t i = 0; i + 1 < n; ++i) {
     const double ya = prof.y_m[i], za = prof.z_m[i];
     const double yb = prof.y_m[i + 1], zb = prof.z_m[i + 1];
@@ -398,11 +492,7 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     if (std::isnan(za) || std::isnan(zb)) continue;  // hole: no return, horizon unchanged
     any_valid = true;
     Facet f{};
-    f.ay = ya;
-    f.az = za;
-    f.uy = yb - ya;
-    f.uz = zb - za;
-    f.a = f.uy * f.uy + f.uz * f.uz;
+    f.a = (yb - ya) * (yb - ya) + (zb - za) * (zb - za);
     double t0 = 0.0, t1 = 1.0;  // visible part
     double h0 = 0.0, h1 = 0.0;  // hidden part (truth)
     if (par.shadows) {
@@ -429,29 +519,43 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
       tan_h = std::min({tan_h, ta, tb});
     }
     if (!(f.a > 0.0)) continue;  // zero-length facet
-    f.len_m = std::sqrt(f.a);
-    f.inv_a = 1.0 / f.a;
-    const double wy = ya, wz = za - hs;  // w = A - S
-    f.tm0 = -(wy * f.uy + wz * f.uz) / f.a;
-    const double cross = wy * f.uz - wz * f.uy;
-    const double c0 = cross / f.len_m;  // cos(incidence) r, > 0 iff the facet faces the sensor
-    f.p2 = cross * cross / f.a;
-    f.cross = cross;
-    f.w2 = wy * wy + wz * wz;
-    f.wu = wy * f.uy + wz * f.uz;
-    f.theta_a = std::atan2(-wz, wy);
-    f.az_rel = wz;
-    f.theta_off = f.theta_a - in.axis_rad;
-    f.set_series_terms();
-    f.index = static_cast<std::int32_t>(i);
-    f.coef =
-        kb * backscatter_coefficient(par.backscatter, par.materials[prof.material[i]]) * c0 * c0;
+    const double c0 =
+        setup_facet(f, in, hs, ya, za, yb, zb, static_cast<std::int32_t>(i),
+                    kb * backscatter_coefficient(par.backscatter, par.materials[prof.material[i]]));
     if constexpr (kTruth) mark_shadow(f, grid, h0, h1, w.shadowed);
     // Lit part only; a facet seen from behind or edge-on (c0 <= 0) returns nothing.
     if (!(t1 > t0) || !(c0 > 0.0)) continue;
+    if (has_sections && par.shadows) {
+      // Keep the piece to occlude the sections, then remove what the sections hide.
+      const double wz = za - hs, uy = f.uy, uz = f.uz;
+      const double ya0 = ya + t0 * uy, za0 = wz + t0 * uz, ya1 = ya + t1 * uy, za1 = wz + t1 * uz;
+      const double tp0 = tan_depression(ya0, za0), tp1 = tan_depression(ya1, za1);
+      const double tlo = std::min(tp0, tp1), thi = std::max(tp0, tp1);
+      w.seabed_pieces.push_back({ya0, za0, ya1, za1, tlo, thi, 0, static_cast<std::int32_t>(i)});
+      if (thi >= sec_tan_lo && tlo <= sec_tan_hi) {
+        auto& vis = w.visible;
+        vis.assign({t0, t1});
+        for (const Segment& o : occluders) {
+          if (o.tan_hi < tlo || o.tan_lo > thi) continue;
+          double q0 = 0.0, q1 = 0.0;
+          if (!hidden_by(o, ya, wz, uy, uz, q0, q1)) continue;
+          q0 = std::max(q0, t0);
+          q1 = std::min(q1, t1);
+          if (!(q1 - q0 > kMinHidden)) continue;
+          subtract_interval(vis, w.visible_next, q0, q1);
+          if constexpr (kTruth) mark_shadow(f, grid, q0, q1, w.shadowed);
+        }
+        for (std::size_t v = 0; v + 1 < vis.size(); v += 2) {
+          render_lit<kTruth>(f, in, grid, vis[v], vis[v + 1], std::clamp(f.tm0, vis[v], vis[v + 1]),
+                             ws);
+        }
+        continue;
+      }
+    }
     render_lit<kTruth>(f, in, grid, t0, t1, std::clamp(f.tm0, t0, t1), ws);
   }
-  return any_valid;
+  if (has_sections) render_sections<kTruth>(prof, par, grid, in, kb, ws, w);
+  return any_valid || has_sections;
 }
 
 // Sample i <- fine bins [first(i), last(i)] (clipped at 0).
@@ -463,8 +567,11 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
   const std::ptrdiff_t nf = static_cast<std::ptrdiff_t>(w.fine_energy.size());
   std::ptrdiff_t first_return = nf;
   if constexpr (kTruth) {
+    // The first seabed return: a target in mid-water (a section) has water column behind it.
+    const auto seabed_facets = static_cast<std::int32_t>(prof.seabed_facets());
     for (std::ptrdiff_t j = 0; j < nf; ++j) {
-      if (w.fine_energy[static_cast<std::size_t>(j)] > 0.0) {
+      const auto u = static_cast<std::size_t>(j);
+      if (w.fine_energy[u] > 0.0 && (prof.sections() == 0 || w.best_facet[u] < seabed_facets)) {
         first_return = j;
         break;
       }
@@ -502,13 +609,15 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
           facet = fi;
           const auto k = static_cast<std::size_t>(fi);
           if (grazing) {
-            const double uy = prof.y_m[k + 1] - prof.y_m[k], uz = prof.z_m[k + 1] - prof.z_m[k];
+            double ya, za, yb, zb;
+            prof.facet_ends(k, ya, za, yb, zb);
+            const double uy = yb - ya, uz = zb - za;
             const double len = std::sqrt(uy * uy + uz * uz);
             ny = -uz / len;  // upward unit normal
             nz = uy / len;
           }
-          label = prof.label[k];
-          material = prof.material[k];
+          label = prof.facet_label(k);
+          material = prof.facet_material(k);
         }
         const double my = w.best_y_m[b], mz = w.best_dz_m[b];
         out.truth_class[i] = label > 0 ? SampleClass::object : SampleClass::seabed;

@@ -84,6 +84,39 @@ void validate_beam_profile(const BeamProfile& p, std::size_t n_materials, const 
            ". Violated constraint: material < materials.size() = " + std::to_string(n_materials));
     }
   }
+  // Closed sections.
+  const std::size_t ns = p.section_label.size();
+  const std::size_t nn = p.section_y_m.size();
+  if (p.section_material.size() != ns || p.section_z_m.size() != nn ||
+      (ns == 0 ? !(p.section_start.empty() || p.section_start.size() == 1)
+               : p.section_start.size() != ns + 1)) {
+    fail("profile sections: section_label.size() = " + std::to_string(ns) +
+         ", section_material.size() = " + std::to_string(p.section_material.size()) +
+         ", section_start.size() = " + std::to_string(p.section_start.size()) +
+         ", section_y_m.size() = " + std::to_string(nn) +
+         ", section_z_m.size() = " + std::to_string(p.section_z_m.size()) +
+         ". Violated constraint: one label, material per section, section_start = sections + 1, "
+         "y and z of equal size");
+  }
+  for (std::size_t k = 0; k < ns; ++k) {
+    const std::uint32_t a = p.section_start[k], b = p.section_start[k + 1];
+    if (!(b >= a + 3 && b <= nn && (k > 0 || a == 0)) || (k + 1 == ns && b != nn)) {
+      fail("profile section " + std::to_string(k) + ": nodes " + std::to_string(a) + ".." +
+           std::to_string(b) + ". Violated constraint: >= 3 nodes, consecutive, covering all");
+    }
+    if (p.section_material[k] >= n_materials) {
+      fail("profile section_material[" + std::to_string(k) +
+           "] = " + std::to_string(p.section_material[k]) +
+           ". Violated constraint: material < materials.size() = " + std::to_string(n_materials));
+    }
+  }
+  for (std::size_t i = 0; i < nn; ++i) {
+    if (!(std::isfinite(p.section_y_m[i]) && std::isfinite(p.section_z_m[i]) &&
+          p.section_y_m[i] >= 0.0)) {
+      fail("profile section node " + std::to_string(i) + " = (" + std::to_string(p.section_y_m[i]) +
+           ", " + std::to_string(p.section_z_m[i]) + "). Violated constraint: finite, y >= 0");
+    }
+  }
 }
 
 }  // namespace sonarsynth

@@ -140,18 +140,19 @@ void ObjectPrimitive::validate(const std::string& what) const {
   }
 }
 
-void ObjectPrimitive::place_on_seabed(const HeightGrid& seabed, double clearance_m,
-                                      double embed_fraction, const std::string& what) {
+void ObjectPrimitive::place_on_seabed(const HeightGrid& seabed, double gap_m, double embed_fraction,
+                                      const std::string& what) {
   validate(what);
-  if (!(clearance_m >= 0.0)) {
-    throw InputError(what + ": clearance_m = " + std::to_string(clearance_m) +
+  if (!(gap_m >= 0.0)) {
+    throw InputError(what + ": clearance_m = " + std::to_string(gap_m) +
                      ". Violated constraint: clearance_m >= 0");
   }
   if (!(embed_fraction >= 0.0 && embed_fraction < 1.0)) {
     throw InputError(what + ": embed = " + std::to_string(embed_fraction) +
                      ". Violated constraint: 0 <= embed < 1");
   }
-  const double lift = clearance_m - embed_fraction * 2.0 * half_extent_m.z();
+  const double lift = gap_m - embed_fraction * 2.0 * half_extent_m.z();
+  clearance_m = gap_m;
   auto seabed_at = [&](const Eigen::Vector2d& p) {
     const double z = seabed.height_m(p.x(), p.y());
     if (std::isnan(z)) {

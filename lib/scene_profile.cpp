@@ -11,6 +11,66 @@
 namespace sonarsynth {
 namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Appends the closed section of object p with the vertical plane through start + s dir (the
+// footprint crosses it over [a0, a1], unclipped): the upper boundary at increasing s, then the
+// lower one back, at the sample positions of the envelope (ends, and for curved shapes points
+// evenly spaced in the section's angle, s = mid - half cos(phi)); the part at s < 0 is cut off.
+void add_object_section(const ObjectPrimitive& p, const Eigen::Vector2d& start,
+                        const Eigen::Vector2d& dir, double a0, double a1, int segments,
+                        BeamProfile& out, ProfileScratch& scratch) {
+  const double c0 = std::max(a0, 0.0), c1 = a1;
+  const double eps = 1e-9 * std::max(1.0, a1 - a0);
+  if (!(c1 > c0) || !(a1 - a0 > 4.0 * eps)) return;
+  auto& s = scratch.s;
+  s.clear();
+  s.push_back(c0);
+  if (p.shape != ObjectShape::kBox) {
+    const double mid = 0.5 * (a0 + a1), half = 0.5 * (a1 - a0);
+    for (int k = 1; k < segments; ++k) {
+      const double sk = mid - half * std::cos(kPi * k / segments);
+      if (sk > c0 && sk < c1) s.push_back(sk);
+    }
+  }
+  s.push_back(c1);
+  // Vertical extent at each position, evaluated a hair inside the footprint so boundary
+  // rounding cannot drop the object.
+  auto& ext = scratch.section_extent;
+  ext.clear();
+  const std::size_t n = s.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const Eigen::Vector2d q = start + std::clamp(s[k], a0 + eps, a1 - eps) * dir;
+    double zb = 0, zt = 0;
+    if (!p.vertical_extent(q.x(), q.y(), zb, zt)) zb = zt = kNaN;
+    // The rim of a curved section (evaluated a hair inside it): one node, not two.
+    if (p.shape != ObjectShape::kBox && zt - zb <= 2e-4 * p.half_extent_m.z()) {
+      zb = zt = 0.5 * (zb + zt);
+    }
+    ext.push_back(zt);
+    ext.push_back(zb);
+  }
+  // A clockwise polygon: (s_k, top_k) for k up, then (s_k, bottom_k) for k down, without
+  // repeated nodes (top = bottom at the footprint ends).
+  auto& py = scratch.section_y;
+  auto& pz = scratch.section_z;
+  py.clear();
+  pz.clear();
+  const auto push = [&](double y, double z) {
+    if (std::isnan(z)) return;
+    if (!py.empty() && std::abs(py.back() - y) <= 1e-12 && std::abs(pz.back() - z) <= 1e-12) return;
+    py.push_back(y);
+    pz.push_back(z);
+  };
+  for (std::size_t k = 0; k < n; ++k) push(s[k], ext[2 * k]);
+  for (std::size_t k = n; k-- > 0;) push(s[k], ext[2 * k + 1]);
+  while (py.size() > 1 && std::abs(py.back() - py.front()) <= 1e-12 &&
+         std::abs(pz.back() - pz.front()) <= 1e-12) {
+    py.pop_back();
+    pz.pop_back();
+  }
+  if (py.size() >= 3) out.add_section(py.data(), pz.data(), py.size(), p.id, p.material);
+}
+
 }  // namespace
 
 void ProfileOptions::validate() const {
@@ -46,9 +106,15 @@ void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
   scene.objects.candidates_along(nadir_xy_m, across_dir, max_y_m, scratch.candidates);
   for (std::uint32_t i : scratch.candidates) {
     double s0 = 0, s1 = 0;
-    if (scene.objects.primitives()[i].footprint_interval(nadir_xy_m, across_dir, s0, s1) &&
-        s1 > 0.0 && s0 < max_y_m && s1 > s0) {
-      scratch.spans.push_back({std::max(s0, 0.0), std::min(s1, max_y_m), i});
+    const ObjectPrimitive& prim = scene.objects.primitives()[i];
+    if (prim.footprint_interval(nadir_xy_m, across_dir, s0, s1) && s1 > 0.0 && s0 < max_y_m &&
+        s1 > s0) {
+      if (prim.clearance_m > 0.0 || options.solid_resting_objects) {  // a closed section
+        add_object_section(prim, nadir_xy_m, across_dir, s0, s1, options.object_segments, out,
+                           scratch);
+      } else {
+        scratch.spans.push_back({std::max(s0, 0.0), std::min(s1, max_y_m), i});
+      }
     }
   }
 

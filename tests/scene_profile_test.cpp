@@ -46,6 +46,13 @@ TEST(SceneProfile, SeabedOnlyProfileIsTheGridProfile) {
   EXPECT_DOUBLE_EQ(prof.sensor_z_m, -10.0);
 }
 
+// The heightfield mode (solid_resting_objects = false): resting objects in the height profile.
+ProfileOptions heightfield() {
+  ProfileOptions o;
+  o.solid_resting_objects = false;
+  return o;
+}
+
 TEST(SceneProfile, ThinPipeOnCoarseGridIsSeenAtFullHeight) {
   // A 0.5 m pipe (radius 0.25) on a 1 m grid, running north; ping line running east across it.
   Scene scene = flat_scene(1.0, 20.0);
@@ -61,7 +68,7 @@ TEST(SceneProfile, ThinPipeOnCoarseGridIsSeenAtFullHeight) {
   scene.objects.build_index();
   BeamProfile prof;
   ProfileScratch scratch;
-  build_beam_profile(scene, {0.0, 3.0}, {1.0, 0.0}, 40.0, -10.0, {}, prof, scratch);
+  build_beam_profile(scene, {0.0, 3.0}, {1.0, 0.0}, 40.0, -10.0, heightfield(), prof, scratch);
   std::int32_t label = -1;
   EXPECT_NEAR(max_z(prof, &label), -19.5, 1e-3);  // the pipe's crest, 16 segments
   EXPECT_EQ(label, 7);
@@ -99,7 +106,7 @@ TEST(SceneProfile, BoxHasVerticalWallsAtItsFootprintEdges) {
   scene.objects.build_index();
   BeamProfile prof;
   ProfileScratch scratch;
-  build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 45.0, 0.0, {}, prof, scratch);
+  build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 45.0, 0.0, heightfield(), prof, scratch);
   int walls = 0;
   for (std::size_t i = 0; i + 1 < prof.nodes(); ++i) {
     if (prof.y_m[i] == prof.y_m[i + 1]) {
@@ -111,6 +118,54 @@ TEST(SceneProfile, BoxHasVerticalWallsAtItsFootprintEdges) {
   }
   EXPECT_EQ(walls, 2);
   EXPECT_NEAR(max_z(prof), -9.0, 1e-6);
+}
+
+TEST(SceneProfile, ObjectsAsClosedSectionsOnTheCircleAndTheBox) {
+  // Default: a resting pipe and a box off the seabed as clockwise closed sections; the height
+  // profile stays the seabed's.
+  Scene scene = flat_scene(1.0, 20.0);
+  ObjectPrimitive pipe;
+  pipe.shape = ObjectShape::kCylinder;
+  pipe.id = 7;
+  pipe.centre_xy_m = {12.37, 0.0};
+  pipe.half_extent_m = {20.0, 0.25, 0.25};
+  pipe.place_on_seabed(scene.bathymetry, 0.0, 0.0, "pipe");
+  scene.objects.add(pipe);
+  ObjectPrimitive box;
+  box.shape = ObjectShape::kBox;
+  box.id = 3;
+  box.heading_rad = kPi / 2;  // u east: 1 m along the ray
+  box.centre_xy_m = {30.5, 0.0};
+  box.half_extent_m = {0.5, 5.0, 0.5};
+  box.place_on_seabed(scene.bathymetry, 2.0, 0.0, "box");
+  scene.objects.add(box);
+  scene.objects.build_index();
+  BeamProfile prof;
+  ProfileScratch scratch;
+  build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 40.0, -10.0, {}, prof, scratch);
+  for (double z : prof.z_m) EXPECT_NEAR(z, -20.0, 1e-6);
+  for (auto l : prof.label) EXPECT_EQ(l, 0);
+  ASSERT_EQ(prof.sections(), 2u);
+  double area[2] = {0.0, 0.0};
+  for (std::size_t s = 0; s < 2; ++s) {
+    const std::uint32_t a = prof.section_start[s], b = prof.section_start[s + 1];
+    for (std::uint32_t k = a; k < b; ++k) {
+      const std::uint32_t n = k + 1 < b ? k + 1 : a;
+      // Shoelace: negative for a clockwise polygon in (y, z).
+      area[s] += 0.5 * (prof.section_y_m[k] * prof.section_z_m[n] -
+                        prof.section_y_m[n] * prof.section_z_m[k]);
+      if (prof.section_label[s] == 7) {
+        EXPECT_NEAR(std::hypot(prof.section_y_m[k] - 12.37, prof.section_z_m[k] + 19.75), 0.25,
+                    1e-6);
+      }
+    }
+  }
+  const std::size_t ip = prof.section_label[0] == 7 ? 0 : 1;
+  EXPECT_EQ(prof.section_label[1 - ip], 3);
+  EXPECT_EQ(prof.section_start[ip + 1] - prof.section_start[ip], 32u);  // 16 per half
+  // The 32-gon inscribed in the circle and the 1 m x 1 m box.
+  EXPECT_NEAR(area[ip], -0.5 * 32 * 0.0625 * std::sin(2 * kPi / 32), 1e-6);
+  EXPECT_NEAR(area[1 - ip], -1.0, 1e-6);
 }
 
 TEST(SceneProfile, RejectsBadOptions) {

@@ -285,7 +285,8 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
       "tilt_deg: 12.5, horizontal_beam_deg: 0.7, ping_period_s: 0.2, VB, PULSE}\n"
       "render: {backscatter: lambert, shadows: false, spreading: false, beam_pattern: false, "
       "absorption: false, calibration_k: 2.5, water: {temperature_c: 4, salinity_psu: 30, ph: 7.5, "
-      "depth_m: 100}, quality: {grid_subdivisions: 2, object_segments: 12, gauss_points: 3, "
+      "depth_m: 100}, quality: {grid_subdivisions: 2, object_segments: 12, "
+      "solid_resting_objects: false, gauss_points: 3, "
       "along_track_tolerance_db: 0.5 PLANES}}\n"
       "noise: {model: paper, NOISEU, snr_db: 15, texture: false, "
       "along_track_correlation: false, "
@@ -373,6 +374,7 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
     EXPECT_EQ(x.physics.water.depth_m, y.physics.water.depth_m);
     EXPECT_EQ(x.quality.profile.grid_subdivisions, y.quality.profile.grid_subdivisions);
     EXPECT_EQ(x.quality.profile.object_segments, y.quality.profile.object_segments);
+    EXPECT_EQ(x.quality.profile.solid_resting_objects, y.quality.profile.solid_resting_objects);
     EXPECT_EQ(x.quality.gauss_points, y.quality.gauss_points);
     EXPECT_EQ(x.quality.along_track_planes, y.quality.along_track_planes);
     EXPECT_EQ(x.quality.along_track_tolerance_db, y.quality.along_track_tolerance_db);

@@ -31,6 +31,10 @@ struct ProfileOptions {
   int grid_subdivisions = 1;
   /// Segments across a curved object section (pipe, rock), [2, 256].
   int object_segments = 16;
+  /// Objects resting on the seabed also enter as closed sections (as objects off it always do):
+  /// their true lower boundary (docs/physics.md §2.1, §3.15). false: they enter the seabed's
+  /// height profile with vertical walls at their footprint edges (the earlier heightfield).
+  bool solid_resting_objects = true;
   void validate() const;
 };
 

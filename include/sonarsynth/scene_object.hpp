@@ -36,6 +36,10 @@ struct ObjectPrimitive {
   /// u = -half length to u = +half length. One value = flat base. Set by place_on_seabed().
   std::vector<float> base_z_m;
   double base_step_m = 0.0;
+  /// Gap between the seabed and the body, metres, >= 0 (set by place_on_seabed). A body with a
+  /// gap (free span, moored target) always enters the beam plane as a closed section; one
+  /// without does too unless ProfileOptions::solid_resting_objects is false.
+  double clearance_m = 0.0;
 
   Eigen::Vector2d axis_u() const;
   /// (u, v) body coordinates of a local point.

@@ -18,6 +18,13 @@ namespace sonarsynth {
 /// Facet i joins node i and node i + 1 and carries label[i] (0 = seabed, > 0 = object id) and
 /// material[i] (index into SideParams::materials).
 ///
+/// Besides this heightfield, the profile holds closed sections: the cross-sections of objects
+/// that do not rest on the seabed (free spans, moored and mid-water targets), each a polygon of
+/// section nodes traversed clockwise in (y, z) (the solid on the right of every facet, so the
+/// outward normal of facet A -> B is (-(z_B - z_A), y_B - y_A), as for the seabed). Section k holds
+/// nodes section_start[k] .. section_start[k + 1] - 1; its last node joins its first. The
+/// renderer occludes exactly between the heightfield and the sections (docs/physics.md §2.1).
+///
 /// A plain struct of vectors: clear() keeps the capacity, so one instance can be refilled for
 /// every ping without allocating.
 struct BeamProfile {
@@ -27,13 +34,62 @@ struct BeamProfile {
   std::vector<std::int32_t> label;  ///< per facet (size = nodes - 1): 0 seabed, > 0 object id
   std::vector<std::uint16_t> material;  ///< per facet (size = nodes - 1): material table index
 
+  // Closed sections (see above); section_start is empty or has sections + 1 entries.
+  std::vector<double> section_y_m;              ///< section node y, metres, finite, >= 0
+  std::vector<double> section_z_m;              ///< section node z, metres, finite
+  std::vector<std::uint32_t> section_start;     ///< first node of each section, then the total
+  std::vector<std::int32_t> section_label;      ///< per section: object id (> 0)
+  std::vector<std::uint16_t> section_material;  ///< per section: material table index
+
   std::size_t nodes() const { return y_m.size(); }
+  std::size_t sections() const { return section_label.size(); }
   /// Empties the profile, keeping the allocated capacity.
   void clear() {
     y_m.clear();
     z_m.clear();
     label.clear();
     material.clear();
+    section_y_m.clear();
+    section_z_m.clear();
+    section_start.clear();
+    section_label.clear();
+    section_material.clear();
+  }
+  /// Appends a closed section (nodes clockwise in (y, z)); at least 3 nodes.
+  void add_section(const double* ys, const double* zs, std::size_t count, std::int32_t id,
+                   std::uint16_t mat) {
+    if (section_start.empty()) section_start.push_back(0);
+    section_y_m.insert(section_y_m.end(), ys, ys + count);
+    section_z_m.insert(section_z_m.end(), zs, zs + count);
+    section_start.push_back(static_cast<std::uint32_t>(section_y_m.size()));
+    section_label.push_back(id);
+    section_material.push_back(mat);
+  }
+  /// Facet index space of the renderer's truth: heightfield facets 0 .. nodes - 2, then section
+  /// node k (its facet to the next node of its section) as nodes - 1 + k.
+  /// End points of facet `i` in that space.
+  void facet_ends(std::size_t i, double& ya, double& za, double& yb, double& zb) const {
+    if (i + 1 < y_m.size()) {
+      ya = y_m[i], za = z_m[i], yb = y_m[i + 1], zb = z_m[i + 1];
+      return;
+    }
+    const std::size_t k = i - (y_m.empty() ? 0 : y_m.size() - 1);
+    const std::size_t sec = section_of(k);
+    const std::size_t next = k + 1 < section_start[sec + 1] ? k + 1 : section_start[sec];
+    ya = section_y_m[k], za = section_z_m[k], yb = section_y_m[next], zb = section_z_m[next];
+  }
+  std::int32_t facet_label(std::size_t i) const {
+    return i + 1 < y_m.size() ? label[i] : section_label[section_of(i - seabed_facets())];
+  }
+  std::uint16_t facet_material(std::size_t i) const {
+    return i + 1 < y_m.size() ? material[i] : section_material[section_of(i - seabed_facets())];
+  }
+  std::size_t seabed_facets() const { return y_m.empty() ? 0 : y_m.size() - 1; }
+  /// Section holding section node k.
+  std::size_t section_of(std::size_t k) const {
+    std::size_t s = 0;
+    while (section_start[s + 1] <= k) ++s;
+    return s;
   }
   /// Appends a node; for every node after the first also the facet that ends at it.
   void add_node(double node_y_m, double node_z_m, std::int32_t facet_label = 0,

@@ -23,7 +23,8 @@ namespace sonarsynth {
 /// the per-ray power is SUMMED into the sample(s) whose window holds r (a rectangular pulse
 /// window as in render_side). Rays through a hole (a facet touching a NaN node) or past the
 /// profile end are lost. Truth arrays are not filled; SideParams::shadows and gauss_points are
-/// ignored (a ray always stops at its first hit).
+/// ignored (a ray always stops at its first hit). The profile's closed sections (objects off the
+/// seabed) are ignored too: the comparison is on heightfields.
 ///
 /// Cost O(nodes + rays log nodes). Throws InputError if params or the profile are invalid or
 /// rays == 0.

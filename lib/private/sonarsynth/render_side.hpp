@@ -78,6 +78,17 @@ struct SideEcho {
     std::vector<double> best_y_m;          ///< its midpoint's y
     std::vector<double> best_dz_m;         ///< its midpoint's z minus the sensor height
     std::vector<std::uint8_t> shadowed;
+    // Closed sections (BeamProfile sections): their front-facing facets, the seabed pieces that
+    // can occlude them, and visible-interval lists (flattened pairs of facet parameters).
+    struct Segment {
+      double y0, z0, y1, z1;  ///< end points relative to the sensor, cross(P0, P1) > 0
+      double tan_lo, tan_hi;  ///< range of tan(depression) it spans
+      std::uint32_t section;  ///< section index (occluders) or 0
+      std::int32_t facet;     ///< facet index (BeamProfile::facet_ends)
+    };
+    std::vector<Segment> occluders;
+    std::vector<Segment> seabed_pieces;
+    std::vector<double> visible, visible_next;
   } workspace;
 };
 

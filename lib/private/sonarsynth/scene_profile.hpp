@@ -20,13 +20,16 @@ struct ProfileScratch {
   };
   std::vector<Span> spans;
   std::vector<double> s;
+  std::vector<double> section_y, section_z, section_extent;
 };
 
 /// The seabed and objects along the horizontal ray nadir_xy + y * across_dir, 0 <= y <= max_y_m,
-/// as the renderer's 2-D profile: the upper envelope of the bilinear seabed and of every object
-/// the ray crosses (objects are sampled analytically, at their own resolution, with vertical
-/// walls at their footprint edges), each facet labelled (0 seabed, else object id) and with its
-/// material. A heightfield: overhangs such as the underside of a free-spanning pipe are filled.
+/// as the renderer's 2-D profile: the bilinear seabed as a height profile, and every object the
+/// ray crosses as its closed cross-section with the vertical plane through the ray (BeamProfile
+/// sections; a convex polygon at the object's own resolution, cut at y = 0). With
+/// options.solid_resting_objects false, objects resting on the seabed (clearance_m = 0) enter
+/// the height profile instead, as its upper envelope with the seabed (vertical walls at their
+/// footprint edges). Facets are labelled (0 seabed, else object id) and carry their material.
 /// Cost: the grid cells and objects the ray crosses, not the scene size.
 void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
                         const Eigen::Vector2d& across_dir, double max_y_m, double sensor_z_m,
