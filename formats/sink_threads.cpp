@@ -15,31 +15,62 @@ double thread_cpu_s() noexcept {
 }
 
 BackgroundJob::~BackgroundJob() {
-  join();
+  {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return !busy_; });
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  if (thread_.joinable()) thread_.join();
 }
 
-void BackgroundJob::join() noexcept {
-  if (!thread_.joinable()) return;
-  thread_.join();
-  cpu_s_ += job_cpu_s_;
-  job_cpu_s_ = 0.0;
+void BackgroundJob::loop() noexcept {
+  for (;;) {
+    std::function<void()> job;
+    {
+      std::unique_lock lock(mutex_);
+      changed_.wait(lock, [&] { return stopping_ || job_; });
+      if (!job_) return;  // stopping, nothing left
+      job = std::move(job_);
+      job_ = nullptr;
+    }
+    std::exception_ptr error;
+    try {
+      job();
+    } catch (...) {
+      error = std::current_exception();
+    }
+    job = nullptr;  // what the job holds is released before it counts as done
+    {
+      std::lock_guard lock(mutex_);
+      if (error && !error_) error_ = error;
+      cpu_s_ = thread_cpu_s();
+      busy_ = false;
+    }
+    changed_.notify_all();
+  }
 }
 
 void BackgroundJob::run(std::function<void()> job) {
   wait();
-  thread_ = std::thread([this, job = std::move(job)] {
-    try {
-      job();
-    } catch (...) {
-      error_ = std::current_exception();  // read by wait() after the join
-    }
-    job_cpu_s_ = thread_cpu_s();
-  });
+  {
+    std::lock_guard lock(mutex_);
+    job_ = std::move(job);
+    busy_ = true;
+  }
+  if (!thread_.joinable()) thread_ = std::thread([this] { loop(); });
+  changed_.notify_all();
 }
 
 void BackgroundJob::wait() {
-  join();
+  std::unique_lock lock(mutex_);
+  changed_.wait(lock, [&] { return !busy_; });
   if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+}
+
+double BackgroundJob::cpu_s() const {
+  std::lock_guard lock(mutex_);
+  return cpu_s_;
 }
 
 std::shared_ptr<const RenderedPing> copy_for_sinks(const RenderedPing& ping) {

@@ -21,10 +21,10 @@ namespace sonarsynth::detail {
 /// CPU time of the calling thread, seconds (CLOCK_THREAD_CPUTIME_ID).
 double thread_cpu_s() noexcept;
 
-/// One job at a time on a thread of its own: run() waits for the previous job (rethrowing its
-/// exception), then starts `job`; wait() waits for the last one and rethrows its exception. The
-/// destructor waits without throwing. Used to write a finished line's images while the next
-/// line accumulates.
+/// One job at a time on a thread of its own (the same thread for every job, started with the
+/// first): run() waits for the previous job (rethrowing its exception), then hands `job` over;
+/// wait() waits for the last one and rethrows its exception. The destructor waits without
+/// throwing. Used to write a finished line's images while the next line accumulates.
 class BackgroundJob {
  public:
   BackgroundJob() = default;
@@ -34,14 +34,18 @@ class BackgroundJob {
   void run(std::function<void()> job);
   void wait();
   /// Thread CPU time of the jobs finished so far, seconds.
-  double cpu_s() const { return cpu_s_; }
+  double cpu_s() const;
 
  private:
-  void join() noexcept;
-  std::thread thread_;
+  void loop() noexcept;
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::function<void()> job_;  ///< the job handed over, until the thread takes it
+  bool busy_ = false;          ///< a job is handed over or running
+  bool stopping_ = false;
   std::exception_ptr error_;
-  double job_cpu_s_ = 0.0;  ///< written by the job's thread, read after join
   double cpu_s_ = 0.0;
+  std::thread thread_;
 };
 
 /// A copy of the part of a rendered ping that the sinks read (samples, truth class, label and
