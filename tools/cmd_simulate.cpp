@@ -5,9 +5,6 @@
 #include <algorithm>
 #include <iomanip>
 #include <iostream>
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
 
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
@@ -158,13 +155,6 @@ int run_simulate(const std::vector<std::string>& args) {
   };
   run.on_warning = [](const std::string& w) { std::cerr << "warning: " << w << "\n"; };
 
-#if defined(__GLIBC__)
-  // Buffers of 256 KiB and more (image rows, GDAL blocks, the mosaic) are mapped and returned to
-  // the system when freed, whichever thread frees them: glibc would otherwise raise its mapping
-  // threshold after the first such free and keep later ones in its per-thread heaps, so that
-  // the resident memory would grow line after line.
-  mallopt(M_MMAP_THRESHOLD, 256 * 1024);
-#endif
   const RunResult r = run_simulation(scene_path, out_dir, run);
   if (!quiet) {
     for (const auto& w : r.compatibility_warnings) std::cerr << "warning: " << w << "\n";
