@@ -3,7 +3,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <filesystem>
+#include <future>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -71,8 +73,14 @@ void set_metadata(GDALDataset& ds, const MosaicWriteOptions& options, const std:
 void write_intensity(const std::string& path, const std::string& temp, const GeoFrame& frame,
                      const MosaicImage& image, const MosaicWriteOptions& options) {
   const GridGeometry& g = image.geometry;
-  const int bands = options.count_band ? 2 : 1;
-  gdal::DatasetPtr mem = raster::create_mem(g.cols, g.rows, bands, GDT_Float32, kWho, path);
+  // The bands are views of the image (and of the count as float): no copy of the image.
+  std::vector<float> count;
+  std::vector<const void*> views = {image.intensity.data()};
+  if (options.count_band) {
+    count.assign(image.count.begin(), image.count.end());
+    views.push_back(count.data());
+  }
+  gdal::DatasetPtr mem = raster::wrap_mem(g.cols, g.rows, GDT_Float32, views, kWho, path);
   raster::set_georeferencing(*mem, frame, g, kWho, path);
   set_metadata(*mem, options, options.quantity, options.units);
   mem->SetMetadataItem("SONARSYNTH_NODATA", "NaN: no sample gridded into the pixel");
@@ -80,13 +88,10 @@ void write_intensity(const std::string& path, const std::string& temp, const Geo
   b1->SetNoDataValue(std::numeric_limits<double>::quiet_NaN());
   b1->SetDescription(options.quantity.c_str());
   b1->SetUnitType(options.units.c_str());
-  raster::write_band(*mem, 1, image.intensity.data(), GDT_Float32, kWho, path);
   if (options.count_band) {
-    std::vector<float> count(image.count.begin(), image.count.end());
     GDALRasterBand* b2 = mem->GetRasterBand(2);
     b2->SetDescription("count");
     b2->SetUnitType("contributions (samples and fill points) per pixel");
-    raster::write_band(*mem, 2, count.data(), GDT_Float32, kWho, path);
   }
   KeyValues co = options.creation_options;  // user options win over the defaults below
   const char* driver = "COG";
@@ -124,7 +129,9 @@ void write_rgb(const std::string& path, const std::string& temp, const GeoFrame&
     rgba[2 * n + i] = c.b;
     rgba[3 * n + i] = 255;
   }
-  gdal::DatasetPtr mem = raster::create_mem(g.cols, g.rows, 4, GDT_Byte, kWho, path);
+  std::vector<const void*> views;
+  for (std::size_t b = 0; b < 4; ++b) views.push_back(rgba.data() + b * n);
+  gdal::DatasetPtr mem = raster::wrap_mem(g.cols, g.rows, GDT_Byte, views, kWho, path);
   const bool png = raster::lower_extension(path) == ".png";
   if (!png) raster::set_georeferencing(*mem, frame, g, kWho, path);
   std::ostringstream scale;
@@ -144,8 +151,6 @@ void write_rgb(const std::string& path, const std::string& temp, const GeoFrame&
   for (int b = 0; b < 4; ++b) {
     mem->GetRasterBand(b + 1)->SetColorInterpretation(interp[b]);
     if (!png) mem->GetRasterBand(b + 1)->SetDescription(names[b]);
-    raster::write_band(*mem, b + 1, rgba.data() + static_cast<std::size_t>(b) * n, GDT_Byte, kWho,
-                       path);
   }
   KeyValues co;
   if (!png) {
@@ -160,7 +165,8 @@ void write_rgb(const std::string& path, const std::string& temp, const GeoFrame&
 void write_labels(const std::string& path, const std::string& temp, const GeoFrame& frame,
                   const MosaicImage& image, const MosaicWriteOptions& options) {
   const GridGeometry& g = image.geometry;
-  gdal::DatasetPtr mem = raster::create_mem(g.cols, g.rows, 1, GDT_Int32, kWho, path);
+  gdal::DatasetPtr mem =
+      raster::wrap_mem(g.cols, g.rows, GDT_Int32, {image.labels.data()}, kWho, path);
   raster::set_georeferencing(*mem, frame, g, kWho, path);
   set_metadata(*mem, options, "truth object id of the sample nearest to nadir", "none (id)");
   mem->SetMetadataItem("SONARSYNTH_OBJECT_ID_CODES",
@@ -170,7 +176,6 @@ void write_labels(const std::string& path, const std::string& temp, const GeoFra
   GDALRasterBand* b = mem->GetRasterBand(1);
   b->SetNoDataValue(static_cast<double>(MosaicImage::kNoLabel));
   b->SetDescription("object_id");
-  raster::write_band(*mem, 1, image.labels.data(), GDT_Int32, kWho, path);
   KeyValues co = {{"TILED", "YES"}, {"COMPRESS", "DEFLATE"}, {"BIGTIFF", "IF_SAFER"}};
   // Ids are not averaged: an overview pixel is one of its source pixels.
   if (build_overviews(*mem, g, "NEAREST", path)) co.emplace_back("COPY_SRC_OVERVIEWS", "YES");
@@ -224,10 +229,33 @@ void write_mosaic(const std::string& path, const GeoFrame& frame, const MosaicIm
   const bool labels = !options.labels_path.empty() && !image.labels.empty();
   if (labels) labels_out.emplace(options.labels_path, options.overwrite);
 
-  write_intensity(path, main_out.temp_path().string(), frame, image, options);
-  if (rgb_out) write_rgb(options.rgb_path, rgb_out->temp_path().string(), frame, image, options);
-  if (labels_out)
-    write_labels(options.labels_path, labels_out->temp_path().string(), frame, image, options);
+  // The three files at once, each on a thread of its own (independent GDAL datasets reading
+  // the same image); every thread is joined before the outputs are committed or discarded.
+  std::future<void> rgb_job, labels_job;
+  if (rgb_out) {
+    rgb_job = std::async(std::launch::async, [&] {
+      write_rgb(options.rgb_path, rgb_out->temp_path().string(), frame, image, options);
+    });
+  }
+  if (labels_out) {
+    labels_job = std::async(std::launch::async, [&] {
+      write_labels(options.labels_path, labels_out->temp_path().string(), frame, image, options);
+    });
+  }
+  std::exception_ptr error;
+  try {
+    write_intensity(path, main_out.temp_path().string(), frame, image, options);
+  } catch (...) {
+    error = std::current_exception();
+  }
+  for (std::future<void>* job : {&rgb_job, &labels_job}) {
+    try {
+      if (job->valid()) job->get();
+    } catch (...) {
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
   main_out.commit();
   if (rgb_out) rgb_out->commit();
   if (labels_out) labels_out->commit();

@@ -189,6 +189,22 @@ gdal::DatasetPtr create_mem(std::size_t cols, std::size_t rows, int bands, GDALD
   return gdal::DatasetPtr(ds);
 }
 
+gdal::DatasetPtr wrap_mem(std::size_t cols, std::size_t rows, GDALDataType type,
+                          const std::vector<const void*>& bands, const char* who,
+                          const std::string& path) {
+  gdal::DatasetPtr ds = create_mem(cols, rows, 0, type, who, path);
+  for (const void* data : bands) {
+    char pointer[64] = {};
+    CPLPrintPointer(pointer, const_cast<void*>(data), sizeof pointer - 1);
+    CPLStringList options;
+    options.SetNameValue("DATAPOINTER", pointer);
+    if (ds->AddBand(type, options.List()) != CE_None) {
+      fail(who, path, "cannot wrap an in-memory band");
+    }
+  }
+  return ds;
+}
+
 void write_band(GDALDataset& ds, int band, const void* data, GDALDataType type, const char* who,
                 const std::string& path) {
   const int cols = ds.GetRasterXSize();

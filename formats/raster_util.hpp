@@ -19,6 +19,13 @@ namespace sonarsynth::raster {
 gdal::DatasetPtr create_mem(std::size_t cols, std::size_t rows, int bands, GDALDataType type,
                             const char* who, const std::string& path);
 
+/// A MEM dataset whose bands are views of the caller's row-major buffers of `type` (no copy), in
+/// order; they must outlive the dataset and are not written to unless the caller writes to a
+/// band. Throws FormatError("<who>: ... <path>") on failure.
+gdal::DatasetPtr wrap_mem(std::size_t cols, std::size_t rows, GDALDataType type,
+                          const std::vector<const void*>& bands, const char* who,
+                          const std::string& path);
+
 /// The rows of an image, produced in order for stream_to_file().
 class RowSource {
  public:

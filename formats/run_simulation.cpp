@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/run_simulation.hpp"
 
+#include <time.h>
+
 #include <chrono>
 #include <cmath>
 #include <memory>
 
+#include "sink_threads.hpp"
 #include "sonarsynth/formats/output_dir.hpp"
 #include "sonarsynth/formats/product_metadata.hpp"
 #include "sonarsynth/formats/survey_writer.hpp"
@@ -16,11 +19,18 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+double process_cpu_s() {
+  timespec ts{};
+  if (::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return 0.0;
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 }  // namespace
 
 RunResult run_simulation(const std::string& scene_path, const std::filesystem::path& out_dir,
                          const RunOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0 = process_cpu_s();
   RunResult result;
   const auto warn = [&](const std::string& w) {
     result.warnings.push_back(w);
@@ -59,12 +69,19 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
                                   : "backscatter (linear intensity)";
   SurveyProducts products(out.file(""), scene, setup->config.sonar, setup->lines, po);
   RunStatistics stats;
-  TeeSink sink({&xtf_out, &products, &stats});
+  // The XTF files and each product on a thread of its own, fed through bounded queues while
+  // the survey renders; each consumes the pings in survey order, so the files do not depend on
+  // the thread count or the schedule. The statistics are cheap: on the rendering side.
+  std::vector<detail::ParallelSink::Threaded> threaded = {{&xtf_out, "xtf"}};
+  for (const auto& [name, part] : products.parts()) threaded.push_back({part, name});
+  detail::ParallelSink sink({&stats}, threaded);
 
   const auto t_render = std::chrono::steady_clock::now();
   result.timings = sim.run(survey, sink, options.progress);
+  result.run_s = seconds_since(t_render);
   result.products_s = products.finish_s();
-  result.render_s = seconds_since(t_render) - result.products_s;
+  result.output_cpu_s = sink.thread_cpu_s();
+  for (const auto& w : products.writer_cpu_s()) result.output_cpu_s.push_back(w);
   write_effective_config(scene_path, options.overrides, *setup, sim, out.file("effective.yaml"));
   out.commit();
 
@@ -83,6 +100,7 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   result.along_track_tolerance_db = setup->config.quality.along_track_tolerance_db;
   result.gain_db = sim.gain_db();
   result.total_s = seconds_since(t0);
+  result.cpu_s = process_cpu_s() - cpu0;
   return result;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -106,23 +107,45 @@ class ColouredRows final : public raster::RowSource {
     auto* bytes = static_cast<std::uint8_t*>(out);
     std::fill(bytes, bytes + (grey ? 1 : 3) * n, std::uint8_t{0});
     for (std::size_t i = 0; i < n; ++i) {
-      const double v = range_.value(linear_[i]);
-      if (std::isnan(v)) continue;  // nodata: black
-      const Rgb8 c = colormap(map_, v);
-      bytes[i] = c.r;
+      const Colour& c = colour(linear_[i]);
+      if (!c.valid) continue;  // nodata: black
+      bytes[i] = c.rgb.r;
       if (!grey) {
-        bytes[n + i] = c.g;
-        bytes[2 * n + i] = c.b;
+        bytes[n + i] = c.rgb.g;
+        bytes[2 * n + i] = c.rgb.b;
       }
     }
   }
   void rewind() override { reader_.rewind(); }
 
  private:
+  struct Colour {
+    std::uint32_t bits = 0;  ///< the float it is the colour of
+    bool known = false;
+    bool valid = false;  ///< false: nodata
+    Rgb8 rgb;
+  };
+  /// The colour of `value`, remembered by its bits: samples repeat (quantised), and the colour
+  /// is a function of the value alone, so a remembered one is the one computed afresh.
+  const Colour& colour(float value) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &value, sizeof bits);
+    Colour& c = cache_[(bits ^ (bits >> 16)) & (kCacheSize - 1)];
+    if (c.known && c.bits == bits) return c;
+    const double v = range_.value(value);
+    c.bits = bits;
+    c.known = true;
+    c.valid = !std::isnan(v);
+    c.rgb = c.valid ? colormap(map_, v) : Rgb8{};
+    return c;
+  }
+  static constexpr std::size_t kCacheSize = std::size_t{1} << 16;
+
   MeanRows reader_;
   DisplayRange range_;
   Colormap map_;
   std::vector<float> linear_;
+  std::vector<Colour> cache_ = std::vector<Colour>(kCacheSize);
 };
 
 constexpr float kTruthPads[3] = {255.0f, -1.0f, kNaNf};

@@ -342,25 +342,46 @@ void MosaicGrid::splat(const Eigen::Vector2d& p, double ground_m, double swath_m
   }
 }
 
-MosaicImage MosaicGrid::finish() const {
-  MosaicImage out;
-  out.geometry = geometry_;
-  out.count = count_;
-  out.labels = labels_;
+std::vector<float> MosaicGrid::intensity() const {
   const std::size_t n = geometry_.size();
-  out.intensity.assign(n, std::numeric_limits<float>::quiet_NaN());
+  std::vector<float> out(n, std::numeric_limits<float>::quiet_NaN());
   for (std::size_t i = 0; i < n; ++i) {
     if (count_[i] == 0) continue;
     switch (options_.rule) {
       case MosaicRule::weighted_mean:
-        out.intensity[i] = static_cast<float>(sum_wi_[i] / sum_w_[i]);
+        out[i] = static_cast<float>(sum_wi_[i] / sum_w_[i]);
         break;
       case MosaicRule::max:
       case MosaicRule::nearest:
-        out.intensity[i] = best_[i];
+        out[i] = best_[i];
         break;
     }
   }
+  return out;
+}
+
+MosaicImage MosaicGrid::finish() const& {
+  MosaicImage out;
+  out.geometry = geometry_;
+  out.count = count_;
+  out.labels = labels_;
+  out.intensity = intensity();
+  return out;
+}
+
+MosaicImage MosaicGrid::finish() && {
+  MosaicImage out;
+  out.geometry = geometry_;
+  out.intensity = intensity();
+  std::vector<double>().swap(sum_wi_);
+  std::vector<double>().swap(sum_w_);
+  std::vector<float>().swap(best_);
+  std::vector<float>().swap(best_range_);
+  std::vector<float>().swap(label_range_);
+  out.count = std::move(count_);
+  out.labels = std::move(labels_);
+  count_.clear();
+  labels_.clear();
   return out;
 }
 

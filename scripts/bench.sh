@@ -85,7 +85,7 @@ if want e2e; then
   # sonarsynth simulate on the paper scene (4 lines, XTF per line, mosaics), 2 threads, 3 runs
   # per variant; wall time and peak RSS from /usr/bin/time -v, stage split from the summary.
   cli="$build/tools/sonarsynth"
-  echo "variant,run,wall_s,peak_rss_mib,pings,render_phase_s,pings_per_s,profile_us,render_us,noise_us,mosaic_finish_s" > "$out/e2e.csv"
+  echo "variant,run,wall_s,peak_rss_mib,pings,run_s,pings_per_s,profile_us,render_us,noise_us,mosaic_finish_s" > "$out/e2e.csv"
   for variant in full xtf-only; do
     extra=()
     [[ $variant == xtf-only ]] && extra=(--no-mosaic --no-waterfall --no-truth)
@@ -96,9 +96,9 @@ if want e2e; then
       rss=$(awk -F': ' '/Maximum resident set size/ {printf "%.1f", $2/1024}' "$out/e2e_time.txt")
       line=$(grep -m1 'pings on' "$out/e2e_stdout.txt")
       pings=$(sed -E 's/.*simulate: ([0-9]+) pings.*/\1/' <<< "$line")
-      rphase=$(sed -E 's/.* in ([0-9.]+) s \(.*/\1/' <<< "$line")
-      rate=$(sed -E 's/.*\(([0-9]+) pings\/s\).*/\1/' <<< "$line")
-      cpu=$(grep -m1 'per ping (CPU)' "$out/e2e_stdout.txt" | sed -E 's/.*profile ([0-9.]+) us, render ([0-9.]+) us, noise\+scaling ([0-9.]+) us.*/\1,\2,\3/')
+      rphase=$(sed -E 's/.* written in ([0-9.]+) s \(.*/\1/' <<< "$line")
+      rate=$(sed -E 's/.*\(([0-9]+) pings\/s end to end\).*/\1/' <<< "$line")
+      cpu=$(grep -m1 'per ping, thread time' "$out/e2e_stdout.txt" | sed -E 's/.*profile ([0-9.]+) us, render ([0-9.]+) us, noise\+scaling ([0-9.]+) us.*/\1,\2,\3/')
       mos=$(grep -m1 'mosaic written' "$out/e2e_stdout.txt" | sed -E 's/.*in ([0-9.]+) s.*/\1/')
       echo "$variant,$run,$wall,$rss,$pings,$rphase,$rate,$cpu,${mos:-0}" | tee -a "$out/e2e.csv"
     done

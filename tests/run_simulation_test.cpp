@@ -7,6 +7,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <set>
 #include <string>
 
@@ -95,6 +97,66 @@ TEST_F(RunSimulationTest, RefusedRunsLeaveTheDirectoryAlone) {
   o.overwrite = true;
   EXPECT_THROW(run_simulation(scene_, dir_, o), Error);  // would delete the scene file
   EXPECT_TRUE(fs::exists(scene_));
+}
+
+std::map<std::string, std::string> file_contents(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::ifstream in(e.path(), std::ios::binary);
+    out[e.path().filename().string()] =
+        std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  return out;
+}
+
+// The products are written on threads of their own while the survey renders: every file is the
+// same, byte for byte, whatever the number of rendering threads (and so whatever the schedule).
+TEST_F(RunSimulationTest, EveryFileIsTheSameForAnyThreadCount) {
+  std::map<std::string, std::string> first;
+  for (unsigned threads : {1U, 2U, 3U}) {
+    RunOptions o;  // every product
+    o.overrides.threads = threads;
+    const fs::path out = dir_ / ("out" + std::to_string(threads));
+    const RunResult r = run_simulation(scene_, out, o);
+    const auto files = file_contents(out);
+    for (const char* name : {"a.xtf", "b.xtf", "a_waterfall.png", "b_truth.tif", "mosaic.tif",
+                             "mosaic_rgb.tif", "truth_mosaic.tif", "effective.yaml"}) {
+      EXPECT_TRUE(files.count(name)) << name << " with " << threads << " threads";
+    }
+    EXPECT_EQ(files.size(), r.files.size() + 1);  // and the directory's marker
+    if (first.empty()) {
+      first = files;
+      continue;
+    }
+    ASSERT_EQ(files.size(), first.size());
+    for (const auto& [name, bytes] : files) {
+      EXPECT_TRUE(bytes == first[name]) << name << " differs with " << threads << " threads";
+    }
+  }
+}
+
+// A product thread that fails mid-run (its output directory vanishes under it) fails the run
+// with the product's error, and nothing is left that looks like an output.
+TEST_F(RunSimulationTest, AFailingProductThreadFailsTheRunAndLeavesNothing) {
+  RunOptions o;
+  o.overrides.threads = 2;
+  bool removed = false;
+  o.progress = [&](std::uint64_t done, std::uint64_t total) {
+    if (removed || 2 * done < total) return;
+    for (const auto& e : fs::directory_iterator(dir_)) {
+      if (e.is_directory() && e.path().filename().string().front() == '.') {
+        fs::remove_all(e.path());
+        removed = true;
+      }
+    }
+  };
+  const fs::path out = dir_ / "out";
+  EXPECT_THROW(run_simulation(scene_, out, o), Error);
+  EXPECT_TRUE(removed);
+  EXPECT_FALSE(fs::exists(out));
+  std::set<fs::path> left;
+  for (const auto& e : fs::directory_iterator(dir_)) left.insert(e.path().filename());
+  EXPECT_EQ(left, (std::set<fs::path>{"scene.yaml"}));
 }
 
 }  // namespace

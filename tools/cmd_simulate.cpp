@@ -27,12 +27,23 @@ const char* const kUsage =
 void print_summary(const RunResult& r) {
   const double n = static_cast<double>(r.total_pings);
   std::cout << "sonarsynth simulate: " << r.total_pings << " pings on " << r.line_names.size()
-            << " line(s) in " << std::fixed << std::setprecision(2) << r.render_s << " s ("
-            << std::setprecision(0) << n / r.render_s << " pings/s), total " << std::setprecision(2)
-            << r.total_s << " s\n"
-            << "  per ping (CPU): profile " << std::setprecision(1) << 1e6 * r.timings.profile_s / n
-            << " us, render " << 1e6 * r.timings.render_s / n << " us, noise+scaling "
-            << 1e6 * r.timings.noise_s / n << " us\n";
+            << " line(s) rendered and written in " << std::fixed << std::setprecision(2) << r.run_s
+            << " s (" << std::setprecision(0) << n / r.run_s << " pings/s end to end), total "
+            << std::setprecision(2) << r.total_s << " s, CPU " << r.cpu_s << " s\n"
+            << "  per ping, thread time summed over the rendering threads (waits included): "
+               "profile "
+            << std::setprecision(1) << 1e6 * r.timings.profile_s / n << " us, render "
+            << 1e6 * r.timings.render_s / n << " us, noise+scaling " << 1e6 * r.timings.noise_s / n
+            << " us\n";
+  if (!r.output_cpu_s.empty()) {
+    std::cout << "  output threads, CPU:";
+    const char* sep = " ";
+    for (const auto& [name, s] : r.output_cpu_s) {
+      std::cout << sep << name << " " << std::setprecision(2) << s << " s";
+      sep = ", ";
+    }
+    std::cout << "\n";
+  }
   const AlongTrackChoice& at = r.along_track;
   std::cout << "  along-track planes: " << at.planes;
   if (at.automatic) {

@@ -113,7 +113,10 @@ class MosaicGrid {
   void break_line();
 
   const GridGeometry& geometry() const { return geometry_; }
-  MosaicImage finish() const;
+  MosaicImage finish() const&;
+  /// The same image, the grid's buffers moved into it or released as it is built (the grid is
+  /// left empty): memory peaks at the accumulators plus one float per pixel.
+  MosaicImage finish() &&;
 
  private:
   void add_side(const MosaicPing& ping, int side, std::span<const float> values,
@@ -148,6 +151,7 @@ class MosaicGrid {
   void resample_ground_line(std::span<const float> values, std::span<const std::int32_t> labels,
                             GroundLine& line) const;
   void fill_between(const GroundLine& a, const GroundLine& b, MosaicAddStats& stats);
+  std::vector<float> intensity() const;
   GroundLine previous_[2];
   GroundLine current_;
   // Scratch reused between pings.

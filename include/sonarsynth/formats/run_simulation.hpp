@@ -44,10 +44,19 @@ struct RunResult {
   AlongTrackChoice along_track;
   double along_track_tolerance_db = 0.0;  ///< of the configuration, dB
   double gain_db = 0.0;                   ///< quantiser gain applied, dB
-  RenderTimings timings;                  ///< renderer CPU seconds, summed over threads
-  double render_s = 0.0;                  ///< wall time of rendering and streaming, seconds
-  double products_s = 0.0;                ///< wall time of writing the mosaics, seconds
-  double total_s = 0.0;                   ///< wall time of the whole call, seconds
+  /// Wall time of each renderer stage, summed over the worker threads (thread time, not CPU:
+  /// a thread waiting for a core counts), seconds.
+  RenderTimings timings;
+  /// Wall time from the first ping rendered to the last product written (rendering, XTF and
+  /// products, which run in parallel), seconds.
+  double run_s = 0.0;
+  double products_s = 0.0;  ///< wall time of writing the mosaics (part of run_s), seconds
+  double total_s = 0.0;     ///< wall time of the whole call, seconds
+  double cpu_s = 0.0;       ///< CPU time of the process during the whole call, seconds
+  /// CPU seconds of each output thread: "xtf", "mosaic", "waterfall", "truth" (accumulating
+  /// pings) and "waterfall images", "truth images" (writing them); the rendering threads and
+  /// the run statistics take the rest of cpu_s.
+  std::vector<std::pair<std::string, double>> output_cpu_s;
 };
 
 /// Everything `sonarsynth simulate` does: loads `scene_path` with options.overrides, checks the

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sonarsynth/formats/mosaic_writer.hpp"
@@ -34,6 +35,11 @@ struct SurveyProductOptions {
 /// line, written when the line ends; finish() writes the mosaics. Files go to `dir`; abort()
 /// drops the accumulators (files already written stay: the caller's OutputDirectory discards
 /// them).
+///
+/// The three products are independent sinks (parts()): a caller may feed each on a thread of its
+/// own (run_simulation does) instead of calling this sink, with the same files. A line's images
+/// are written on a further thread while the next line accumulates (one line at a time); their
+/// errors surface at the next end_line() or finish().
 class SurveyProducts : public PingSink {
  public:
   /// Shares ownership of `scene` (not null). `lines` (local frame) and the sonar's range give
@@ -41,30 +47,40 @@ class SurveyProducts : public PingSink {
   SurveyProducts(std::filesystem::path dir, std::shared_ptr<const Scene> scene,
                  const SonarConfig& sonar, const std::vector<SurveyLine>& lines,
                  SurveyProductOptions options);
+  ~SurveyProducts() override;
+  SurveyProducts(const SurveyProducts&) = delete;
+  SurveyProducts& operator=(const SurveyProducts&) = delete;
+  void begin(const RunDescription& run) override;
   void begin_line(std::size_t line) override;
   void ping(const RenderedPing& ping) override;
   void end_line(std::size_t line) override;
   /// Writes the mosaic files (the Simulator calls it once, after the run).
   void finish() override;
   void abort() noexcept override;
-  /// Wall time of finish(), seconds.
-  double finish_s() const { return finish_s_; }
-  const std::vector<std::filesystem::path>& files() const { return files_; }
+
+  /// The enabled products as independent sinks, with a name: "mosaic", "waterfall", "truth".
+  /// Each receives every call in order; together they do what this sink does.
+  std::vector<std::pair<std::string, PingSink*>> parts();
+  /// Wall time of writing the mosaic files, seconds.
+  double finish_s() const;
+  /// Thread CPU seconds of the line images written in the background: "waterfall images",
+  /// "truth images" (after finish()).
+  std::vector<std::pair<std::string, double>> writer_cpu_s() const;
+  /// Files written (after finish()): per line its waterfall then its truth waterfall, then the
+  /// mosaic files.
+  std::vector<std::filesystem::path> files() const;
   /// What the user should know about the products (e.g. a waterfall decimated along track).
-  const std::vector<std::string>& notes() const { return notes_; }
+  std::vector<std::string> notes() const;
 
  private:
-  std::filesystem::path dir_;
-  std::shared_ptr<const Scene> scene_;
-  SonarConfig sonar_;
-  std::vector<std::string> names_;
+  class MosaicPart;
+  class LinePart;
+  class WaterfallPart;
+  class TruthPart;
   SurveyProductOptions options_;
-  std::unique_ptr<MosaicGrid> mosaic_;
-  std::unique_ptr<Waterfall> waterfall_;
-  std::unique_ptr<TruthWaterfall> truth_;
-  std::vector<std::filesystem::path> files_;
-  std::vector<std::string> notes_;
-  double finish_s_ = 0.0;
+  std::unique_ptr<MosaicPart> mosaic_;
+  std::unique_ptr<LinePart> waterfall_;
+  std::unique_ptr<LinePart> truth_;
 };
 
 }  // namespace sonarsynth
