@@ -28,8 +28,8 @@ def test_run_simulation_xtf_equals_render(scene_path, tmp_path):
         # u16 samples: the rendered floats are whole numbers in [0, 65535], stored exactly.
         assert xtf["port"].tobytes() == rendered["samples"][sl, 0].tobytes()
         assert xtf["starboard"].tobytes() == rendered["samples"][sl, 1].tobytes()
-        # Navigation: times to the XTF's 1/100 s, positions back in the local frame.
-        assert np.array_equal(xtf["time_utc_us"], poses["time_utc_us"][sl] // 10000 * 10000)
+        # Navigation: times rounded to the XTF's 1/100 s, positions back in the local frame.
+        assert np.array_equal(xtf["time_utc_us"], (poses["time_utc_us"][sl] + 5000) // 10000 * 10000)
         assert xtf["nav_valid"].all()
         for i in range(n):
             x, y = sim.local_from_geodetic(xtf["sensor_lat_deg"][i], xtf["sensor_lon_deg"][i])

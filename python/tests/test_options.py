@@ -65,7 +65,10 @@ def scene_with(section, key, value):
     if section == "":
         return SCENE.replace("seed: 11", f"seed: {value}")
     if section == "sonar":
-        return SCENE.replace("samples: 300}", f"samples: 300, {key}: {value}}}")
+        sonar = "sonar: {frequency_khz: 600, range_m: 20, samples: 300}"
+        items = dict(kv.split(": ") for kv in sonar[len("sonar: {"):-1].split(", "))
+        items[key] = value
+        return SCENE.replace(sonar, "sonar: {" + ", ".join(f"{k}: {v}" for k, v in items.items()) + "}")
     if section == "survey":
         return SCENE.replace("  speed_m_s: 3.0\n", f"  {key}: {value}\n")
     return SCENE + f"{section}: {{{key}: {value}}}\n"
