@@ -83,3 +83,20 @@ def test_builder_errors_are_value_errors():
         sim.add_object("cone", 1, 0.0, 0.0, (1, 1, 1))
     with pytest.raises(ValueError, match="survey.lines"):
         sim.survey_poses()
+
+
+def test_out_arrays_are_refilled_in_place(scene_path):
+    sim = sonarsynth.Simulation.from_file(scene_path)
+    poses = sim.survey_poses()
+    first = sim.render_poses(poses[:8], threads=1)
+    second = sim.render_poses(poses[8:16], threads=1)
+    expected = {f: second[f].copy() for f in FIELDS}
+    again = sim.render_poses(poses[8:16], threads=2, out=first)
+    for f in FIELDS:
+        assert again[f] is first[f]
+        assert first[f].tobytes() == expected[f].tobytes(), f
+    with pytest.raises(ValueError, match="out\\['samples'\\] must be"):
+        sim.render_poses(poses[:4], out=first)
+    first["samples"].flags.writeable = False
+    with pytest.raises(ValueError, match="out\\['samples'\\] must be"):
+        sim.render_poses(poses[8:16], out=first)
