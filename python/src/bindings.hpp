@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: MIT
+// Internal to the Python module: the pieces module.cpp assembles (docs/python.md).
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/scene.hpp"
+#include "sonarsynth/simulator.hpp"
+
+namespace sonarsynth::python {
+
+namespace py = pybind11;
+
+/// One ping pose as a numpy record (sonarsynth.POSE_DTYPE): PingPose's fields, SI units.
+struct PoseRecord {
+  std::uint64_t line;
+  std::uint64_t ping_in_line;
+  std::uint64_t ping_index;  ///< noise key
+  std::int64_t time_utc_us;  ///< microseconds since 1970-01-01T00:00:00Z
+  double sensor_x_m, sensor_y_m, sensor_z_m;
+  double reference_x_m, reference_y_m;
+  double heading_rad, pitch_rad, roll_rad;
+  double heave_m, altitude_m, speed_m_s, along_track_m;
+};
+
+PoseRecord record_of(const PingPose& p);
+PingPose pose_of(const PoseRecord& r);
+
+/// A simulation being configured and rendered from Python: the settings of a scene file
+/// (SimulationSetup, its scene moved out) and the scene, shared copy-on-write with the Simulator
+/// built from them (rebuilt after a change).
+class PySimulation {
+ public:
+  PySimulation(SimulationSetup setup, std::string name);
+
+  /// Names the file in validation messages ("scene.yaml: sonar.range_m = ...").
+  std::string name;
+  SimulationSetup setup;  ///< scene moved out into `scene`
+  std::shared_ptr<Scene> scene;
+
+  /// The Simulator of the current settings (built on first use, with the GIL released).
+  std::shared_ptr<const Simulator> simulator();
+  /// Drops the Simulator (after a change of the settings).
+  void invalidate() { sim_.reset(); }
+  /// The scene, copied first if a Simulator still shares it (copy on write).
+  Scene& mutable_scene();
+  Survey survey() const;
+
+ private:
+  std::shared_ptr<const Simulator> sim_;
+};
+
+void bind_options(py::module_& m, py::class_<PySimulation>& cls);
+void bind_simulation(py::module_& m, py::class_<PySimulation>& cls);
+void bind_render(py::module_& m, py::class_<PySimulation>& cls);
+void bind_files(py::module_& m);
+
+}  // namespace sonarsynth::python

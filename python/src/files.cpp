@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: MIT
+// Files: run_simulation (a survey to XTF files and products) and XTF into numpy.
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <optional>
+
+#include "bindings.hpp"
+#include "sonarsynth/formats/run_simulation.hpp"
+#include "sonarsynth/formats/xtf/reader.hpp"
+
+namespace sonarsynth::python {
+
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+// A numpy array owning `v` (moved into the capsule: no copy), shaped `shape`.
+template <class T>
+py::array owned(std::vector<T>&& v, std::vector<py::ssize_t> shape) {
+  auto* held = new std::vector<T>(std::move(v));
+  py::capsule owner(held, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(shape, held->data(), owner);
+}
+
+// Rows of one side, concatenated; rows shorter than the widest are padded with NaN at the end.
+struct Rows {
+  std::vector<float> data;
+  std::vector<std::size_t> lengths;
+  std::size_t width = 0;
+  void add(const std::vector<float>& row) {
+    if (row.size() > width && !lengths.empty()) widen(row.size());
+    if (lengths.empty()) width = row.size();
+    data.insert(data.end(), row.begin(), row.end());
+    data.resize(lengths.size() * width + width, std::numeric_limits<float>::quiet_NaN());
+    lengths.push_back(row.size());
+  }
+  void widen(std::size_t w) {
+    std::vector<float> d(lengths.size() * w, std::numeric_limits<float>::quiet_NaN());
+    for (std::size_t r = 0; r < lengths.size(); ++r) {
+      std::copy_n(data.begin() + static_cast<std::ptrdiff_t>(r * width), width,
+                  d.begin() + static_cast<std::ptrdiff_t>(r * w));
+    }
+    data = std::move(d);
+    width = w;
+  }
+};
+
+}  // namespace
+
+void bind_files(py::module_& m) {
+  m.def(
+      "run_simulation",
+      [](const std::string& scene_path, const std::string& out_dir,
+         std::optional<std::uint64_t> seed, std::optional<double> range_m,
+         std::optional<std::size_t> samples, std::optional<unsigned> threads,
+         std::optional<std::string> quality, bool overwrite, bool mosaic, bool waterfalls,
+         bool truth, double mosaic_pixel_m, const py::object& progress) {
+        RunOptions o;
+        o.overrides.seed = seed;
+        o.overrides.range_m = range_m;
+        o.overrides.samples = samples;
+        o.overrides.threads = threads;
+        o.overrides.quality = std::move(quality);
+        o.overwrite = overwrite;
+        o.products.mosaic = mosaic;
+        o.products.waterfalls = waterfalls;
+        o.products.truth = truth;
+        o.products.mosaic_pixel_m = mosaic_pixel_m;
+        if (!progress.is_none()) {
+          o.progress = [&progress](std::uint64_t done, std::uint64_t total) {
+            py::gil_scoped_acquire gil;
+            progress(done, total);
+          };
+        }
+        RunResult r;
+        {
+          py::gil_scoped_release release;
+          r = run_simulation(scene_path, out_dir, o);
+        }
+        py::dict d;
+        py::list files;
+        for (const auto& f : r.files) files.append(f.string());
+        d["files"] = files;
+        d["line_names"] = r.line_names;
+        d["total_pings"] = r.total_pings;
+        d["warnings"] = r.warnings;
+        d["compatibility_warnings"] = r.compatibility_warnings;
+        d["notes"] = r.notes;
+        d["gain_db"] = r.gain_db;
+        d["along_track_planes"] = r.along_track.planes;
+        d["render_s"] = r.render_s;
+        d["products_s"] = r.products_s;
+        d["total_s"] = r.total_s;
+        return d;
+      },
+      py::arg("scene_path"), py::arg("out_dir"), py::kw_only(), py::arg("seed") = py::none(),
+      py::arg("range_m") = py::none(), py::arg("samples") = py::none(),
+      py::arg("threads") = py::none(), py::arg("quality") = py::none(),
+      py::arg("overwrite") = false, py::arg("mosaic") = true, py::arg("waterfalls") = true,
+      py::arg("truth") = true, py::arg("mosaic_pixel_m") = 0.25, py::arg("progress") = py::none(),
+      "Everything `sonarsynth simulate SCENE -o OUT_DIR` does: one XTF file per survey line, "
+      "the mosaics (mosaic_pixel_m: pixel size, metres), waterfalls and truth products, "
+      "effective.yaml; the directory appears only when all is written. Overrides as the CLI's "
+      "(--seed, --range in metres, --samples per side, --threads, --quality). progress(done, "
+      "total) is called after each block of pings. Returns a dict: files, line_names, "
+      "total_pings, warnings, compatibility_warnings, notes, gain_db, along_track_planes, "
+      "render_s / products_s / total_s (wall seconds).");
+
+  m.def(
+      "read_xtf",
+      [](const std::string& path) {
+        Rows port, stbd;
+        std::vector<std::int64_t> time_us;
+        std::vector<std::uint32_t> ping_number;
+        std::vector<double> lat, lon, ship_lat, ship_lon, heading, pitch, roll, heave, altitude,
+            depth, speed, sound_speed, slant_range;
+        std::vector<std::uint8_t> nav_valid, time_valid;
+        std::vector<std::string> anomalies;
+        {
+          py::gil_scoped_release release;
+          xtf::Reader reader(path);
+          xtf::Packet p;
+          while (reader.next(p)) {
+            if (p.kind != xtf::PacketKind::kPing) continue;
+            const xtf::SonarPing& s = p.ping.sonar;
+            port.add(s.port);
+            stbd.add(s.starboard);
+            time_us.push_back(s.time_utc.time_since_epoch().count());
+            ping_number.push_back(s.ping_number);
+            lat.push_back(s.sensor_position.lat_rad * kDegPerRad);
+            lon.push_back(s.sensor_position.lon_rad * kDegPerRad);
+            const Geodetic ship = s.ship_position.value_or(s.sensor_position);
+            ship_lat.push_back(ship.lat_rad * kDegPerRad);
+            ship_lon.push_back(ship.lon_rad * kDegPerRad);
+            heading.push_back(s.heading_rad);
+            pitch.push_back(s.pitch_rad);
+            roll.push_back(s.roll_rad);
+            heave.push_back(s.heave_m);
+            altitude.push_back(s.altitude_m);
+            depth.push_back(s.depth_m);
+            speed.push_back(s.speed_mps);
+            sound_speed.push_back(s.sound_speed_mps);
+            slant_range.push_back(s.slant_range_m);
+            nav_valid.push_back(p.ping.nav_valid ? 1 : 0);
+            time_valid.push_back(p.ping.time_valid ? 1 : 0);
+          }
+          for (const xtf::Anomaly& a : reader.anomalies()) anomalies.push_back(a.message);
+        }
+        const auto n = static_cast<py::ssize_t>(time_us.size());
+        py::dict d;
+        d["port"] = owned(std::move(port.data), {n, static_cast<py::ssize_t>(port.width)});
+        d["starboard"] = owned(std::move(stbd.data), {n, static_cast<py::ssize_t>(stbd.width)});
+        d["time_utc_us"] = owned(std::move(time_us), {n});
+        d["ping_number"] = owned(std::move(ping_number), {n});
+        d["sensor_lat_deg"] = owned(std::move(lat), {n});
+        d["sensor_lon_deg"] = owned(std::move(lon), {n});
+        d["ship_lat_deg"] = owned(std::move(ship_lat), {n});
+        d["ship_lon_deg"] = owned(std::move(ship_lon), {n});
+        d["heading_rad"] = owned(std::move(heading), {n});
+        d["pitch_rad"] = owned(std::move(pitch), {n});
+        d["roll_rad"] = owned(std::move(roll), {n});
+        d["heave_m"] = owned(std::move(heave), {n});
+        d["altitude_m"] = owned(std::move(altitude), {n});
+        d["depth_m"] = owned(std::move(depth), {n});
+        d["speed_m_s"] = owned(std::move(speed), {n});
+        d["sound_speed_m_s"] = owned(std::move(sound_speed), {n});
+        d["slant_range_m"] = owned(std::move(slant_range), {n});
+        d["nav_valid"] = owned(std::move(nav_valid), {n}).attr("astype")("bool");
+        d["time_valid"] = owned(std::move(time_valid), {n}).attr("astype")("bool");
+        d["anomalies"] = anomalies;
+        return d;
+      },
+      py::arg("path"),
+      "Reads the sonar pings of an XTF file (any sonar) into numpy: port and starboard "
+      "(pings, samples) float32, NEAR -> FAR (a shorter row is padded with NaN), and per ping "
+      "time_utc_us (microseconds since 1970 UTC; XTF stores 1/100 s), ping_number, "
+      "sensor_lat_deg / sensor_lon_deg and ship_lat_deg / ship_lon_deg (WGS 84, degrees), "
+      "heading_rad (true, clockwise from north), pitch_rad (+ nose up), roll_rad (+ starboard "
+      "down), heave_m (+ up), altitude_m, depth_m (+ down), speed_m_s, sound_speed_m_s, "
+      "slant_range_m, nav_valid, time_valid; anomalies: the reader's messages about broken "
+      "packets (it skips them and carries on). Raises FormatError if the file cannot be read.");
+}
+
+}  // namespace sonarsynth::python

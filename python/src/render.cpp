@@ -1,0 +1,248 @@
+// SPDX-License-Identifier: MIT
+// Rendering into numpy: one ping (arrays that own the renderer's buffers, no copy) or a batch
+// of poses (preallocated arrays filled by worker threads), the GIL released while rendering.
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstring>
+#include <exception>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "bindings.hpp"
+#include "sonarsynth/error.hpp"
+
+namespace sonarsynth::python {
+
+namespace {
+
+// A 1-D array viewing `v` (no copy); `owner` keeps the storage alive.
+template <class T, class V>
+py::array view(const V& v, const py::capsule& owner) {
+  return py::array_t<T>({static_cast<py::ssize_t>(v.size())}, {static_cast<py::ssize_t>(sizeof(T))},
+                        reinterpret_cast<const T*>(v.data()), owner);
+}
+
+py::dict side_dict(const SideOutput& s, const py::capsule& owner) {
+  py::dict d;
+  d["samples"] = view<float>(s.samples, owner);
+  if (!s.clean_samples.empty()) d["clean_samples"] = view<float>(s.clean_samples, owner);
+  if (!s.truth_class.empty()) {
+    d["truth_class"] = view<std::uint8_t>(s.truth_class, owner);
+    d["object_id"] = view<std::int32_t>(s.truth_label, owner);
+    d["grazing_rad"] = view<float>(s.truth_grazing_rad, owner);
+    d["ground_x_m"] = view<double>(s.truth_ground_x_m, owner);
+    d["ground_y_m"] = view<double>(s.truth_ground_y_m, owner);
+  }
+  d["saturated"] = s.saturated;
+  d["invalid"] = s.invalid;
+  return d;
+}
+
+// The output arrays of a batch: (pings, 2 sides, samples), side 0 port, 1 starboard.
+struct Batch {
+  std::size_t n = 0, samples = 0;
+  bool truth = false, clean = false;
+  py::array_t<float> samples_arr, clean_arr, grazing;
+  py::array_t<std::uint8_t> truth_class;
+  py::array_t<std::int32_t> object_id;
+  py::array_t<double> ground_x, ground_y;
+  py::array_t<std::uint32_t> saturated, invalid;
+  // Raw pointers, taken with the GIL held.
+  float *p_samples = nullptr, *p_clean = nullptr, *p_grazing = nullptr;
+  std::uint8_t* p_class = nullptr;
+  std::int32_t* p_id = nullptr;
+  double *p_gx = nullptr, *p_gy = nullptr;
+  std::uint32_t *p_sat = nullptr, *p_inv = nullptr;
+
+  // A new array of `shape`, or out[key] (a previous result) if `out` is given: checked to be a
+  // writeable C-contiguous array of the right type and shape, filled in place.
+  template <class T>
+  static py::array_t<T> take(const py::object& out, const char* key,
+                             const std::vector<py::ssize_t>& shape) {
+    if (out.is_none()) return py::array_t<T>(shape);
+    const py::dict d = out.cast<py::dict>();
+    if (!d.contains(key)) throw InputError(std::string("render_poses: out has no '") + key + "'");
+    const py::array a = d[key].cast<py::array>();
+    const bool ok = a.dtype().is(py::dtype::of<T>()) && a.writeable() &&
+                    (a.flags() & py::array::c_style) &&
+                    a.ndim() == static_cast<py::ssize_t>(shape.size()) &&
+                    std::equal(shape.begin(), shape.end(), a.shape());
+    if (!ok) {
+      throw InputError(std::string("render_poses: out['") + key +
+                       "'] must be a writeable C-contiguous " +
+                       py::str(py::dtype::of<T>()).cast<std::string>() +
+                       " array of the result's shape (a previous result for as many poses)");
+    }
+    return a.cast<py::array_t<T>>();
+  }
+
+  Batch(std::size_t pings, std::size_t s, bool t, bool c, const py::object& out)
+      : n(pings), samples(s), truth(t), clean(c) {
+    const std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(n), 2,
+                                         static_cast<py::ssize_t>(samples)};
+    samples_arr = take<float>(out, "samples", shape);
+    p_samples = samples_arr.mutable_data();
+    if (clean) {
+      clean_arr = take<float>(out, "clean_samples", shape);
+      p_clean = clean_arr.mutable_data();
+    }
+    if (truth) {
+      truth_class = take<std::uint8_t>(out, "truth_class", shape);
+      object_id = take<std::int32_t>(out, "object_id", shape);
+      grazing = take<float>(out, "grazing_rad", shape);
+      ground_x = take<double>(out, "ground_x_m", shape);
+      ground_y = take<double>(out, "ground_y_m", shape);
+      p_class = truth_class.mutable_data();
+      p_id = object_id.mutable_data();
+      p_grazing = grazing.mutable_data();
+      p_gx = ground_x.mutable_data();
+      p_gy = ground_y.mutable_data();
+    }
+    const std::vector<py::ssize_t> counts{static_cast<py::ssize_t>(n), 2};
+    saturated = take<std::uint32_t>(out, "saturated", counts);
+    invalid = take<std::uint32_t>(out, "invalid", counts);
+    p_sat = saturated.mutable_data();
+    p_inv = invalid.mutable_data();
+  }
+
+  template <class T, class V>
+  void put(T* dst, std::size_t slot, const V& v) const {
+    if (v.size() != samples) {
+      throw Error("render_poses: a side of " + std::to_string(v.size()) + " samples, not " +
+                  std::to_string(samples));
+    }
+    std::memcpy(dst + slot * samples, v.data(), samples * sizeof(T));
+  }
+
+  // Copies one side of ping `i` into its slot (called without the GIL; slots are disjoint).
+  void store(std::size_t i, int side, const SideOutput& s) const {
+    const std::size_t slot = 2 * i + static_cast<std::size_t>(side);
+    put(p_samples, slot, s.samples);
+    if (clean) put(p_clean, slot, s.clean_samples);
+    if (truth) {
+      put(p_class, slot, s.truth_class);
+      put(p_id, slot, s.truth_label);
+      put(p_grazing, slot, s.truth_grazing_rad);
+      put(p_gx, slot, s.truth_ground_x_m);
+      put(p_gy, slot, s.truth_ground_y_m);
+    }
+    p_sat[slot] = s.saturated;
+    p_inv[slot] = s.invalid;
+  }
+
+  py::dict result() const {
+    py::dict d;
+    d["samples"] = samples_arr;
+    if (clean) d["clean_samples"] = clean_arr;
+    if (truth) {
+      d["truth_class"] = truth_class;
+      d["object_id"] = object_id;
+      d["grazing_rad"] = grazing;
+      d["ground_x_m"] = ground_x;
+      d["ground_y_m"] = ground_y;
+    }
+    d["saturated"] = saturated;
+    d["invalid"] = invalid;
+    return d;
+  }
+};
+
+}  // namespace
+
+void bind_render(py::module_&, py::class_<PySimulation>& cls) {
+  cls.def(
+      "render_ping",
+      [](PySimulation& s, double x_m, double y_m, double z_m, double heading_rad, double pitch_rad,
+         double roll_rad, std::optional<std::uint64_t> noise_key) {
+        const std::shared_ptr<const Simulator> sim = s.simulator();
+        auto* ping = new RenderedPing;
+        py::capsule owner(ping, [](void* p) { delete static_cast<RenderedPing*>(p); });
+        {
+          py::gil_scoped_release release;
+          const PingPose pose = sensor_pose({x_m, y_m, z_m}, heading_rad, pitch_rad, roll_rad,
+                                            sim->scene().bathymetry, noise_key);
+          auto ws = sim->make_workspace();
+          sim->render_ping(pose, *ws, *ping);
+        }
+        py::dict d;
+        d["port"] = side_dict(ping->port, owner);
+        d["starboard"] = side_dict(ping->starboard, owner);
+        py::array_t<PoseRecord> pose(1);
+        pose.mutable_data()[0] = record_of(ping->pose);
+        d["pose"] = pose;
+        return d;
+      },
+      py::arg("x_m"), py::arg("y_m"), py::arg("z_m"), py::arg("heading_rad") = 0.0,
+      py::arg("pitch_rad") = 0.0, py::arg("roll_rad") = 0.0, py::arg("noise_key") = py::none(),
+      "Renders one ping with the sensor at (x_m, y_m, z_m) in the local frame (metres, z on the "
+      "bathymetry datum, up positive), heading clockwise from grid north, pitch + nose up, roll "
+      "+ starboard down (radians). noise_key: the ping's noise (None: a fresh one). Returns "
+      "{'port': side, 'starboard': side, 'pose': POSE_DTYPE array of 1}; a side is a dict of "
+      "arrays, samples NEAR -> FAR, viewing the renderer's own buffers (no copy): samples "
+      "(float32, output units after TVG and quantisation), clean_samples (noise-free, if "
+      "clean_samples is on), truth_class (uint8, SAMPLE_CLASSES), object_id (int32: object id, "
+      "0 seabed, -1 none), grazing_rad (float32, NaN where no seabed), ground_x_m / ground_y_m "
+      "(float64, local frame, NaN where none), saturated and invalid counts.");
+
+  cls.def(
+      "render_poses",
+      [](PySimulation& s, const py::array_t<PoseRecord, py::array::c_style>& poses,
+         unsigned threads, const py::object& out) {
+        if (poses.ndim() != 1)
+          throw InputError("render_poses: poses must be a 1-D POSE_DTYPE array");
+        const std::shared_ptr<const Simulator> sim = s.simulator();
+        const SimulationConfig& cfg = sim->config();
+        const std::size_t n = static_cast<std::size_t>(poses.shape(0));
+        Batch batch(n, cfg.sonar.samples_per_channel, cfg.truth, cfg.clean_samples, out);
+        const PoseRecord* in = poses.data();
+        if (threads == 0) threads = cfg.threads;
+        if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+        threads =
+            static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(n, 1)));
+        {
+          py::gil_scoped_release release;
+          std::atomic<std::size_t> next{0};
+          std::exception_ptr error;
+          std::mutex error_mutex;
+          const auto work = [&] {
+            try {
+              auto ws = sim->make_workspace();
+              RenderedPing ping;
+              for (std::size_t i = next++; i < n; i = next++) {
+                sim->render_ping(pose_of(in[i]), *ws, ping);
+                batch.store(i, 0, ping.port);
+                batch.store(i, 1, ping.starboard);
+              }
+            } catch (...) {
+              const std::lock_guard lock(error_mutex);
+              if (!error) error = std::current_exception();
+              next = n;
+            }
+          };
+          if (threads <= 1) {
+            work();
+          } else {
+            std::vector<std::thread> pool;
+            for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work);
+            for (std::thread& t : pool) t.join();
+          }
+          if (error) std::rethrow_exception(error);
+        }
+        return batch.result();
+      },
+      py::arg("poses"), py::kw_only(), py::arg("threads") = 0, py::arg("out") = py::none(),
+      "Renders a batch of poses (a POSE_DTYPE array: survey_poses() or make_poses()) on "
+      "`threads` threads (0: the configuration's, i.e. all cores by default; the output does "
+      "not depend on it). Returns a dict of arrays of shape (pings, 2, samples), side 0 = port, "
+      "1 = starboard, samples NEAR -> FAR, allocated once and filled in place: samples, "
+      "clean_samples (if on), truth_class, object_id, grazing_rad, ground_x_m, ground_y_m (as "
+      "render_ping), and saturated / invalid counts of shape (pings, 2). out: a previous result "
+      "for as many "
+      "poses, whose arrays are filled again in place and returned (no allocation: the fastest "
+      "way to render batch after batch).");
+}
+
+}  // namespace sonarsynth::python

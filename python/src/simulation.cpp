@@ -1,0 +1,334 @@
+// SPDX-License-Identifier: MIT
+// Simulation: construction (scene file, YAML text, numpy heights), the scene builder (objects,
+// survey lines), poses and the derived calibration.
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+#include "bindings.hpp"
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/scene_file.hpp"
+
+namespace sonarsynth::python {
+
+namespace {
+
+constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+
+SimulationOverrides overrides_of(std::optional<std::uint64_t> seed, std::optional<double> range_m,
+                                 std::optional<std::size_t> samples,
+                                 std::optional<std::string> quality) {
+  SimulationOverrides o;
+  o.seed = seed;
+  o.range_m = range_m;
+  o.samples = samples;
+  o.quality = std::move(quality);
+  return o;
+}
+
+// One element of `a` (length 1 = broadcast).
+double at(const py::array_t<double, py::array::forcecast>& a, py::ssize_t i) {
+  return a.size() == 1 ? a.data()[0] : a.data()[i];
+}
+
+}  // namespace
+
+PoseRecord record_of(const PingPose& p) {
+  return PoseRecord{p.line,
+                    p.ping_in_line,
+                    p.ping_index.value_or(0),
+                    p.time_utc.time_since_epoch().count(),
+                    p.sensor_xy_m.x(),
+                    p.sensor_xy_m.y(),
+                    p.sensor_z_m,
+                    p.reference_xy_m.x(),
+                    p.reference_xy_m.y(),
+                    p.heading_rad,
+                    p.pitch_rad,
+                    p.roll_rad,
+                    p.heave_m,
+                    p.altitude_m,
+                    p.speed_m_s,
+                    p.along_track_m};
+}
+
+PingPose pose_of(const PoseRecord& r) {
+  PingPose p;
+  p.line = r.line;
+  p.ping_in_line = r.ping_in_line;
+  p.ping_index = r.ping_index;
+  p.time_utc = UtcTime(std::chrono::microseconds(r.time_utc_us));
+  p.sensor_xy_m = {r.sensor_x_m, r.sensor_y_m};
+  p.sensor_z_m = r.sensor_z_m;
+  p.reference_xy_m = {r.reference_x_m, r.reference_y_m};
+  p.heading_rad = r.heading_rad;
+  p.pitch_rad = r.pitch_rad;
+  p.roll_rad = r.roll_rad;
+  p.heave_m = r.heave_m;
+  p.altitude_m = r.altitude_m;
+  p.speed_m_s = r.speed_m_s;
+  p.along_track_m = r.along_track_m;
+  return p;
+}
+
+PySimulation::PySimulation(SimulationSetup s, std::string n)
+    : name(std::move(n)),
+      setup(std::move(s)),
+      scene(std::make_shared<Scene>(std::move(setup.scene))) {}
+
+Scene& PySimulation::mutable_scene() {
+  sim_.reset();
+  if (scene.use_count() > 1) scene = std::make_shared<Scene>(*scene);
+  return *scene;
+}
+
+Survey PySimulation::survey() const {
+  if (setup.lines.empty()) throw InputError(name + ": survey.lines: none (add_line)");
+  return setup.make_survey();
+}
+
+std::shared_ptr<const Simulator> PySimulation::simulator() {
+  if (sim_) return sim_;
+  setup.config.validate();
+  setup.vehicle.validate();
+  // The reference altitude of the global calibration, as a scene file derives it.
+  double reference_altitude_m = setup.vehicle.altitude_m;
+  if (setup.vehicle.depth_mode == VehicleConfig::DepthMode::kDepth) {
+    const auto [lo, hi] = scene->bathymetry.height_range();
+    reference_altitude_m = std::max(0.5, -setup.vehicle.depth_m - 0.5 * (lo + hi));
+  }
+  std::vector<PingPose> pilot;
+  std::optional<Survey> sv;
+  if (!setup.lines.empty()) sv.emplace(setup.make_survey());
+  const std::shared_ptr<const Scene> sc = scene;
+  {
+    py::gil_scoped_release release;
+    if (sv) pilot = pilot_poses(*sv, sc->bathymetry);  // as run_simulation
+    sim_ = std::make_shared<const Simulator>(sc, setup.config, reference_altitude_m, pilot);
+  }
+  return sim_;
+}
+
+void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
+  cls.def_static(
+      "from_file",
+      [](const std::string& path, std::optional<std::uint64_t> seed, std::optional<double> range_m,
+         std::optional<std::size_t> samples, std::optional<std::string> quality) {
+        const SimulationOverrides o = overrides_of(seed, range_m, samples, quality);
+        std::optional<SimulationSetup> s;
+        {
+          py::gil_scoped_release release;
+          s.emplace(load_simulation(path, o));
+        }
+        return PySimulation(std::move(*s), path);
+      },
+      py::arg("path"), py::kw_only(), py::arg("seed") = py::none(), py::arg("range_m") = py::none(),
+      py::arg("samples") = py::none(), py::arg("quality") = py::none(),
+      "Loads a scene file (YAML, docs/scene-format.md) with its survey, sonar, render, noise "
+      "and output sections, as `sonarsynth simulate` does; seed, range_m (metres), samples "
+      "(per side) and quality ('fast', 'default', 'high') override the file like --seed, "
+      "--range, --samples, --quality. Raises ValueError / FormatError naming file, key and "
+      "value.");
+  cls.def_static(
+      "from_yaml",
+      [](const std::string& text, const std::string& name, const std::string& base_dir,
+         std::optional<std::uint64_t> seed) {
+        SimulationOverrides o;
+        o.seed = seed;
+        std::optional<SimulationSetup> s;
+        {
+          py::gil_scoped_release release;
+          s.emplace(load_simulation_from_string(text, name, base_dir, o));
+        }
+        return PySimulation(std::move(*s), name);
+      },
+      py::arg("text"), py::arg("name") = "<string>", py::arg("base_dir") = ".", py::kw_only(),
+      py::arg("seed") = py::none(),
+      "As from_file, from scene-file text: `name` stands for the file in messages, relative "
+      "paths are relative to `base_dir`.");
+  cls.def_static(
+      "from_heights",
+      [](py::array_t<float, py::array::c_style | py::array::forcecast> heights_m, double x0_m,
+         double y0_m, double dx_m, double dy_m, double lat_deg, double lon_deg,
+         const std::string& name) {
+        if (heights_m.ndim() != 2)
+          throw InputError("heights_m: a 2-D array (rows, cols) is needed");
+        GridGeometry g{x0_m,
+                       y0_m,
+                       dx_m,
+                       dy_m,
+                       static_cast<std::size_t>(heights_m.shape(1)),
+                       static_cast<std::size_t>(heights_m.shape(0))};
+        g.validate("heights_m");
+        std::vector<float> h(heights_m.data(), heights_m.data() + heights_m.size());
+        Scene scene(GeoFrame::around(Geodetic{lat_deg * kRadPerDeg, lon_deg * kRadPerDeg, 0.0}));
+        scene.bathymetry = HeightGrid(g, std::move(h));
+        scene.name = name;
+        scene.objects.build_index();
+        return PySimulation(SimulationSetup{.scene = std::move(scene)}, name);
+      },
+      py::arg("heights_m"), py::kw_only(), py::arg("x0_m") = 0.0, py::arg("y0_m") = 0.0,
+      py::arg("dx_m") = 1.0, py::arg("dy_m") = -1.0, py::arg("lat_deg"), py::arg("lon_deg"),
+      py::arg("name") = "python",
+      "Builds a scene in code: seabed elevations `heights_m` (rows, cols; metres, up positive, "
+      "NaN = hole), node (col, row) at x = x0_m + col dx_m, y = y0_m + row dy_m in the local "
+      "frame (metres; dy_m < 0 = north-up), the frame's UTM zone around (lat_deg, lon_deg). "
+      "Default materials (sand everywhere), no objects, no survey lines; every option at the "
+      "scene file's default. `name` stands for the file in messages.");
+
+  cls.def(
+      "add_object",
+      [](PySimulation& s, const std::string& shape, std::int32_t id, double centre_x_m,
+         double centre_y_m, std::array<double, 3> half_extent_m, double heading_rad,
+         std::uint16_t material, double clearance_m, double embed_fraction) {
+        ObjectPrimitive p;
+        if (shape == "cylinder") {
+          p.shape = ObjectShape::kCylinder;
+        } else if (shape == "box") {
+          p.shape = ObjectShape::kBox;
+        } else if (shape == "ellipsoid") {
+          p.shape = ObjectShape::kEllipsoid;
+        } else {
+          throw InputError(s.name + ": object shape = '" + shape +
+                           "'. Violated constraint: cylinder, box or ellipsoid");
+        }
+        p.id = id;
+        p.material = material;
+        p.centre_xy_m = {centre_x_m, centre_y_m};
+        p.heading_rad = heading_rad;
+        p.half_extent_m = {half_extent_m[0], half_extent_m[1], half_extent_m[2]};
+        const std::string what = s.name + ": object " + std::to_string(id);
+        if (material >= s.scene->materials.size()) {
+          throw InputError(what + ": material = " + std::to_string(material) +
+                           ". Violated constraint: < " + std::to_string(s.scene->materials.size()));
+        }
+        p.validate(what);
+        Scene& scene = s.mutable_scene();
+        p.place_on_seabed(scene.bathymetry, clearance_m, embed_fraction, what);
+        scene.objects.add(std::move(p));
+        scene.objects.build_index();
+      },
+      py::arg("shape"), py::arg("id"), py::arg("centre_x_m"), py::arg("centre_y_m"),
+      py::arg("half_extent_m"), py::kw_only(), py::arg("heading_rad") = 0.0,
+      py::arg("material") = 0, py::arg("clearance_m") = 0.0, py::arg("embed_fraction") = 0.0,
+      "Adds an object resting on the seabed: shape 'cylinder' (a pipe; half_extent_m = (half "
+      "length, radius, radius)), 'box' or 'ellipsoid' (a rock); id > 0 (its label in the truth); "
+      "centre in the local frame (metres); half sizes (u, v, z) in metres; heading_rad = azimuth "
+      "of the body u axis clockwise from grid north; material = index into the scene's material "
+      "table; clearance_m lifts it (a free span), embed_fraction in [0, 1) sinks it.");
+  cls.def(
+      "add_line",
+      [](PySimulation& s, const std::string& line_name,
+         py::array_t<double, py::array::c_style | py::array::forcecast> waypoints_xy_m) {
+        if (waypoints_xy_m.ndim() != 2 || waypoints_xy_m.shape(1) != 2) {
+          throw InputError(s.name + ": survey line " + line_name +
+                           ": waypoints_xy_m must be an (n, 2) array");
+        }
+        SurveyLine l{line_name, {}};
+        const auto w = waypoints_xy_m.unchecked<2>();
+        for (py::ssize_t i = 0; i < w.shape(0); ++i)
+          l.waypoints_xy_m.emplace_back(w(i, 0), w(i, 1));
+        s.setup.lines.push_back(std::move(l));
+        try {
+          (void)s.setup.make_survey();
+        } catch (...) {
+          s.setup.lines.pop_back();
+          throw;
+        }
+        s.invalidate();
+      },
+      py::arg("name"), py::arg("waypoints_xy_m"),
+      "Adds a survey line: waypoints (n, 2) in the local frame, metres, followed at "
+      "survey.speed_m_s.");
+
+  cls.def(
+      "survey_poses",
+      [](PySimulation& s) {
+        const Survey sv = s.survey();
+        const auto n = static_cast<py::ssize_t>(sv.total_pings());
+        py::array_t<PoseRecord> out(n);
+        PoseRecord* r = out.mutable_data();
+        const Scene& scene = *s.scene;
+        py::gil_scoped_release release;
+        for (py::ssize_t i = 0; i < n; ++i) {
+          r[i] = record_of(sv.pose(static_cast<std::uint64_t>(i), scene.bathymetry));
+        }
+        return out;
+      },
+      "Every ping pose of the survey, in order (numpy array of POSE_DTYPE: positions in the "
+      "local frame in metres, angles in radians, time in microseconds since 1970 UTC, "
+      "ping_index = the noise key), the poses `run_simulation` renders.");
+  cls.def(
+      "make_poses",
+      [](const PySimulation& s, const py::array_t<double, py::array::forcecast>& x_m,
+         const py::array_t<double, py::array::forcecast>& y_m,
+         const py::array_t<double, py::array::forcecast>& z_m,
+         const py::array_t<double, py::array::forcecast>& heading_rad,
+         const py::array_t<double, py::array::forcecast>& pitch_rad,
+         const py::array_t<double, py::array::forcecast>& roll_rad, std::uint64_t first_noise_key) {
+        py::ssize_t n = 1;
+        for (const auto* a : {&x_m, &y_m, &z_m, &heading_rad, &pitch_rad, &roll_rad}) {
+          if (a->size() != 1 && n != 1 && a->size() != n) {
+            throw InputError("make_poses: arrays of different lengths");
+          }
+          if (a->size() != 1) n = a->size();
+        }
+        py::array_t<PoseRecord> out(n);
+        PoseRecord* r = out.mutable_data();
+        for (py::ssize_t i = 0; i < n; ++i) {
+          r[i] = record_of(sensor_pose({at(x_m, i), at(y_m, i), at(z_m, i)}, at(heading_rad, i),
+                                       at(pitch_rad, i), at(roll_rad, i), s.scene->bathymetry,
+                                       first_noise_key + static_cast<std::uint64_t>(i)));
+        }
+        return out;
+      },
+      py::arg("x_m"), py::arg("y_m"), py::arg("z_m"), py::arg("heading_rad") = 0.0,
+      py::arg("pitch_rad") = 0.0, py::arg("roll_rad") = 0.0, py::arg("first_noise_key") = 0,
+      "Poses outside a survey (POSE_DTYPE): sensor positions in the local frame (metres, z on "
+      "the bathymetry's datum, up positive), heading clockwise from grid north, pitch + nose "
+      "up, roll + starboard down (radians); scalars broadcast. The altitude is taken from the "
+      "seabed; pose i gets noise key first_noise_key + i.");
+
+  cls.def_property_readonly(
+      "name", [](const PySimulation& s) { return s.scene->name; }, "The scene's name.");
+  cls.def_property_readonly(
+      "bounds_m",
+      [](const PySimulation& s) {
+        const Eigen::Vector4d b = s.scene->bathymetry.bounds();
+        return py::make_tuple(b[0], b[1], b[2], b[3]);
+      },
+      "Bathymetry node area in the local frame: (min x, min y, max x, max y), metres.");
+  cls.def_property_readonly(
+      "epsg", [](const PySimulation& s) { return s.scene->frame.epsg(); },
+      "EPSG code of the scene's UTM/UPS frame.");
+  cls.def_property_readonly(
+      "object_count", [](const PySimulation& s) { return s.scene->objects.primitives().size(); },
+      "Number of object primitives in the scene.");
+  cls.def_property_readonly(
+      "samples_per_side",
+      [](const PySimulation& s) { return s.setup.config.sonar.samples_per_channel; },
+      "Samples per side of a rendered ping (sonar.samples).");
+  cls.def_property_readonly(
+      "gain_db", [](PySimulation& s) { return s.simulator()->gain_db(); },
+      "Quantiser gain of the global calibration, dB.");
+  cls.def_property_readonly(
+      "absorption_db_per_m", [](PySimulation& s) { return s.simulator()->absorption_db_per_m(); },
+      "Absorption of the configuration, dB per metre (one way).");
+  cls.def_property_readonly(
+      "along_track_planes", [](PySimulation& s) { return s.simulator()->along_track().planes; },
+      "Along-track planes per ping side the renderer uses (chosen automatically or set).");
+  cls.def(
+      "local_from_geodetic",
+      [](const PySimulation& s, double lat_deg, double lon_deg) {
+        const Eigen::Vector2d xy = s.scene->frame.local_from_geodetic(
+            Geodetic{lat_deg * kRadPerDeg, lon_deg * kRadPerDeg, 0.0});
+        return py::make_tuple(xy.x(), xy.y());
+      },
+      py::arg("lat_deg"), py::arg("lon_deg"),
+      "Local (x, y) in metres of a WGS 84 position given in degrees.");
+}
+
+}  // namespace sonarsynth::python

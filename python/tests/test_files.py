@@ -1,0 +1,61 @@
+# SPDX-License-Identifier: MIT
+# run_simulation writes what the bindings render; read_xtf returns it with its navigation.
+import subprocess
+
+import numpy as np
+import pytest
+
+import sonarsynth
+
+
+def test_run_simulation_xtf_equals_render(scene_path, tmp_path):
+    out_dir = tmp_path / "out"
+    calls = []
+    result = sonarsynth.run_simulation(scene_path, str(out_dir), mosaic=False, waterfalls=False,
+                                       progress=lambda done, total: calls.append((done, total)))
+    sim = sonarsynth.Simulation.from_file(scene_path)
+    poses = sim.survey_poses()
+    assert result["total_pings"] == len(poses)
+    assert result["line_names"] == ["a", "b"]
+    assert calls and calls[-1][0] == calls[-1][1] == len(poses)
+    rendered = sim.render_poses(poses)
+    first = 0
+    for name in result["line_names"]:
+        xtf = sonarsynth.read_xtf(str(out_dir / f"{name}.xtf"))
+        n = xtf["port"].shape[0]
+        assert not xtf["anomalies"]
+        sl = slice(first, first + n)
+        # u16 samples: the rendered floats are whole numbers in [0, 65535], stored exactly.
+        assert xtf["port"].tobytes() == rendered["samples"][sl, 0].tobytes()
+        assert xtf["starboard"].tobytes() == rendered["samples"][sl, 1].tobytes()
+        # Navigation: times rounded to the XTF's 1/100 s, positions back in the local frame.
+        assert np.array_equal(xtf["time_utc_us"], (poses["time_utc_us"][sl] + 5000) // 10000 * 10000)
+        assert xtf["nav_valid"].all()
+        for i in range(n):
+            x, y = sim.local_from_geodetic(xtf["sensor_lat_deg"][i], xtf["sensor_lon_deg"][i])
+            assert abs(x - poses["sensor_x_m"][first + i]) < 0.01
+            assert abs(y - poses["sensor_y_m"][first + i]) < 0.01
+        assert np.allclose(xtf["roll_rad"], poses["roll_rad"][sl], atol=1e-3)
+        first += n
+    assert first == len(poses)
+
+
+def test_cli_simulate_writes_the_same_xtf(scene_path, cli, tmp_path):
+    a, b = tmp_path / "py", tmp_path / "cli"
+    sonarsynth.run_simulation(scene_path, str(a), mosaic=False, waterfalls=False, truth=False)
+    subprocess.run([cli, "simulate", scene_path, "-o", str(b), "--no-mosaic", "--no-waterfall",
+                    "--no-truth"], check=True, capture_output=True)
+    for name in ["a", "b"]:
+        x, y = sonarsynth.read_xtf(str(a / f"{name}.xtf")), sonarsynth.read_xtf(str(b / f"{name}.xtf"))
+        for k in ["port", "starboard", "time_utc_us", "sensor_lat_deg", "sensor_lon_deg"]:
+            assert x[k].tobytes() == y[k].tobytes(), k
+
+
+def test_run_simulation_errors(scene_path, tmp_path):
+    with pytest.raises(ValueError, match="--range"):
+        sonarsynth.run_simulation(scene_path, str(tmp_path / "o"), range_m=-1.0)
+    assert not (tmp_path / "o").exists()
+    with pytest.raises(sonarsynth.FormatError):
+        sonarsynth.read_xtf(str(tmp_path / "missing.xtf"))
+    with pytest.raises(OSError):
+        sonarsynth.read_xtf(str(tmp_path / "missing.xtf"))
