@@ -91,9 +91,10 @@ void bind_files(py::module_& m) {
         d["notes"] = r.notes;
         d["gain_db"] = r.gain_db;
         d["along_track_planes"] = r.along_track.planes;
-        d["render_s"] = r.render_s;
+        d["run_s"] = r.run_s;
         d["products_s"] = r.products_s;
         d["total_s"] = r.total_s;
+        d["cpu_s"] = r.cpu_s;
         return d;
       },
       py::arg("scene_path"), py::arg("out_dir"), py::kw_only(), py::arg("seed") = py::none(),
@@ -107,7 +108,8 @@ void bind_files(py::module_& m) {
       "(--seed, --range in metres, --samples per side, --threads, --quality). progress(done, "
       "total) is called after each block of pings. Returns a dict: files, line_names, "
       "total_pings, warnings, compatibility_warnings, notes, gain_db, along_track_planes, "
-      "render_s / products_s / total_s (wall seconds).");
+      "run_s (rendering and products, which overlap) / products_s (mosaic files) / total_s "
+      "(wall seconds), cpu_s (process CPU seconds).");
 
   m.def(
       "read_xtf",
