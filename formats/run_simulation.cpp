@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 
+#include "sonarsynth/formats/jsf_survey_writer.hpp"
 #include "sonarsynth/formats/output_dir.hpp"
 #include "sonarsynth/formats/product_metadata.hpp"
 #include "sonarsynth/formats/survey_writer.hpp"
@@ -59,7 +61,17 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
                                   : "backscatter (linear intensity)";
   SurveyProducts products(out.file(""), scene, setup->config.sonar, setup->lines, po);
   RunStatistics stats;
-  TeeSink sink({&xtf_out, &products, &stats});
+  // JSF sink (output.jsf): formats/jsf_survey_writer.cpp.
+  std::optional<JsfSurveyWriter> jsf_out;
+  std::vector<PingSink*> sinks{&xtf_out};
+  if (setup->write_jsf) {
+    jsf::WriterOptions jo;
+    jo.overwrite = true;
+    sinks.push_back(
+        &jsf_out.emplace(out.file(""), result.line_names, scene->frame, setup->config.sonar, jo));
+  }
+  sinks.insert(sinks.end(), {&products, &stats});
+  TeeSink sink(std::move(sinks));
 
   const auto t_render = std::chrono::steady_clock::now();
   result.timings = sim.run(survey, sink, options.progress);
@@ -74,6 +86,9 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
     warn(w);
   }
   for (const auto& f : xtf_out.files()) result.files.push_back(out.final_dir() / f.filename());
+  if (jsf_out) {
+    for (const auto& f : jsf_out->files()) result.files.push_back(out.final_dir() / f.filename());
+  }
   for (const auto& f : products.files()) result.files.push_back(out.final_dir() / f.filename());
   result.files.push_back(out.final_dir() / "effective.yaml");
   result.notes = products.notes();
