@@ -2,6 +2,9 @@
 // XTF <-> JSF conversion (library and `sonarsynth convert`).
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
+#include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
@@ -85,6 +88,107 @@ TEST(JsfConvert, RefusesUnknownFormatsClearly) {
     EXPECT_NE(std::string(e.what()).find("neither XTF"), std::string::npos) << e.what();
   }
   EXPECT_THROW((void)convert_sonar_file(dir / "junk.jsf", dir / "out.png"), InputError);
+  fs::remove_all(dir);
+}
+
+const fs::path kData = SONARSYNTH_TEST_DATA_DIR;
+
+std::vector<xtf::SonarPing> xtf_pings(const fs::path& path) {
+  xtf::Reader r(path);
+  xtf::Packet p;
+  std::vector<xtf::SonarPing> out;
+  while (r.next(p)) {
+    if (p.kind == xtf::PacketKind::kPing) out.push_back(p.ping.sonar);
+  }
+  return out;
+}
+
+std::vector<xtf::SonarPing> jsf_pings(const fs::path& path) {
+  jsf::Reader r(path);
+  jsf::Ping p;
+  std::vector<xtf::SonarPing> out;
+  while (r.next_ping(p)) out.push_back(p.sonar);
+  return out;
+}
+
+// The committed fuzzer seed holds the samples of the XTF it was converted from.
+TEST(JsfConvert, CommittedSeedHoldsItsXtfSamples) {
+  const auto x = xtf_pings(kData / "xtf" / "golden-tiny.xtf");
+  const auto j = jsf_pings(kData / "jsf" / "tiny-from-xtf.jsf");
+  ASSERT_EQ(x.size(), 2u);
+  ASSERT_EQ(j.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(x[i].port, j[i].port);
+    EXPECT_EQ(x[i].starboard, j[i].starboard);
+    EXPECT_EQ(x[i].time_utc, j[i].time_utc);
+  }
+}
+
+// The real Iver2 file (16-bit unsigned samples) through JSF and back: every ping with a
+// position keeps its samples bit-exactly (ping 0 has no position and is skipped, reported).
+TEST(JsfConvert, RealXtfRoundTripsThroughJsf) {
+  const fs::path dir = xtf::test::temp_dir("jsf_convert_real");
+  const ConvertResult a = convert_sonar_file(kData / "xtf" / "scotsman-iver2.xtf", dir / "i.jsf");
+  EXPECT_EQ(a.pings, 461u);
+  const ConvertResult b = convert_sonar_file(dir / "i.jsf", dir / "i.xtf");
+  EXPECT_EQ(b.pings, 460u);
+  EXPECT_EQ(b.pings_skipped, 1u);
+  ASSERT_FALSE(b.warnings.empty());
+  EXPECT_NE(b.warnings[0].find("no position"), std::string::npos) << b.warnings[0];
+  const auto x = xtf_pings(kData / "xtf" / "scotsman-iver2.xtf");
+  const auto y = xtf_pings(dir / "i.xtf");
+  ASSERT_EQ(y.size(), 460u);
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    ASSERT_EQ(x[i + 1].port, y[i].port) << "ping " << i + 1;
+    ASSERT_EQ(x[i + 1].starboard, y[i].starboard);
+    EXPECT_EQ(x[i + 1].time_utc, y[i].time_utc);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(JsfCli, ConvertInfoWaterfallOnJsf) {
+  const fs::path dir = xtf::test::temp_dir("jsf_cli");
+  const std::string xtf_in = (kData / "xtf" / "golden-tiny.xtf").string();
+  // The input is JSF by content even when named .dat.
+  auto r = test::run_cli("convert " + xtf_in + " -o " + (dir / "t.jsf").string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("XTF -> JSF, 2 pings, 1 attitude records"), std::string::npos) << r.out;
+  fs::copy_file(dir / "t.jsf", dir / "t.dat");
+  r = test::run_cli("info --json " + (dir / "t.dat").string(), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["format"], "JSF");
+  EXPECT_EQ(j["pings"], 2);
+  EXPECT_EQ(j["message_counts"]["80"]["count"], 4);
+  EXPECT_EQ(j["message_counts"]["182"]["count"], 1);
+  EXPECT_EQ(j["message_counts"]["2020"]["count"], 1);
+  ASSERT_EQ(j["subsystems"].size(), 1u);
+  EXPECT_EQ(j["subsystems"][0]["subsystem"], 20);
+  EXPECT_EQ(j["subsystems"][0]["messages_by_channel"]["0"], 2);
+  EXPECT_EQ(j["subsystems"][0]["messages_by_channel"]["1"], 2);
+  EXPECT_EQ(j["system_information"]["subsystems"], 1);
+  r = test::run_cli("info --json " + xtf_in, dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["format"], "XTF");
+  r = test::run_cli("waterfall " + (dir / "t.dat").string() + " -o " + (dir / "w.png").string(),
+                    dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "w.png"));
+  r = test::run_cli("convert " + (dir / "t.jsf").string() + " -o " + (dir / "back.xtf").string(),
+                    dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("JSF -> XTF, 2 pings"), std::string::npos) << r.out;
+  // A truncated JSF: a clear error naming the file, not a crash.
+  auto bytes = xtf::test::read_bytes(dir / "t.jsf");
+  bytes.resize(120);  // 182 (40 bytes) + 2020 (60 bytes) + 20 bytes of a message 80
+  xtf::test::write_bytes(dir / "cut.jsf", bytes);
+  r = test::run_cli("info " + (dir / "cut.jsf").string(), dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("bad_byte_count: 1"), std::string::npos) << r.out;
+  r = test::run_cli("waterfall " + (dir / "cut.jsf").string() + " -o " + (dir / "cut.png").string(),
+                    dir);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("cut.jsf"), std::string::npos) << r.err;
   fs::remove_all(dir);
 }
 
