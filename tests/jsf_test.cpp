@@ -201,6 +201,11 @@ TEST(JsfWriter, QuantiseBlockFloatingPoint) {
   EXPECT_EQ(quantise(ints, stored, clipped), 0);
   EXPECT_EQ(stored, (std::vector<std::int16_t>{0, 32767}));
   EXPECT_EQ(clipped, 0u);
+  const std::vector<float> huge = {3.0e38f, 1.0e30f};  // float samples of a gain-0 run
+  const std::int16_t n = quantise(huge, stored, clipped);
+  EXPECT_LE(std::ldexp(3.0e38, n), 32767.0);
+  EXPECT_GT(std::ldexp(3.0e38, n + 1), 32767.0);
+  EXPECT_NEAR(std::ldexp(static_cast<double>(stored[0]), -n), 3.0e38, 3.0e38 / 32767.0);
   const std::vector<float> bad = {-1.0f, NAN, 3.0f};
   EXPECT_EQ(quantise(bad, stored, clipped), 0);
   EXPECT_EQ(clipped, 2u);

@@ -91,6 +91,9 @@ TEST_F(RunSimulationTest, JsfAndXtfOfOneRunAgree) {
     EXPECT_EQ(j.total_anomalies(), 0u);
   }
   EXPECT_EQ(total, r.total_pings);
+  // A second run over the first (overwrite) accepts the .jsf files as its own products.
+  o.overwrite = true;
+  EXPECT_NO_THROW(run_simulation(scene_, out, o));
 }
 
 TEST_F(RunSimulationTest, ResultListsWhatWasWrittenAndCountsEveryPing) {

@@ -18,6 +18,8 @@ namespace {
 constexpr double kMetresPerSecondPerKnot = 1852.0 / 3600.0;
 constexpr int kMinYear = 1970;
 constexpr int kMaxYear = 2100;
+/// Bound on the weighting factor N: 2^-200 .. 2^200 spans every finite float sample.
+constexpr int kMaxWeighting = 200;
 
 std::string num(double v) {
   std::ostringstream os;
@@ -76,9 +78,9 @@ std::int16_t quantise(std::span<const float> samples, std::vector<std::int16_t>&
   int n = 0;
   if (!(integers && max <= 32767.0) && max > 0.0) {
     n = static_cast<int>(std::floor(std::log2(32767.0 / max)));
-    while (n > -30 && std::ldexp(max, n) > 32767.0) --n;
-    while (n < 30 && std::ldexp(max, n + 1) <= 32767.0) ++n;
-    n = std::clamp(n, -30, 30);
+    while (n > -kMaxWeighting && std::ldexp(max, n) > 32767.0) --n;
+    while (n < kMaxWeighting && std::ldexp(max, n + 1) <= 32767.0) ++n;
+    n = std::clamp(n, -kMaxWeighting, kMaxWeighting);
   }
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const float v = samples[i];

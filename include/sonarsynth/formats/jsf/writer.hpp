@@ -30,7 +30,7 @@ struct WriterOptions {
 
 /// The weighting factor N (value = stored x 2^-N) and the stored int16 values of one channel
 /// (docs/jsf.md §2.3): N = 0 when every sample is an integer in 0..32767 (stored exactly, and
-/// PINGVerter, which ignores N, reads the same values); otherwise the largest N in [-30, 30]
+/// PINGVerter, which ignores N, reads the same values); otherwise the largest N in [-200, 200]
 /// with max * 2^N <= 32767. Negative and non-finite samples are stored as 0 and counted in
 /// `clipped`.
 std::int16_t quantise(std::span<const float> samples, std::vector<std::int16_t>& stored,
