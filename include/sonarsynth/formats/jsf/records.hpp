@@ -104,7 +104,7 @@ struct SonarDataHeader {
   std::array<std::int16_t, 2> reserved3{};   ///< 40
   float km_of_pipe = 0.0f;                   ///< 44
   float heave_m = 0.0f;                      ///< 48: positive down
-  std::array<std::int16_t, 12> reserved4{};  ///< 52 (must stay 0: docs/jsf.md §1.6)
+  std::array<std::int16_t, 12> reserved4{};  ///< 52 (must stay 0: docs/jsf.md §1.2)
   float gap_filler_offset_m = 0.0f;          ///< 76
   std::int32_t longitude = 0;                ///< 80: minutes x 10 000 (units 2)
   std::int32_t latitude = 0;                 ///< 84
