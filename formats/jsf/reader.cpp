@@ -244,25 +244,31 @@ bool Reader::decode_sonar(std::span<const std::uint8_t> body, Message& m) {
   }
   m.samples.resize(static_cast<std::size_t>(n));
   const std::uint8_t* p = body.data() + SonarDataHeader::kSize;
-  const int weight = -h.weighting_factor;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t* s = p + i * 2 * k;
-    double v = 0.0;
-    if (k == 2) {
+  const double scale = std::ldexp(1.0, -h.weighting_factor);  // exact: a power of two
+  float* out = m.samples.data();
+  if (k == 2) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint8_t* s = p + i * 4;
       const auto re = static_cast<std::int16_t>(s[0] | (s[1] << 8));
       const auto im = static_cast<std::int16_t>(s[2] | (s[3] << 8));
-      v = std::hypot(static_cast<double>(re), static_cast<double>(im));
-    } else if (f == 0) {
-      v = static_cast<std::uint16_t>(s[0] | (s[1] << 8));  // envelope: unsigned
-    } else {
-      v = static_cast<std::int16_t>(s[0] | (s[1] << 8));
+      out[i] =
+          static_cast<float>(std::hypot(static_cast<double>(re), static_cast<double>(im)) * scale);
     }
-    m.samples[i] = static_cast<float>(std::ldexp(v, weight));
+  } else if (f == 0) {  // envelope: unsigned
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto v = static_cast<std::uint16_t>(p[2 * i] | (p[2 * i + 1] << 8));
+      out[i] = static_cast<float>(static_cast<double>(v) * scale);
+    }
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto v = static_cast<std::int16_t>(p[2 * i] | (p[2 * i + 1] << 8));
+      out[i] = static_cast<float>(static_cast<double>(v) * scale);
+    }
   }
   return true;
 }
 
-void Reader::make_ping(const Message* port, const Message* stbd, Ping& ping) {
+void Reader::make_ping(Message* port, Message* stbd, Ping& ping) {
   const Message& first = port ? *port : *stbd;
   const SonarDataHeader& h = first.sonar;
   ping.subsystem = first.header.subsystem;
@@ -271,10 +277,11 @@ void Reader::make_ping(const Message* port, const Message* stbd, Ping& ping) {
   ping.header = h;
   xtf::SonarPing& s = ping.sonar;
   s.ping_number = h.ping_number;
+  // The messages' sample buffers are not read again: swap them in (capacity is recycled).
   s.port.clear();
   s.starboard.clear();
-  if (port) s.port = port->samples;
-  if (stbd) s.starboard = stbd->samples;
+  if (port) std::swap(s.port, port->samples);
+  if (stbd) std::swap(s.starboard, stbd->samples);
 
   // Time: offset 0 + ms today % 1000 (protocol >= 8), else the CPU-time block.
   using namespace std::chrono;

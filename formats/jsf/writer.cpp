@@ -68,28 +68,41 @@ void WriterOptions::validate() const {
 std::int16_t quantise(std::span<const float> samples, std::vector<std::int16_t>& stored,
                       std::uint64_t& clipped) {
   stored.resize(samples.size());
-  bool integers = true;
-  double max = 0.0;
+  // One pass: the largest valid sample, and whether every sample is an integer in 0..32767
+  // (then N = 0 and the samples are stored as they are).
+  bool integers = true;  // over the valid (finite, >= 0) samples
+  bool invalid = false;
+  float max = 0.0f;
   for (const float v : samples) {
-    if (!std::isfinite(v) || v < 0.0f) continue;
-    max = std::max(max, static_cast<double>(v));
-    if (v != std::floor(v)) integers = false;
+    if (!(v >= 0.0f) || !std::isfinite(v)) {
+      invalid = true;
+      continue;
+    }
+    max = v > max ? v : max;
+    integers = integers && v <= 32767.0f && static_cast<float>(static_cast<std::int32_t>(v)) == v;
+  }
+  if (integers && !invalid) {
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      stored[i] = static_cast<std::int16_t>(samples[i]);
+    }
+    return 0;
   }
   int n = 0;
-  if (!(integers && max <= 32767.0) && max > 0.0) {
-    n = static_cast<int>(std::floor(std::log2(32767.0 / max)));
-    while (n > -kMaxWeighting && std::ldexp(max, n) > 32767.0) --n;
-    while (n < kMaxWeighting && std::ldexp(max, n + 1) <= 32767.0) ++n;
+  if (!integers && max > 0.0f) {
+    n = static_cast<int>(std::floor(std::log2(32767.0 / static_cast<double>(max))));
+    while (n > -kMaxWeighting && std::ldexp(static_cast<double>(max), n) > 32767.0) --n;
+    while (n < kMaxWeighting && std::ldexp(static_cast<double>(max), n + 1) <= 32767.0) ++n;
     n = std::clamp(n, -kMaxWeighting, kMaxWeighting);
   }
+  const double scale = std::ldexp(1.0, n);  // exact: a power of two
   for (std::size_t i = 0; i < samples.size(); ++i) {
     const float v = samples[i];
-    if (!std::isfinite(v) || v < 0.0f) {
+    if (!(v >= 0.0f) || !std::isfinite(v)) {
       ++clipped;
       stored[i] = 0;
       continue;
     }
-    const double q = std::round(std::ldexp(static_cast<double>(v), n));
+    const double q = std::round(static_cast<double>(v) * scale);
     stored[i] = static_cast<std::int16_t>(std::min(q, 32767.0));
   }
   return static_cast<std::int16_t>(n);
@@ -222,11 +235,16 @@ void Writer::write_channel(const SonarDataHeader& base, std::uint8_t channel,
   m.subsystem = options_.subsystem;
   m.channel = channel;
   m.byte_count = static_cast<std::int32_t>(SonarDataHeader::kSize + 2 * std::size_t{n});
-  buffer_.assign(MessageHeader::kSize + static_cast<std::size_t>(m.byte_count), 0);
+  buffer_.resize(MessageHeader::kSize + static_cast<std::size_t>(m.byte_count));
   ByteWriter w(buffer_, "jsf");
   m.encode(w);
   h.encode(w);
-  for (const std::int16_t v : stored_) w.i16(v);
+  const std::span<std::uint8_t> out = w.take(2 * stored_.size());
+  for (std::size_t i = 0; i < stored_.size(); ++i) {
+    const auto u = static_cast<std::uint16_t>(stored_[i]);
+    out[2 * i] = static_cast<std::uint8_t>(u & 0xFFu);
+    out[2 * i + 1] = static_cast<std::uint8_t>(u >> 8);
+  }
   append(buffer_.size());
 }
 

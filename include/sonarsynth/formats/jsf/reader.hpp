@@ -131,7 +131,8 @@ class Reader {
   bool plausible_header_at(std::uint64_t offset, MessageHeader& header);
   std::uint64_t find_next_message(std::uint64_t from);
   bool decode_sonar(std::span<const std::uint8_t> body, Message& m);
-  void make_ping(const Message* port, const Message* starboard, Ping& ping);
+  /// Moves the messages' samples into `ping` (the messages are not read again).
+  void make_ping(Message* port, Message* starboard, Ping& ping);
   std::string where(const Message& m) const;
 
   std::unique_ptr<ByteSource> source_;
