@@ -237,6 +237,7 @@ std::vector<Option> make_table() {
   t.push_back(boolean("output", "truth", BOOL(config.truth)));
   t.push_back(
       boolean("output", "allow_more_than_8192_samples", BOOL(allow_more_than_8192_samples)));
+  t.push_back(boolean("output", "jsf", BOOL(write_jsf)));
   // sensor effects: a level or `off`
   auto sensor_level = [](std::string_view key, std::string_view unit, double lo, double hi,
                          double (*get)(const S&), void (*set)(S&, double)) {

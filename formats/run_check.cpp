@@ -117,6 +117,7 @@ RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& s
       xtf::XtfPingHeader::kSize +
       2 * (64 + sonar.samples_per_channel * xtf_bytes_per_sample(setup.sample_format))));
   double bytes = total_pings * xtf_ping + 2048.0 * static_cast<double>(setup.lines.size());
+  if (setup.write_jsf) bytes += total_pings * 2.0 * (16.0 + 240.0 + 2.0 * samples);  // docs/jsf.md
   if (products.waterfalls) bytes += total_pings * 2.0 * samples;
   if (products.truth) bytes += total_pings * 2.0 * samples * kTruthBytesPerSample;
   double mosaic_pixels = 0.0;

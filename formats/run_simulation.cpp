@@ -6,8 +6,10 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "sink_threads.hpp"
+#include "sonarsynth/formats/jsf_survey_writer.hpp"
 #include "sonarsynth/formats/output_dir.hpp"
 #include "sonarsynth/formats/product_metadata.hpp"
 #include "sonarsynth/formats/survey_writer.hpp"
@@ -69,10 +71,20 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
                                   : "backscatter (linear intensity)";
   SurveyProducts products(out.file(""), scene, setup->config.sonar, setup->lines, po);
   RunStatistics stats;
-  // The XTF files and each product on a thread of its own, fed through bounded queues while
-  // the survey renders; each consumes the pings in survey order, so the files do not depend on
-  // the thread count or the schedule. The statistics are cheap: on the rendering side.
+  // JSF sink (output.jsf): formats/jsf_survey_writer.cpp.
+  std::optional<JsfSurveyWriter> jsf_out;
+  // The XTF (and JSF) files and each product on a thread of their own, fed through bounded
+  // queues while the survey renders; each consumes the pings in survey order, so the files do
+  // not depend on the thread count or the schedule. The statistics are cheap: on the rendering
+  // side.
   std::vector<detail::ParallelSink::Threaded> threaded = {{&xtf_out, "xtf"}};
+  if (setup->write_jsf) {
+    jsf::WriterOptions jo;
+    jo.overwrite = true;
+    threaded.push_back(
+        {&jsf_out.emplace(out.file(""), result.line_names, scene->frame, setup->config.sonar, jo),
+         "jsf"});
+  }
   for (const auto& [name, part] : products.parts()) threaded.push_back({part, name});
   detail::ParallelSink sink({&stats}, threaded);
 
@@ -91,6 +103,9 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
     warn(w);
   }
   for (const auto& f : xtf_out.files()) result.files.push_back(out.final_dir() / f.filename());
+  if (jsf_out) {
+    for (const auto& f : jsf_out->files()) result.files.push_back(out.final_dir() / f.filename());
+  }
   for (const auto& f : products.files()) result.files.push_back(out.final_dir() / f.filename());
   result.files.push_back(out.final_dir() / "effective.yaml");
   result.notes = products.notes();

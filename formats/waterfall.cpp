@@ -17,6 +17,7 @@
 #include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/formats/sidescan_source.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/version.hpp"
@@ -323,11 +324,10 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
   }
   Waterfall wf(wo);
   WaterfallResult result;
-  xtf::Reader reader(xtf_path);
-  xtf::Packet packet;
-  while (reader.next(packet)) {
-    if (packet.kind != xtf::PacketKind::kPing) continue;
-    const xtf::SonarPing& s = packet.ping.sonar;
+  const std::unique_ptr<SideScanSource> reader = SideScanSource::open(xtf_path);
+  SideScanRecord rec;
+  while (reader->next(rec)) {
+    const xtf::SonarPing& s = rec.sonar;
     if (s.port.empty() && s.starboard.empty()) {
       ++result.pings_no_samples;
       continue;
@@ -339,10 +339,8 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
                       ": no sonar channel (no ping has port or starboard samples)");
   }
   wf.write(image_path);
-  result.reader_anomalies = reader.total_anomalies();
-  for (std::size_t i = 0; i < reader.anomalies().size() && i < 10; ++i) {
-    result.reader_anomaly_messages.push_back(reader.anomalies()[i].message);
-  }
+  result.reader_anomalies = reader->total_anomalies();
+  result.reader_anomaly_messages = reader->anomaly_messages(10);
   result.pings = wf.rows();
   result.pings_per_row = wf.pings_per_row();
   result.rows = wf.image_rows();

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/sidescan_source.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
 namespace sonarsynth {
@@ -158,10 +159,6 @@ bool has_samples(const xtf::SonarPing& s) {
          std::isfinite(s.slant_range_m);
 }
 
-bool has_geographic_nav(const xtf::Reader& reader, const xtf::PingRecord& ping) {
-  return ping.nav_valid && reader.file_header().NavUnits == 3;
-}
-
 }  // namespace
 
 void XtfMosaicOptions::validate() const {
@@ -204,20 +201,19 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
 
   // Pass 1: navigation, extent, sanity of every file.
   std::vector<FileNav> nav(files.size());
-  xtf::Packet packet;
+  SideScanRecord rec;
   for (std::size_t fi = 0; fi < files.size(); ++fi) {
     const auto& path = files[fi];
-    xtf::Reader reader(path);
+    const std::unique_ptr<SideScanSource> reader = SideScanSource::open(path);
     std::size_t with_samples = 0;
     std::size_t pings = 0;
-    while (reader.next(packet)) {
-      if (packet.kind != xtf::PacketKind::kPing) continue;
+    while (reader->next(rec)) {
       ++pings;
-      const xtf::SonarPing& s = packet.ping.sonar;
+      const xtf::SonarPing& s = rec.sonar;
       if (!has_samples(s)) continue;
       ++with_samples;
-      if (!has_geographic_nav(reader, packet.ping)) continue;
-      const double layback = packet.ping.header.Layback;
+      if (!rec.nav_valid) continue;
+      const double layback = rec.layback_m;
       const double margin = options.apply_layback && std::isfinite(layback) && layback > 0.0
                                 ? s.slant_range_m + layback
                                 : s.slant_range_m;
@@ -225,9 +221,9 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
       p.position = s.sensor_position;
       p.margin_m = margin;
       p.slant_range_m = s.slant_range_m;
-      p.heading_deg = packet.ping.header.SensorHeading;
-      p.ping_number = packet.ping.header.PingNumber;
-      p.packet_index = packet.index;
+      p.heading_deg = static_cast<float>(rec.heading_deg);
+      p.ping_number = s.ping_number;
+      p.packet_index = rec.index;
       nav[fi].points.push_back(p);
     }
     if (with_samples == 0) {
@@ -303,24 +299,23 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
 
   // Pass 2: gridding.
   for (std::size_t fi = 0; fi < files.size(); ++fi) {
-    xtf::Reader reader(files[fi]);
+    const std::unique_ptr<SideScanSource> reader = SideScanSource::open(files[fi]);
     const std::vector<std::uint64_t>& dropped = nav[fi].dropped_packets;
     auto next_dropped = dropped.begin();
-    while (reader.next(packet)) {
-      if (packet.kind != xtf::PacketKind::kPing) continue;
+    while (reader->next(rec)) {
       ++result.pings;
-      const xtf::SonarPing& s = packet.ping.sonar;
+      const xtf::SonarPing& s = rec.sonar;
       if (!has_samples(s)) {
         ++result.pings_no_samples;
         continue;
       }
-      if (!has_geographic_nav(reader, packet.ping)) {
+      if (!rec.nav_valid) {
         ++result.pings_no_navigation;
         grid.break_line();
         continue;
       }
-      while (next_dropped != dropped.end() && *next_dropped < packet.index) ++next_dropped;
-      if (next_dropped != dropped.end() && *next_dropped == packet.index) {
+      while (next_dropped != dropped.end() && *next_dropped < rec.index) ++next_dropped;
+      if (next_dropped != dropped.end() && *next_dropped == rec.index) {
         grid.break_line();  // a navigation outlier (counted in pass 1)
         continue;
       }
@@ -332,7 +327,7 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
                          : 0.0;
       mp.slant_range_m = s.slant_range_m;
       if (options.apply_layback) {
-        const double layback = packet.ping.header.Layback;
+        const double layback = rec.layback_m;
         if (std::isfinite(layback) && layback > 0.0) {
           mp.sensor_xy_m -= layback * Eigen::Vector2d(std::sin(mp.heading_grid_rad),
                                                       std::cos(mp.heading_grid_rad));
@@ -364,10 +359,10 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
       result.fill_points += st.fill_points + st.along_fill_points;
     }
     grid.break_line();  // no along-track fill from one file into the next
-    result.reader_anomalies += reader.total_anomalies();
-    for (const xtf::Anomaly& a : reader.anomalies()) {
+    result.reader_anomalies += reader->total_anomalies();
+    for (std::string& m : reader->anomaly_messages(kMaxExamples)) {
       if (result.reader_anomaly_messages.size() >= kMaxExamples) break;
-      result.reader_anomaly_messages.push_back(a.message);
+      result.reader_anomaly_messages.push_back(std::move(m));
     }
   }
   result.image = grid.finish();

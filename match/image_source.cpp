@@ -15,6 +15,7 @@
 #include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
+#include "sonarsynth/formats/sidescan_source.hpp"
 #include "sonarsynth/formats/waterfall.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
@@ -57,12 +58,11 @@ MatchImage load_xtf(const std::string& path, const ImageSourceOptions& o) {
   WaterfallOptions wo;
   wo.slant_correct = o.slant_correct;
   Waterfall wf(wo);
-  xtf::Reader reader(path);
-  xtf::Packet packet;
+  const std::unique_ptr<SideScanSource> reader = SideScanSource::open(path);
+  SideScanRecord rec;
   std::int64_t index = 0;
-  while (reader.next(packet)) {
-    if (packet.kind != xtf::PacketKind::kPing) continue;
-    const xtf::SonarPing& s = packet.ping.sonar;
+  while (reader->next(rec)) {
+    const xtf::SonarPing& s = rec.sonar;
     if (s.port.empty() && s.starboard.empty()) continue;
     if (index >= o.first_ping && (o.last_ping < 0 || index <= o.last_ping)) {
       wf.add_ping(s.port, s.starboard, s.slant_range_m, s.altitude_m);
@@ -194,7 +194,14 @@ void ImageSourceOptions::validate() const {
 
 MatchImage load_image(const std::string& path, const ImageSourceOptions& options) {
   options.validate();
-  if (lower_extension(path) == ".xtf") return load_xtf(path, options);
+  // Side-scan files by extension or by content (XTF: first byte 0x7B; JSF: bytes 01 16).
+  const std::string ext = lower_extension(path);
+  if (ext == ".xtf" || ext == ".jsf") return load_xtf(path, options);
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(path, ec) &&
+      detect_sonar_file_format(path) != SonarFileFormat::kUnknown) {
+    return load_xtf(path, options);
+  }
   return load_raster(path, options);
 }
 

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -13,7 +15,9 @@
 #include <string>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
+#include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -50,6 +54,49 @@ class RunSimulationTest : public ::testing::Test {
   fs::path dir_;
   std::string scene_;
 };
+
+// output.jsf: the JSF of a run holds the XTF's pings: samples equal, navigation within JSF's
+// 1/600 000 degree, time within XTF's 10 ms rounding.
+TEST_F(RunSimulationTest, JsfAndXtfOfOneRunAgree) {
+  std::ofstream(scene_) << kScene << "output: {jsf: true}\n";
+  RunOptions o;
+  o.products.mosaic = false;
+  o.products.waterfalls = false;
+  const fs::path out = dir_ / "out";
+  const RunResult r = run_simulation(scene_, out, o);
+  std::uint64_t total = 0;
+  for (const std::string& line : r.line_names) {
+    EXPECT_NE(std::find(r.files.begin(), r.files.end(), out / (line + ".jsf")), r.files.end());
+    xtf::Reader x(out / (line + ".xtf"));
+    jsf::Reader j(out / (line + ".jsf"));
+    xtf::Packet p;
+    jsf::Ping q;
+    while (x.next(p)) {
+      if (p.kind != xtf::PacketKind::kPing) continue;
+      ASSERT_TRUE(j.next_ping(q));
+      const xtf::SonarPing& a = p.ping.sonar;
+      const xtf::SonarPing& b = q.sonar;
+      ASSERT_EQ(a.port, b.port) << line << " ping " << a.ping_number;
+      ASSERT_EQ(a.starboard, b.starboard);
+      EXPECT_EQ(a.ping_number, b.ping_number);
+      EXPECT_LE(std::abs(std::chrono::duration<double>(a.time_utc - b.time_utc).count()), 0.006);
+      const double half_step = 0.5 / 600000.0 + 1e-12;
+      EXPECT_NEAR(deg_from_rad(b.sensor_position.lat_rad), deg_from_rad(a.sensor_position.lat_rad),
+                  half_step);
+      EXPECT_NEAR(deg_from_rad(b.sensor_position.lon_rad), deg_from_rad(a.sensor_position.lon_rad),
+                  half_step);
+      EXPECT_NEAR(b.altitude_m, a.altitude_m, 0.0005 + 1e-5);
+      EXPECT_NEAR(b.slant_range_m, a.slant_range_m, 1e-4);
+      ++total;
+    }
+    EXPECT_FALSE(j.next_ping(q));
+    EXPECT_EQ(j.total_anomalies(), 0u);
+  }
+  EXPECT_EQ(total, r.total_pings);
+  // A second run over the first (overwrite) accepts the .jsf files as its own products.
+  o.overwrite = true;
+  EXPECT_NO_THROW(run_simulation(scene_, out, o));
+}
 
 TEST_F(RunSimulationTest, ResultListsWhatWasWrittenAndCountsEveryPing) {
   RunOptions o;

@@ -316,7 +316,7 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
        cli},
       {"vertical_beam: {shape: paper, upper_half_width_deg: 20, lower_half_width_deg: 30}",
        "pulse: {type: chirp, bandwidth_khz: 50}", ", along_track_planes: 3",
-       "output: {sample_format: f32, gain_db: 3, allow_more_than_8192_samples: true}\n"
+       "output: {sample_format: f32, gain_db: 3, allow_more_than_8192_samples: true, jsf: true}\n"
        "sensor: {noise_floor_dbfs: -50, volume_reverberation_db: off, shadow_fill_db: -20, "
        "first_return_reflection_db: off, ring_down_m: 0.5}",
        "survey:\n  depth_m: 25\n", fast},
@@ -404,6 +404,7 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
     }
     EXPECT_EQ(x.truth, y.truth);
     EXPECT_EQ(a.sample_format, b.sample_format);
+    EXPECT_EQ(a.write_jsf, b.write_jsf);
     EXPECT_EQ(a.limits.max_pings, b.limits.max_pings);
     EXPECT_EQ(a.vehicle.depth_mode, b.vehicle.depth_mode);
     EXPECT_EQ(a.vehicle.altitude_m, b.vehicle.altitude_m);

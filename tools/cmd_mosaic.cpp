@@ -19,7 +19,7 @@ namespace sonarsynth::cli {
 namespace {
 
 const char* const kUsage =
-    "usage: sonarsynth mosaic FILES.xtf... -o MOSAIC.tif [options]\n\n"
+    "usage: sonarsynth mosaic FILES.xtf|.jsf... -o MOSAIC.tif [options]\n\n"
     "Georeferences every sample of the XTF files (sensor position, fish heading converted to grid\n"
     "north, pitch; slant->ground on a flat bottom from the altitude, or against --bathymetry) and\n"
     "grids the sample values linearly into a float32 GeoTIFF (NaN nodata, AREA_OR_POINT=Area) in\n"

@@ -16,7 +16,7 @@ int run_waterfall(const std::vector<std::string>& args) {
   WaterfallOptions wo;
   // clang-format off
   opts.add_options()
-    ("input", po::value(&input)->required(), "XTF file (positional)")
+    ("input", po::value(&input)->required(), "XTF or JSF file (positional; the format is read from the content)")
     ("output,o", po::value(&output)->required(), "output image (.png or .tif)")
     ("grey", "grey scale instead of the black-brown-yellow colormap")
     ("slant-correct", "resample to ground range on a flat bottom (altitude of each ping)")
@@ -34,7 +34,7 @@ int run_waterfall(const std::vector<std::string>& args) {
   positional.add("input", 1);
   po::variables_map vm;
   if (!parse(args, opts, positional, vm,
-             "usage: sonarsynth waterfall FILE.xtf -o IMAGE.png [options]\n\n"
+             "usage: sonarsynth waterfall FILE.xtf|.jsf -o IMAGE.png [options]\n\n"
              "Draws one row per ping: port far -> near | starboard near -> far (nadir in the\n"
              "middle), 10 log10 of the samples between the 1st and 99th percentiles of the file\n"
              "(or --lo-db/--hi-db, or the samples linearly with --linear) through the\n"

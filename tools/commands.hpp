@@ -12,6 +12,7 @@ namespace sonarsynth::cli {
 int run_version(const std::vector<std::string>& args);
 int run_simulate(const std::vector<std::string>& args);
 int run_info(const std::vector<std::string>& args);
+int run_convert(const std::vector<std::string>& args);
 int run_bathy(const std::vector<std::string>& args);
 int run_mosaic(const std::vector<std::string>& args);
 int run_waterfall(const std::vector<std::string>& args);

@@ -3,7 +3,7 @@
 # Builds and runs the downstream projects against an installed sonarsynth:
 #   tests/consumer/run.sh <install prefix> <scratch directory>
 # 1. every component (one program each), the umbrella target, every installed header alone;
-# 2. find_package(sonarsynth COMPONENTS xtf) with GDAL and yaml-cpp made unfindable, and no
+# 2. find_package(sonarsynth COMPONENTS xtf), and jsf, each with GDAL and yaml-cpp made unfindable, and no
 #    GDAL or yaml-cpp on its compile and link lines.
 set -euo pipefail
 prefix=$(realpath "$1")
@@ -14,23 +14,25 @@ mkdir -p "$out"
 
 cmake -S "$here" -B "$out/all" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$out/all" >/dev/null
-for program in consumer consumer_core consumer_io consumer_xtf consumer_raster consumer_products \
+for program in consumer consumer_core consumer_io consumer_xtf consumer_jsf consumer_raster consumer_products \
   consumer_config; do
   "$out/all/$program"
 done
 
-cmake -S "$here/xtf" -B "$out/xtf" -G Ninja --no-warn-unused-cli -DCMAKE_PREFIX_PATH="$prefix" \
-  -DCMAKE_DISABLE_FIND_PACKAGE_GDAL=ON -DCMAKE_DISABLE_FIND_PACKAGE_yaml-cpp=ON >/dev/null
-cmake --build "$out/xtf" >/dev/null
-commands=$(ninja -C "$out/xtf" -t commands consumer_xtf)
-if grep -qiE 'gdal|yaml' <<<"$commands"; then
-  echo "consumer: the xtf-only project compiles or links with GDAL or yaml-cpp:" >&2
-  echo "$commands" >&2
-  exit 1
-fi
-if ldd "$out/xtf/consumer_xtf" | grep -qiE 'gdal|yaml'; then
-  echo "consumer: consumer_xtf loads GDAL or yaml-cpp" >&2
-  exit 1
-fi
-echo "xtf-only compile line: $(grep -m1 -- ' -c ' <<<"$commands")"
-"$out/xtf/consumer_xtf"
+for only in xtf jsf; do
+  cmake -S "$here/$only" -B "$out/$only" -G Ninja --no-warn-unused-cli -DCMAKE_PREFIX_PATH="$prefix" \
+    -DCMAKE_DISABLE_FIND_PACKAGE_GDAL=ON -DCMAKE_DISABLE_FIND_PACKAGE_yaml-cpp=ON >/dev/null
+  cmake --build "$out/$only" >/dev/null
+  commands=$(ninja -C "$out/$only" -t commands consumer_$only)
+  if grep -qiE 'gdal|yaml' <<<"$commands"; then
+    echo "consumer: the $only-only project compiles or links with GDAL or yaml-cpp:" >&2
+    echo "$commands" >&2
+    exit 1
+  fi
+  if ldd "$out/$only/consumer_$only" | grep -qiE 'gdal|yaml'; then
+    echo "consumer: consumer_$only loads GDAL or yaml-cpp" >&2
+    exit 1
+  fi
+  echo "$only-only compile line: $(grep -m1 -- ' -c ' <<<"$commands")"
+  "$out/$only/consumer_$only"
+done

@@ -54,6 +54,8 @@ struct SimulationSetup {
   /// output.allow_more_than_8192_samples: write more samples per channel than common XTF
   /// readers accept.
   bool allow_more_than_8192_samples = false;
+  /// output.jsf: also write `<line>.jsf` (EdgeTech JSF, docs/jsf.md) next to `<line>.xtf`.
+  bool write_jsf = false;
   /// output.display: the waterfalls and mosaic_rgb show sample / full scale linearly (the
   /// founding paper's grey level, docs/paper-model.md) instead of a dB window.
   bool display_linear = false;

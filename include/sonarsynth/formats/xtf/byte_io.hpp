@@ -19,7 +19,9 @@ namespace sonarsynth::xtf {
 /// their integer bit pattern. Writing past the end throws FormatError.
 class ByteWriter {
  public:
-  explicit ByteWriter(std::span<std::uint8_t> bytes) : bytes_(bytes) {}
+  /// `who` starts error messages ("xtf", "jsf").
+  explicit ByteWriter(std::span<std::uint8_t> bytes, const char* who = "xtf")
+      : bytes_(bytes), who_(who) {}
 
   std::size_t position() const { return pos_; }
   std::size_t size() const { return bytes_.size(); }
@@ -63,9 +65,9 @@ class ByteWriter {
  private:
   void check(std::size_t n) const {
     if (n > bytes_.size() - pos_) {
-      throw FormatError("xtf: write of " + std::to_string(n) + " bytes at offset " +
-                        std::to_string(pos_) + " overruns a " + std::to_string(bytes_.size()) +
-                        "-byte record buffer");
+      throw FormatError(std::string(who_) + ": write of " + std::to_string(n) +
+                        " bytes at offset " + std::to_string(pos_) + " overruns a " +
+                        std::to_string(bytes_.size()) + "-byte record buffer");
     }
   }
   void put(std::uint64_t v, std::size_t n) {
@@ -77,6 +79,7 @@ class ByteWriter {
   }
 
   std::span<std::uint8_t> bytes_;
+  const char* who_;
   std::size_t pos_ = 0;
 };
 
@@ -84,7 +87,9 @@ class ByteWriter {
 /// Reading past the end throws FormatError.
 class ByteReader {
  public:
-  explicit ByteReader(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
+  /// `who` starts error messages ("xtf", "jsf").
+  explicit ByteReader(std::span<const std::uint8_t> bytes, const char* who = "xtf")
+      : bytes_(bytes), who_(who) {}
 
   std::size_t position() const { return pos_; }
   std::size_t size() const { return bytes_.size(); }
@@ -119,7 +124,7 @@ class ByteReader {
  private:
   void check(std::size_t n) const {
     if (n > bytes_.size() - pos_) {
-      throw FormatError("xtf: read of " + std::to_string(n) + " bytes at offset " +
+      throw FormatError(std::string(who_) + ": read of " + std::to_string(n) + " bytes at offset " +
                         std::to_string(pos_) + " overruns a " + std::to_string(bytes_.size()) +
                         "-byte record");
     }
@@ -135,6 +140,7 @@ class ByteReader {
   }
 
   std::span<const std::uint8_t> bytes_;
+  const char* who_;
   std::size_t pos_ = 0;
 };
 

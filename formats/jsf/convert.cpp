@@ -1,0 +1,197 @@
+// SPDX-License-Identifier: MIT
+#include "sonarsynth/formats/jsf/convert.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <chrono>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/jsf/reader.hpp"
+#include "sonarsynth/formats/jsf/writer.hpp"
+#include "sonarsynth/formats/xtf/reader.hpp"
+#include "sonarsynth/formats/xtf/writer.hpp"
+#include "sonarsynth/geo_frame.hpp"
+
+namespace sonarsynth {
+namespace {
+
+constexpr std::size_t kMaxWarnings = 10;
+
+void warn(ConvertResult& r, std::string w) {
+  if (r.warnings.size() < kMaxWarnings) r.warnings.push_back(std::move(w));
+}
+
+ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
+                         bool overwrite) {
+  ConvertResult r;
+  r.from = SonarFileFormat::kXtf;
+  r.to = SonarFileFormat::kJsf;
+  xtf::Reader reader(in);
+  jsf::WriterOptions o;
+  o.overwrite = overwrite;
+  const double khz = reader.chan_info().empty() ? 0.0 : reader.chan_info()[0].Frequency;
+  if (khz > 0.0 && khz * 1e3 <= 655350.0) o.frequency_hz = khz * 1e3;
+  jsf::Writer writer(out, o);
+  xtf::Packet packet;
+  while (reader.next(packet)) {
+    if (packet.kind == xtf::PacketKind::kAttitude) {
+      const xtf::XtfAttitudeData& d = packet.attitude;
+      xtf::AttitudeSample a;
+      a.time_utc = xtf::UtcTime{std::chrono::seconds{d.SourceEpoch}} +
+                   std::chrono::microseconds{std::min<std::uint32_t>(d.EpochMicroseconds, 999999)};
+      a.heading_rad = rad_from_deg(d.Heading);
+      a.pitch_rad = rad_from_deg(d.Pitch);
+      a.roll_rad = rad_from_deg(d.Roll);
+      a.heave_m = d.Heave;
+      a.yaw_rad = rad_from_deg(d.Yaw);
+      try {
+        writer.write_attitude(a);
+        ++r.attitude_records;
+      } catch (const InputError& e) {
+        warn(r, std::string("attitude packet ") + std::to_string(packet.index) +
+                    " skipped: " + e.what());
+      }
+      continue;
+    }
+    if (packet.kind != xtf::PacketKind::kPing) continue;
+    xtf::SonarPing& s = packet.ping.sonar;
+    if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
+      s.sensor_position = {};  // stored as 0, 0: "no position" for JSF readers
+    }
+    try {
+      writer.write_ping(s);
+      ++r.pings;
+    } catch (const InputError& e) {
+      ++r.pings_skipped;
+      warn(r, "XTF packet " + std::to_string(packet.index) + " skipped: " + e.what());
+    }
+  }
+  writer.close();
+  r.reader_anomalies = reader.total_anomalies();
+  for (const xtf::Anomaly& a : reader.anomalies()) warn(r, a.message);
+  return r;
+}
+
+ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,
+                         bool overwrite) {
+  ConvertResult r;
+  r.from = SonarFileFormat::kJsf;
+  r.to = SonarFileFormat::kXtf;
+  jsf::Reader reader(in);
+  std::unique_ptr<xtf::Writer> writer;
+  xtf::WriterOptions o;
+  o.overwrite = overwrite;
+  o.note = "converted by sonarsynth from the JSF file " + in.filename().string();
+  if (o.note.size() > 200) o.note.resize(200);
+  const auto open = [&](double frequency_hz) {
+    if (writer) return;
+    if (frequency_hz > 0.0 && frequency_hz <= 65535e3) o.frequency_khz = frequency_hz / 1e3;
+    writer = std::make_unique<xtf::Writer>(out, o);
+  };
+  jsf::Message m;
+  jsf::Ping ping;
+  // Pings through next_ping(); pitch/roll messages are not pings and are read separately, so
+  // walk the messages once for attitude, once for pings, and merge by order of offset.
+  std::vector<std::pair<std::uint64_t, xtf::AttitudeSample>> attitude;
+  {
+    jsf::Reader scan(in);
+    while (scan.next(m)) {
+      if (m.kind == jsf::MessageKind::kPitchRoll) attitude.emplace_back(m.offset, m.attitude);
+    }
+  }
+  auto next_attitude = attitude.begin();
+  const auto flush_attitude = [&](std::uint64_t before) {
+    for (; next_attitude != attitude.end() && next_attitude->first < before; ++next_attitude) {
+      open(0.0);
+      try {
+        writer->write_attitude(next_attitude->second);
+        ++r.attitude_records;
+      } catch (const InputError& e) {
+        warn(r, std::string("pitch/roll message skipped: ") + e.what());
+      }
+    }
+  };
+  while (reader.next_ping(ping)) {
+    flush_attitude(ping.offset);
+    open(ping.header.mixer_frequency_hz);
+    std::string why;
+    if (!ping.nav_valid) why = "no position";
+    if (!ping.time_valid) why = "no valid time";
+    if (ping.sonar.port.empty() || ping.sonar.starboard.empty()) why = "one side missing";
+    if (!why.empty()) {
+      ++r.pings_skipped;
+      warn(r, "JSF ping " + std::to_string(ping.sonar.ping_number) + " at byte " +
+                  std::to_string(ping.offset) + " skipped: " + why);
+      continue;
+    }
+    try {
+      writer->write_ping(ping.sonar);
+      ++r.pings;
+    } catch (const InputError& e) {
+      ++r.pings_skipped;
+      warn(r, "JSF ping at byte " + std::to_string(ping.offset) + " skipped: " + e.what());
+    }
+  }
+  flush_attitude(reader.file_size() + 1);
+  open(0.0);
+  writer->close();
+  r.reader_anomalies = reader.total_anomalies();
+  for (const jsf::Anomaly& a : reader.anomalies()) warn(r, a.message);
+  return r;
+}
+
+}  // namespace
+
+const char* sonar_file_format_name(SonarFileFormat format) {
+  switch (format) {
+    case SonarFileFormat::kXtf:
+      return "XTF";
+    case SonarFileFormat::kJsf:
+      return "JSF";
+    case SonarFileFormat::kUnknown:
+      break;
+  }
+  return "unknown";
+}
+
+SonarFileFormat detect_sonar_file_format(const std::filesystem::path& path) {
+  const auto source = xtf::open_file_source(path);
+  if (source->size() < 2) return SonarFileFormat::kUnknown;
+  std::array<std::uint8_t, 2> b{};
+  source->read(0, b);
+  if (b[0] == 0x01 && b[1] == 0x16) return SonarFileFormat::kJsf;
+  if (b[0] == xtf::kFileFormat) return SonarFileFormat::kXtf;
+  return SonarFileFormat::kUnknown;
+}
+
+SonarFileFormat sonar_file_format_from_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".xtf") return SonarFileFormat::kXtf;
+  if (ext == ".jsf") return SonarFileFormat::kJsf;
+  return SonarFileFormat::kUnknown;
+}
+
+ConvertResult convert_sonar_file(const std::filesystem::path& in, const std::filesystem::path& out,
+                                 bool overwrite) {
+  const SonarFileFormat to = sonar_file_format_from_extension(out);
+  if (to == SonarFileFormat::kUnknown) {
+    throw InputError("convert: output " + out.string() +
+                     ": extension must be .xtf or .jsf (the output format)");
+  }
+  const SonarFileFormat from = detect_sonar_file_format(in);
+  if (from == SonarFileFormat::kUnknown) {
+    throw FormatError("convert: " + in.string() +
+                      ": neither XTF (first byte 0x7B) nor JSF (first bytes 01 16)");
+  }
+  if (from == to) {
+    throw InputError("convert: " + in.string() + " is already " + sonar_file_format_name(from) +
+                     "; convert between XTF and JSF");
+  }
+  return from == SonarFileFormat::kXtf ? xtf_to_jsf(in, out, overwrite)
+                                       : jsf_to_xtf(in, out, overwrite);
+}
+
+}  // namespace sonarsynth

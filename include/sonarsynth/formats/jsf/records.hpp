@@ -1,0 +1,188 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+// EdgeTech JSF messages as docs/jsf.md §1 describes them: the 16-byte message header, the
+// 240-byte header of sonar data message 80 and the system information message 182. Each struct
+// keeps the documents' fields in file order, has kSize and encodes/decodes field by field in
+// explicit little-endian (never cast from raw bytes). Units are those of the file (minutes of
+// arc x 10 000, millimetres, 1/100 degree...); conversion to SI happens in writer.cpp/reader.cpp.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "sonarsynth/formats/xtf/byte_io.hpp"
+
+namespace sonarsynth::jsf {
+
+using xtf::ByteReader;
+using xtf::ByteWriter;
+
+inline constexpr std::uint16_t kStartMarker = 0x1601;  ///< bytes 01 16 at every message start
+inline constexpr std::uint8_t kProtocolVersion = 13;   ///< 0x0D: every field we write is defined
+inline constexpr std::uint8_t kCommandNormal = 2;
+
+/// Message types this project names (docs/jsf.md §1.4).
+enum class MessageType : std::uint16_t {
+  kSonarData = 80,
+  kNavigationOffsets = 181,
+  kSystemInformation = 182,
+  kFileTimestamp = 426,
+  kNmeaString = 2002,
+  kPitchRoll = 2020,
+  kPressure = 2060,
+  kDopplerVelocityLog = 2080,
+  kSituation = 2091,
+};
+/// "sonar data", "system information", ...; nullptr for a type this project does not name.
+const char* message_type_name(std::uint16_t type);
+
+inline constexpr std::uint8_t kSubsystemSideScanLow = 20;
+inline constexpr std::uint8_t kSubsystemSideScanHigh = 21;
+inline constexpr std::uint8_t kSubsystemSideScanVeryHigh = 22;
+inline constexpr std::uint8_t kChannelPort = 0;
+inline constexpr std::uint8_t kChannelStarboard = 1;
+
+/// Message 80 validity flags (offset 30).
+namespace validity {
+inline constexpr std::uint16_t kPosition = 1u << 0;
+inline constexpr std::uint16_t kCourse = 1u << 1;
+inline constexpr std::uint16_t kSpeed = 1u << 2;
+inline constexpr std::uint16_t kHeading = 1u << 3;
+inline constexpr std::uint16_t kPressure = 1u << 4;
+inline constexpr std::uint16_t kPitchRoll = 1u << 5;
+inline constexpr std::uint16_t kAltitude = 1u << 6;
+inline constexpr std::uint16_t kHeave = 1u << 7;
+inline constexpr std::uint16_t kWaterTemperature = 1u << 8;
+inline constexpr std::uint16_t kDepth = 1u << 9;
+inline constexpr std::uint16_t kAnnotation = 1u << 10;
+inline constexpr std::uint16_t kCableCounter = 1u << 11;
+inline constexpr std::uint16_t kKp = 1u << 12;
+inline constexpr std::uint16_t kPositionInterpolated = 1u << 13;
+inline constexpr std::uint16_t kSoundSpeed = 1u << 14;
+}  // namespace validity
+
+/// Coordinate units (offset 88): 2 = longitude/latitude in minutes of arc x 10 000.
+inline constexpr std::int16_t kUnitsMinutesOfArc = 2;
+/// Degrees = coordinate / 600 000 for units 2.
+inline constexpr double kCoordinatePerDegree = 600000.0;
+
+/// The 16-byte header in front of every message.
+struct MessageHeader {
+  static constexpr std::size_t kSize = 16;
+  std::uint16_t start_marker = kStartMarker;
+  std::uint8_t protocol_version = kProtocolVersion;
+  std::uint8_t session_id = 0;
+  std::uint16_t message_type = 0;
+  std::uint8_t command_type = kCommandNormal;
+  std::uint8_t subsystem = 0;
+  std::uint8_t channel = 0;
+  std::uint8_t sequence = 0;
+  std::uint16_t reserved = 0;
+  std::int32_t byte_count = 0;  ///< bytes after this header up to the next message
+  void encode(ByteWriter& w) const;
+  static MessageHeader decode(ByteReader& r);
+};
+
+/// The 240-byte header of a sonar data message (type 80), offsets of docs/jsf.md §1.2.
+struct SonarDataHeader {
+  static constexpr std::size_t kSize = 240;
+  std::int32_t ping_time_s = 0;              ///< 0: seconds since 1970-01-01 UTC
+  std::uint32_t starting_depth = 0;          ///< 4: window offset, samples
+  std::uint32_t ping_number = 0;             ///< 8
+  std::array<std::int16_t, 2> reserved0{};   ///< 12
+  std::uint16_t msb1 = 0;                    ///< 16: high nibbles (bits 8-11: samples)
+  std::uint16_t lsb1 = 0;                    ///< 18: bits 8-15 course fraction, 1/100 degree
+  std::uint16_t lsb2 = 0;                    ///< 20: bits 0-3 speed 1/100 knot, 4-13 sweep us
+  std::array<std::int16_t, 3> reserved1{};   ///< 22
+  std::int16_t id_code = 1;                  ///< 28
+  std::uint16_t validity_flags = 0;          ///< 30
+  std::uint16_t reserved2 = 0;               ///< 32
+  std::int16_t data_format = 0;              ///< 34: 0 envelope int16
+  std::int16_t tow_aft_cm = 0;               ///< 36
+  std::int16_t tow_starboard_cm = 0;         ///< 38
+  std::array<std::int16_t, 2> reserved3{};   ///< 40
+  float km_of_pipe = 0.0f;                   ///< 44
+  float heave_m = 0.0f;                      ///< 48: positive down
+  std::array<std::int16_t, 12> reserved4{};  ///< 52 (must stay 0: docs/jsf.md §1.2)
+  float gap_filler_offset_m = 0.0f;          ///< 76
+  std::int32_t longitude = 0;                ///< 80: minutes x 10 000 (units 2)
+  std::int32_t latitude = 0;                 ///< 84
+  std::int16_t coordinate_units = kUnitsMinutesOfArc;  ///< 88
+  std::array<char, 24> annotation{};                   ///< 90
+  std::uint16_t samples = 0;                           ///< 114: low 16 bits
+  std::uint32_t sample_interval_ns = 0;                ///< 116
+  std::uint16_t adc_gain = 0;                          ///< 120
+  std::int16_t transmit_level = 0;                     ///< 122
+  std::int16_t reserved5 = 0;                          ///< 124
+  std::uint16_t start_frequency_dahz = 0;              ///< 126
+  std::uint16_t end_frequency_dahz = 0;                ///< 128
+  std::uint16_t sweep_length_ms = 0;                   ///< 130
+  std::int32_t pressure_mpsi = 0;                      ///< 132: 1/1000 PSI
+  std::int32_t depth_mm = 0;                           ///< 136
+  std::uint16_t sample_frequency_hz = 0;               ///< 140: modulo 65 536
+  std::uint16_t pulse_id = 0;                          ///< 142
+  std::int32_t altitude_mm = 0;                        ///< 144
+  float sound_speed_mps = 0.0f;                        ///< 148
+  float mixer_frequency_hz = 0.0f;                     ///< 152
+  std::int16_t year = 0;                               ///< 156: CPU time, UTC
+  std::int16_t day_of_year = 0;                        ///< 158: 1..366
+  std::int16_t hour = 0;                               ///< 160
+  std::int16_t minute = 0;                             ///< 162
+  std::int16_t second = 0;                             ///< 164
+  std::int16_t time_basis = 3;                         ///< 166
+  std::int16_t weighting_factor = 0;                   ///< 168: value = stored x 2^-N
+  std::int16_t pulses_in_water = 0;                    ///< 170
+  std::uint16_t heading_cdeg = 0;                      ///< 172: 1/100 degree
+  std::int16_t pitch = 0;                              ///< 174: degrees x 32768/180, bow up +
+  std::int16_t roll = 0;                               ///< 176: degrees x 32768/180, port up +
+  std::int16_t reserved6 = 0;                          ///< 178
+  std::int16_t reserved7 = 0;                          ///< 180
+  std::int16_t trigger_source = 0;                     ///< 182
+  std::uint16_t mark_number = 0;                       ///< 184
+  std::int16_t fix_hour = 0;                           ///< 186
+  std::int16_t fix_minute = 0;                         ///< 188
+  std::int16_t fix_second = 0;                         ///< 190
+  std::int16_t course_deg = 0;                         ///< 192: whole degrees
+  std::int16_t speed_dkn = 0;                          ///< 194: 1/10 knot
+  std::int16_t fix_day_of_year = 0;                    ///< 196
+  std::int16_t fix_year = 0;                           ///< 198
+  std::uint32_t ms_today = 0;                          ///< 200: milliseconds since midnight UTC
+  std::uint16_t max_abs_adc = 0;                       ///< 204
+  std::array<std::int16_t, 2> reserved8{};             ///< 206
+  std::array<char, 6> software_version{};              ///< 210
+  std::int32_t spherical_correction = 0;               ///< 216: samples x 100, -1 = disabled
+  std::uint16_t packet_number = 1;                     ///< 220
+  std::int16_t adc_decimation = 0;                     ///< 222: x 100
+  std::int16_t reserved9 = 0;                          ///< 224
+  std::int16_t water_temperature_dc = 0;               ///< 226: 1/10 degree C
+  float layback_m = 0.0f;                              ///< 228
+  std::int32_t reserved10 = 0;                         ///< 232
+  std::uint16_t cable_out_dm = 0;                      ///< 236
+  std::uint16_t reserved11 = 0;                        ///< 238
+
+  /// Samples per channel: offset 114 plus the MSB1 nibble (bits 8-11) << 16.
+  std::uint32_t sample_count() const {
+    return samples + (static_cast<std::uint32_t>((msb1 >> 8) & 0xFu) << 16);
+  }
+  /// int16 values per sample: 2 for the complex formats 1 and 9, else 1.
+  std::uint32_t values_per_sample() const { return data_format == 1 || data_format == 9 ? 2 : 1; }
+
+  void encode(ByteWriter& w) const;
+  static SonarDataHeader decode(ByteReader& r);
+};
+
+/// System information (type 182): the first 24 bytes (vendor bytes may follow).
+struct SystemInformation {
+  static constexpr std::size_t kSize = 24;
+  std::int32_t system_type = 0;
+  std::int32_t low_rate_io = 0;
+  std::int32_t software_version = 0;
+  std::int32_t subsystems = 0;
+  std::int32_t serial_port_devices = 0;
+  std::int32_t serial_number = 0;
+  void encode(ByteWriter& w) const;
+  static SystemInformation decode(ByteReader& r);
+};
+
+}  // namespace sonarsynth::jsf

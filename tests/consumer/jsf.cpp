@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+// Component jsf: writes a small JSF file, reads it back and converts it to XTF. Also the program
+// of the jsf-only downstream project (jsf/CMakeLists.txt), which finds neither GDAL nor yaml-cpp.
+#include <filesystem>
+#include <iostream>
+
+#include "sonarsynth/formats/jsf/convert.hpp"
+#include "sonarsynth/formats/jsf/summary.hpp"
+#include "sonarsynth/formats/jsf/writer.hpp"
+
+int main() {
+  namespace jsf = sonarsynth::jsf;
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto path = dir / "sonarsynth_consumer_jsf.jsf";
+  const auto xtf_path = dir / "sonarsynth_consumer_jsf.xtf";
+  {
+    jsf::WriterOptions options;
+    options.overwrite = true;
+    jsf::Writer writer(path, options);
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      sonarsynth::xtf::SonarPing ping;
+      ping.time_utc = sonarsynth::xtf::UtcTime(std::chrono::seconds(1'700'000'000 + i));
+      ping.ping_number = i;
+      ping.sensor_position = {sonarsynth::rad_from_deg(48.45), sonarsynth::rad_from_deg(-68.83)};
+      ping.altitude_m = 10.0;
+      ping.slant_range_m = 48.0;
+      ping.port.assign(64, 100.0f);
+      ping.starboard.assign(64, 200.0f);
+      writer.write_ping(ping);
+    }
+    writer.close();
+  }
+  const jsf::FileSummary summary = jsf::summarize_file(path);
+  const sonarsynth::ConvertResult converted = sonarsynth::convert_sonar_file(path, xtf_path, true);
+  std::filesystem::remove(path);
+  std::filesystem::remove(xtf_path);
+  std::cout << "jsf: " << summary.pings << " pings read back, " << converted.pings
+            << " converted to XTF\n";
+  return summary.pings == 3 && converted.pings == 3 ? 0 : 1;
+}
