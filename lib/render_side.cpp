@@ -492,8 +492,9 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
   // (atan2(-mz, my)) and the facet's slope angle alpha = atan2(uz, uy), cos(incidence) =
   // -n.(my, mz) / r = sin(theta + alpha) for the upward unit normal n, so asin(clamp(cos_inc,
   // 0, 1)) = theta + alpha folded into [0, pi/2]. theta = theta_ref + atan(x) from a reference
-  // midpoint of the same facet (x = tan of the angle between the two rays, truncated series of
-  // render_math where |x| < 0.1), atan2 otherwise (which becomes the new reference).
+  // midpoint (x = tan of the angle between the two rays, truncated series of
+  // render_math where |x| < 0.1), atan2 otherwise (which becomes the new reference). The
+  // reference is any earlier midpoint, of this facet or another.
   double alpha = 0.0;
   bool have_ref = false;
   double ref_y = 0.0, ref_z = 0.0, ref_theta = 0.0;
@@ -526,8 +527,14 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
           facet = fi;
           const auto k = static_cast<std::size_t>(fi);
           if (grazing) {
-            alpha = std::atan2(prof.z_m[k + 1] - prof.z_m[k], prof.y_m[k + 1] - prof.y_m[k]);
-            have_ref = false;
+            // Seabed facets are mostly flat to a tenth: the series there, atan2 otherwise.
+            const double uy = prof.y_m[k + 1] - prof.y_m[k], uz = prof.z_m[k + 1] - prof.z_m[k];
+            if (uy > 0.0 && std::abs(uz) < 0.1 * uy) {
+              const double x = uz / uy;
+              alpha = x * atan_poly(x * x, 8);  // |x|^17 / 17 < 6e-19
+            } else {
+              alpha = std::atan2(uz, uy);
+            }
           }
           label = prof.label[k];
           material = prof.material[k];
