@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <numbers>
 #include <span>
 #include <string>
 
@@ -175,6 +176,21 @@ constexpr double kMaxPieceOverRange = 0.02;
   int g = 0;
 #ifdef SONARSYNTH_GAUSS_PAIRS
   if (in.beam == nullptr && (f.series_terms > 0 || !(in.gauss_coef > 0.0))) {
+    if (rule.n == 2) {
+      // The default rule: one pair, no loop (its loop-invariant set-up cost as much as the pair).
+      // The same operations as the loop below: bit-identical sums.
+      constexpr GaussRule kTwo = kRules[1];
+      const V2d t = q0 + V2d{kTwo.x[0], kTwo.x[1]} * dq;
+      const V2d py = f.ay + t * f.uy;
+      const V2d dz = f.az_rel + t * f.uz;
+      const V2d r2 = py * py + dz * dz;
+      if (r2[0] > 0.0 && r2[1] > 0.0) {
+        const V2d v = gauss_pair(f, in, t, V2d{kTwo.w[0], kTwo.w[1]}, r2);
+        sum += v[0];
+        sum += v[1];
+        return sum;
+      }
+    }
     for (; g + 1 < rule.n; g += 2) {
       const V2d t = q0 + V2d{rule.x[g], rule.x[g + 1]} * dq;
       const V2d py = f.ay + t * f.uy;
@@ -578,8 +594,17 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
     }
   }
   const bool grazing = par.truth_grazing;
-  std::int32_t facet = -1;  // facet of the cached normal, label and material
-  double ny = 0.0, nz = 0.0;
+  std::int32_t facet = -1;  // facet of the cached slope, label and material
+  // Grazing angle without asin per sample: with the depression theta of the midpoint
+  // (atan2(-mz, my)) and the facet's slope angle alpha = atan2(uz, uy), cos(incidence) =
+  // -n.(my, mz) / r = sin(theta + alpha) for the upward unit normal n, so asin(clamp(cos_inc,
+  // 0, 1)) = theta + alpha folded into [0, pi/2]. theta = theta_ref + atan(x) from a reference
+  // midpoint (x = tan of the angle between the two rays, truncated series of
+  // render_math where |x| < 0.1), atan2 otherwise (which becomes the new reference). The
+  // reference is any earlier midpoint, of this facet or another.
+  double alpha = 0.0;
+  bool have_ref = false;
+  double ref_y = 0.0, ref_z = 0.0, ref_theta = 0.0;
   std::int32_t label = 0;
   std::uint16_t material = 0;
   for (std::size_t i = 0; i < ns; ++i) {
@@ -611,10 +636,14 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
           if (grazing) {
             double ya, za, yb, zb;
             prof.facet_ends(k, ya, za, yb, zb);
+            // Seabed facets are mostly flat to a tenth: the series there, atan2 otherwise.
             const double uy = yb - ya, uz = zb - za;
-            const double len = std::sqrt(uy * uy + uz * uz);
-            ny = -uz / len;  // upward unit normal
-            nz = uy / len;
+            if (uy > 0.0 && std::abs(uz) < 0.1 * uy) {
+              const double x = uz / uy;
+              alpha = x * atan_poly(x * x, 8);  // |x|^17 / 17 < 6e-19
+            } else {
+              alpha = std::atan2(uz, uy);
+            }
           }
           label = prof.facet_label(k);
           material = prof.facet_material(k);
@@ -624,9 +653,30 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
         out.truth_label[i] = label;
         out.truth_material[i] = material;
         if (grazing) {
-          const double r = std::sqrt(my * my + mz * mz);
-          const double cos_inc = r > 0.0 ? std::clamp(-(ny * my + nz * mz) / r, 0.0, 1.0) : 0.0;
-          out.truth_grazing_rad[i] = std::asin(cos_inc);
+          double g = 0.0;
+          if (my * my + mz * mz > 0.0) {
+            double theta = 0.0;
+            const double cross = ref_z * my - ref_y * mz, dot = ref_y * my + ref_z * mz;
+            if (have_ref && dot > 0.0 && std::abs(cross) < 0.01 * dot) {
+              const double x = cross / dot;
+              theta = ref_theta + x * atan_poly(x * x, 4);  // |x|^9 / 9 < 1.2e-19
+            } else if (have_ref && dot > 0.0 && std::abs(cross) < 0.1 * dot) {
+              const double x = cross / dot;
+              theta = ref_theta + x * atan_poly(x * x, 8);  // |x|^17 / 17 < 6e-19
+            } else {
+              theta = std::atan2(-mz, my);
+              have_ref = true;
+              ref_y = my;
+              ref_z = mz;
+              ref_theta = theta;
+            }
+            g = theta + alpha;  // in (-2 pi, 2 pi]: reduce to (-pi, pi], then fold
+            if (g > std::numbers::pi) g -= 2.0 * std::numbers::pi;
+            if (g <= -std::numbers::pi) g += 2.0 * std::numbers::pi;
+            if (g > 0.5 * std::numbers::pi) g = std::numbers::pi - g;
+            g = std::max(g, 0.0);
+          }
+          out.truth_grazing_rad[i] = g;
         }
         out.truth_ground_y_m[i] = my;
         out.truth_ground_z_m[i] = mz + prof.sensor_z_m;

@@ -182,6 +182,15 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
     const double tan2_max = 80.0 * m.first_return_s2;
     const double y_kink =
         side_lobe_crossing_y(side.vertical_beam, m.side_lobe_two_way, h, axis_depression_rad);
+    // One exp() per point: sigma's exp(-tan^2 / 2 s^2), the absorption and, for a Gaussian beam
+    // (two-way b^2 = exp(-gc off^2), docs/physics.md §1.3), max(b^2, floor) as
+    // exp(max(-gc off^2, ln floor)) share one exponent.
+    const bool gaussian = side.vertical_beam.shape == VerticalBeamShape::gaussian;
+    const double w3 = side.vertical_beam.width_3db_rad;
+    const double gc = gaussian ? 8.0 * std::log(2.0) / (w3 * w3) : 0.0;
+    const double ln_floor = std::log(m.side_lobe_two_way);  // -inf without a floor
+    const double inv_2s2 = 1.0 / (2.0 * m.first_return_s2);
+    const double inv_h2 = 1.0 / h2;
     for (std::size_t i = first; i < n; ++i) {
       const double r0 = static_cast<double>(i) * dr, r1 = r0 + dr;
       const double y0 = r0 > h ? std::sqrt(r0 * r0 - h2) : 0.0;
@@ -189,6 +198,15 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
       const double y1 = std::sqrt(std::max(0.0, r1 * r1 - h2));
       const double dy = y1 - y0;
       if (!(dy > 0.0)) continue;
+      // Depression atan2(h, y) = theta_c + atan(x), x = h (yc - y) / (yc y + h^2) the angle from
+      // the bin's middle yc (both rays in the first quadrant): one atan2 per bin, the truncated
+      // atan series of render_math per point where |x| < 0.1 on the whole bin (x is monotone
+      // in y, so its ends bound it), atan2 otherwise.
+      const double yc = 0.5 * (y0 + y1);
+      const double theta_c = std::atan2(h, yc);
+      const double x_end = std::max(std::abs(h * (yc - y0) / (yc * y0 + h2)),
+                                    std::abs(h * (yc - y1) / (yc * y1 + h2)));
+      const int terms = x_end < 0.1 ? render_math::atan_terms(x_end) : 0;
       // The beam term max(b^2, side lobe) has a kink where the main lobe meets the floor: a
       // split point of the rule.
       double sum = 0.0;
@@ -198,15 +216,25 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
         if (!(w > 0.0)) continue;
         for (int g = 0; g < 4; ++g) {
           const double y = a + kGx[g] * w;
-          const double r2 = y * y + h2, r = std::sqrt(r2);
-          const double tan2 = y * y / h2, cos2 = h2 / r2;
-          const double sigma =
-              render_math::exp_table(-tan2 / (2.0 * m.first_return_s2)) / (cos2 * cos2);
-          const double off = std::atan2(h, y) - axis_depression_rad;
-          const double beam = std::max(side.vertical_beam.two_way(off), m.side_lobe_two_way);
-          double v = sigma * beam * (side.spreading ? 1.0 / (r2 * r) : r);
-          if (kappa > 0.0) v *= render_math::exp_table(-kappa * r);
-          sum += kGw[g] * w * v;
+          const double y2 = y * y;
+          const double r2 = y2 + h2, r = std::sqrt(r2);
+          const double sec2 = r2 * inv_h2;  // 1 / cos^2
+          double theta;
+          if (terms > 0) {
+            const double x = h * (yc - y) / (yc * y + h2);
+            theta = theta_c + x * render_math::atan_poly(x * x, terms);
+          } else {
+            theta = std::atan2(h, y);
+          }
+          const double off = theta - axis_depression_rad;
+          double expo = -y2 * inv_h2 * inv_2s2 - kappa * r;
+          double v = sec2 * sec2 * (side.spreading ? 1.0 / (r2 * r) : r);
+          if (gaussian) {
+            expo += std::max(-gc * off * off, ln_floor);
+          } else {
+            v *= std::max(side.vertical_beam.two_way(off), m.side_lobe_two_way);
+          }
+          sum += kGw[g] * w * v * render_math::exp_table(expo);
         }
       }
       mean[i] += coef * sum;

@@ -458,6 +458,58 @@ TEST(RenderSide, TruthOnFlatSeabed) {
   }
 }
 
+// Grazing angle of the dominant contributor on facets of every slope (gentle ones, where the
+// renderer uses a series, steep ones and walls facing the sensor): asin of cos(incidence) from
+// the facet's normal and the ray to the truth point, computed here independently.
+TEST(RenderSide, TruthGrazingOnFacetsOfEverySlope) {
+  const double h = 10.0, dr = 0.02;
+  SideParams p = base_params(dr, 3000);
+  p.truth = true;
+  BeamProfile prof;
+  prof.sensor_z_m = h;
+  const double slopes[] = {0.0, 0.04, -0.09, 0.3, -0.25, 0.08, 0.7, -0.02, 1.2, 0.0, -0.6, 0.15};
+  double y = 0.0, z = 0.0;
+  prof.add_node(y, z);
+  for (int k = 0; k < 240; ++k) {
+    const double s = slopes[k % 12];
+    y += 0.25;
+    z += 0.25 * std::tan(s);
+    prof.add_node(y, z);
+    if (k % 37 == 36) {  // a vertical step up, facing the sensor
+      z += 0.3;
+      prof.add_node(y, z);
+    }
+  }
+  SideEcho e;
+  render_side(prof, p, e);
+  int checked = 0;
+  for (std::size_t i = 0; i < p.samples; ++i) {
+    if (e.truth_class[i] != SampleClass::seabed) continue;
+    const double ty = e.truth_ground_y_m[i], tz = e.truth_ground_z_m[i];
+    // The facet holding the point: strictly inside its y span, or a wall at its y.
+    std::size_t f = prof.nodes();
+    for (std::size_t k = 0; k + 1 < prof.nodes(); ++k) {
+      const double y0 = prof.y_m[k], y1 = prof.y_m[k + 1];
+      const bool wall = y0 == y1 && std::abs(ty - y0) < 1e-12 &&
+                        tz > std::min(prof.z_m[k], prof.z_m[k + 1]) &&
+                        tz < std::max(prof.z_m[k], prof.z_m[k + 1]);
+      if (wall || (ty > y0 + 1e-9 && ty < y1 - 1e-9)) {
+        f = k;
+        break;
+      }
+    }
+    if (f == prof.nodes()) continue;
+    const double uy = prof.y_m[f + 1] - prof.y_m[f], uz = prof.z_m[f + 1] - prof.z_m[f];
+    const double len = std::hypot(uy, uz);
+    const double ny = -uz / len, nz = uy / len;
+    const double my = ty, mz = tz - h, r = std::hypot(my, mz);
+    const double want = std::asin(std::clamp(-(ny * my + nz * mz) / r, 0.0, 1.0));
+    EXPECT_NEAR(e.truth_grazing_rad[i], want, 1e-12) << "sample " << i;
+    ++checked;
+  }
+  EXPECT_GT(checked, 800);
+}
+
 void expect_finite_nonnegative(const SideEcho& e) {
   for (double v : e.intensity) {
     ASSERT_TRUE(std::isfinite(v));

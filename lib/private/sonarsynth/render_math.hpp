@@ -91,8 +91,14 @@ inline V2d sqrt2(V2d x) {
 // exp_table on two lanes: the same operations lane by lane (bit-identical results), only the
 // table look-up is scalar.
 [[gnu::always_inline]] inline V2d exp_table2(V2d x) {
-  const auto ok = (x > -700.0) & (x < 700.0);
-  if (!(ok[0] != 0 && ok[1] != 0)) return V2d{exp_table(x[0]), exp_table(x[1])};
+  // Both lanes in range (NaN compares false): SSE2 compares and one movemask (the vector
+  // extension's lane masks were normalised lane by lane before the test).
+  const __m128d xv = reinterpret_cast<__m128d>(x);
+  const __m128d ok =
+      _mm_and_pd(_mm_cmpgt_pd(xv, _mm_set1_pd(-700.0)), _mm_cmplt_pd(xv, _mm_set1_pd(700.0)));
+  if (_mm_movemask_pd(ok) != 3) {
+    return V2d{exp_table(x[0]), exp_table(x[1])};
+  }
   constexpr double kInvLn2x64 = 92.332482616893656877;
   constexpr double kLn2HiOver64 = 6.93147180369123816490e-01 / 64.0;
   constexpr double kLn2LoOver64 = 1.90821492927058770002e-10 / 64.0;
