@@ -118,18 +118,80 @@ const Param& depth_param() {
   return kDepth;
 }
 
-Generated build(const GeneratorInput& in, const Reporter& fail) {
-  auto check = [&](std::optional<std::size_t> comp, const Param& p, double v) {
-    if (!p.accepts(v)) {
-      fail(comp, p, p.constraint(p.key));
-      throw InputError("bathymetry generator: " + std::string(p.key) + ": " +
-                       p.constraint(p.key));  // `fail` must throw; never reached otherwise
+namespace {
+
+// `fail` then an InputError, as a Reporter must throw.
+void check(const Reporter& fail, std::optional<std::size_t> comp, const Param& p, double v) {
+  if (!p.accepts(v)) {
+    fail(comp, p, p.constraint(p.key));
+    throw InputError("bathymetry generator: " + std::string(p.key) + ": " +
+                     p.constraint(p.key));  // `fail` must throw; never reached otherwise
+  }
+}
+
+}  // namespace
+
+std::vector<bathy::Component> build_components(const std::vector<ComponentInput>& inputs,
+                                               const Eigen::Vector2d& c, const Reporter& fail) {
+  std::vector<bathy::Component> out;
+  std::uint64_t fbm_index = 0;
+  for (std::size_t i = 0; i < inputs.size(); ++i) {
+    const ComponentInput& ci = inputs[i];
+    const ComponentDecl& d = *ci.decl;
+    // value(k, fallback): the k-th parameter if given (checked), else the struct's default.
+    auto value = [&](std::size_t k, double fallback) {
+      const std::optional<double>& v = k < ci.values.size() ? ci.values[k] : std::nullopt;
+      if (!v) return fallback;
+      check(fail, i, d.params[k], *v);
+      return *v;
+    };
+    // Azimuths in the file are degrees clockwise from grid north, the generator's own.
+    if (d.type == "plane") {
+      out.push_back(bathy::Plane::from_dip(rad_from_deg(value(0, 0.0)), rad_from_deg(value(1, 0.0)),
+                                           c.x(), c.y()));
+    } else if (d.type == "ripples") {
+      bathy::Ripples r;
+      r.wavelength_m = value(0, r.wavelength_m);
+      r.amplitude_m = value(1, r.amplitude_m);
+      r.crest_azimuth_rad = rad_from_deg(value(2, deg_from_rad(r.crest_azimuth_rad)));
+      r.asymmetry = value(3, r.asymmetry);
+      r.ref_x_m = c.x();  // a crest through the grid centre
+      r.ref_y_m = c.y();
+      out.push_back(r);
+    } else if (d.type == "fbm") {
+      bathy::Fbm f;
+      f.rms_m = value(0, f.rms_m);
+      f.base_wavelength_m = value(1, f.base_wavelength_m);
+      f.octaves = static_cast<int>(value(2, f.octaves));
+      f.persistence = value(3, f.persistence);
+      f.seed_offset = ci.seed_offset.value_or(fbm_index);
+      ++fbm_index;
+      out.push_back(f);
+    } else if (d.type == "seamount") {
+      bathy::Seamount s;
+      s.centre_x_m = c.x() + value(0, s.centre_x_m);
+      s.centre_y_m = c.y() + value(1, s.centre_y_m);
+      s.height_m = value(2, s.height_m);
+      s.radius_m = value(3, s.radius_m);
+      out.push_back(s);
+    } else if (d.type == "scarp") {
+      bathy::Scarp s;
+      s.x_m = c.x() + value(0, s.x_m);
+      s.y_m = c.y() + value(1, s.y_m);
+      s.azimuth_rad = rad_from_deg(value(2, deg_from_rad(s.azimuth_rad)));
+      s.height_m = value(3, s.height_m);
+      s.width_m = value(4, s.width_m);
+      out.push_back(s);
     }
-  };
-  check(std::nullopt, kLat, in.lat_deg);
-  check(std::nullopt, kLon, in.lon_deg);
-  check(std::nullopt, kCell, in.cell_m);
-  check(std::nullopt, kDepth, in.depth_m);
+  }
+  return out;
+}
+
+Generated build(const GeneratorInput& in, const Reporter& fail) {
+  check(fail, std::nullopt, kLat, in.lat_deg);
+  check(fail, std::nullopt, kLon, in.lon_deg);
+  check(fail, std::nullopt, kCell, in.cell_m);
+  check(fail, std::nullopt, kDepth, in.depth_m);
 
   const Geodetic centre{rad_from_deg(in.lat_deg), rad_from_deg(in.lon_deg), 0.0};
   Generated g{GeoFrame::around(centre), {}};
@@ -139,57 +201,7 @@ Generated build(const GeneratorInput& in, const Reporter& fail) {
   spec.depth_m = in.depth_m;
   spec.seed = in.seed;
   spec.num_threads = in.num_threads;
-
-  std::uint64_t fbm_index = 0;
-  for (std::size_t i = 0; i < in.components.size(); ++i) {
-    const ComponentInput& ci = in.components[i];
-    const ComponentDecl& d = *ci.decl;
-    // value(k, fallback): the k-th parameter if given (checked), else the struct's default.
-    auto value = [&](std::size_t k, double fallback) {
-      const std::optional<double>& v = k < ci.values.size() ? ci.values[k] : std::nullopt;
-      if (!v) return fallback;
-      check(i, d.params[k], *v);
-      return *v;
-    };
-    // Azimuths in the file are degrees clockwise from grid north, the generator's own.
-    if (d.type == "plane") {
-      spec.components.push_back(bathy::Plane::from_dip(rad_from_deg(value(0, 0.0)),
-                                                       rad_from_deg(value(1, 0.0)), c.x(), c.y()));
-    } else if (d.type == "ripples") {
-      bathy::Ripples r;
-      r.wavelength_m = value(0, r.wavelength_m);
-      r.amplitude_m = value(1, r.amplitude_m);
-      r.crest_azimuth_rad = rad_from_deg(value(2, deg_from_rad(r.crest_azimuth_rad)));
-      r.asymmetry = value(3, r.asymmetry);
-      r.ref_x_m = c.x();  // a crest through the grid centre
-      r.ref_y_m = c.y();
-      spec.components.push_back(r);
-    } else if (d.type == "fbm") {
-      bathy::Fbm f;
-      f.rms_m = value(0, f.rms_m);
-      f.base_wavelength_m = value(1, f.base_wavelength_m);
-      f.octaves = static_cast<int>(value(2, f.octaves));
-      f.persistence = value(3, f.persistence);
-      f.seed_offset = ci.seed_offset.value_or(fbm_index);
-      ++fbm_index;
-      spec.components.push_back(f);
-    } else if (d.type == "seamount") {
-      bathy::Seamount s;
-      s.centre_x_m = c.x() + value(0, s.centre_x_m);
-      s.centre_y_m = c.y() + value(1, s.centre_y_m);
-      s.height_m = value(2, s.height_m);
-      s.radius_m = value(3, s.radius_m);
-      spec.components.push_back(s);
-    } else if (d.type == "scarp") {
-      bathy::Scarp s;
-      s.x_m = c.x() + value(0, s.x_m);
-      s.y_m = c.y() + value(1, s.y_m);
-      s.azimuth_rad = rad_from_deg(value(2, deg_from_rad(s.azimuth_rad)));
-      s.height_m = value(3, s.height_m);
-      s.width_m = value(4, s.width_m);
-      spec.components.push_back(s);
-    }
-  }
+  spec.components = build_components(in.components, c, fail);
   return g;
 }
 

@@ -149,7 +149,13 @@ RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& s
                              : std::max(1u, std::thread::hardware_concurrency());
   const double per_thread =
       2.0 * samples * kWorkspaceBytesPerSample +
-      crossings * setup.config.quality.profile.grid_subdivisions * kProfileBytesPerCrossing;
+      crossings *
+          // A bicubic seabed is sampled at up to 8 points per crossing (HeightGrid::profile).
+          (seabed.interpolation() == Interpolation::kBicubic
+               ? std::max(setup.config.quality.profile.grid_subdivisions,
+                          HeightGrid::kBicubicSegmentsPerCell)
+               : setup.config.quality.profile.grid_subdivisions) *
+          kProfileBytesPerCrossing;
   const double memory = threads * per_thread + mosaic_pixels * kMosaicMemoryBytesPerPixel;
   if (!(bytes <= limits.max_output_gb * 1e9)) {
     throw InputError(file + ": the run would write about " + gb(bytes) + " (" +

@@ -12,10 +12,8 @@
 #include <map>
 #include <set>
 
-#include "sonarsynth/bathy_gen.hpp"
+#include "scene_bathymetry.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/bathy_spec_parser.hpp"
-#include "sonarsynth/formats/gdal_grid.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
 #include "yaml_fields.hpp"
 
@@ -451,27 +449,6 @@ struct Builder {
   }
 };
 
-// A generator component: its keys and bounds are those of formats/bathy_spec_parser.cpp, shared
-// with `sonarsynth bathy`.
-bathy_spec::ComponentInput read_component(const Fields& c) {
-  const std::string type = c.text("type");
-  bathy_spec::ComponentInput in;
-  in.decl = bathy_spec::find_component(type);
-  if (!in.decl) c.fail_value("type", bathy_spec::component_types_constraint());
-  std::set<std::string> keys{"type"};
-  for (const bathy_spec::Param& p : in.decl->params) {
-    const std::string key(p.key);
-    keys.insert(key);
-    in.values.push_back(c.given(key) ? std::optional<double>(c.number(key)) : std::nullopt);
-  }
-  if (type == "fbm") {
-    keys.insert("seed_offset");
-    if (c.given("seed_offset")) in.seed_offset = c.seed("seed_offset", 0);
-  }
-  c.only(keys);
-  return in;
-}
-
 // The scene of the YAML document `doc`; `path` names it in messages.
 Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path& base_dir,
                   const SceneLoadOptions& options) {
@@ -479,56 +456,8 @@ Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path
   top.only({"name", "description", "seed", "bathymetry", "materials", "seabed", "objects", "survey",
             "sonar", "noise", "sensor", "render", "output", "limits", "derived"});
 
-  // Bathymetry: from a raster, or generated.
-  const Fields b = top.child("bathymetry");
-  b.only({"file", "depth_positive_down", "band", "generate"});
-  if (b.has("file") == b.has("generate")) b.fail("", "give exactly one of file or generate");
-  std::optional<Scene> built;
-  if (b.has("file")) {
-    GridReadOptions ro;
-    ro.depth_positive_down = b.boolean("depth_positive_down", false);
-    ro.band = static_cast<int>(b.integer("band", 1));
-    LoadedGrid lg = [&] {
-      try {
-        return read_height_grid(resolve_path(base_dir, b.text("file")), ro);
-      } catch (const InputError& e) {
-        b.fail("", e.what());
-      }
-    }();
-    built.emplace(lg.frame);
-    built->bathymetry = std::move(lg.grid);
-  } else {
-    const Fields g = b.child("generate");
-    g.only({"centre", "size_m", "cell_m", "depth_m", "seed", "components"});
-    const Fields c = g.child("centre");
-    c.only({"lat_deg", "lon_deg"});
-    bathy_spec::GeneratorInput in;
-    in.lat_deg = c.number("lat_deg");  // both required: a missing one is not taken as 0
-    in.lon_deg = c.number("lon_deg");
-    const auto size = g.numbers("size_m", 2);
-    in.width_m = size[0];
-    in.height_m = size[1];
-    in.cell_m = g.number("cell_m", 0.0);
-    in.depth_m = g.number("depth_m", in.depth_m);
-    in.seed = g.seed("seed", options.seed.value_or(top.seed("seed", 1)));
-    in.num_threads = options.num_threads;
-    const std::vector<Fields> comps = g.sequence("components");
-    for (const Fields& comp : comps) in.components.push_back(read_component(comp));
-    const auto fail = [&](std::optional<std::size_t> i, const bathy_spec::Param& p,
-                          const std::string& constraint) {
-      const std::string key(p.key);
-      const Fields& where = i ? comps[*i] : (key == "lat_deg" || key == "lon_deg" ? c : g);
-      where.fail_value(key, constraint);
-    };
-    try {
-      bathy_spec::Generated gen = bathy_spec::build(in, fail);
-      built.emplace(gen.frame);
-      built->bathymetry = generate_bathymetry(gen.spec);
-    } catch (const InputError& e) {
-      if (std::string(e.what()).rfind(path + ":", 0) == 0) throw;
-      g.fail("", e.what());
-    }
-  }
+  // Bathymetry: from a raster (optionally refined), or generated (formats/scene_bathymetry.cpp).
+  std::optional<Scene> built(scene_bathymetry::load(top, path, base_dir, options));
   Scene& scene = *built;
   scene.name = top.text("name", fs::path(path).stem().string());
   const Eigen::Vector4d bb = scene.bathymetry.bounds();

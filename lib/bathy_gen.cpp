@@ -231,6 +231,10 @@ void BathyGenSpec::validate() const {
   require(std::isfinite(depth_m) && depth_m > 0.0 && depth_m <= kMaxReliefM,
           "depth_m = " + num(depth_m) +
               ". Violated constraint: 0 < depth_m <= " + num(kMaxReliefM) + " (the deepest ocean)");
+  validate_components();
+}
+
+void BathyGenSpec::validate_components() const {
   geometry.validate("bathymetry generator");
   for (std::size_t i = 0; i < components.size(); ++i) std::visit(Validator{i}, components[i]);
   // Features finer than the grid alias into noise: a ripple needs two cells per wavelength.
@@ -278,10 +282,13 @@ GridGeometry BathyGenSpec::centred_geometry(double centre_x_m, double centre_y_m
   return g;
 }
 
-HeightGrid generate_bathymetry(const BathyGenSpec& spec) {
-  spec.validate();
+namespace {
+
+// Every node of spec.geometry: out = float(-depth + components), or with `add`,
+// out = out + float(components) (float32 addition; the depth is left out).
+void fill_bathymetry(const BathyGenSpec& spec, bool add, std::vector<float>& heights) {
   const GridGeometry& g = spec.geometry;
-  std::vector<float> heights(g.size());
+  const double start = add ? 0.0 : -spec.depth_m;
   unsigned threads = detail::worker_thread_count(spec.num_threads);
   threads = std::max(
       1u, std::min<unsigned>(threads, static_cast<unsigned>(std::min<std::size_t>(g.rows, 256))));
@@ -292,11 +299,15 @@ HeightGrid generate_bathymetry(const BathyGenSpec& spec) {
     constexpr std::size_t kBlock = 16;
     for (std::size_t r0 = t * kBlock; r0 < g.rows; r0 += threads * kBlock) {
       for (std::size_t r = r0; r < std::min(g.rows, r0 + kBlock); ++r) {
-        std::fill(acc.begin(), acc.end(), -spec.depth_m);
-        const RowAdder add{g.y_of_row(static_cast<double>(r)), g.x0_m, g.dx_m, spec.seed, acc};
-        for (const bathy::Component& c : spec.components) std::visit(add, c);
+        std::fill(acc.begin(), acc.end(), start);
+        const RowAdder adder{g.y_of_row(static_cast<double>(r)), g.x0_m, g.dx_m, spec.seed, acc};
+        for (const bathy::Component& c : spec.components) std::visit(adder, c);
         float* out = heights.data() + r * g.cols;
-        for (std::size_t c = 0; c < g.cols; ++c) out[c] = static_cast<float>(acc[c]);
+        if (add) {
+          for (std::size_t c = 0; c < g.cols; ++c) out[c] += static_cast<float>(acc[c]);
+        } else {
+          for (std::size_t c = 0; c < g.cols; ++c) out[c] = static_cast<float>(acc[c]);
+        }
       }
     }
   };
@@ -326,7 +337,25 @@ HeightGrid generate_bathymetry(const BathyGenSpec& spec) {
   for (auto& e : errors) {
     if (e) std::rethrow_exception(e);
   }
-  return HeightGrid(g, std::move(heights));
+}
+
+}  // namespace
+
+HeightGrid generate_bathymetry(const BathyGenSpec& spec) {
+  spec.validate();
+  std::vector<float> heights(spec.geometry.size());
+  fill_bathymetry(spec, false, heights);
+  return HeightGrid(spec.geometry, std::move(heights));
+}
+
+void add_bathymetry_components(const BathyGenSpec& spec, HeightGrid& grid) {
+  spec.validate_components();
+  const GridGeometry& a = spec.geometry;
+  const GridGeometry& b = grid.geometry();
+  require(a.x0_m == b.x0_m && a.y0_m == b.y0_m && a.dx_m == b.dx_m && a.dy_m == b.dy_m &&
+              a.cols == b.cols && a.rows == b.rows,
+          "add_bathymetry_components: the spec's geometry is not the grid's");
+  fill_bathymetry(spec, true, grid.mutable_heights());
 }
 
 }  // namespace sonarsynth

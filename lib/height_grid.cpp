@@ -2,11 +2,13 @@
 #include "sonarsynth/height_grid.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "sonarsynth/error.hpp"
+#include "worker_threads.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -29,6 +31,29 @@ void append_crossings(double idx_start, double idx_per_s, double length_m, doubl
       s.push_back((k - idx_start) / idx_per_s);
     }
   }
+}
+// Catmull-Rom (cubic convolution, a = -0.5) weights of the nodes -1, 0, 1, 2 at t in [0, 1], and
+// their derivatives d/dt.
+void catmull_rom(double t, double w[4], double dw[4]) {
+  const double t2 = t * t, t3 = t2 * t;
+  w[0] = 0.5 * (-t3 + 2.0 * t2 - t);
+  w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
+  w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
+  w[3] = 0.5 * (t3 - t2);
+  dw[0] = 0.5 * (-3.0 * t2 + 4.0 * t - 1.0);
+  dw[1] = 0.5 * (9.0 * t2 - 10.0 * t);
+  dw[2] = 0.5 * (-9.0 * t2 + 8.0 * t + 1.0);
+  dw[3] = 0.5 * (3.0 * t2 - 2.0 * t);
+}
+
+// Fills the missing ends of four values at nodes -1, 0, 1, 2 (has[k] false) by extrapolation:
+// 3 f0 - 3 f1 + f2 (exact for quadratics) where three real nodes exist, else linearly.
+void extend(double* f, std::size_t stride, const bool has[4]) {
+  double& a = f[0];
+  const double b = f[stride], c = f[2 * stride];
+  double& d = f[3 * stride];
+  if (!has[0]) a = has[3] ? 3.0 * b - 3.0 * c + d : 2.0 * b - c;
+  if (!has[3]) d = has[0] ? 3.0 * c - 3.0 * b + a : 2.0 * c - b;
 }
 }  // namespace
 
@@ -67,6 +92,7 @@ HeightSample HeightGrid::sample(double x_m, double y_m) const {
   const double max_c = static_cast<double>(g.cols - 1);
   const double max_r = static_cast<double>(g.rows - 1);
   if (!(fc >= 0.0 && fr >= 0.0 && fc <= max_c && fr <= max_r)) return {kNaN, kNaN, kNaN};
+  if (interpolation_ == Interpolation::kBicubic) return sample_bicubic(fc, fr);
   const double c0 = std::min(std::floor(fc), max_c - 1.0);
   const double r0 = std::min(std::floor(fr), max_r - 1.0);
   const double u = fc - c0;
@@ -81,6 +107,59 @@ HeightSample HeightGrid::sample(double x_m, double y_m) const {
   const double c = z11 - z10 - z01 + z00;            // twist
   const double z = z00 + a * u + b * v + c * u * v;  // NaN if any node is a hole
   return {z, (a + c * v) / g.dx_m, (b + c * u) / g.dy_m};
+}
+
+// (fc, fr) inside the node area, checked by sample().
+HeightSample HeightGrid::sample_bicubic(double fc, double fr) const {
+  const GridGeometry& g = geometry_;
+  const double max_c = static_cast<double>(g.cols - 1);
+  const double max_r = static_cast<double>(g.rows - 1);
+  const double c0 = std::min(std::floor(fc), max_c - 1.0);
+  const double r0 = std::min(std::floor(fr), max_r - 1.0);
+  const auto ic = static_cast<std::ptrdiff_t>(c0), ir = static_cast<std::ptrdiff_t>(r0);
+  const auto cols = static_cast<std::ptrdiff_t>(g.cols), rows = static_cast<std::ptrdiff_t>(g.rows);
+  // The 4 x 4 nodes around the cell, f[row][col], rows/cols -1..2 relative to (ic, ir).
+  double f[4][4] = {};
+  bool has_c[4], has_r[4];
+  for (int k = 0; k < 4; ++k) {
+    has_c[k] = ic - 1 + k >= 0 && ic - 1 + k < cols;
+    has_r[k] = ir - 1 + k >= 0 && ir - 1 + k < rows;
+  }
+  for (int j = 0; j < 4; ++j) {
+    if (!has_r[j]) continue;
+    const float* row = heights_.data() + (ir - 1 + j) * cols;
+    for (int k = 0; k < 4; ++k) {
+      if (has_c[k]) f[j][k] = row[ic - 1 + k];
+    }
+    extend(f[j], 1, has_c);
+  }
+  for (int k = 0; k < 4; ++k) extend(&f[0][k], 4, has_r);
+  bool finite = true;
+  for (int j = 0; j < 4; ++j) {
+    for (int k = 0; k < 4; ++k) finite = finite && f[j][k] == f[j][k];
+  }
+  if (!finite) {
+    // A hole among the 16 nodes: this cell is bilinear (NaN if one of its corners is a hole).
+    const double u = fc - c0, v = fr - r0;
+    const double a = f[1][2] - f[1][1], b = f[2][1] - f[1][1];
+    const double c = f[2][2] - f[1][2] - f[2][1] + f[1][1];
+    return {f[1][1] + a * u + b * v + c * u * v, (a + c * v) / g.dx_m, (b + c * u) / g.dy_m};
+  }
+  double wu[4], dwu[4], wv[4], dwv[4];
+  catmull_rom(fc - c0, wu, dwu);
+  catmull_rom(fr - r0, wv, dwv);
+  double z = 0.0, dzdu = 0.0, dzdv = 0.0;
+  for (int j = 0; j < 4; ++j) {
+    double row = 0.0, drow = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      row += wu[k] * f[j][k];
+      drow += dwu[k] * f[j][k];
+    }
+    z += wv[j] * row;
+    dzdu += wv[j] * drow;
+    dzdv += dwv[j] * row;
+  }
+  return {z, dzdu / g.dx_m, dzdv / g.dy_m};
 }
 
 double HeightGrid::height_m(double x_m, double y_m) const {
@@ -106,13 +185,24 @@ void HeightGrid::profile(const Eigen::Vector2d& start_m, const Eigen::Vector2d& 
   s.push_back(0.0);
   std::merge(sx.begin(), sx.end(), sy.begin(), sy.end(), std::back_inserter(s));
   s.push_back(length_m);
-  out.reserve(s.size() * static_cast<std::size_t>(subdivisions));
+  // Bicubic: segments of at most 1 / per_cell of a cell along the grid axis the line runs
+  // closest to (index units per metre: idx_per_m); at most per_cell per crossing.
+  const bool cubic = interpolation_ == Interpolation::kBicubic;
+  const int per_cell = cubic ? std::max(subdivisions, kBicubicSegmentsPerCell) : subdivisions;
+  const double idx_per_m = std::max(std::abs(dir.x() / g.dx_m), std::abs(dir.y() / g.dy_m));
+  const auto segments = [&](double len) {
+    if (!cubic) return subdivisions;
+    const double n = std::ceil(len * idx_per_m * per_cell - 1e-9);
+    return n >= per_cell ? per_cell : std::max(1, static_cast<int>(n));
+  };
+  out.reserve(s.size() * static_cast<std::size_t>(per_cell));
   const double min_gap = 1e-9 * std::max(1.0, length_m);
   double last = -1.0;
   for (std::size_t k = 0; k < s.size(); ++k) {
-    if (k > 0 && subdivisions > 1) {
-      const double h = (s[k] - s[k - 1]) / subdivisions;
-      for (int m = 1; m < subdivisions; ++m) {
+    const int n = k > 0 ? segments(s[k] - s[k - 1]) : 1;
+    if (n > 1) {
+      const double h = (s[k] - s[k - 1]) / n;
+      for (int m = 1; m < n; ++m) {
         const double sm = s[k - 1] + m * h;
         if (sm - last > min_gap) {
           const Eigen::Vector2d p = start_m + sm * dir;
@@ -152,6 +242,49 @@ std::pair<double, double> HeightGrid::height_range() const {
 std::size_t HeightGrid::count_valid() const {
   return static_cast<std::size_t>(
       std::count_if(heights_.begin(), heights_.end(), [](float z) { return z == z; }));
+}
+
+GridGeometry refined_geometry(const GridGeometry& g, double cell_m) {
+  if (!(std::isfinite(cell_m) && cell_m > 0.0)) {
+    throw InputError("refined grid: cell_m = " + std::to_string(cell_m) +
+                     ". Violated constraint: cell_m > 0");
+  }
+  const auto nodes = [cell_m](double cell, std::size_t n) {
+    const double k = std::floor(static_cast<double>(n - 1) * std::abs(cell) / cell_m + 1e-9) + 1;
+    if (!(k <= 1e9)) {
+      throw InputError("refined grid: cell_m = " + std::to_string(cell_m) +
+                       " m gives more than 1e9 nodes along an axis");
+    }
+    return static_cast<std::size_t>(k);
+  };
+  GridGeometry r = g;
+  r.dx_m = cell_m;
+  r.dy_m = std::copysign(cell_m, g.dy_m);
+  r.cols = nodes(g.dx_m, g.cols);
+  r.rows = nodes(g.dy_m, g.rows);
+  return r;
+}
+
+HeightGrid resample(const HeightGrid& grid, const GridGeometry& target, unsigned num_threads) {
+  target.validate("resampled grid");
+  std::vector<float> z(target.size());
+  // Blocks of rows handed out in turn; each node depends on its position only.
+  constexpr std::size_t kBlock = 16;
+  std::atomic<std::size_t> next{0};
+  detail::WorkerPool pool(detail::worker_thread_count(num_threads), [&](unsigned) {
+    for (std::size_t r0 = next.fetch_add(kBlock); r0 < target.rows; r0 = next.fetch_add(kBlock)) {
+      for (std::size_t r = r0; r < std::min(target.rows, r0 + kBlock); ++r) {
+        const double y = target.y_of_row(static_cast<double>(r));
+        float* out = z.data() + r * target.cols;
+        for (std::size_t c = 0; c < target.cols; ++c) {
+          out[c] = static_cast<float>(grid.height_m(target.x_of_col(static_cast<double>(c)), y));
+        }
+      }
+    }
+  });
+  pool.start();
+  pool.finish();
+  return HeightGrid(target, std::move(z));
 }
 
 }  // namespace sonarsynth

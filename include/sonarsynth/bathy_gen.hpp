@@ -91,6 +91,8 @@ struct BathyGenSpec {
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
+  /// As validate(), without depth_m (add_bathymetry_components does not use it).
+  void validate_components() const;
 
   /// cols x rows nodes of spacing cell_m covering width_m x height_m (node = cell centre, as
   /// GDAL's Area pixels), north-up, centred on (centre_x_m, centre_y_m).
@@ -103,6 +105,13 @@ struct BathyGenSpec {
 
 /// Evaluates the spec at every node (multi-threaded over rows); throws InputError via validate().
 HeightGrid generate_bathymetry(const BathyGenSpec& spec);
+
+/// Adds the spec's components (not depth_m) to every node of `grid`, in place:
+/// z = z + float(sum of the components at the node), a float32 addition (a hole stays a hole).
+/// The components alone are this on a grid of zeros. grid.geometry() must equal spec.geometry;
+/// throws InputError via validate_components(). Multi-threaded as generate_bathymetry(), with
+/// the same per-node values; no memory beyond a row per thread.
+void add_bathymetry_components(const BathyGenSpec& spec, HeightGrid& grid);
 
 /// Gradient noise in [-1, 1] (about), zero at integer lattice points, C2-continuous (quintic fade),
 /// from hashed gradients: splitmix64 of (seed, floor(u), floor(v), octave).

@@ -28,7 +28,19 @@ struct GridGeometry {
   void validate(const char* what) const;
 };
 
-/// Height, slope and validity of the bilinear surface at a point.
+/// How a HeightGrid's surface runs between its nodes (docs/physics.md, "Seabed interpolation").
+enum class Interpolation {
+  /// Bilinear patches: continuous, its slope jumps at every grid line (facets show the cells).
+  kBilinear,
+  /// Cubic convolution with a = -0.5 (Catmull-Rom, separable over the 4 x 4 nodes around the
+  /// cell): interpolates the nodes, C1 (slope continuous across grid lines), reproduces
+  /// polynomials up to degree 2. Along the outer cells the missing row/column is extrapolated as
+  /// 3 f0 - 3 f1 + f2 (exact for quadratics). A cell whose 4 x 4 nodes include a hole is
+  /// bilinear, so holes are the same as with kBilinear.
+  kBicubic,
+};
+
+/// Height, slope and validity of the surface at a point.
 struct HeightSample {
   double z_m;   ///< height (elevation, up positive), metres; NaN where there is no seabed
   double dzdx;  ///< surface gradient along x (dimensionless)
@@ -45,7 +57,8 @@ struct ProfilePoint {
 };
 
 /// Seabed heights on a regular grid (float32, NaN = nodata hole), in the local frame.
-/// The surface between nodes is bilinear. Heights are elevations (up positive).
+/// The surface between nodes is bilinear, or bicubic (set_interpolation); every query (height_m,
+/// sample, profile) uses the grid's interpolation. Heights are elevations (up positive).
 /// The storage is moved in, never copied: a grid of several GB costs its size once.
 class HeightGrid {
  public:
@@ -61,17 +74,27 @@ class HeightGrid {
   }
   bool empty() const { return heights_.empty(); }
 
-  /// Bilinear height at (x, y); NaN outside the grid or if any of the 4 nodes is a hole.
+  Interpolation interpolation() const { return interpolation_; }
+  void set_interpolation(Interpolation i) { interpolation_ = i; }
+
+  /// Height at (x, y); NaN outside the grid or if any of the 4 nodes of its cell is a hole.
   double height_m(double x_m, double y_m) const;
-  /// Height and analytic gradient of the bilinear patch containing (x, y).
+  /// Height and analytic gradient of the surface at (x, y).
   HeightSample sample(double x_m, double y_m) const;
 
-  /// Profile of the bilinear surface along the horizontal line start + s * dir, 0 <= s <= length.
+  /// Segments per cell of a bicubic profile (see profile()).
+  static constexpr int kBicubicSegmentsPerCell = 8;
+
+  /// Profile of the surface along the horizontal line start + s * dir, 0 <= s <= length.
   /// Points are placed at s = 0, s = length and at every crossing of a grid line (where the
-  /// restriction of the bilinear surface is not smooth); between consecutive crossings the
+  /// restriction of the surface is not smooth); between consecutive crossings a bilinear
   /// surface is a quadratic in s, approximated by `subdivisions` equal segments
-  /// (1 = chord between crossings; error of the chord <= |d2z/ds2| h^2 / 8).
-  /// Cost: O(cells crossed x subdivisions); independent of the grid size.
+  /// (1 = chord between crossings; error of the chord <= |d2z/ds2| h^2 / 8). A bicubic surface
+  /// is a polynomial of degree up to 6 in s within a cell: each crossing is cut into segments
+  /// that advance at most 1 / max(subdivisions, kBicubicSegmentsPerCell) of a cell along the
+  /// grid axis the line runs closest to (docs/physics.md, "Seabed interpolation").
+  /// Cost: O(cells crossed x subdivisions), x 8 at most for bicubic; independent of the grid
+  /// size.
   /// `dir` must be a unit vector. `out` is cleared first (reuse it to avoid allocations).
   void profile(const Eigen::Vector2d& start_m, const Eigen::Vector2d& dir, double length_m,
                int subdivisions, std::vector<ProfilePoint>& out) const;
@@ -83,8 +106,22 @@ class HeightGrid {
   std::size_t count_valid() const;
 
  private:
+  HeightSample sample_bicubic(double fc, double fr) const;
+
   GridGeometry geometry_;
   std::vector<float> heights_;
+  Interpolation interpolation_ = Interpolation::kBilinear;
 };
+
+/// Nodes of spacing cell_m over the node area of `g`: the same first node and axis directions,
+/// floor(span / cell_m + 1e-9) + 1 nodes per axis (span = (cols - 1) |dx|, likewise for rows),
+/// so the last node lies within cell_m of the original last one. Throws InputError unless
+/// cell_m is finite and > 0; the caller bounds the size (it is not allocated here).
+GridGeometry refined_geometry(const GridGeometry& g, double cell_m);
+
+/// `grid` evaluated (with its own interpolation) at every node of `target`, as a bilinear grid
+/// (holes where `grid` has none: outside it or in its holes). Multi-threaded over rows
+/// (num_threads 0 = hardware concurrency); the result does not depend on the thread count.
+HeightGrid resample(const HeightGrid& grid, const GridGeometry& target, unsigned num_threads = 0);
 
 }  // namespace sonarsynth

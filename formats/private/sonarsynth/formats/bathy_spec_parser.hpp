@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The bathymetry generators as both `sonarsynth bathy` and scene files
-// (`bathymetry.generate`) read them: one declaration per parameter (scene-file key, name on the
-// command line, bounds), one builder. docs/scene-format.md, section `bathymetry`.
+// (`bathymetry.generate`, and `bathymetry.components` on a file's grid) read them: one declaration
+// per parameter (scene-file key, name on the command line, bounds), one builder.
+// docs/scene-format.md, section `bathymetry`.
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -84,6 +86,13 @@ struct Generated {
   GeoFrame frame;
   BathyGenSpec spec;
 };
+
+/// The components as the generator takes them, every number checked against its declaration
+/// (through `fail`): positions are metres from `centre` (local frame) along the grid axes,
+/// azimuths clockwise from grid north, the plane's and the ripples' reference point is `centre`,
+/// the n-th fbm layer's seed offset defaults to n.
+std::vector<bathy::Component> build_components(const std::vector<ComponentInput>& inputs,
+                                               const Eigen::Vector2d& centre, const Reporter& fail);
 
 /// Checks every number against its declaration (through `fail`) and builds the frame (the
 /// UTM/UPS zone of the centre) and the spec: positions are metres from the grid centre along the
