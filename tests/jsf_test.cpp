@@ -290,8 +290,10 @@ TEST(JsfReader, NotAJsfFile) {
 
 TEST(JsfReader, TruncatedFileKeepsCompletePings) {
   const fs::path dir = temp_dir("jsf_truncated");
-  auto bytes = three_ping_file(dir);
-  bytes.resize(bytes.size() - 50);  // cut into the last starboard message
+  const auto whole = three_ping_file(dir);
+  ASSERT_GT(whole.size(), 50u);
+  // Cut into the last starboard message.
+  const std::vector<std::uint8_t> bytes(whole.begin(), whole.end() - 50);
   Reader r(bytes, "cut.jsf");
   EXPECT_EQ(count_pings(r), 2u);
   EXPECT_EQ(r.anomaly_count(AnomalyKind::kBadByteCount), 1u);
