@@ -199,9 +199,17 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     if (f.has("vertical_beam")) read_beam(f.child("vertical_beam"), setup);
     if (f.has("pulse")) {
       const Fields p = f.child("pulse");
+      const SonarConfig::Pulse preset_pulse = s.pulse;
       options::read(p, options::at("sonar.pulse.type"), setup);
       const char* key = s.pulse == SonarConfig::Pulse::kCw ? "length_us" : "bandwidth_khz";
       p.only({"type", key});
+      // A type other than the preset's (or the default's) carries no length or bandwidth of its
+      // own: without the key the pulse would silently be one sample long (CW) or fail later.
+      if (s.pulse != preset_pulse && !p.given(key)) {
+        p.fail(key, std::string("is required when type is ") +
+                        (s.pulse == SonarConfig::Pulse::kCw ? "cw" : "chirp") +
+                        " and the preset's pulse is not");
+      }
       options::read(p, options::at(std::string("sonar.pulse.") + key), setup);
     }
   }

@@ -500,6 +500,32 @@ TEST_F(SimulationFile, SensorAndCountValuesOutOfRangeAreNamedErrors) {
                      "output: {detector_sub_samples: 16, seabed_median_dbfs: -80}\n")));
 }
 
+// A pulse type switched away from the preset's needs its own length or bandwidth: a chirp preset
+// switched to CW would otherwise be silently one sample long.
+TEST_F(SimulationFile, APulseTypeOtherThanThePresetsNeedsItsOwnKey) {
+  const std::string head = std::string(kBathy) + "survey:\n" + kLine;
+  for (const auto& [sonar, fragment] :
+       {std::pair<std::string, std::string>{"{preset: edgetech-4200-300, pulse: {type: cw}}",
+                                            "sonar.pulse.length_us"},
+        {"{preset: klein-3900-445, pulse: {type: chirp}}", "sonar.pulse.bandwidth_khz"},
+        {"{pulse: {type: chirp}}", "sonar.pulse.bandwidth_khz"}}) {
+    try {
+      load_simulation(write("bad.yaml", head + "sonar: " + sonar + "\n"));
+      ADD_FAILURE() << "no error for " << sonar;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+  const SimulationSetup cw = load_simulation(write(
+      "cw.yaml", head + "sonar: {preset: edgetech-4200-300, pulse: {type: cw, length_us: 100}}\n"));
+  EXPECT_EQ(cw.config.sonar.pulse, SonarConfig::Pulse::kCw);
+  EXPECT_NEAR(cw.config.sonar.pulse_length_s, 100e-6, 1e-15);
+  // The preset's own type without a key keeps the preset's value.
+  const SimulationSetup chirp = load_simulation(
+      write("chirp.yaml", head + "sonar: {preset: edgetech-4200-300, pulse: {type: chirp}}\n"));
+  EXPECT_NEAR(chirp.config.sonar.bandwidth_hz, 25e3, 1e-9);
+}
+
 }  // namespace
 }  // namespace sonarsynth
 
