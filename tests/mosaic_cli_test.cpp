@@ -143,6 +143,13 @@ TEST_F(MosaicCliTest, UnreadableFileFails) {
   EXPECT_EQ(outputs(), 0u);
 }
 
+// --depth-positive describes a --bathymetry grid: alone it would be silently ignored.
+TEST_F(MosaicCliTest, DepthPositiveWithoutBathymetryIsAnError) {
+  EXPECT_EQ(run("mosaic " + path("a.xtf") + " -o " + path("m.tif") + " --depth-positive"), 1);
+  EXPECT_NE(err_.find("--depth-positive given without --bathymetry"), std::string::npos) << err_;
+  EXPECT_EQ(outputs(), 0u);
+}
+
 TEST_F(MosaicCliTest, FileWithoutSonarChannelsFails) {
   {
     xtf::Writer w(path("empty.xtf"));

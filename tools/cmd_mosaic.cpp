@@ -123,6 +123,10 @@ int run_mosaic(const std::vector<std::string>& args) {
     GridReadOptions ro;
     ro.depth_positive_down = vm.count("depth-positive") > 0;
     bathy = read_height_grid(bathymetry, ro);
+  } else if (vm.count("depth-positive") > 0) {
+    throw InputError(
+        "--depth-positive given without --bathymetry. Violated constraint: "
+        "--depth-positive describes the --bathymetry grid");
   }
   const std::vector<std::filesystem::path> files(inputs.begin(), inputs.end());
   const XtfMosaicResult r = mosaic_xtf(files, mo, bathy ? &*bathy : nullptr);
