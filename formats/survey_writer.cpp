@@ -82,38 +82,4 @@ xtf::SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame,
   return x;
 }
 
-XtfSurveyWriter::XtfSurveyWriter(std::filesystem::path dir, std::vector<std::string> line_names,
-                                 const GeoFrame& frame, const SonarConfig& sonar,
-                                 xtf::WriterOptions options)
-    : dir_(std::move(dir)),
-      names_(std::move(line_names)),
-      frame_(frame),
-      sonar_(sonar),
-      options_(std::move(options)) {
-  options_.validate();
-}
-
-void XtfSurveyWriter::begin_line(std::size_t line) {
-  const std::string name = line < names_.size() ? names_[line] : "line" + std::to_string(line + 1);
-  writer_ = std::make_unique<xtf::Writer>(dir_ / (name + ".xtf"), options_);
-}
-
-void XtfSurveyWriter::ping(const RenderedPing& p) {
-  if (!writer_) throw Error("xtf survey writer: ping outside a line");
-  writer_->write_ping(to_xtf_ping(p, frame_, sonar_));
-}
-
-void XtfSurveyWriter::abort() noexcept {
-  writer_.reset();  // the Writer removes its temporary file
-}
-
-void XtfSurveyWriter::end_line(std::size_t /*line*/) {
-  if (!writer_) return;
-  writer_->close();
-  clipped_ += writer_->clipped_samples();
-  bytes_ += writer_->bytes_written();
-  files_.push_back(writer_->path());
-  writer_.reset();
-}
-
 }  // namespace sonarsynth

@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
+#include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/simulator.hpp"
 
 namespace sonarsynth {
@@ -36,34 +39,73 @@ xtf::WriterOptions xtf_writer_options(const Simulator& sim, xtf::SampleEncoding 
                                       const std::string& scene_name,
                                       bool allow_more_than_8192_samples = false);
 
-/// Writes one XTF file per survey line (`<dir>/<line name>.xtf`), streaming. Extra sinks (mosaic,
-/// waterfall, truth) can be chained: every ping is passed on to them. abort() removes the file of
-/// the line being written (files of finished lines stay: the caller's OutputDirectory discards
-/// them).
-class XtfSurveyWriter : public PingSink {
+/// Writes one file per survey line (`<dir>/<line name><extension>`) through the format writer
+/// `W` (constructed from a path and its `Options`), streaming: every ping goes through
+/// to_xtf_ping, so that the files of every format of one run agree sample for sample. abort()
+/// removes the file of the line being written (files of finished lines stay: the caller's
+/// OutputDirectory discards them). XtfSurveyWriter and JsfSurveyWriter are its two formats.
+template <class W, class Options>
+class LineFileWriter : public PingSink {
  public:
-  /// `frame` and `sonar` are copied.
-  XtfSurveyWriter(std::filesystem::path dir, std::vector<std::string> line_names,
-                  const GeoFrame& frame, const SonarConfig& sonar, xtf::WriterOptions options);
-  void begin_line(std::size_t line) override;
-  void ping(const RenderedPing& ping) override;
-  void end_line(std::size_t line) override;
-  void abort() noexcept override;
+  void begin_line(std::size_t line) override {
+    const std::string name =
+        line < names_.size() ? names_[line] : "line" + std::to_string(line + 1);
+    writer_ = std::make_unique<W>(dir_ / (name + extension_), options_);
+  }
+  void ping(const RenderedPing& p) override {
+    if (!writer_) throw Error(extension_ + " survey writer: ping outside a line");
+    writer_->write_ping(to_xtf_ping(p, frame_, sonar_));
+  }
+  void end_line(std::size_t /*line*/) override {
+    if (!writer_) return;
+    writer_->close();
+    clipped_ += writer_->clipped_samples();
+    bytes_ += writer_->bytes_written();
+    files_.push_back(writer_->path());
+    writer_.reset();
+  }
+  void abort() noexcept override { writer_.reset(); }  // the writer removes its temporary file
 
   /// Files written so far (final paths).
   const std::vector<std::filesystem::path>& files() const { return files_; }
   std::uint64_t clipped_samples() const { return clipped_; }
   std::uint64_t bytes_written() const { return bytes_; }
 
+ protected:
+  /// `frame` and `sonar` are copied; `options` are validated here.
+  LineFileWriter(std::filesystem::path dir, std::vector<std::string> line_names,
+                 const GeoFrame& frame, const SonarConfig& sonar, Options options,
+                 std::string extension)
+      : dir_(std::move(dir)),
+        names_(std::move(line_names)),
+        frame_(frame),
+        sonar_(sonar),
+        options_(std::move(options)),
+        extension_(std::move(extension)) {
+    options_.validate();
+  }
+
  private:
   std::filesystem::path dir_;
   std::vector<std::string> names_;
   GeoFrame frame_;
   SonarConfig sonar_;
-  xtf::WriterOptions options_;
-  std::unique_ptr<xtf::Writer> writer_;
+  Options options_;
+  std::string extension_;
+  std::unique_ptr<W> writer_;
   std::vector<std::filesystem::path> files_;
   std::uint64_t clipped_ = 0, bytes_ = 0;
+};
+
+/// Writes one XTF file per survey line (`<dir>/<line name>.xtf`). Extra sinks (mosaic,
+/// waterfall, truth) can be chained through a TeeSink.
+class XtfSurveyWriter : public LineFileWriter<xtf::Writer, xtf::WriterOptions> {
+ public:
+  /// `frame` and `sonar` are copied.
+  XtfSurveyWriter(std::filesystem::path dir, std::vector<std::string> line_names,
+                  const GeoFrame& frame, const SonarConfig& sonar, xtf::WriterOptions options)
+      : LineFileWriter(std::move(dir), std::move(line_names), frame, sonar, std::move(options),
+                       ".xtf") {}
 };
 
 /// Passes every call on to several sinks, in order. The sinks are borrowed: they must outlive
