@@ -8,6 +8,17 @@
 namespace sonarsynth {
 namespace {
 
+/// The messages of the first `max` anomalies a reader recorded (XTF and JSF anomalies alike).
+template <class Anomalies>
+std::vector<std::string> first_messages(const Anomalies& anomalies, std::size_t max) {
+  std::vector<std::string> out;
+  for (const auto& a : anomalies) {
+    if (out.size() >= max) break;
+    out.push_back(a.message);
+  }
+  return out;
+}
+
 class XtfSource : public SideScanSource {
  public:
   explicit XtfSource(const std::filesystem::path& path) : reader_(path) {}
@@ -26,12 +37,7 @@ class XtfSource : public SideScanSource {
   SonarFileFormat format() const override { return SonarFileFormat::kXtf; }
   std::uint64_t total_anomalies() const override { return reader_.total_anomalies(); }
   std::vector<std::string> anomaly_messages(std::size_t max) const override {
-    std::vector<std::string> out;
-    for (const auto& a : reader_.anomalies()) {
-      if (out.size() >= max) break;
-      out.push_back(a.message);
-    }
-    return out;
+    return first_messages(reader_.anomalies(), max);
   }
 
  private:
@@ -54,12 +60,7 @@ class JsfSource : public SideScanSource {
   SonarFileFormat format() const override { return SonarFileFormat::kJsf; }
   std::uint64_t total_anomalies() const override { return reader_.total_anomalies(); }
   std::vector<std::string> anomaly_messages(std::size_t max) const override {
-    std::vector<std::string> out;
-    for (const auto& a : reader_.anomalies()) {
-      if (out.size() >= max) break;
-      out.push_back(a.message);
-    }
-    return out;
+    return first_messages(reader_.anomalies(), max);
   }
 
  private:
