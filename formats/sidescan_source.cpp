@@ -27,6 +27,7 @@ class XtfSource : public SideScanSource {
       if (packet_.kind != xtf::PacketKind::kPing) continue;
       r.sonar = std::move(packet_.ping.sonar);
       r.nav_valid = packet_.ping.nav_valid && reader_.file_header().NavUnits == 3;
+      r.time_valid = packet_.ping.time_valid;
       r.layback_m = packet_.ping.header.Layback;
       r.heading_deg = packet_.ping.header.SensorHeading;
       r.index = packet_.index;
@@ -52,6 +53,7 @@ class JsfSource : public SideScanSource {
     if (!reader_.next_ping(ping_)) return false;
     r.sonar = std::move(ping_.sonar);
     r.nav_valid = ping_.nav_valid;
+    r.time_valid = ping_.time_valid;
     r.layback_m = ping_.layback_m;
     r.heading_deg = deg_from_rad(r.sonar.heading_rad);
     r.index = ping_.index;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Files: run_simulation (a survey to XTF files and products) and XTF into numpy.
+// Files: run_simulation (a survey to XTF/JSF files and products) and XTF or JSF into numpy.
 #include <pybind11/stl.h>
 
 #include <cmath>
@@ -8,8 +8,9 @@
 #include <optional>
 
 #include "bindings.hpp"
+#include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/run_simulation.hpp"
-#include "sonarsynth/formats/xtf/reader.hpp"
+#include "sonarsynth/formats/sidescan_source.hpp"
 
 namespace sonarsynth::python {
 
@@ -47,6 +48,77 @@ struct Rows {
     width = w;
   }
 };
+
+// The pings of an XTF or JSF file as numpy arrays; `expected` refuses the other format.
+py::dict read_sidescan(const std::string& path, std::optional<SonarFileFormat> expected) {
+  Rows port, stbd;
+  std::vector<std::int64_t> time_us;
+  std::vector<std::uint32_t> ping_number;
+  std::vector<double> lat, lon, ship_lat, ship_lon, heading, pitch, roll, heave, altitude, depth,
+      speed, sound_speed, slant_range;
+  std::vector<std::uint8_t> nav_valid, time_valid;
+  std::vector<std::string> anomalies;
+  SonarFileFormat format = SonarFileFormat::kXtf;
+  {
+    py::gil_scoped_release release;
+    if (expected && detect_sonar_file_format(path) != *expected) {
+      throw FormatError(path + ": not " +
+                        (*expected == SonarFileFormat::kJsf ? "a JSF" : "an XTF") +
+                        " file (read_sonar reads either)");
+    }
+    const std::unique_ptr<SideScanSource> source = SideScanSource::open(path);
+    format = source->format();
+    SideScanRecord r;
+    while (source->next(r)) {
+      const xtf::SonarPing& s = r.sonar;
+      port.add(s.port);
+      stbd.add(s.starboard);
+      time_us.push_back(s.time_utc.time_since_epoch().count());
+      ping_number.push_back(s.ping_number);
+      lat.push_back(s.sensor_position.lat_rad * kDegPerRad);
+      lon.push_back(s.sensor_position.lon_rad * kDegPerRad);
+      const Geodetic ship = s.ship_position.value_or(s.sensor_position);
+      ship_lat.push_back(ship.lat_rad * kDegPerRad);
+      ship_lon.push_back(ship.lon_rad * kDegPerRad);
+      heading.push_back(s.heading_rad);
+      pitch.push_back(s.pitch_rad);
+      roll.push_back(s.roll_rad);
+      heave.push_back(s.heave_m);
+      altitude.push_back(s.altitude_m);
+      depth.push_back(s.depth_m);
+      speed.push_back(s.speed_mps);
+      sound_speed.push_back(s.sound_speed_mps);
+      slant_range.push_back(s.slant_range_m);
+      nav_valid.push_back(r.nav_valid ? 1 : 0);
+      time_valid.push_back(r.time_valid ? 1 : 0);
+    }
+    anomalies = source->anomaly_messages(std::numeric_limits<std::size_t>::max());
+  }
+  const auto n = static_cast<py::ssize_t>(time_us.size());
+  py::dict d;
+  d["format"] = format == SonarFileFormat::kJsf ? "jsf" : "xtf";
+  d["port"] = owned(std::move(port.data), {n, static_cast<py::ssize_t>(port.width)});
+  d["starboard"] = owned(std::move(stbd.data), {n, static_cast<py::ssize_t>(stbd.width)});
+  d["time_utc_us"] = owned(std::move(time_us), {n});
+  d["ping_number"] = owned(std::move(ping_number), {n});
+  d["sensor_lat_deg"] = owned(std::move(lat), {n});
+  d["sensor_lon_deg"] = owned(std::move(lon), {n});
+  d["ship_lat_deg"] = owned(std::move(ship_lat), {n});
+  d["ship_lon_deg"] = owned(std::move(ship_lon), {n});
+  d["heading_rad"] = owned(std::move(heading), {n});
+  d["pitch_rad"] = owned(std::move(pitch), {n});
+  d["roll_rad"] = owned(std::move(roll), {n});
+  d["heave_m"] = owned(std::move(heave), {n});
+  d["altitude_m"] = owned(std::move(altitude), {n});
+  d["depth_m"] = owned(std::move(depth), {n});
+  d["speed_m_s"] = owned(std::move(speed), {n});
+  d["sound_speed_m_s"] = owned(std::move(sound_speed), {n});
+  d["slant_range_m"] = owned(std::move(slant_range), {n});
+  d["nav_valid"] = owned(std::move(nav_valid), {n}).attr("astype")("bool");
+  d["time_valid"] = owned(std::move(time_valid), {n}).attr("astype")("bool");
+  d["anomalies"] = anomalies;
+  return d;
+}
 
 }  // namespace
 
@@ -111,79 +183,31 @@ void bind_files(py::module_& m) {
       "run_s (rendering and products, which overlap) / products_s (mosaic files) / total_s "
       "(wall seconds), cpu_s (process CPU seconds).");
 
-  m.def(
-      "read_xtf",
-      [](const std::string& path) {
-        Rows port, stbd;
-        std::vector<std::int64_t> time_us;
-        std::vector<std::uint32_t> ping_number;
-        std::vector<double> lat, lon, ship_lat, ship_lon, heading, pitch, roll, heave, altitude,
-            depth, speed, sound_speed, slant_range;
-        std::vector<std::uint8_t> nav_valid, time_valid;
-        std::vector<std::string> anomalies;
-        {
-          py::gil_scoped_release release;
-          xtf::Reader reader(path);
-          xtf::Packet p;
-          while (reader.next(p)) {
-            if (p.kind != xtf::PacketKind::kPing) continue;
-            const xtf::SonarPing& s = p.ping.sonar;
-            port.add(s.port);
-            stbd.add(s.starboard);
-            time_us.push_back(s.time_utc.time_since_epoch().count());
-            ping_number.push_back(s.ping_number);
-            lat.push_back(s.sensor_position.lat_rad * kDegPerRad);
-            lon.push_back(s.sensor_position.lon_rad * kDegPerRad);
-            const Geodetic ship = s.ship_position.value_or(s.sensor_position);
-            ship_lat.push_back(ship.lat_rad * kDegPerRad);
-            ship_lon.push_back(ship.lon_rad * kDegPerRad);
-            heading.push_back(s.heading_rad);
-            pitch.push_back(s.pitch_rad);
-            roll.push_back(s.roll_rad);
-            heave.push_back(s.heave_m);
-            altitude.push_back(s.altitude_m);
-            depth.push_back(s.depth_m);
-            speed.push_back(s.speed_mps);
-            sound_speed.push_back(s.sound_speed_mps);
-            slant_range.push_back(s.slant_range_m);
-            nav_valid.push_back(p.ping.nav_valid ? 1 : 0);
-            time_valid.push_back(p.ping.time_valid ? 1 : 0);
-          }
-          for (const xtf::Anomaly& a : reader.anomalies()) anomalies.push_back(a.message);
-        }
-        const auto n = static_cast<py::ssize_t>(time_us.size());
-        py::dict d;
-        d["port"] = owned(std::move(port.data), {n, static_cast<py::ssize_t>(port.width)});
-        d["starboard"] = owned(std::move(stbd.data), {n, static_cast<py::ssize_t>(stbd.width)});
-        d["time_utc_us"] = owned(std::move(time_us), {n});
-        d["ping_number"] = owned(std::move(ping_number), {n});
-        d["sensor_lat_deg"] = owned(std::move(lat), {n});
-        d["sensor_lon_deg"] = owned(std::move(lon), {n});
-        d["ship_lat_deg"] = owned(std::move(ship_lat), {n});
-        d["ship_lon_deg"] = owned(std::move(ship_lon), {n});
-        d["heading_rad"] = owned(std::move(heading), {n});
-        d["pitch_rad"] = owned(std::move(pitch), {n});
-        d["roll_rad"] = owned(std::move(roll), {n});
-        d["heave_m"] = owned(std::move(heave), {n});
-        d["altitude_m"] = owned(std::move(altitude), {n});
-        d["depth_m"] = owned(std::move(depth), {n});
-        d["speed_m_s"] = owned(std::move(speed), {n});
-        d["sound_speed_m_s"] = owned(std::move(sound_speed), {n});
-        d["slant_range_m"] = owned(std::move(slant_range), {n});
-        d["nav_valid"] = owned(std::move(nav_valid), {n}).attr("astype")("bool");
-        d["time_valid"] = owned(std::move(time_valid), {n}).attr("astype")("bool");
-        d["anomalies"] = anomalies;
-        return d;
-      },
-      py::arg("path"),
-      "Reads the sonar pings of an XTF file (any sonar) into numpy: port and starboard "
-      "(pings, samples) float32, NEAR -> FAR (a shorter row is padded with NaN), and per ping "
-      "time_utc_us (microseconds since 1970 UTC; XTF stores 1/100 s), ping_number, "
+  // XTF, JSF or either (detected from the file's first bytes): the same arrays.
+  const auto reader = [](std::optional<SonarFileFormat> expected) {
+    return [expected](const std::string& path) { return read_sidescan(path, expected); };
+  };
+  const std::string arrays =
+      "port and starboard (pings, samples) float32, NEAR -> FAR (a shorter row is padded with "
+      "NaN at the end), and per ping time_utc_us (microseconds since 1970 UTC), ping_number, "
       "sensor_lat_deg / sensor_lon_deg and ship_lat_deg / ship_lon_deg (WGS 84, degrees), "
       "heading_rad (true, clockwise from north), pitch_rad (+ nose up), roll_rad (+ starboard "
       "down), heave_m (+ up), altitude_m, depth_m (+ down), speed_m_s, sound_speed_m_s, "
-      "slant_range_m, nav_valid, time_valid; anomalies: the reader's messages about broken "
-      "packets (it skips them and carries on). Raises FormatError if the file cannot be read.");
+      "slant_range_m, nav_valid, time_valid; format ('xtf' or 'jsf'); anomalies: the reader's "
+      "messages about broken records (it skips them and carries on). Raises FormatError if the "
+      "file cannot be read.";
+  m.def("read_xtf", reader(SonarFileFormat::kXtf), py::arg("path"),
+        ("Reads the sonar pings of an XTF file (any sonar; times in 1/100 s) into numpy: " + arrays)
+            .c_str());
+  m.def("read_jsf", reader(SonarFileFormat::kJsf), py::arg("path"),
+        ("Reads the side-scan pings of an EdgeTech JSF file (the first side-scan subsystem; "
+         "docs/jsf.md) into numpy: " +
+         arrays)
+            .c_str());
+  m.def(
+      "read_sonar", reader(std::nullopt), py::arg("path"),
+      ("Reads an XTF or JSF file (the format detected from its first bytes) into numpy: " + arrays)
+          .c_str());
 }
 
 }  // namespace sonarsynth::python

@@ -59,3 +59,35 @@ def test_run_simulation_errors(scene_path, tmp_path):
         sonarsynth.read_xtf(str(tmp_path / "missing.xtf"))
     with pytest.raises(OSError):
         sonarsynth.read_xtf(str(tmp_path / "missing.xtf"))
+
+
+def test_read_jsf_matches_the_xtf_of_the_same_run(scene_path, tmp_path):
+    # output.jsf: the same run writes <line>.jsf beside <line>.xtf (docs/jsf.md).
+    jsf_scene = tmp_path / "jsf_scene.yaml"
+    jsf_scene.write_text(open(scene_path).read() + "output: {jsf: true}\n")
+    out_dir = tmp_path / "out"
+    sonarsynth.run_simulation(str(jsf_scene), str(out_dir), mosaic=False, waterfalls=False,
+                              truth=False)
+    for name in ["a", "b"]:
+        x = sonarsynth.read_xtf(str(out_dir / f"{name}.xtf"))
+        j = sonarsynth.read_jsf(str(out_dir / f"{name}.jsf"))
+        either = sonarsynth.read_sonar(str(out_dir / f"{name}.jsf"))
+        assert (x["format"], j["format"], either["format"]) == ("xtf", "jsf", "jsf")
+        assert not j["anomalies"]
+        assert j["port"].shape == x["port"].shape and j["port"].shape[0] > 0
+        # Samples: bit-exact (u16 in both files).
+        assert j["port"].tobytes() == x["port"].tobytes()
+        assert j["starboard"].tobytes() == x["starboard"].tobytes()
+        assert either["starboard"].tobytes() == j["starboard"].tobytes()
+        assert j["nav_valid"].all() and j["time_valid"].all()
+        # Navigation within JSF's resolution (docs/jsf.md §4): positions in 1/600,000 degree,
+        # against XTF's doubles; times in milliseconds against XTF's 1/100 s.
+        assert np.abs(j["sensor_lat_deg"] - x["sensor_lat_deg"]).max() <= 0.5 / 600000 + 1e-12
+        assert np.abs(j["sensor_lon_deg"] - x["sensor_lon_deg"]).max() <= 0.5 / 600000 + 1e-12
+        assert np.abs(j["time_utc_us"] - x["time_utc_us"]).max() <= 5000
+    # Each reader refuses the other's format with FormatError; read_sonar takes both.
+    with pytest.raises(sonarsynth.FormatError, match="not an XTF"):
+        sonarsynth.read_xtf(str(out_dir / "a.jsf"))
+    with pytest.raises(sonarsynth.FormatError, match="not a JSF"):
+        sonarsynth.read_jsf(str(out_dir / "a.xtf"))
+    assert sonarsynth.read_sonar(str(out_dir / "a.xtf"))["format"] == "xtf"

@@ -15,9 +15,10 @@ namespace sonarsynth {
 /// One side-scan ping of an XTF or JSF file, as the product commands (mosaic, waterfall,
 /// match) use it.
 struct SideScanRecord {
-  xtf::SonarPing sonar;    ///< SI units, port/starboard near -> far
-  bool nav_valid = false;  ///< sonar.sensor_position is a geographic position
-  double layback_m = 0.0;  ///< file layback (0 if none)
+  xtf::SonarPing sonar;     ///< SI units, port/starboard near -> far
+  bool nav_valid = false;   ///< sonar.sensor_position is a geographic position
+  bool time_valid = false;  ///< sonar.time_utc is a valid date and time
+  double layback_m = 0.0;   ///< file layback (0 if none)
   double heading_deg = 0.0;
   std::uint64_t index = 0;  ///< increasing, unique in the file (XTF packet / JSF message index)
 };
