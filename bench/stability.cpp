@@ -6,7 +6,8 @@
 // terrain against a 2 mm DEM) and object size (0.05-5 m rock on a flat seabed, 0.2 m ping
 // spacing, against 31 along-track planes). Methods: exact clipping (2 and 1 Gauss points),
 // sub-sampled profile (every 4th node), uniform-angle rays (10k, 100k), and for the object
-// sweep along-track planes and the object rasterised into the DEM.
+// sweep along-track planes and the object rasterised into the DEM; objects as closed sections
+// (clearance, size, grazing angle) in bench/stability_solids.cpp.
 // Writes <out>/stability_<sweep>.csv.
 //
 // Usage: stability [--out DIR] [--tiny]
@@ -22,6 +23,7 @@
 #include "bench_render.hpp"
 #include "bench_scenes.hpp"
 #include "sonarsynth/bathy_gen.hpp"
+#include "stability_solids.hpp"
 
 namespace {
 
@@ -90,13 +92,9 @@ BeamProfile plane_profile(double h, double slope_rad, double r_max, double ds) {
 
 void row(std::FILE* f, const char* sweep, double x, const Method& m, const ErrorStats& e,
          double time_ms) {
-  std::fprintf(f, "%s,%g,%s,%s,%.5g,%.5g,%.5g,%.5g,%.5g,%zu,%zu,%.5g\n", sweep, x, m.family.c_str(),
-               m.label.c_str(), e.rms_db(), e.worst_db, e.edge_rms_db(), e.edge_worst_db,
-               e.empty_fraction(), e.nonfinite, e.bins + e.edge_bins, time_ms);
+  stability_row(f, sweep, x, m, e, time_ms);
 }
-constexpr const char* kHeader =
-    "sweep,x,family,label,rms_db,worst_db,edge_rms_db,edge_worst_db,empty_frac,nonfinite,bins,"
-    "time_ms";
+constexpr const char* kHeader = kStabilityHeader;
 
 // Renders `prof` with m, compares with ref, writes a row.
 void compare(std::FILE* f, const char* sweep, double x, const Method& m, const BeamProfile& prof,
@@ -367,6 +365,7 @@ int run(int argc, char** argv) {
   sweep_grazing(out, tiny);
   sweep_dem(out, tiny);
   sweep_object(out, tiny);
+  sweep_solids(out, tiny);
   return 0;
 }
 

@@ -65,6 +65,9 @@ if want stability; then
   gp grazing "Flat seabed, 0.1 dB/m, 400 m range: error by grazing angle of the bin" "grazing angle (deg)" 1
   gp dem "Sinusoid terrain (8 m, 3.1 m) vs 2 mm DEM: DEM cell" "DEM cell (m)" 1
   gp object "Rock on flat seabed, pings every 0.2 m, vs 31 along-track planes: rock diameter" "rock diameter (m)" 1
+  gp clearance "Pipe (0.5 m, 20 m out, 10 m down) as a closed section vs its circle: clearance" "clearance (diameters)" 0
+  gp pipe_size "Pipe half a diameter up, 20 m out, vs its circle: diameter" "pipe diameter (m)" 1
+  gp object_grazing "0.2 m pipe 40 m out, resting, vs its circle: grazing angle at the pipe" "grazing angle (deg)" 1
 fi
 
 if want scaling; then
@@ -121,7 +124,7 @@ fi
     awk -F, 'NR>1 {printf "| %s | %s | %.3f | %.0f %% | %.3g | %.3g | %.3g | %.3g | %.3f | %s | %s | %s |\n", $3, $7, $11, 100*$24, $22, $12, $13, $14, $16, ($18?"x":""), ($23?"x":""), ($19?"x":"")}' "$f"
     echo
   done
-  for w in altitude slope grazing dem object; do
+  for w in altitude slope grazing dem object clearance pipe_size object_grazing; do
     f="$out/stability_$w.csv"
     [[ -f $f ]] || continue
     echo "#### stability: $w (RMS dB / worst dB / empty fraction)"
