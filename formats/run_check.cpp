@@ -23,7 +23,7 @@ constexpr double kWorkspaceBytesPerSample = 200.0;
 // Seabed profile per grid-line crossing (point, crossing positions, scratch), bytes.
 constexpr double kProfileBytesPerCrossing = 48.0;
 // Mosaic accumulators per pixel (sums, counts, nearest values, labels, output), bytes.
-constexpr double kMosaicMemoryBytesPerPixel = 48.0;
+constexpr double kMosaicMemoryBytesPerPixel = 40.0;
 // Mosaic files per pixel: float intensity, RGBA display copy, int32 truth, uncompressed, each
 // with overviews (a third more).
 constexpr double kMosaicFileBytesPerPixel = 16.0;

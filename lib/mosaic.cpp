@@ -61,8 +61,8 @@ MosaicGrid::MosaicGrid(GridGeometry geometry, MosaicOptions options, const Heigh
   count_.assign(n, 0);
   switch (options_.rule) {
     case MosaicRule::weighted_mean:
-      sum_wi_.assign(n, 0.0);
-      sum_w_.assign(n, 0.0);
+      sum_wi_.assign(n, 0.0f);
+      sum_w_.assign(n, 0.0f);
       break;
     case MosaicRule::max:
       best_.assign(n, -std::numeric_limits<float>::infinity());
@@ -316,8 +316,8 @@ void MosaicGrid::splat(const Eigen::Vector2d& p, double ground_m, double swath_m
   switch (options_.rule) {
     case MosaicRule::weighted_mean: {
       const double w = swath_weight(ground_m, swath_m, options_.taper_fraction);
-      sum_wi_[idx] += w * value;
-      sum_w_[idx] += w;
+      sum_wi_[idx] += static_cast<float>(w * value);
+      sum_w_[idx] += static_cast<float>(w);
       break;
     }
     case MosaicRule::max:
@@ -349,7 +349,7 @@ std::vector<float> MosaicGrid::intensity() const {
     if (count_[i] == 0) continue;
     switch (options_.rule) {
       case MosaicRule::weighted_mean:
-        out[i] = static_cast<float>(sum_wi_[i] / sum_w_[i]);
+        out[i] = sum_wi_[i] / sum_w_[i];
         break;
       case MosaicRule::max:
       case MosaicRule::nearest:
@@ -373,8 +373,8 @@ MosaicImage MosaicGrid::finish() && {
   MosaicImage out;
   out.geometry = geometry_;
   out.intensity = intensity();
-  std::vector<double>().swap(sum_wi_);
-  std::vector<double>().swap(sum_w_);
+  std::vector<float>().swap(sum_wi_);
+  std::vector<float>().swap(sum_w_);
   std::vector<float>().swap(best_);
   std::vector<float>().swap(best_range_);
   std::vector<float>().swap(label_range_);

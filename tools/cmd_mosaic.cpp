@@ -60,7 +60,7 @@ int run_mosaic(const std::vector<std::string>& args) {
     ("layback", "SensorX/Y is the tow point: place the fish Layback metres behind it")
     ("no-bottom-pick", "skip pings with altitude <= 0 instead of picking the first return")
     ("max-pixels", po::value(&mo.max_pixels)->default_value(mo.max_pixels),
-     "refuse a mosaic of more pixels than this (about 28 bytes each while gridding)")
+     "refuse a mosaic of more pixels than this (about 20 bytes each while gridding)")
     ("count", "add band 2: number of contributions per pixel")
     ("of", po::value(&format)->default_value("COG"), "COG | GTiff")
     ("co", po::value(&co)->composing(), "creation option KEY=VALUE (repeatable)")

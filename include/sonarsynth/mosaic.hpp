@@ -130,8 +130,8 @@ class MosaicGrid {
   GridGeometry geometry_;
   MosaicOptions options_;
   const HeightGrid* bathymetry_;
-  std::vector<double> sum_wi_;
-  std::vector<double> sum_w_;
+  std::vector<float> sum_wi_;  ///< float: the image is Float32, and 8 bytes a pixel less
+  std::vector<float> sum_w_;
   std::vector<std::uint32_t> count_;
   std::vector<float> best_;        ///< max or nearest value
   std::vector<float> best_range_;  ///< ground range of the nearest value

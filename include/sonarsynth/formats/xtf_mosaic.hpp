@@ -26,7 +26,7 @@ struct XtfMosaicOptions {
   bool bottom_pick = true;
   /// Largest mosaic accepted, in pixels (columns x rows), > 0: a larger one is refused with an
   /// InputError naming the extent, the pixel size and this limit, before anything is allocated
-  /// (the mean rule holds about 28 bytes per pixel while gridding).
+  /// (the mean rule holds about 20 bytes per pixel while gridding).
   std::uint64_t max_pixels = std::uint64_t{1} << 28;
   /// A ping whose SlantRange exceeds this many times the median of its file is a navigation
   /// outlier (> 1).
