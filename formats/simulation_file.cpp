@@ -224,12 +224,8 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     s.samples_per_channel = *overrides.samples;
   }
   // A ping period shorter than the two-way travel time to the maximum range overlaps pings.
-  if (s.ping_period_s > 0.0 && s.ping_period_s < 2.0 * s.max_range_m / s.sound_speed_m_s) {
-    top.child("sonar").fail_value(
-        "ping_period_s", "ping_period_s >= the two-way travel time 2 " + setup.range_key +
-                             " / sound_speed_m_s = " +
-                             std::to_string(2.0 * s.max_range_m / s.sound_speed_m_s) + " s");
-  }
+  if (const auto v = ping_period_violation(setup))
+    top.child("sonar").fail_value("ping_period_s", *v);
 
   // Render: physics switches and quality.
   if (top.has("render")) {
@@ -267,10 +263,8 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     f.only(keys_of("sensor"));
     options::read_all(f, "sensor", setup);
     // The library caps the ring-down at a tenth of the range; a file asking for more is refused.
-    if (f.given("ring_down_m") && std::isfinite(cfg.sensor.ring_down_m) &&
-        cfg.sensor.ring_down_m > 0.1 * s.max_range_m) {
-      f.fail_value("ring_down_m", "ring_down_m <= a tenth of the range (" +
-                                      std::to_string(0.1 * s.max_range_m) + " m)");
+    if (f.given("ring_down_m")) {
+      if (const auto v = ring_down_violation(setup)) f.fail_value("ring_down_m", *v);
     }
   }
 
@@ -283,15 +277,13 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     if (setup.sample_format == "f32" && std::isnan(cfg.output.gain_db)) cfg.output.gain_db = 0.0;
   }
   // Common XTF readers take at most 8192 samples per channel: more only on request.
-  if (s.samples_per_channel > xtf::kMaxPortableSamples && !setup.allow_more_than_8192_samples) {
-    const std::string c =
-        "<= 8192, the most common XTF readers accept (set "
-        "output.allow_more_than_8192_samples: true to write more)";
+  if (const auto v = sample_count_violation(setup)) {
+    const std::string& c = *v;
     if (overrides.samples) {
       throw InputError("--samples = " + std::to_string(s.samples_per_channel) +
                        ". Violated constraint: " + c);
     }
-    top.child("sonar").fail_value("samples", "samples " + c);
+    top.child("sonar").fail_value("samples", c);
   }
 
   // Limits on the run (checked before rendering, formats/run_check.cpp).
@@ -399,6 +391,54 @@ SceneLoadOptions scene_options(const SimulationOverrides& overrides) {
 }
 
 }  // namespace
+
+std::optional<std::string> ping_period_violation(const SimulationSetup& setup) {
+  const SonarConfig& s = setup.config.sonar;
+  const double two_way_s = 2.0 * s.max_range_m / s.sound_speed_m_s;
+  if (!(s.ping_period_s > 0.0 && s.ping_period_s < two_way_s)) return std::nullopt;
+  return "ping_period_s >= the two-way travel time 2 " + setup.range_key +
+         " / sound_speed_m_s = " + std::to_string(two_way_s) + " s";
+}
+
+std::optional<std::string> ring_down_violation(const SimulationSetup& setup) {
+  const double ring_down_m = setup.config.sensor.ring_down_m;
+  const double cap_m = 0.1 * setup.config.sonar.max_range_m;
+  if (!(std::isfinite(ring_down_m) && ring_down_m > cap_m)) return std::nullopt;
+  return "ring_down_m <= a tenth of the range (" + std::to_string(cap_m) + " m)";
+}
+
+std::optional<std::string> sample_count_violation(const SimulationSetup& setup) {
+  if (setup.config.sonar.samples_per_channel <= xtf::kMaxPortableSamples ||
+      setup.allow_more_than_8192_samples) {
+    return std::nullopt;
+  }
+  return "samples <= 8192, the most common XTF readers accept (set "
+         "output.allow_more_than_8192_samples: true to write more)";
+}
+
+void check_cross_keys(const SimulationSetup& setup, const std::string& name) {
+  const auto fail = [&](const std::string& key, const std::string& value,
+                        const std::string& constraint) {
+    throw InputError(name + ": " + key + " = " + value + ". Violated constraint: " + constraint);
+  };
+  const auto text = [](double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  };
+  const SimulationConfig& c = setup.config;
+  if (const auto v = ping_period_violation(setup)) {
+    fail("sonar.ping_period_s", text(c.sonar.ping_period_s), *v);
+  }
+  if (c.sensor.ring_down_m != SensorConfig{}.ring_down_m) {
+    if (const auto v = ring_down_violation(setup)) {
+      fail("sensor.ring_down_m", text(c.sensor.ring_down_m), *v);
+    }
+  }
+  if (const auto v = sample_count_violation(setup)) {
+    fail("sonar.samples", std::to_string(c.sonar.samples_per_channel), *v);
+  }
+}
 
 SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {
   Scene scene = load_scene(path, scene_options(overrides));

@@ -94,6 +94,7 @@ std::shared_ptr<const Simulator> PySimulation::simulator() {
   if (sim_) return sim_;
   setup.config.validate();
   setup.vehicle.validate();
+  check_cross_keys(setup, name);  // what a scene file with these values would refuse
   // The reference altitude of the global calibration, as a scene file derives it.
   double reference_altitude_m = setup.vehicle.altitude_m;
   if (setup.vehicle.depth_mode == VehicleConfig::DepthMode::kDepth) {

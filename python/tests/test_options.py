@@ -102,3 +102,27 @@ def test_unknown_option(scene_path):
         sim.set("sonar.rnage_m", 3)
     with pytest.raises(ValueError, match="not an option"):
         sim.get("sonar.rnage_m")
+
+
+# Constraints between keys: set() takes each value alone (others may follow), the Simulation
+# refuses the combination before it renders, with the scene file's constraint.
+@pytest.mark.parametrize("section,key,value", [("sonar", "ping_period_s", "0.001"),
+                                               ("sensor", "ring_down_m", "9"),
+                                               ("sonar", "samples", "9000")])
+def test_constraints_between_keys_are_the_scene_files(tmp_path, section, key, value):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(scene_with(section, key, value))
+    with pytest.raises(ValueError) as from_file:
+        sonarsynth.Simulation.from_file(str(bad))
+    sim = sonarsynth.Simulation.from_yaml(SCENE, name=str(bad), base_dir=str(tmp_path))
+    sim.set(f"{section}.{key}", float(value) if "." in value else int(value))
+    with pytest.raises(ValueError) as from_render:
+        sim.gain_db
+    assert str(from_render.value).startswith(f"{bad}: {section}.{key} = ")
+    constraint = str(from_file.value).split("Violated constraint: ")[1]
+    assert str(from_render.value).split("Violated constraint: ")[1] == constraint
+    # Repaired, it renders.
+    repair = {"ping_period_s": ("sonar.ping_period_s", 0.1), "ring_down_m": ("sonar.range_m", 95),
+              "samples": ("output.allow_more_than_8192_samples", True)}[key]
+    sim.set(*repair)
+    assert sim.gain_db == sim.gain_db

@@ -74,6 +74,21 @@ SimulationSetup load_simulation_from_string(const std::string& yaml_text, const 
                                             const std::filesystem::path& base_dir,
                                             const SimulationOverrides& overrides = {});
 
+/// The constraints that tie several keys together, each as "the constraint violated" or nothing:
+/// a scene file is checked against them as it is read (its messages name the file and line),
+/// a setup built in code by check_cross_keys() before it renders.
+/// - sonar.ping_period_s (when > 0) at least the two-way travel time to the range;
+std::optional<std::string> ping_period_violation(const SimulationSetup& setup);
+/// - sensor.ring_down_m at most a tenth of the range (the library caps a default one there);
+std::optional<std::string> ring_down_violation(const SimulationSetup& setup);
+/// - sonar.samples at most 8192 unless output.allow_more_than_8192_samples.
+std::optional<std::string> sample_count_violation(const SimulationSetup& setup);
+
+/// Throws InputError "<name>: <key> = <value>. Violated constraint: ..." for the first of the
+/// constraints above that `setup` violates; the ring-down is checked when it is not the default
+/// (a default one is capped). For setups changed in code (the Python module's `set`).
+void check_cross_keys(const SimulationSetup& setup, const std::string& name);
+
 /// Writes the effective configuration of a run: the scene file with absolute file paths, the
 /// seed and the overrides applied, and the derived values (gain, absorption, EPSG...) under
 /// `derived`, so that simulating it again reproduces the run exactly.
