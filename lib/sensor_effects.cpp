@@ -493,9 +493,9 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
   // look j come from seeds of its own (look_seed), the texture is drawn once for all looks.
   const int looks = std::max(1, m.sub_samples);
   const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
-  const PhaseTable& phase = PhaseTable::get();
-  const RayleighTable& rayleigh = RayleighTable::get();
+  const NormalTable& normal = NormalTable::get();
   const double n_power = speckle.thermal_noise_power;
+  const double half_n = 0.5 * n_power, sqrt_half_n = std::sqrt(half_n);
   const double floor_power = m.floor_power;
   const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
   s.base.resize(n);
@@ -528,12 +528,9 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
       // One keyed word per sample and look: its high half the thermal noise, its low half the
       // receiver noise.
       const std::uint64_t hn = splitmix_stream(seed_n, noise_keys[i]);
-      if (n_power > 0.0) a = add_thermal_noise(a, n_power, hn, rayleigh, phase);
+      if (n_power > 0.0) a = add_thermal_noise(a, half_n, sqrt_half_n, hn, normal);
       double p = a * out_gain[i];
-      if (floor_power > 0.0) {
-        const double rf = rayleigh(hn << 32);  // Exp(1) = R^2
-        p += floor_power * (rf * rf);
-      }
+      if (floor_power > 0.0) p += floor_power * exp1_from_low_half(hn, normal);
       if (j == 0) {
         out[i] = max_detector ? p : std::sqrt(p);
       } else if (max_detector) {
