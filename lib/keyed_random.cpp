@@ -224,6 +224,54 @@ const PhaseTable& PhaseTable::get() {
   return table;
 }
 
+double NormalTable::density(double x) {
+  return 0.39894228040143267794 * std::exp(-0.5 * x * x);
+}
+double NormalTable::upper_tail(double x) {
+  return 0.5 * std::erfc(x * 0.70710678118654752440);
+}
+
+NormalTable::NormalTable() : table_(kCells), edge_(kCells + 1) {
+  const double cells = static_cast<double>(kCells);
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  // Upper edges x_k with Q(x_k) = k / 2^16, k = 2^15 .. 1 (x from 0 up), by Newton from the
+  // previous edge: Q is convex and decreasing on x >= 0, so Newton from the left of the root
+  // converges monotonically; the lower half by symmetry.
+  const std::size_t half = kCells / 2;
+  edge_[half] = 0.0;
+  double x = 0.0;
+  for (std::size_t k = half - 1; k >= 1; --k) {
+    const double p = static_cast<double>(k) / cells;  // exact
+    for (int iter = 0; iter < 100; ++iter) {
+      const double step = (upper_tail(x) - p) / density(x);
+      x += step;
+      if (!(std::abs(step) > 1e-15 * x)) break;
+    }
+    edge_[kCells - k] = x;
+    edge_[k] = -x;
+  }
+  edge_[0] = -kInfinity;
+  edge_[kCells] = kInfinity;
+  // Conditional means of the upper half's cells (density 0 at an infinite edge); the lower half
+  // mirrors them.
+  std::vector<double> mean(kCells);
+  double second = 0.0;
+  for (std::size_t k = half; k < kCells; ++k) {
+    const double b = edge_[k + 1];
+    const double m = cells * (density(edge_[k]) - (std::isinf(b) ? 0.0 : density(b)));
+    mean[k] = m;
+    mean[kCells - 1 - k] = -m;
+    second += 2.0 * m * m;
+  }
+  scale_ = 1.0 / std::sqrt(second / cells);
+  for (std::size_t k = 0; k < kCells; ++k) table_[k] = static_cast<float>(mean[k] * scale_);
+}
+
+const NormalTable& NormalTable::get() {
+  static const NormalTable table;
+  return table;
+}
+
 double RayleighTable::exact(std::uint64_t u) {
   constexpr double kCell = 0x1.0p-22;
   const double p = (static_cast<double>(u) + 0.5) * kCell;

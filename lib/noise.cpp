@@ -133,21 +133,21 @@ class TextureTables {
 // quality):
 //  - frozen part: hk = stream(seed, key), E_s from its high half, T from its low half; runs of
 //    samples sharing (key, nu) reuse the product T E_s;
-//  - thermal part: hn = stream(seed', noise_key), E_n = R^2 with R from its top 22 bits
-//    (RayleighTable), the phase from the next 10 (PhaseTable); the low 32 bits are the
+//  - thermal part: hn = stream(seed', noise_key), the noise field's two standard normals g1, g2
+//    from the 16-bit quarters of its high half (NormalTable); the low 32 bits are the
 //    detector's receiver noise.
 // UnitGammaTable takes the top 12 bits of a half as the bin and the next 20 as the position in
 // it, completed by high32_midpoint so the position is the centre of one of 2^20 equal cells
 // (unbiased). Resolution 2^-32 in probability for E_s and T (tails cut at probability 2^-33,
-// Exp(1) at ~22.9), 2^-22 for E_n (cut at 2^-23, Exp(1) at 15.9, where the thermal noise is
-// a small additive term), far below what the KS / moment tests or an image resolve.
+// Exp(1) at ~22.9), 2^-16 for g1, g2 (|g| <= 4.3, where the thermal noise is a small additive
+// term), far below what the KS / moment tests or an image resolve.
 void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> keys,
                     std::span<const std::uint64_t> noise_keys, std::span<const double> texture_nu,
                     std::span<const double> field, std::span<double> intensity) {
   const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
-  const PhaseTable& phase = PhaseTable::get();
-  const RayleighTable& rayleigh = RayleighTable::get();
+  const NormalTable& normal = NormalTable::get();
   const double n_power = noise.thermal_noise_power;
+  const double half_n = 0.5 * n_power, sqrt_half_n = std::sqrt(half_n);
   const std::uint64_t seed_s = speckle_seed(noise.seed);
   const std::uint64_t seed_n = thermal_seed(noise.seed);
   const bool textured = !texture_nu.empty();
@@ -185,7 +185,7 @@ void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> ke
       if (given) a *= field[i];
     }
     if (n_power > 0.0)
-      a = add_thermal_noise(a, n_power, splitmix_stream(seed_n, noise_keys[i]), rayleigh, phase);
+      a = add_thermal_noise(a, half_n, sqrt_half_n, splitmix_stream(seed_n, noise_keys[i]), normal);
     intensity[i] = a;
   }
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 #include "sonarsynth/error.hpp"
@@ -37,6 +38,9 @@ constexpr std::uint64_t kFloorStream = 0x5e15e0f1001ULL;
 constexpr double kLatticeStep = 1.5;
 // Salt of the along-track scatterer lattice.
 constexpr std::uint64_t kFieldSalt = 0xa10e7a0c5ca77e45ULL;
+// Looks of along_track_speckle_looks: look l adds l 2^56 to the pair index of its keyed words.
+constexpr int kMaxFieldLooks = 256;
+constexpr std::uint64_t kLookStride = std::uint64_t{1} << 56;
 // Salt of the seeds of look j >= 1.
 constexpr std::uint64_t kLookSalt = 0x100000000ULL;
 // Stream of the texture's Marsaglia–Tsang fallback beyond the tables (as in noise.cpp).
@@ -309,26 +313,18 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
 
 void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, int first_look,
                                int looks, AlongTrackTable& table, std::vector<double>& out) {
-  const auto nl = static_cast<std::size_t>(std::max(0, looks));
+  if (first_look < 0 || looks < 0 || first_look + looks > kMaxFieldLooks) {
+    throw std::invalid_argument("along_track_speckle_looks: looks " + std::to_string(first_look) +
+                                " .. " + std::to_string(first_look + looks - 1) +
+                                ". Violated constraint: 0 <= look < " +
+                                std::to_string(kMaxFieldLooks));
+  }
+  const auto nl = static_cast<std::size_t>(looks);
   out.resize(samples * nl);
   table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples);
-  const PhaseTable& phase = PhaseTable::get();
+  const NormalTable& normal = NormalTable::get();
   const LatticeWeights& weights = LatticeWeights::get();
-  const RayleighTable& rayleigh = RayleighTable::get();
-  constexpr std::size_t kMaxLooks = 16;
-  std::uint64_t base[kMaxLooks];
   const std::uint64_t line = hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key);
-  for (std::size_t j = 0; j < std::min(nl, kMaxLooks); ++j) {
-    base[j] = hash_combine(line, static_cast<std::uint64_t>(first_look) + j);
-  }
-  if (nl > kMaxLooks) {  // (more looks than any detector uses: one look at a time)
-    for (std::size_t j = 0; j < nl; ++j) {
-      std::vector<double> one;
-      along_track_speckle_looks(f, samples, first_look + static_cast<int>(j), 1, table, one);
-      std::copy(one.begin(), one.end(), out.begin() + static_cast<std::ptrdiff_t>(j * samples));
-    }
-    return;
-  }
   const double* sw = table.sw.data();
   const double* inv_step = table.inv_step.data();
   for (std::size_t i = 0; i < samples; ++i) {
@@ -351,30 +347,41 @@ void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, in
     const double frac = u - static_cast<double>(m0);
     double w[4];
     weights.at(frac, w);
-    const double inv_w2 = 1.0 / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2] + w[3] * w[3]);
+    // The sum in float (relative rounding ~1e-7, far below the speckle's own spread), normalised
+    // in double by 1 / (2 sum w^2) of the same float weights (the scatterers
+    // (g1 + i g2) / sqrt(2) have unit power), so the mean stays exactly 1.
+    float wf[4];
+    double w2 = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      wf[k] = static_cast<float>(w[k]);
+      w2 += static_cast<double>(wf[k]) * static_cast<double>(wf[k]);
+    }
+    const double inv_2w2 = 0.5 / w2;
     const std::int64_t first = m0 - 1;
-    const auto pair0 = static_cast<std::uint64_t>(first >> 1);
     const int odd = static_cast<int>(first & 1);
+    // The keyed word of (sample i, look, pair p of scatterers m = 2p, 2p + 1) is
+    // splitmix_stream(cell, p + look 2^56): |p| < 2^49, so (p, look) pairs are distinct for
+    // look < 2^8.
+    const std::uint64_t cell = splitmix_stream(line, static_cast<std::uint64_t>(i));
+    const auto pair0 = static_cast<std::uint64_t>(first >> 1);
     for (std::size_t j = 0; j < nl; ++j) {
-      // Scatterer m (lattice index m0 - 1 + k): a circular complex Gaussian of unit power,
-      // R e^(i phi), R Rayleigh (RayleighTable, 22 bits) and phi (PhaseTable, 10 bits) from one
-      // half of the keyed word of the pair m >> 1: two words per sample, three when m0 - 1 is
-      // odd.
-      const std::uint64_t cell = splitmix_stream(base[j], static_cast<std::uint64_t>(i));
+      const std::uint64_t p0 = pair0 + (static_cast<std::uint64_t>(first_look) + j) * kLookStride;
+      // Scatterer m (lattice index m0 - 1 + k): g1 from the low 16 bits of one half of the
+      // word of the pair m >> 1, g2 from its high 16 bits (NormalTable): two words per sample,
+      // three when m0 - 1 is odd.
       std::uint64_t h[3];
-      h[0] = splitmix_stream(cell, pair0);
-      h[1] = splitmix_stream(cell, pair0 + 1);
-      h[2] = odd != 0 ? splitmix_stream(cell, pair0 + 2) : 0;
-      double re = 0.0, im = 0.0;
+      h[0] = splitmix_stream(cell, p0);
+      h[1] = splitmix_stream(cell, p0 + 1);
+      h[2] = odd != 0 ? splitmix_stream(cell, p0 + 2) : 0;
+      float re = 0.0f, im = 0.0f;
       for (int k = 0; k < 4; ++k) {
         const int q = k + odd;  // the scatterer's half among the words: word q / 2, half q % 2
-        const std::uint64_t word = h[q >> 1] << (32 * (q & 1));  // its half on top
-        const double amp = w[k] * rayleigh(word);
-        const Phasor ph = phase(word << 22);
-        re += amp * ph.c;
-        im += amp * ph.s;
+        const auto half = static_cast<std::uint32_t>(h[q >> 1] >> (32 * (q & 1)));
+        re += wf[k] * normal(half);
+        im += wf[k] * normal(half >> 16);
       }
-      out[j * samples + i] = (re * re + im * im) * inv_w2;
+      const auto dre = static_cast<double>(re), dim = static_cast<double>(im);
+      out[j * samples + i] = (dre * dre + dim * dim) * inv_2w2;
     }
   }
 }
@@ -486,9 +493,9 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
   // look j come from seeds of its own (look_seed), the texture is drawn once for all looks.
   const int looks = std::max(1, m.sub_samples);
   const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
-  const PhaseTable& phase = PhaseTable::get();
-  const RayleighTable& rayleigh = RayleighTable::get();
+  const NormalTable& normal = NormalTable::get();
   const double n_power = speckle.thermal_noise_power;
+  const double half_n = 0.5 * n_power, sqrt_half_n = std::sqrt(half_n);
   const double floor_power = m.floor_power;
   const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
   s.base.resize(n);
@@ -521,12 +528,9 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
       // One keyed word per sample and look: its high half the thermal noise, its low half the
       // receiver noise.
       const std::uint64_t hn = splitmix_stream(seed_n, noise_keys[i]);
-      if (n_power > 0.0) a = add_thermal_noise(a, n_power, hn, rayleigh, phase);
+      if (n_power > 0.0) a = add_thermal_noise(a, half_n, sqrt_half_n, hn, normal);
       double p = a * out_gain[i];
-      if (floor_power > 0.0) {
-        const double rf = rayleigh(hn << 32);  // Exp(1) = R^2
-        p += floor_power * (rf * rf);
-      }
+      if (floor_power > 0.0) p += floor_power * exp1_from_low_half(hn, normal);
       if (j == 0) {
         out[i] = max_detector ? p : std::sqrt(p);
       } else if (max_detector) {

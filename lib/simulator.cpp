@@ -40,6 +40,28 @@ void ping_sample_keys(std::uint64_t ping, bool starboard, const std::vector<std:
   }
 }
 
+// Key of the seabed cell (ix, iy, iz): the three indices packed into 23 + 23 + 16 bits when
+// they fit (+-2^22 and +-2^15 cells: +-210 km and +-1.6 km at 5 cm), scrambled by a bijection of
+// the 62-bit integers (odd multiplies and xor-shifts mod 2^62, the pattern of splitmix64) and
+// tagged with bit 62: distinct cells in that range never share a key, at two multiplies
+// instead of four mixes; beyond it the chained hash of the three (bit 62 clear). Bit 63 is clear:
+// never a (ping, sample) key.
+std::uint64_t ground_cell_key(std::int64_t ix, std::int64_t iy, std::int64_t iz) {
+  constexpr std::int64_t kXy = std::int64_t{1} << 22, kZ = std::int64_t{1} << 15;
+  constexpr std::uint64_t kMask62 = (std::uint64_t{1} << 62) - 1;
+  const auto ux = static_cast<std::uint64_t>(ix), uy = static_cast<std::uint64_t>(iy),
+             uz = static_cast<std::uint64_t>(iz);
+  if (ix >= -kXy && ix < kXy && iy >= -kXy && iy < kXy && iz >= -kZ && iz < kZ) {
+    std::uint64_t x = ((ux & 0x7fffffULL) << 39) | ((uy & 0x7fffffULL) << 16) | (uz & 0xffffULL);
+    x = (x * 0xbf58476d1ce4e5b9ULL) & kMask62;
+    x ^= x >> 31;
+    x = (x * 0x94d049bb133111ebULL) & kMask62;
+    x ^= x >> 29;
+    return (std::uint64_t{1} << 62) | x;
+  }
+  return (kMask62 & hash_combine(hash_combine(ux, uy), uz));
+}
+
 // floor(x) as int64 for finite |x| < 2^63 without a libm call (identical to std::floor there):
 // truncation, minus one for negative non-integers.
 inline std::int64_t floor_to_int(double x) {
@@ -557,9 +579,7 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
           iz = static_cast<std::int64_t>(std::floor(qz));
         }
         if (!have_last || ix != lx || iy != ly || iz != lz) {
-          last_key = ~kPingSampleKeyBit & hash_combine(hash_combine(static_cast<std::uint64_t>(ix),
-                                                                    static_cast<std::uint64_t>(iy)),
-                                                       static_cast<std::uint64_t>(iz));
+          last_key = ground_cell_key(ix, iy, iz);
           lx = ix;
           ly = iy;
           lz = iz;

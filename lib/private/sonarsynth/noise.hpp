@@ -28,14 +28,12 @@ struct PaperNoise {
 /// How apply_speckle_noise draws its variates (same distribution either way).
 enum class SpeckleSampler : std::uint8_t {
   /// Default, fast. The detected sum of the frozen speckle field s (|s|^2 = A) and the fresh
-  /// noise field n (|n|^2 = B), both circular complex Gaussian and independent, is
-  ///   I' = |s + n|^2 = A + B + 2 sqrt(A B) cos(dphi),
-  /// with A = I T E_s, B = N E_n, E_s, E_n ~ Exp(1) and the phase difference dphi ~ U(0, 2 pi)
-  /// independent of A and B (the phases of circular Gaussians are uniform and independent of
-  /// their moduli): exact in distribution, also jointly over pings (s frozen, n fresh). E_s, E_n
-  /// and T come from UnitGammaTable (tabulated inverse CDF, error bounded in the tests), cos
-  /// from PhaseTable (a discrete uniform phase with the continuous one's moments); no
-  /// Box–Muller, no rejection. B is skipped when N = 0.
+  /// noise field n (|n|^2 = B), both circular complex Gaussian and independent: with
+  /// A = I T E_s, E_s ~ Exp(1), the phase of s uniform and independent of n, so
+  ///   I' = |s + n|^2 = (sqrt(A) + sqrt(N / 2) g1)^2 + (N / 2) g2^2
+  /// exactly in distribution, also jointly over pings (s frozen, n fresh), g1 and g2 standard
+  /// normals. E_s and T come from UnitGammaTable (tabulated inverse CDF, error bounded in the
+  /// tests), g1 and g2 from NormalTable; no Box–Muller, no rejection. n is skipped when N = 0.
   tables,
   /// Reference: Box–Muller pairs (keyed_normal_pair) and Marsaglia–Tsang Gamma (keyed_gamma)
   /// per sample, exactly as the formula below.
@@ -66,18 +64,26 @@ inline std::uint64_t thermal_seed(std::uint64_t seed) {
   return splitmix64(seed ^ kThermalSalt);
 }
 
-/// The thermal step of the tables sampler: |s + n|^2 = A + B + 2 sqrt(A B) cos(dphi) with
-/// A = a, B = n_power R^2 (R^2 = E_n ~ Exp(1)), R from the top 22 bits of the keyed word `hn`
-/// (RayleighTable), the phase from the next 10 (PhaseTable); the low 32 bits are left for the
-/// caller (the receiver noise of detect_speckle). |s + n|^2 >= 0; the max() only removes
-/// rounding below zero when A ~ B, cos ~ -1.
-inline double add_thermal_noise(double a, double n_power, std::uint64_t hn,
-                                const RayleighTable& rayleigh, const PhaseTable& phase) {
-  const double r = rayleigh(hn);
-  const double b = n_power * (r * r);
-  const double c = phase(hn << 22).c;
-  const double v = a + b + 2.0 * std::sqrt(a * b) * c;
-  return v > 0.0 ? v : 0.0;
+/// The thermal step of the tables sampler: the frozen field s (power A = a) has a uniform phase
+/// independent of the circular noise field n (power N = n_power), so after rotating both by it
+///   |s + n|^2 = (sqrt(A) + sqrt(N / 2) g1)^2 + (N / 2) g2^2
+/// exactly in distribution, g1 and g2 standard normals (NormalTable) from the low and high 16
+/// bits of the high half of the keyed word `hn`; its low 32 bits are left for the caller (the
+/// receiver noise of detect_speckle). `half_n` is N / 2 and `sqrt_half_n` its square root.
+inline double add_thermal_noise(double a, double half_n, double sqrt_half_n, std::uint64_t hn,
+                                const NormalTable& normal) {
+  const auto hi = static_cast<std::uint32_t>(hn >> 32);
+  const double g1 = normal(hi), g2 = normal(hi >> 16);
+  const double re = std::sqrt(a) + sqrt_half_n * g1;
+  return re * re + half_n * (g2 * g2);
+}
+
+/// Exp(1) from the low 32 bits of `hn`: (g3^2 + g4^2) / 2, g3 and g4 standard normals
+/// (NormalTable).
+inline double exp1_from_low_half(std::uint64_t hn, const NormalTable& normal) {
+  const auto lo = static_cast<std::uint32_t>(hn);
+  const double g3 = normal(lo), g4 = normal(lo >> 16);
+  return 0.5 * (g3 * g3 + g4 * g4);
 }
 
 /// The input checks of apply_speckle_noise for `n` samples (InputError naming the violated

@@ -90,7 +90,7 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
                          std::vector<double>& out);
 /// Looks first_look .. first_look + looks - 1 at once (the lattice geometry and weights shared):
 /// look first_look + j in out[j samples .. (j + 1) samples), the same values as one look at a
-/// time.
+/// time. Looks are 0 .. 255 (else std::invalid_argument).
 void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, int first_look,
                                int looks, AlongTrackTable& table, std::vector<double>& out);
 
