@@ -211,19 +211,6 @@ double UnitGammaTable::tail(std::uint64_t k, std::uint64_t m) const {
   return exact_quantile(1.0 - q, q);
 }
 
-PhaseTable::PhaseTable() {
-  for (std::size_t k = 0; k < kPoints; ++k) {
-    const double phi =
-        6.283185307179586476925 * static_cast<double>(k) / static_cast<double>(kPoints);
-    table_[k] = {std::cos(phi), std::sin(phi)};
-  }
-}
-
-const PhaseTable& PhaseTable::get() {
-  static const PhaseTable table;
-  return table;
-}
-
 double NormalTable::density(double x) {
   return 0.39894228040143267794 * std::exp(-0.5 * x * x);
 }
@@ -269,37 +256,6 @@ NormalTable::NormalTable() : table_(kCells), edge_(kCells + 1) {
 
 const NormalTable& NormalTable::get() {
   static const NormalTable table;
-  return table;
-}
-
-double RayleighTable::exact(std::uint64_t u) {
-  constexpr double kCell = 0x1.0p-22;
-  const double p = (static_cast<double>(u) + 0.5) * kCell;
-  // -ln(1 - p) from the smaller tail: log1p near 0, ln(q) with q exact near 1.
-  const double e =
-      u < (std::uint64_t{1} << 21)
-          ? -std::log1p(-p)
-          : -std::log((static_cast<double>((std::uint64_t{1} << 22) - u) - 0.5) * kCell);
-  return std::sqrt(e);
-}
-
-RayleighTable::RayleighTable() : bins_(kBins) {
-  const double m = static_cast<double>(kBins);
-  auto q_at_edge = [&](std::size_t k) {
-    if (k == 0) return 0.0;
-    const double q = static_cast<double>(kBins - k) / m;  // 1 - p, exact
-    return std::sqrt(-std::log(q));
-  };
-  for (std::size_t k = 0; k < kBins; ++k) {
-    const double x0 = q_at_edge(k);
-    const double x1 = k + 1 < kBins ? q_at_edge(k + 1) : x0;  // the last bin is exact anyway
-    const double d = (x1 - x0) / static_cast<double>(std::size_t{1} << kFracBits);
-    bins_[k] = {x0, d, 0.5 * d};
-  }
-}
-
-const RayleighTable& RayleighTable::get() {
-  static const RayleighTable table;
   return table;
 }
 

@@ -264,61 +264,6 @@ TEST(SpeckleNoise, PhasePolynomialMatchesSine) {
   EXPECT_LT(worst, 1e-15);
 }
 
-// The tabulated Rayleigh quantile against the exact law R^2 ~ Exp(1), F(r) = 1 - exp(-r^2), in
-// every one of its 2^22 equiprobable cells: the value of cell u lies where F is within 1e-6 of
-// the cell's midpoint probability (u + 1/2) 2^-22, values are non-decreasing (so the KS distance
-// is at most 2^-23 + 1e-6), E[R^2] = 1 up to the tail cut at 2^-23 (~2e-6), E[R] = sqrt(pi) / 2.
-TEST(RayleighTable, EveryCellAgainstTheExactLaw) {
-  const RayleighTable& table = RayleighTable::get();
-  const std::uint64_t cells = std::uint64_t{1} << 22;
-  double worst = 0.0, prev = 0.0, sum_r = 0.0, sum_r2 = 0.0;
-  bool monotone = true;
-  for (std::uint64_t u = 0; u < cells; ++u) {
-    const double r = table(u << 42);
-    const double p = (static_cast<double>(u) + 0.5) / static_cast<double>(cells);
-    // F from the smaller tail: 1 - F = exp(-r^2) in the upper half.
-    const double err =
-        p < 0.5 ? std::abs(-std::expm1(-r * r) - p) : std::abs(std::exp(-r * r) - (1.0 - p));
-    worst = std::max(worst, err);
-    monotone = monotone && r >= prev;
-    prev = r;
-    sum_r += r;
-    sum_r2 += r * r;
-  }
-  EXPECT_LT(worst, 1e-6);
-  EXPECT_TRUE(monotone);
-  EXPECT_NEAR(sum_r2 / static_cast<double>(cells), 1.0, 5e-6);
-  EXPECT_NEAR(sum_r / static_cast<double>(cells), 0.5 * std::sqrt(kPiT), 1e-6);
-  // The low bits below the 22 used do not matter.
-  EXPECT_EQ(table(std::uint64_t{12345} << 42), table((std::uint64_t{12345} << 42) | 0x3ffffULL));
-}
-
-// The discrete phase: every entry on the unit circle at its angle 2 pi k / 1024, and the
-// circular moments E[e^(i m phi)] of the table vanish for m = 1 .. 1023 (what makes R e^(i phi)
-// a circular Gaussian in its moments E[z^p conj(z)^q], |p - q| < 1024).
-TEST(PhaseTable, UnitCircleAndVanishingCircularMoments) {
-  const PhaseTable& table = PhaseTable::get();
-  const std::size_t n = PhaseTable::kPoints;
-  for (std::size_t k = 0; k < n; ++k) {
-    const Phasor p = table(static_cast<std::uint64_t>(k) << (64 - PhaseTable::kBits));
-    const double phi = 2.0 * kPiT * static_cast<double>(k) / static_cast<double>(n);
-    EXPECT_NEAR(p.c, std::cos(phi), 1e-15);
-    EXPECT_NEAR(p.s, std::sin(phi), 1e-15);
-  }
-  double worst = 0.0;
-  for (std::size_t m = 1; m < n; ++m) {
-    // e^(i m phi_k) by complex multiplication of the table's own entries (index m k mod n).
-    double re = 0.0, im = 0.0;
-    for (std::size_t k = 0; k < n; ++k) {
-      const Phasor p = table(static_cast<std::uint64_t>((m * k) % n) << (64 - PhaseTable::kBits));
-      re += p.c;
-      im += p.s;
-    }
-    worst = std::max(worst, std::hypot(re, im) / static_cast<double>(n));
-  }
-  EXPECT_LT(worst, 1e-13);
-}
-
 // The tabulated standard normal against the exact law in every one of its 2^16 cells: each edge
 // has the upper tail Q(x) = erfc(x / sqrt 2) / 2 it should (k / 2^16), each value (unscaled) lies
 // inside its cell and equals the cell's conditional mean, checked in 64 cells against an

@@ -95,67 +95,6 @@ inline double cos_uniform_phase_from_bits(std::uint64_t bits) {
   return sin_taylor_half_period(3.14159265358979323846 * z);
 }
 
-/// cos and sin of a uniform phase from 64 random bits by a table of kPoints equally spaced
-/// phases 2 pi k / kPoints, k from the top kBits bits: a discrete uniform phase, whose circular
-/// moments E[e^(i m phi)] vanish for 0 < |m| < kPoints exactly as those of the continuous one,
-/// so a complex amplitude A e^(i phi) with it has the same moments E[z^p conj(z)^q] for
-/// |p - q| < kPoints (tests/noise_test.cpp). One load instead of a polynomial.
-struct Phasor {
-  double c;
-  double s;
-};
-class PhaseTable {
- public:
-  static constexpr unsigned kBits = 10;
-  static constexpr std::size_t kPoints = std::size_t{1} << kBits;
-  /// The process-wide table (built on first use, thread-safe).
-  static const PhaseTable& get();
-  Phasor operator()(std::uint64_t bits) const { return table_[bits >> (64 - kBits)]; }
-
- private:
-  PhaseTable();
-  Phasor table_[kPoints];
-};
-
-/// Rayleigh amplitudes of unit power (R^2 ~ Exp(1): R e^(i phi) with a uniform phase phi is a
-/// circular complex Gaussian of unit power) from 22 random bits by inversion of
-/// Q(p) = sqrt(-ln(1 - p)) (Devroye, "Non-Uniform Random Variate Generation", 1986, §II.2): the
-/// top kIndexBits bits choose one of kBins equiprobable bins, the other 10 the midpoint of one of
-/// 1024 equal cells in it, where Q is interpolated linearly between its exact values at the bin
-/// edges; in the kExactBins outer bins at either end (Q ~ sqrt(p) near 0, the logarithmic tail)
-/// Q is evaluated exactly. Resolution 2^-22 in probability, largest value sqrt(ln 2^23) = 3.99.
-/// No sqrt or log per draw in the inner bins; the error against the exact law is bounded in
-/// tests/noise_test.cpp (every one of the 2^22 cells).
-class RayleighTable {
- public:
-  static constexpr unsigned kIndexBits = 12;
-  static constexpr unsigned kFracBits = 10;
-  static constexpr std::size_t kBins = std::size_t{1} << kIndexBits;
-  static constexpr std::uint64_t kExactBins = 32;
-  /// The process-wide table (built on first use, thread-safe).
-  static const RayleighTable& get();
-  /// R for the top 22 bits of `bits`.
-  double operator()(std::uint64_t bits) const {
-    const std::uint64_t u = bits >> (64 - kIndexBits - kFracBits);
-    const std::uint64_t k = u >> kFracBits;
-    if (k - kExactBins >= kBins - 2 * kExactBins) return exact(u);
-    const Bin& b = bins_[k];
-    return b.x + static_cast<double>(static_cast<std::int64_t>(u & kFracMask)) * b.d + b.half_d;
-  }
-  /// The exact quantile at the midpoint of 22-bit cell u (0 <= u < 2^22).
-  static double exact(std::uint64_t u);
-
- private:
-  static constexpr std::uint64_t kFracMask = (std::uint64_t{1} << kFracBits) - 1;
-  struct Bin {
-    double x;       // Q at the bin's lower edge
-    double d;       // (Q at the upper edge - x) / 1024
-    double half_d;  // d / 2: the cell's midpoint
-  };
-  RayleighTable();
-  std::vector<Bin> bins_;
-};
-
 /// Standard normal variates from 16 random bits: the 2^16 cells of equal probability between
 /// the quantiles Phi^-1(k / 2^16), each represented by its conditional mean
 /// 2^16 (phi(a_k) - phi(a_k+1)) (the discretisation keeps the mean 0 exactly, by symmetry), scaled
