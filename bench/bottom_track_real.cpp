@@ -8,8 +8,8 @@
 // 2. The band beside nadir: pings slant-range corrected on a flat bottom with an altitude,
 //    levels 20 log10(sample) averaged per ground-range bin; the band is ground range
 //    [0, kBandM) and the reference [kRefBeginM, kRefEndM); reported as band - reference, in dB,
-//    with the header altitude and no gain ("before") and with the auto altitude and the angle
-//    gain normalisation ("after").
+//    with the header altitude and no gain ("before"), with the auto altitude, and with the auto
+//    altitude and the angle gain normalisation ("after").
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -57,13 +57,35 @@ struct Levels {
   }
 };
 
+/// The visible first return seen along the line: each ping's detection replaced by the median
+/// of the detections of the `window` pings centred on it (1 = the per-ping detections).
+std::vector<rs::FirstReturn> smoothed(std::vector<rs::FirstReturn> fr, std::size_t window) {
+  std::vector<rs::FirstReturn> out = fr;
+  const std::size_t half = window / 2;
+  std::vector<double> w;
+  for (std::size_t k = 0; k < fr.size(); ++k) {
+    w.clear();
+    for (std::size_t j = k >= half ? k - half : 0; j < std::min(fr.size(), k + half + 1); ++j) {
+      if (fr[j].found) w.push_back(fr[j].range_m);
+    }
+    if (w.empty()) continue;
+    std::sort(w.begin(), w.end());
+    out[k].found = true;
+    out[k].range_m = w[w.size() / 2];
+  }
+  return out;
+}
+
+std::size_t kRefMedianPings = 1;
+
 }  // namespace
 
 int main(int argc, char** argv) try {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: bottom_track_real FILE.xtf|.jsf\n");
+  if (argc != 2 && argc != 3) {
+    std::fprintf(stderr, "usage: bottom_track_real FILE.xtf|.jsf [REFERENCE_MEDIAN_PINGS]\n");
     return 2;
   }
+  if (argc == 3) kRefMedianPings = static_cast<std::size_t>(std::atoi(argv[2]));
   const std::string path = argv[1];
   std::vector<rs::Ping> pings;
   {
@@ -85,8 +107,8 @@ int main(int argc, char** argv) try {
   for (const rs::Ping& p : pings) tracker.add_ping(p.port, p.starboard, p.slant_range_m);
   const std::vector<double> alt = tracker.altitudes_m();
   const rs::Options ro;
-  const auto ref_p = rs::first_returns(pings, rs::Side::kPort, ro);
-  const auto ref_s = rs::first_returns(pings, rs::Side::kStarboard, ro);
+  const auto ref_p = smoothed(rs::first_returns(pings, rs::Side::kPort, ro), kRefMedianPings);
+  const auto ref_s = smoothed(rs::first_returns(pings, rs::Side::kStarboard, ro), kRefMedianPings);
   const double dr = pings[0].slant_range_m / static_cast<double>(pings[0].port.size());
   std::size_t side_n[2] = {0, 0}, side_ok[2] = {0, 0}, ping_n = 0, ping_ok = 0, header_far = 0;
   std::vector<double> header_minus_track;
@@ -121,7 +143,10 @@ int main(int argc, char** argv) try {
   }
   std::sort(header_minus_track.begin(), header_minus_track.end());
   std::printf("file %s: %zu pings, sample %.4f m\n", path.c_str(), pings.size(), dr);
-  std::printf("agreement within 2 samples of the visible first return (realism measure 4):\n");
+  std::printf(
+      "agreement within 2 samples of the visible first return (realism measure 4, along-track "
+      "median of %zu pings):\n",
+      kRefMedianPings);
   for (int side = 0; side < 2; ++side) {
     std::printf("  %s: %zu of %zu pings (%.1f %%)\n", side == 0 ? "port" : "starboard",
                 side_ok[side], side_n[side],
@@ -141,9 +166,9 @@ int main(int argc, char** argv) try {
   }
 
   // Before/after band levels.
-  for (int pass = 0; pass < 2; ++pass) {
+  for (int pass = 0; pass < 3; ++pass) {
     const AltitudeSource source = pass == 0 ? AltitudeSource::kHeader : AltitudeSource::kAuto;
-    GainNormaliser gain(pass == 0 ? GainNormalisation::kOff : GainNormalisation::kAngle);
+    GainNormaliser gain(pass < 2 ? GainNormalisation::kOff : GainNormalisation::kAngle);
     std::size_t tracked = 0;
     std::vector<double> chosen(pings.size());
     for (std::size_t k = 0; k < pings.size(); ++k) {

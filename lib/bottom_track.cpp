@@ -300,8 +300,8 @@ void GainNormaliser::finish() {
       } else {
         const std::size_t lo = *(up - 1), hi = *up;
         const double f = static_cast<double>(b - lo) / static_cast<double>(hi - lo);
-        gain_[side][b] = std::exp((1.0 - f) * std::log(gain_[side][lo]) +
-                                  f * std::log(gain_[side][hi]));
+        gain_[side][b] =
+            std::exp((1.0 - f) * std::log(gain_[side][lo]) + f * std::log(gain_[side][hi]));
       }
     }
   }
