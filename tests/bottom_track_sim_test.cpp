@@ -122,6 +122,19 @@ TEST_F(BottomTrackSimTest, ZeroedOrWrongHeaderAltitudeIsReplacedByTheTrackedOne)
   }
   ASSERT_GT(both, 1000u);
   EXPECT_GE(static_cast<double>(close), 0.95 * static_cast<double>(both));
+  // waterfall --slant-correct: every row tracked with auto, none with header.
+  const std::string n = std::to_string(pings_.size());
+  const test::CliResult w = test::run_cli(
+      "waterfall " + bad.string() + " -o " + (dir_ / "w.png").string() + " --slant-correct", dir_);
+  EXPECT_EQ(w.exit_code, 0) << w.err;
+  EXPECT_NE(w.out.find("altitude of " + n + " of " + n + " pings tracked"), std::string::npos)
+      << w.out;
+  const test::CliResult wh =
+      test::run_cli("waterfall " + bad.string() + " -o " + (dir_ / "wh.png").string() +
+                        " --slant-correct --altitude-source header",
+                    dir_);
+  EXPECT_EQ(wh.exit_code, 0) << wh.err;
+  EXPECT_NE(wh.out.find("altitude of 0 of " + n + " pings tracked"), std::string::npos) << wh.out;
   // Header only: the zeroed pings are skipped.
   mo.altitude_source = AltitudeSource::kHeader;
   const XtfMosaicResult h = mosaic_xtf({bad}, mo);
