@@ -13,6 +13,8 @@
 
 #include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/jsf/convert.hpp"
+#include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/run_simulation.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
@@ -139,6 +141,34 @@ TEST_F(BottomTrackSimTest, ZeroedOrWrongHeaderAltitudeIsReplacedByTheTrackedOne)
   mo.altitude_source = AltitudeSource::kHeader;
   const XtfMosaicResult h = mosaic_xtf({bad}, mo);
   EXPECT_EQ(h.pings_no_altitude, (pings_.size() + 1) / 2);
+}
+
+TEST_F(BottomTrackSimTest, ConvertWritesTheTrackedAltitudeWhenAsked) {
+  const fs::path bad =
+      rewrite("bad.xtf", [](std::size_t k, double a) { return k % 2 == 0 ? 0.0 : 0.7 * a; });
+  const double dr = sample_m();
+  const auto altitudes = [](const fs::path& jsf_path) {
+    std::vector<double> out;
+    jsf::Reader r(jsf_path);
+    jsf::Ping p;
+    while (r.next_ping(p)) out.push_back(p.sonar.altitude_m);
+    return out;
+  };
+  const ConvertResult a = convert_sonar_file(bad, dir_ / "auto.jsf", false, AltitudeSource::kAuto);
+  EXPECT_EQ(a.pings_tracked_altitude, pings_.size());
+  const std::vector<double> tracked = altitudes(dir_ / "auto.jsf");
+  ASSERT_EQ(tracked.size(), pings_.size());
+  for (std::size_t k = 0; k < pings_.size(); ++k) {
+    const double truth = (std::floor(pings_[k].altitude_m / dr) + 0.5) * dr;
+    // JSF stores the altitude in millimetres.
+    EXPECT_LE(std::abs(tracked[k] - truth), 2.0 * dr + 1e-3) << "ping " << k;
+  }
+  const ConvertResult h = convert_sonar_file(bad, dir_ / "header.jsf");
+  EXPECT_EQ(h.pings_tracked_altitude, 0u);
+  const std::vector<double> kept = altitudes(dir_ / "header.jsf");
+  ASSERT_EQ(kept.size(), pings_.size());
+  EXPECT_EQ(kept[0], 0.0);
+  EXPECT_NEAR(kept[1], 0.7 * pings_[1].altitude_m, 1e-3);
 }
 
 fs::path write_without_sonar(const fs::path& path) {
