@@ -19,6 +19,7 @@
 #include "sonarsynth/formats/atomic_file.hpp"
 #include "sonarsynth/formats/sidescan_source.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
+#include "sonarsynth/formats/xtf_mosaic.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/version.hpp"
 
@@ -325,14 +326,29 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
   Waterfall wf(wo);
   WaterfallResult result;
   const std::unique_ptr<SideScanSource> reader = SideScanSource::open(xtf_path);
+  const std::vector<double> tracked =
+      wo.slant_correct && wo.altitude_source != AltitudeSource::kHeader
+          ? track_file_altitudes(xtf_path)
+          : std::vector<double>{};
   SideScanRecord rec;
+  std::size_t k = 0;  // pings with samples (and a positive slant range: as the tracker counts)
   while (reader->next(rec)) {
     const xtf::SonarPing& s = rec.sonar;
     if (s.port.empty() && s.starboard.empty()) {
       ++result.pings_no_samples;
       continue;
     }
-    wf.add_ping(s.port, s.starboard, s.slant_range_m, s.altitude_m);
+    double altitude_m = s.altitude_m;
+    if (wo.slant_correct && s.slant_range_m > 0.0 && std::isfinite(s.slant_range_m)) {
+      const double t = k < tracked.size() ? tracked[k] : std::nan("");
+      ++k;
+      const std::size_t n = std::max(s.port.size(), s.starboard.size());
+      const AltitudeChoice a = choose_altitude(wo.altitude_source, s.altitude_m, t,
+                                               s.slant_range_m / static_cast<double>(n));
+      altitude_m = a.altitude_m;
+      result.pings_tracked_altitude += a.tracked ? 1 : 0;
+    }
+    wf.add_ping(s.port, s.starboard, s.slant_range_m, altitude_m);
   }
   if (wf.rows() == 0) {
     throw FormatError("waterfall: " + xtf_path.string() +

@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/sidescan_source.hpp"
@@ -35,6 +36,8 @@ struct NavPoint {
 struct FileNav {
   std::vector<NavPoint> points;
   std::vector<std::uint64_t> dropped_packets;  ///< ascending
+  std::vector<double> tracked_m;  ///< tracked altitude of each ping with samples, in file order
+  bool skipped = false;           ///< no ping has port or starboard samples
 };
 
 double median(std::vector<double> v) {
@@ -180,16 +183,16 @@ void XtfMosaicOptions::validate() const {
   gridding.validate();
 }
 
-double first_return_range_m(const std::vector<float>& s, double slant_range_m) {
-  if (s.empty()) return kNaN;
-  const float peak = *std::max_element(s.begin(), s.end());
-  if (!(peak > 0.0f)) return kNaN;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (s[i] >= 0.5f * peak) {
-      return (static_cast<double>(i) + 0.5) * slant_range_m / static_cast<double>(s.size());
-    }
+std::vector<double> track_file_altitudes(const std::filesystem::path& file,
+                                         const BottomTrackOptions& options) {
+  BottomTracker tracker(options);
+  const std::unique_ptr<SideScanSource> reader = SideScanSource::open(file);
+  SideScanRecord rec;
+  while (reader->next(rec)) {
+    if (!has_samples(rec.sonar)) continue;
+    tracker.add_ping(rec.sonar.port, rec.sonar.starboard, rec.sonar.slant_range_m);
   }
-  return kNaN;
+  return tracker.altitudes_m();
 }
 
 XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
@@ -205,6 +208,7 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
   for (std::size_t fi = 0; fi < files.size(); ++fi) {
     const auto& path = files[fi];
     const std::unique_ptr<SideScanSource> reader = SideScanSource::open(path);
+    BottomTracker tracker(options.tracking);
     std::size_t with_samples = 0;
     std::size_t pings = 0;
     while (reader->next(rec)) {
@@ -212,6 +216,7 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
       const xtf::SonarPing& s = rec.sonar;
       if (!has_samples(s)) continue;
       ++with_samples;
+      tracker.add_ping(s.port, s.starboard, s.slant_range_m);
       if (!rec.nav_valid) continue;
       const double layback = rec.layback_m;
       const double margin = options.apply_layback && std::isfinite(layback) && layback > 0.0
@@ -227,10 +232,43 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
       nav[fi].points.push_back(p);
     }
     if (with_samples == 0) {
-      throw FormatError("xtf mosaic: " + path.string() + ": no sonar channel (no ping of " +
-                        std::to_string(pings) + " has port or starboard samples)");
+      nav[fi].skipped = true;
+      result.skipped_files.push_back(path.string() + ": no sonar channel (no ping of " +
+                                     std::to_string(pings) + " has port or starboard samples)");
+      continue;
+    }
+    nav[fi].tracked_m = tracker.altitudes_m();
+  }
+  if (result.skipped_files.size() == files.size()) {
+    std::string all;
+    for (const std::string& m : result.skipped_files) all += (all.empty() ? "" : "; ") + m;
+    throw FormatError("xtf mosaic: nothing usable: " + all);
+  }
+  // The altitude of the k-th ping with samples of file fi.
+  const auto altitude_of = [&](std::size_t fi, std::size_t k, const xtf::SonarPing& s) {
+    const std::vector<double>& tr = nav[fi].tracked_m;
+    const double tracked = k < tr.size() ? tr[k] : kNaN;
+    const std::size_t n = std::max(s.port.size(), s.starboard.size());
+    return choose_altitude(options.altitude_source, s.altitude_m, tracked,
+                           s.slant_range_m / static_cast<double>(n), options.tracking);
+  };
+
+  // Across-track gain statistics over all the files (docs/conversion.md).
+  GainNormaliser gain(options.gain_normalisation);
+  if (options.gain_normalisation != GainNormalisation::kOff) {
+    for (std::size_t fi = 0; fi < files.size(); ++fi) {
+      if (nav[fi].skipped) continue;
+      const std::unique_ptr<SideScanSource> reader = SideScanSource::open(files[fi]);
+      std::size_t k = 0;
+      while (reader->next(rec)) {
+        const xtf::SonarPing& s = rec.sonar;
+        if (!has_samples(s)) continue;
+        const AltitudeChoice a = altitude_of(fi, k++, s);
+        gain.add_ping(s.port, s.starboard, s.slant_range_m, a.altitude_m);
+      }
     }
   }
+  gain.finish();
   const auto where = [&] {
     return files.size() == 1 ? files.front().string() : std::to_string(files.size()) + " files";
   };
@@ -244,6 +282,7 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
   // Navigation outliers, judged in metres in the zone of a robust centre of all positions.
   const GeoFrame provisional = GeoFrame::around(robust_centre(nav));
   for (std::size_t fi = 0; fi < files.size(); ++fi) {
+    if (nav[fi].skipped) continue;
     drop_outliers(files[fi].string(), nav[fi], provisional, options, result);
   }
   if (result.pings_dropped == located) {
@@ -299,16 +338,19 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
 
   // Pass 2: gridding.
   for (std::size_t fi = 0; fi < files.size(); ++fi) {
+    if (nav[fi].skipped) continue;
     const std::unique_ptr<SideScanSource> reader = SideScanSource::open(files[fi]);
     const std::vector<std::uint64_t>& dropped = nav[fi].dropped_packets;
     auto next_dropped = dropped.begin();
+    std::size_t k = 0;  // pings with samples so far
     while (reader->next(rec)) {
       ++result.pings;
-      const xtf::SonarPing& s = rec.sonar;
+      xtf::SonarPing& s = rec.sonar;
       if (!has_samples(s)) {
         ++result.pings_no_samples;
         continue;
       }
+      const AltitudeChoice alt = altitude_of(fi, k++, s);
       if (!rec.nav_valid) {
         ++result.pings_no_navigation;
         grid.break_line();
@@ -333,26 +375,20 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
                                                       std::cos(mp.heading_grid_rad));
         }
       }
-      double altitude = s.altitude_m;
-      if (!(altitude > 0.0) || !std::isfinite(altitude)) {
-        altitude = kNaN;
-        if (options.bottom_pick) {
-          const double rp = first_return_range_m(s.port, s.slant_range_m);
-          const double rs = first_return_range_m(s.starboard, s.slant_range_m);
-          const double picked = std::isnan(rp) ? rs : (std::isnan(rs) ? rp : 0.5 * (rp + rs));
-          if (picked > 0.0) {
-            altitude = picked;
-            ++result.pings_bottom_picked;
-          }
-        }
-        if (std::isnan(altitude)) {
-          ++result.pings_no_altitude;
-          continue;
-        }
+      if (std::isnan(alt.altitude_m)) {
+        ++result.pings_no_altitude;
+        continue;
       }
-      mp.altitude_m = altitude;
-      mp.port = s.port;
-      mp.starboard = s.starboard;
+      if (alt.tracked) {
+        ++result.pings_tracked_altitude;
+        if (alt.header_disagreed) ++result.pings_header_disagreed;
+      } else {
+        ++result.pings_header_altitude;
+      }
+      mp.altitude_m = alt.altitude_m;
+      gain.apply(s.port, s.starboard, s.slant_range_m, alt.altitude_m);
+      mp.port = std::move(s.port);
+      mp.starboard = std::move(s.starboard);
       const MosaicAddStats st = grid.add(mp);
       if (st.samples_placed > 0) ++result.pings_gridded;
       result.samples_placed += st.samples_placed;

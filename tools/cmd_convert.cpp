@@ -11,11 +11,15 @@ namespace sonarsynth::cli {
 
 int run_convert(const std::vector<std::string>& args) {
   po::options_description opts("options");
-  std::string input, output;
+  std::string input, output, altitude_source = "header";
   // clang-format off
   opts.add_options()
     ("input", po::value(&input)->required(), "XTF or JSF file (positional; format from content)")
     ("output,o", po::value(&output)->required(), "output file: .jsf or .xtf (format from extension)")
+    ("altitude-source", po::value(&altitude_source)->default_value("header"),
+     "header | auto | track: header copies the altitude; auto writes the altitude tracked from "
+     "the first return where the header's is missing, <= 0 or disagrees; track everywhere "
+     "(docs/conversion.md)")
     ("overwrite", "replace an existing output file")
     ("quiet,q", "print nothing on success");
   // clang-format on
@@ -30,7 +34,9 @@ int run_convert(const std::vector<std::string>& args) {
     return 0;
   }
   refuse_output_over_input({output}, {input});
-  const ConvertResult r = convert_sonar_file(input, output, vm.count("overwrite") > 0);
+  const ConvertResult r =
+      convert_sonar_file(input, output, vm.count("overwrite") > 0,
+                         parse_altitude_source(altitude_source, "--altitude-source"));
   if (r.pings_skipped > 0 || r.reader_anomalies > 0) {
     std::cerr << "sonarsynth convert: warning: " << r.pings_skipped << " pings skipped, "
               << r.reader_anomalies << " reader anomalies:\n";
@@ -39,7 +45,12 @@ int run_convert(const std::vector<std::string>& args) {
   if (!vm.count("quiet")) {
     std::cout << "wrote " << output << ": " << sonar_file_format_name(r.from) << " -> "
               << sonar_file_format_name(r.to) << ", " << r.pings << " pings, " << r.attitude_records
-              << " attitude records\n";
+              << " attitude records";
+    if (vm["altitude-source"].as<std::string>() != "header") {
+      std::cout << ", altitude of " << r.pings_tracked_altitude
+                << " pings tracked from the first return";
+    }
+    std::cout << "\n";
   }
   return 0;
 }

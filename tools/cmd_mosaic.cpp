@@ -44,6 +44,7 @@ int run_mosaic(const std::vector<std::string>& args) {
   po::options_description opts("options");
   std::vector<std::string> inputs, co;
   std::string output, rule = "mean", bathymetry, format = "COG", rgb_path;
+  std::string altitude_source = "auto", gain_normalisation = "off";
   double wo_linear = 0.0;
   XtfMosaicOptions mo;
   // clang-format off
@@ -58,7 +59,13 @@ int run_mosaic(const std::vector<std::string>& args) {
      "slant->ground against this elevation grid (any GDAL raster; its UTM zone is used)")
     ("depth-positive", "--bathymetry stores depths (positive down)")
     ("layback", "SensorX/Y is the tow point: place the fish Layback metres behind it")
-    ("no-bottom-pick", "skip pings with altitude <= 0 instead of picking the first return")
+    ("altitude-source", po::value(&altitude_source)->default_value("auto"),
+     "auto | header | track: altitude for slant->ground; auto = the header's unless missing, "
+     "<= 0 or disagreeing with the bottom tracked from the first return (docs/conversion.md)")
+    ("no-bottom-pick", "same as --altitude-source header")
+    ("gain-normalisation", po::value(&gain_normalisation)->default_value("off"),
+     "off | range | angle: empirical across-track gain over all the files, by slant range or "
+     "depression angle (docs/conversion.md)")
     ("max-pixels", po::value(&mo.max_pixels)->default_value(mo.max_pixels),
      "refuse a mosaic of more pixels than this (about 20 bytes each while gridding)")
     ("count", "add band 2: number of contributions per pixel")
@@ -80,7 +87,15 @@ int run_mosaic(const std::vector<std::string>& args) {
   if (inputs.empty()) throw InputError("no input file. Violated constraint: at least one XTF file");
   mo.gridding.rule = parse_rule(rule);
   mo.apply_layback = vm.count("layback") > 0;
-  mo.bottom_pick = vm.count("no-bottom-pick") == 0;
+  mo.altitude_source = parse_altitude_source(altitude_source, "--altitude-source");
+  if (vm.count("no-bottom-pick")) {
+    if (!vm["altitude-source"].defaulted() && mo.altitude_source != AltitudeSource::kHeader) {
+      throw InputError("--no-bottom-pick and --altitude-source " + altitude_source +
+                       ". Violated constraint: --no-bottom-pick means --altitude-source header");
+    }
+    mo.altitude_source = AltitudeSource::kHeader;
+  }
+  mo.gain_normalisation = parse_gain_normalisation(gain_normalisation, "--gain-normalisation");
   mo.validate();
 
   MosaicWriteOptions wo;
@@ -105,6 +120,8 @@ int run_mosaic(const std::vector<std::string>& args) {
   for (const std::string& a : args) command += " " + a;
   wo.metadata.push_back({"SONARSYNTH_COMMAND", command});
   wo.metadata.push_back({"SONARSYNTH_MOSAIC_RULE", rule});
+  wo.metadata.push_back({"SONARSYNTH_ALTITUDE_SOURCE", to_string(mo.altitude_source)});
+  wo.metadata.push_back({"SONARSYNTH_GAIN_NORMALISATION", to_string(mo.gain_normalisation)});
   // Refuse existing outputs (and inputs named as outputs) before the (long) gridding.
   {
     std::vector<std::string> all_inputs = inputs;
@@ -130,6 +147,9 @@ int run_mosaic(const std::vector<std::string>& args) {
   }
   const std::vector<std::filesystem::path> files(inputs.begin(), inputs.end());
   const XtfMosaicResult r = mosaic_xtf(files, mo, bathy ? &*bathy : nullptr);
+  for (const std::string& m : r.skipped_files) {
+    std::cerr << "sonarsynth mosaic: warning: skipped " << m << "\n";
+  }
   if (r.pings_gridded == 0 && bathy) {
     // With a bathymetry, a ping places nothing where its swath misses the grid: say so when the
     // grid and the survey do not overlap at all.
@@ -189,9 +209,11 @@ int run_mosaic(const std::vector<std::string>& args) {
     std::cerr << "sonarsynth mosaic: warning: skipped " << r.pings_no_altitude
               << " pings without altitude\n";
   }
-  if (r.pings_bottom_picked > 0) {
-    std::cerr << "sonarsynth mosaic: warning: altitude of " << r.pings_bottom_picked
-              << " pings estimated from the first bottom return\n";
+  if (r.pings_tracked_altitude > 0 && mo.altitude_source == AltitudeSource::kAuto) {
+    std::cerr << "sonarsynth mosaic: warning: altitude of " << r.pings_tracked_altitude << " of "
+              << r.pings_tracked_altitude + r.pings_header_altitude
+              << " gridded pings tracked from the first bottom return (" << r.pings_header_disagreed
+              << " where the header altitude disagreed, the others without one)\n";
   }
   write_mosaic(output, r.frame, r.image, wo);
   if (!vm.count("quiet")) {
@@ -199,7 +221,8 @@ int run_mosaic(const std::vector<std::string>& args) {
     std::cout << "wrote " << output << ": " << g.cols << " x " << g.rows << " pixels of "
               << mo.pixel_size_m << " m, EPSG:" << r.frame.epsg() << ", " << r.pings_gridded
               << " of " << r.pings << " pings, " << r.samples_placed << " samples ("
-              << r.fill_points << " fill points)";
+              << r.fill_points << " fill points); altitude: " << r.pings_header_altitude
+              << " header, " << r.pings_tracked_altitude << " tracked";
     if (!wo.rgb_path.empty()) std::cout << "; display copy " << wo.rgb_path;
     std::cout << "\n";
   }

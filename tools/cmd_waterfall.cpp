@@ -12,7 +12,7 @@ namespace sonarsynth::cli {
 
 int run_waterfall(const std::vector<std::string>& args) {
   po::options_description opts("options");
-  std::string input, output;
+  std::string input, output, altitude_source = "auto";
   WaterfallOptions wo;
   // clang-format off
   opts.add_options()
@@ -20,6 +20,9 @@ int run_waterfall(const std::vector<std::string>& args) {
     ("output,o", po::value(&output)->required(), "output image (.png or .tif)")
     ("grey", "grey scale instead of the black-brown-yellow colormap")
     ("slant-correct", "resample to ground range on a flat bottom (altitude of each ping)")
+    ("altitude-source", po::value(&altitude_source)->default_value("auto"),
+     "with --slant-correct: auto | header | track; auto = the header's unless missing, <= 0 "
+     "or disagreeing with the bottom tracked from the first return (docs/conversion.md)")
     ("lo-db", po::value(&wo.lo_db), "fixed scaling: dB shown black (with --hi-db)")
     ("hi-db", po::value(&wo.hi_db), "fixed scaling: dB shown at full colour (with --lo-db)")
     ("linear", po::value(&wo.linear_full_scale),
@@ -54,6 +57,7 @@ int run_waterfall(const std::vector<std::string>& args) {
   }
   wo.colormap = vm.count("grey") ? Colormap::grey : Colormap::black_brown_yellow;
   wo.slant_correct = vm.count("slant-correct") > 0;
+  wo.altitude_source = parse_altitude_source(altitude_source, "--altitude-source");
   wo.overwrite = vm.count("overwrite") > 0;
   wo.validate();
   refuse_output_over_input({output}, {input});
@@ -71,6 +75,10 @@ int run_waterfall(const std::vector<std::string>& args) {
     if (r.pings_per_row > 1) {
       std::cout << " (" << r.pings << " pings decimated along track: each row the mean of "
                 << r.pings_per_row << " pings, to fit --max-pixels " << wo.max_pixels << ")";
+    }
+    if (wo.slant_correct) {
+      std::cout << "; altitude of " << r.pings_tracked_altitude << " of " << r.pings
+                << " pings tracked from the first return";
     }
     std::cout << "\n";
   }

@@ -5,7 +5,10 @@
 #include <array>
 #include <cctype>
 #include <chrono>
+#include <cmath>
+#include <vector>
 
+#include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/jsf/writer.hpp"
@@ -22,8 +25,48 @@ void warn(ConvertResult& r, std::string w) {
   if (r.warnings.size() < kMaxWarnings) r.warnings.push_back(std::move(w));
 }
 
+/// Tracked altitude of every ping of `in`, in the order the converters read them; empty with
+/// AltitudeSource::kHeader (nothing to track: the header altitude is copied as it is).
+std::vector<double> tracked_altitudes(const std::filesystem::path& in, SonarFileFormat from,
+                                      AltitudeSource source) {
+  if (source == AltitudeSource::kHeader) return {};
+  BottomTracker tracker;
+  if (from == SonarFileFormat::kXtf) {
+    xtf::Reader reader(in);
+    xtf::Packet p;
+    while (reader.next(p)) {
+      if (p.kind != xtf::PacketKind::kPing) continue;
+      tracker.add_ping(p.ping.sonar.port, p.ping.sonar.starboard, p.ping.sonar.slant_range_m);
+    }
+  } else {
+    jsf::Reader reader(in);
+    jsf::Ping p;
+    while (reader.next_ping(p)) {
+      tracker.add_ping(p.sonar.port, p.sonar.starboard, p.sonar.slant_range_m);
+    }
+  }
+  return tracker.altitudes_m();
+}
+
+/// Replaces the altitude of the k-th ping by the chosen one (docs/conversion.md); a ping
+/// without one keeps its header altitude.
+void choose_ping_altitude(xtf::SonarPing& s, std::size_t k, const std::vector<double>& tracked,
+                          AltitudeSource source, ConvertResult& r) {
+  if (source == AltitudeSource::kHeader) return;
+  const double t = k < tracked.size() ? tracked[k] : std::nan("");
+  const std::size_t n = std::max(s.port.size(), s.starboard.size());
+  const double dr = n > 0 ? s.slant_range_m / static_cast<double>(n) : std::nan("");
+  const AltitudeChoice a = choose_altitude(source, s.altitude_m, t, dr);
+  if (a.tracked) {
+    s.altitude_m = a.altitude_m;
+    ++r.pings_tracked_altitude;
+  }
+}
+
 ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
-                         bool overwrite) {
+                         bool overwrite, AltitudeSource source) {
+  const std::vector<double> tracked = tracked_altitudes(in, SonarFileFormat::kXtf, source);
+  std::size_t k = 0;
   ConvertResult r;
   r.from = SonarFileFormat::kXtf;
   r.to = SonarFileFormat::kJsf;
@@ -56,6 +99,7 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
     }
     if (packet.kind != xtf::PacketKind::kPing) continue;
     xtf::SonarPing& s = packet.ping.sonar;
+    choose_ping_altitude(s, k++, tracked, source, r);
     if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
       s.sensor_position = {};  // stored as 0, 0: "no position" for JSF readers
     }
@@ -74,7 +118,9 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
 }
 
 ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,
-                         bool overwrite) {
+                         bool overwrite, AltitudeSource source) {
+  const std::vector<double> tracked = tracked_altitudes(in, SonarFileFormat::kJsf, source);
+  std::size_t k = 0;
   ConvertResult r;
   r.from = SonarFileFormat::kJsf;
   r.to = SonarFileFormat::kXtf;
@@ -113,6 +159,7 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
     }
   };
   while (reader.next_ping(ping)) {
+    choose_ping_altitude(ping.sonar, k++, tracked, source, r);
     flush_attitude(ping.offset);
     open(ping.header.mixer_frequency_hz);
     std::string why;
@@ -175,7 +222,7 @@ SonarFileFormat sonar_file_format_from_extension(const std::filesystem::path& pa
 }
 
 ConvertResult convert_sonar_file(const std::filesystem::path& in, const std::filesystem::path& out,
-                                 bool overwrite) {
+                                 bool overwrite, AltitudeSource altitude_source) {
   const SonarFileFormat to = sonar_file_format_from_extension(out);
   if (to == SonarFileFormat::kUnknown) {
     throw InputError("convert: output " + out.string() +
@@ -190,8 +237,8 @@ ConvertResult convert_sonar_file(const std::filesystem::path& in, const std::fil
     throw InputError("convert: " + in.string() + " is already " + sonar_file_format_name(from) +
                      "; convert between XTF and JSF");
   }
-  return from == SonarFileFormat::kXtf ? xtf_to_jsf(in, out, overwrite)
-                                       : jsf_to_xtf(in, out, overwrite);
+  return from == SonarFileFormat::kXtf ? xtf_to_jsf(in, out, overwrite, altitude_source)
+                                       : jsf_to_xtf(in, out, overwrite, altitude_source);
 }
 
 }  // namespace sonarsynth

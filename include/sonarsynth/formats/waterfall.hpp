@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/colormap.hpp"
 #include "sonarsynth/rendered_ping.hpp"
 
@@ -25,6 +26,10 @@ struct WaterfallOptions {
   /// Resample each side to ground range on a flat bottom (columns = ground range, same spacing
   /// as the slant samples; the water column disappears).
   bool slant_correct = false;
+  /// With slant_correct, in write_xtf_waterfall: where each ping's altitude comes from
+  /// (docs/conversion.md; auto: the header's unless missing, <= 0 or disagreeing with the
+  /// bottom tracked from the first return).
+  AltitudeSource altitude_source = AltitudeSource::kAuto;
   /// Scaling: dB of the linear value mapped to [0, 1] between these percentiles of the image...
   double lo_percentile = 1.0;
   double hi_percentile = 99.0;
@@ -101,7 +106,8 @@ struct WaterfallResult {
   std::size_t rows = 0;           ///< image rows
   std::size_t cols = 0;
   std::size_t pings_no_samples = 0;
-  std::uint64_t reader_anomalies = 0;  ///< reported by xtf::Reader (malformed packets skipped)
+  std::size_t pings_tracked_altitude = 0;  ///< slant_correct: rows corrected with the tracked one
+  std::uint64_t reader_anomalies = 0;      ///< reported by xtf::Reader (malformed packets skipped)
   std::vector<std::string> reader_anomaly_messages;  ///< the first of them (file, packet, value)
 };
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/formats/gdal_grid.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/mosaic.hpp"
@@ -20,10 +21,14 @@ struct XtfMosaicOptions {
   /// false (default): SensorX/Ycoordinate is the towfish position (XTF convention, AUVs).
   /// true: it is the tow point; the fish is placed Layback metres behind it along -heading.
   bool apply_layback = false;
-  /// Pings with altitude <= 0: estimate it from the first bottom return (first sample reaching
-  /// half the ping's maximum, averaged over port and starboard, as MB-System's bottom pick);
-  /// false = skip them. Ignored with a bathymetry grid and a usable altitude.
-  bool bottom_pick = true;
+  /// Where each ping's altitude comes from (docs/conversion.md): auto (default) = the header's
+  /// (SensorPrimaryAltitude) unless it is missing, <= 0 or disagrees with the altitude tracked
+  /// from the first return (BottomTracker); header = the header's only (pings without one are
+  /// skipped); track = the tracked one only.
+  AltitudeSource altitude_source = AltitudeSource::kAuto;
+  BottomTrackOptions tracking;
+  /// Across-track gain normalisation computed over all the files (docs/conversion.md).
+  GainNormalisation gain_normalisation = GainNormalisation::kOff;
   /// Largest mosaic accepted, in pixels (columns x rows), > 0: a larger one is refused with an
   /// InputError naming the extent, the pixel size and this limit, before anything is allocated
   /// (the mean rule holds about 20 bytes per pixel while gridding).
@@ -41,12 +46,17 @@ struct XtfMosaicResult {
   GeoFrame frame{1, true, 0.0, 0.0};  ///< UTM/UPS zone of the data (or of the bathymetry)
   MosaicImage image;
   std::size_t files = 0;
-  std::size_t pings = 0;                ///< sonar packets read
-  std::size_t pings_gridded = 0;        ///< pings that contributed samples
-  std::size_t pings_no_navigation = 0;  ///< skipped: zero/invalid/non-geographic position
-  std::size_t pings_no_samples = 0;     ///< skipped: no port/starboard channel
-  std::size_t pings_no_altitude = 0;    ///< skipped: altitude <= 0 and no bottom pick
-  std::size_t pings_bottom_picked = 0;  ///< altitude estimated from the first return
+  std::size_t pings = 0;                   ///< sonar packets read
+  std::size_t pings_gridded = 0;           ///< pings that contributed samples
+  std::size_t pings_no_navigation = 0;     ///< skipped: zero/invalid/non-geographic position
+  std::size_t pings_no_samples = 0;        ///< skipped: no port/starboard channel
+  std::size_t pings_no_altitude = 0;       ///< skipped: altitude <= 0 and no bottom pick
+  std::size_t pings_tracked_altitude = 0;  ///< gridded with the tracked altitude
+  std::size_t pings_header_altitude = 0;   ///< gridded with the header altitude
+  std::size_t pings_header_disagreed = 0;  ///< of the tracked: the header's disagreed (auto)
+  /// Files left out because no ping has port or starboard samples: one message per file (its
+  /// name and ping count).
+  std::vector<std::string> skipped_files;
   std::uint64_t samples_placed = 0;
   std::uint64_t fill_points = 0;
   std::uint64_t reader_anomalies = 0;  ///< total over files, reported by xtf::Reader
@@ -75,15 +85,19 @@ struct XtfMosaicResult {
 /// Heading: SensorHeading (true, converted to grid azimuth with the meridian convergence);
 /// altitude: SensorPrimaryAltitude; pitch: SensorPitch. Intensities are gridded as stored
 /// (linear units), never in dB.
-/// Throws FormatError naming the file for unreadable files, files without any port/starboard
-/// channel, or no ping with valid navigation in any file; InputError for bad options or a
-/// mosaic of more than max_pixels.
+/// A file without any port/starboard channel is skipped and named in skipped_files; the
+/// altitudes are tracked per file (one more pass), and with gain normalisation its statistics
+/// are gathered over all files before gridding (one more pass).
+/// Throws FormatError naming the file for unreadable files, naming every file when none has a
+/// port/starboard channel, or no ping with valid navigation in any file; InputError for bad
+/// options or a mosaic of more than max_pixels.
 XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
                            const XtfMosaicOptions& options = {},
                            const LoadedGrid* bathymetry = nullptr);
 
-/// Slant range of the first bottom return of a side (first sample >= half the side's maximum),
-/// metres; NaN if the side is empty or has no positive sample.
-double first_return_range_m(const std::vector<float>& samples_near_to_far, double slant_range_m);
+/// The tracked altitude (BottomTracker) of every ping of a side-scan file with port or
+/// starboard samples, in file order (NaN where none).
+std::vector<double> track_file_altitudes(const std::filesystem::path& file,
+                                         const BottomTrackOptions& options = {});
 
 }  // namespace sonarsynth

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/bottom_track.hpp"
+
 namespace sonarsynth {
 
 /// The raw side-scan formats sonarsynth reads and writes.
@@ -26,7 +28,8 @@ struct ConvertResult {
   std::uint64_t attitude_records = 0;  ///< attitude packets/messages written
   std::uint64_t pings_skipped = 0;     ///< pings the output format cannot hold (see warnings)
   std::uint64_t reader_anomalies = 0;
-  std::vector<std::string> warnings;  ///< the first few skip reasons and reader anomalies
+  std::uint64_t pings_tracked_altitude = 0;  ///< altitude replaced by the tracked one
+  std::vector<std::string> warnings;         ///< the first few skip reasons and reader anomalies
 };
 
 /// Converts a side-scan file between XTF and JSF (docs/jsf.md §4): the input format is taken
@@ -35,8 +38,12 @@ struct ConvertResult {
 /// speed, sound speed and slant range are carried; XTF attitude packets (type 3) and JSF
 /// pitch/roll messages (2020) are converted into each other. Samples survive XTF -> JSF -> XTF
 /// bit-exactly; positions to JSF's 1/600 000 degree. The output is written atomically.
+/// `altitude_source` (docs/conversion.md): kHeader (default) copies the altitude as it is;
+/// kAuto / kTrack write the altitude tracked from the first return where choose_altitude()
+/// picks it (one more pass over the input), counted in pings_tracked_altitude.
 /// Throws InputError for unsupported format pairs, FormatError for unreadable input.
 ConvertResult convert_sonar_file(const std::filesystem::path& in, const std::filesystem::path& out,
-                                 bool overwrite = false);
+                                 bool overwrite = false,
+                                 AltitudeSource altitude_source = AltitudeSource::kHeader);
 
 }  // namespace sonarsynth
