@@ -93,12 +93,17 @@ DatasetItemResult result_from_json(const json& j) {
 }
 
 // Removes a staging directory whatever happens to the item.
+// (Registered as a temporary: the CLI's SIGINT/SIGTERM handler removes it too.)
 struct StagingGuard {
   fs::path dir;
+  explicit StagingGuard(fs::path d) : dir(std::move(d)) { register_temporary(dir); }
   ~StagingGuard() {
     std::error_code ec;
     fs::remove_all(dir, ec);
+    unregister_temporary(dir);
   }
+  StagingGuard(const StagingGuard&) = delete;
+  StagingGuard& operator=(const StagingGuard&) = delete;
 };
 
 }  // namespace
@@ -151,7 +156,7 @@ DatasetItemResult run_dataset_item(const DatasetSpec& spec, const fs::path& dir,
     char stage_name[128];
     std::snprintf(stage_name, sizeof stage_name, "%06zu.%s.%ld", index, host_name().c_str(),
                   static_cast<long>(::getpid()));
-    const StagingGuard stage{dir / ".work" / stage_name};
+    const StagingGuard stage(dir / ".work" / stage_name);
     fs::remove_all(stage.dir);
     fs::create_directories(stage.dir);
     const fs::path scene_path = stage.dir / "scene.yaml";

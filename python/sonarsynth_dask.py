@@ -53,7 +53,7 @@ def _print_progress(done, total, item):
 
 def generate(spec, out_dir, client=None, n_workers=2, indices=None, shard=(0, 1),
              threads_per_item=1, retries=2, progress=True, before_item=None):
-    """Renders the items of ``spec`` (a sonarsynth.DatasetSpec) into ``out_dir`` as Dask tasks.
+    """Renders the items of ``spec`` (a sonarsynth.DatasetSpec or a spec file's path) into ``out_dir`` as Dask tasks.
 
     client: a dask.distributed.Client (any cluster; ``out_dir`` must be a path every worker can
         write, e.g. a shared file system); None starts a LocalCluster of ``n_workers`` worker
@@ -74,6 +74,8 @@ def generate(spec, out_dir, client=None, n_workers=2, indices=None, shard=(0, 1)
     from dask.distributed import Client, LocalCluster, as_completed
 
     t0 = time.monotonic()
+    if isinstance(spec, (str, os.PathLike)):
+        spec = sonarsynth.DatasetSpec.from_file(os.fspath(spec))
     out_dir = os.path.abspath(str(out_dir))
     sonarsynth.prepare_dataset_dir(spec, out_dir)
     k, n = shard
