@@ -111,6 +111,21 @@ TEST(DatasetSpec, ErrorsNameTheFileTheFieldAndTheValue) {
             std::string::npos);
 }
 
+// The bundled dataset specs (samples/datasets/) load, and their items are valid scene files.
+TEST(DatasetSpec, BundledSpecsLoad) {
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(SONARSYNTH_SAMPLES_DIR) / "datasets")) {
+    if (e.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(e.path().string());
+    const DatasetSpec s = load_dataset_spec(e.path().string());
+    SceneLoadOptions lo;
+    lo.num_threads = 1;
+    EXPECT_NO_THROW(load_scene_from_string(dataset_item_scene(s, 0).yaml, "item.yaml", ".", lo));
+    ++n;
+  }
+  EXPECT_GE(n, 1u);
+}
+
 TEST(DatasetSpec, ParseShard) {
   EXPECT_EQ(parse_shard("0/1", "--shard"), (std::pair<std::size_t, std::size_t>{0, 1}));
   EXPECT_EQ(parse_shard("2/3", "--shard"), (std::pair<std::size_t, std::size_t>{2, 3}));
