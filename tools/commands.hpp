@@ -11,6 +11,7 @@ namespace sonarsynth::cli {
 // Add yours here and in main.cpp's table.
 int run_version(const std::vector<std::string>& args);
 int run_simulate(const std::vector<std::string>& args);
+int run_dataset(const std::vector<std::string>& args);
 int run_info(const std::vector<std::string>& args);
 int run_convert(const std::vector<std::string>& args);
 int run_bathy(const std::vector<std::string>& args);

@@ -20,6 +20,8 @@ const std::vector<sc::Command>& commands() {
   static const std::vector<sc::Command> table = {
       {"simulate", "render a scene file's survey into XTF files (+ mosaic, waterfalls, truth)",
        sc::run_simulate},
+      {"dataset", "render N scenes drawn from a dataset spec (resumable, --shard K/N)",
+       sc::run_dataset},
       {"version", "print the version and exit", sc::run_version},
       {"info", "describe an XTF or JSF file (header, channels, pings, nav, anomalies)",
        sc::run_info},

@@ -60,5 +60,6 @@ void bind_options(py::module_& m, py::class_<PySimulation>& cls);
 void bind_simulation(py::module_& m, py::class_<PySimulation>& cls);
 void bind_render(py::module_& m, py::class_<PySimulation>& cls);
 void bind_files(py::module_& m);
+void bind_dataset(py::module_& m);
 
 }  // namespace sonarsynth::python

@@ -44,4 +44,5 @@ PYBIND11_MODULE(sonarsynth, m) {
   sonarsynth::python::bind_simulation(m, cls);
   sonarsynth::python::bind_render(m, cls);
   sonarsynth::python::bind_files(m);
+  sonarsynth::python::bind_dataset(m);
 }

@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sonarsynth {
+
+/// A number drawn uniformly from [lo, hi]; lo == hi is a fixed value. In a spec file: a number,
+/// or a list [lo, hi].
+struct NumberRange {
+  double lo = 0.0;
+  double hi = 0.0;
+};
+
+/// A name drawn with the given weights. In a spec file: a name, a list of names (equal weights)
+/// or a map {name: weight}.
+struct WeightedChoice {
+  std::vector<std::string> names;
+  std::vector<double> weights;  ///< > 0, same length as names
+};
+
+/// The distributions of one object type (`objects.<type>` in a spec file).
+struct DatasetObjectType {
+  std::string type;  ///< rock, box, pipe or moored
+  double weight = 1.0;
+  NumberRange diameter_m{1.0, 1.0};  ///< rock, pipe, moored
+  NumberRange length_m{2.0, 2.0};    ///< box, pipe
+  NumberRange width_m{1.0, 1.0};     ///< box
+  NumberRange height_m{1.0, 1.0};    ///< box; moored: height of the centre above the seabed
+};
+
+/// A dataset specification (docs/dataset.md): N scenes drawn from distributions. Every item is
+/// a pure function of (spec, seed, index): see dataset_item_seed() and dataset_item_scene().
+struct DatasetSpec {
+  std::string file;  ///< the spec file, for messages
+  std::string text;  ///< the spec file's text (copied into the dataset directory)
+  std::string name = "dataset";
+  std::uint64_t seed = 0;
+  std::size_t count = 1;
+  // location and seabed
+  double lat_deg = 43.0;
+  double lon_deg = 5.0;
+  double cell_m = 0.25;
+  NumberRange depth_m{20.0, 20.0};
+  WeightedChoice material{{"sand"}, {1.0}};
+  NumberRange slope_deg{0.0, 0.0};
+  NumberRange roughness_rms_m{0.05, 0.05};
+  NumberRange roughness_wavelength_m{20.0, 20.0};
+  double ripples_probability = 0.0;
+  NumberRange ripple_wavelength_m{1.5, 1.5};
+  NumberRange ripple_amplitude_m{0.03, 0.03};
+  // objects
+  NumberRange object_count{0.0, 0.0};  ///< integers, inclusive
+  std::vector<DatasetObjectType> object_types;
+  NumberRange burial{0.0, 0.0};  ///< embed: fraction of the height below the seabed, [0, 0.99)
+  NumberRange object_heading_deg{0.0, 360.0};
+  NumberRange across_track_m{5.0, 25.0};  ///< |offset| of an object from the track
+  // survey
+  double line_length_m = 100.0;
+  NumberRange line_heading_deg{0.0, 360.0};
+  NumberRange altitude_m{8.0, 8.0};
+  NumberRange speed_m_s{2.0, 2.0};
+  // sonar and noise
+  WeightedChoice sonar_preset{{"seascan-hds-600"}, {1.0}};
+  std::optional<NumberRange> range_m;  ///< replaces the preset's range when given
+  std::optional<std::size_t> samples;  ///< replaces the preset's samples when given
+  WeightedChoice noise_model{{"speckle"}, {1.0}};
+  NumberRange snr_db{20.0, 20.0};
+  // run
+  std::string quality = "fast";  ///< QualityConfig preset: fast, default, high
+  bool mosaic = false;
+  bool waterfalls = true;
+  bool truth = true;
+};
+
+/// Reads and validates a spec file; throws InputError / FormatError naming the file, the field
+/// and the value.
+DatasetSpec load_dataset_spec(const std::string& path);
+/// As load_dataset_spec(), from YAML text: `name` stands for the file in messages.
+DatasetSpec load_dataset_spec_from_string(const std::string& yaml_text, const std::string& name);
+
+/// The seed of item `index`: a keyed hash of the index with the spec's seed as key, so that
+/// every item is independent of the others and of the order in which they run.
+std::uint64_t dataset_item_seed(const DatasetSpec& spec, std::size_t index);
+
+/// One drawn scene: the scene file text (docs/scene-format.md) and what it holds.
+struct DatasetItemScene {
+  std::size_t index = 0;
+  std::uint64_t seed = 0;
+  std::string yaml;
+  std::map<std::string, int> object_counts;  ///< by type
+};
+/// Draws item `index` (< spec.count); a pure function of (spec, index).
+DatasetItemScene dataset_item_scene(const DatasetSpec& spec, std::size_t index);
+
+/// What became of one item.
+struct DatasetItemResult {
+  std::size_t index = 0;
+  std::uint64_t seed = 0;
+  std::string status;              ///< "done" (rendered now), "skipped" (already done), "failed"
+  std::string error;               ///< when failed
+  std::vector<std::string> files;  ///< relative to the dataset directory
+  std::map<std::string, int> object_counts;
+  std::uint64_t pings = 0;
+  double seconds = 0.0;  ///< wall time of this call
+};
+
+/// `items/000042`: the directory of item `index`, relative to the dataset directory.
+std::string dataset_item_dir(std::size_t index);
+
+/// Creates the dataset directory if needed and records the spec in it (`spec.yaml`); throws
+/// InputError if the directory holds a dataset made from another spec.
+void prepare_dataset_dir(const DatasetSpec& spec, const std::filesystem::path& dir);
+
+/// Renders item `index` into `dir` (prepare_dataset_dir first): the scene, the run_simulation
+/// products and `item.json` are written into a temporary directory that is renamed into place
+/// when complete; an item already in place is skipped. `threads` 0 = all cores (the files do not
+/// depend on it). Throws InputError / FormatError naming the index and seed when the item fails
+/// (and records the failure in `failed/<index>.json`).
+DatasetItemResult run_dataset_item(const DatasetSpec& spec, const std::filesystem::path& dir,
+                                   std::size_t index, unsigned threads = 0);
+
+/// Options of run_dataset().
+struct DatasetRunOptions {
+  unsigned threads = 0;         ///< per item; 0 = all cores
+  std::size_t shard_index = 0;  ///< this run does the items i with i % shard_count == shard_index
+  std::size_t shard_count = 1;  ///< >= 1
+  /// Called after each item (done, skipped or failed): (items finished, items of this shard).
+  std::function<void(std::size_t, std::size_t, const DatasetItemResult&)> progress;
+};
+
+/// What run_dataset() did.
+struct DatasetRunResult {
+  std::vector<DatasetItemResult> items;  ///< this shard's, in index order
+  std::size_t done = 0, skipped = 0, failed = 0;
+  double seconds = 0.0;
+};
+
+/// Parses "K/N" (0 <= K < N) for --shard; throws InputError naming `what`.
+std::pair<std::size_t, std::size_t> parse_shard(const std::string& text, const std::string& what);
+
+/// Runs this shard's items one after the other (a failed item is recorded and the run goes on),
+/// then writes the manifest (write_dataset_manifest).
+DatasetRunResult run_dataset(const DatasetSpec& spec, const std::filesystem::path& dir,
+                             const DatasetRunOptions& options = {});
+
+/// Writes `manifest.jsonl` (one JSON object per item in index order: index, seed, status
+/// done / failed / pending, dir, files, objects, pings, error) and `summary.json` from the items'
+/// records in `dir`, each file atomically. Any process may call it at any time.
+void write_dataset_manifest(const DatasetSpec& spec, const std::filesystem::path& dir);
+
+}  // namespace sonarsynth

@@ -1,0 +1,164 @@
+# SPDX-License-Identifier: MIT
+# The dataset generator from Python and on Dask (docs/dataset.md): the same bytes as the CLI and
+# as a serial run, failures reported with their index and seed, retried by Dask.
+import hashlib
+import json
+import os
+import pathlib
+import pickle
+import subprocess
+import uuid
+
+import pytest
+
+import sonarsynth
+
+distributed = pytest.importorskip("distributed")
+import sonarsynth_dask  # noqa: E402  (after the skip: it needs Dask)
+
+# Tiny items: a 6 m line at 3 m/s, 10 m range, 200 samples (tens of pings each).
+TINY = """\
+name: tiny
+seed: 99
+count: 4
+location: {lat_deg: 43.0, lon_deg: 5.0}
+seabed:
+  depth_m: [10, 14]
+  cell_m: 0.5
+  material: {sand: 2, mud: 1}
+  roughness: {rms_m: [0.01, 0.05], wavelength_m: [5, 10]}
+objects:
+  count: [1, 3]
+  burial: [0, 0.3]
+  across_track_m: [2, 8]
+  types:
+    rock: {weight: 2, diameter_m: [0.5, 1.5]}
+    box: {length_m: [1, 3], width_m: [0.5, 1], height_m: [0.4, 1]}
+survey: {line_length_m: 6, altitude_m: [3, 5], speed_m_s: 3}
+sonar: {preset: seascan-hds-600, range_m: 10, samples: 200}
+noise: {model: speckle, snr_db: [15, 30]}
+"""
+
+
+def digests(root):
+    """sha256 of every file under root/items, by path relative to root."""
+    root = pathlib.Path(root)
+    return {str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted((root / "items").rglob("*")) if p.is_file()}
+
+
+@pytest.fixture(scope="module")
+def spec():
+    return sonarsynth.DatasetSpec.from_yaml(TINY, "tiny.yaml")
+
+
+@pytest.fixture(scope="module")
+def client():
+    from dask.distributed import Client, LocalCluster
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                           dashboard_address=None)
+    c = Client(cluster)
+    yield c
+    c.close()
+    cluster.close()
+
+
+def test_spec_errors_name_the_field_and_value():
+    with pytest.raises(ValueError, match=r"tiny\.yaml: sonar\.preset.*'klein'"):
+        sonarsynth.DatasetSpec.from_yaml(TINY.replace("seascan-hds-600", "klein"), "tiny.yaml")
+    with pytest.raises(ValueError, match=r"objects\.count.*lo <= hi"):
+        sonarsynth.DatasetSpec.from_yaml(TINY.replace("count: [1, 3]", "count: [3, 1]"),
+                                         "tiny.yaml")
+
+
+def test_spec_pickles_by_its_text(spec):
+    back = pickle.loads(pickle.dumps(spec))
+    assert back.text == spec.text and back.file == spec.file
+    assert [back.item_scene(i) for i in range(4)] == [spec.item_scene(i) for i in range(4)]
+    assert len({spec.item_seed(i) for i in range(4)}) == 4
+
+
+def test_python_run_equals_the_cli(spec, tmp_path, cli):
+    r = sonarsynth.run_dataset(spec, str(tmp_path / "py"), threads=1)
+    assert r["done"] == 4 and r["failed"] == 0
+    spec_file = tmp_path / "tiny.yaml"
+    spec_file.write_text(TINY)
+    subprocess.run([cli, "dataset", str(spec_file), "-o", str(tmp_path / "cli"), "-q"],
+                   check=True)
+    py, cl = digests(tmp_path / "py"), digests(tmp_path / "cli")
+    assert len(py) == 4 * 7  # scene, XTF, waterfall, truth, effective.yaml, item.json, marker
+    assert py == cl
+    assert ((tmp_path / "py" / "manifest.jsonl").read_bytes() ==
+            (tmp_path / "cli" / "manifest.jsonl").read_bytes())
+
+
+def test_local_cluster_equals_serial_run(spec, tmp_path, client):
+    serial = sonarsynth.run_dataset(spec, str(tmp_path / "serial"), threads=1)
+    assert serial["done"] == 4
+    assert len(client.scheduler_info()["workers"]) == 2
+    pids = tmp_path / "pids"
+    pids.mkdir()
+
+    def note_pid(index, seed, where=str(pids)):
+        open(os.path.join(where, "%d-%d" % (os.getpid(), index)), "w").close()
+
+    seen = []
+    r = sonarsynth_dask.generate(spec, tmp_path / "dask", client=client, before_item=note_pid,
+                                 progress=lambda done, total, item: seen.append((done, total,
+                                                                                 item["index"])))
+    assert r["done"] == 4 and r["failed"] == 0
+    assert sorted(i for _, _, i in seen) == [0, 1, 2, 3]
+    assert [(d, t) for d, t, _ in seen] == [(1, 4), (2, 4), (3, 4), (4, 4)]
+    # Two worker processes, neither of them this one, rendered the items.
+    workers = {name.split("-")[0] for name in os.listdir(pids)}
+    assert len(workers) == 2 and str(os.getpid()) not in workers
+    assert digests(tmp_path / "dask") == digests(tmp_path / "serial")
+    assert ((tmp_path / "dask" / "manifest.jsonl").read_bytes() ==
+            (tmp_path / "serial" / "manifest.jsonl").read_bytes())
+    # A rerun finds every item done.
+    again = sonarsynth_dask.generate(spec, tmp_path / "dask", client=client, progress=False)
+    assert again["skipped"] == 4 and again["done"] == 0
+
+
+def test_failed_item_is_reported_with_index_and_seed_after_retries(spec, tmp_path, client):
+    attempts = tmp_path / "attempts"
+    attempts.mkdir()
+
+    def fail_item_1(index, seed, where=str(attempts)):
+        if index == 1:
+            open(os.path.join(where, uuid.uuid4().hex), "w").close()
+            raise RuntimeError("injected failure")
+
+    seen = []
+    r = sonarsynth_dask.generate(spec, tmp_path / "d", client=client, retries=1,
+                                 before_item=fail_item_1,
+                                 progress=lambda done, total, item: seen.append(item))
+    assert r["failed"] == 1 and r["done"] == 3
+    assert r["failures"] == [{"index": 1, "seed": spec.item_seed(1),
+                              "error": "RuntimeError: injected failure"}]
+    assert len(os.listdir(attempts)) == 2  # the first attempt and one retry
+    reported = [it for it in seen if it["status"] == "failed"]
+    assert [(it["index"], it["seed"]) for it in reported] == [(1, spec.item_seed(1))]
+    lines = [json.loads(l) for l in (tmp_path / "d" / "manifest.jsonl").read_text().splitlines()]
+    assert [l["status"] for l in lines] == ["done", "failed", "done", "done"]
+    assert lines[1]["seed"] == spec.item_seed(1) and "injected" in lines[1]["error"]
+    summary = json.loads((tmp_path / "d" / "summary.json").read_text())
+    assert summary["failed"] == 1 and summary["failures"][0]["index"] == 1
+    # The failure is transient the second time: the rerun renders item 1 and clears the record.
+    r2 = sonarsynth_dask.generate(spec, tmp_path / "d", client=client, progress=False)
+    assert r2["done"] == 1 and r2["skipped"] == 3 and r2["failed"] == 0
+    assert not (tmp_path / "d" / "failed" / "000001.json").exists()
+
+
+def test_a_transient_failure_is_retried(spec, tmp_path, client):
+    marker = tmp_path / "failed-once"
+
+    def fail_first_attempt(index, seed, marker=str(marker)):
+        if index == 2 and not os.path.exists(marker):
+            open(marker, "w").close()
+            raise OSError("transient")
+
+    r = sonarsynth_dask.generate(spec, tmp_path / "d", client=client, retries=2,
+                                 before_item=fail_first_attempt, progress=False)
+    assert marker.exists()
+    assert r["done"] == 4 and r["failed"] == 0
