@@ -177,12 +177,10 @@ void add_mesh_sections(const TriangleMesh& mesh, std::int32_t id, const Eigen::V
     s.pm.clear();
     std::size_t k = start;
     bool closed = false;
-    std::size_t segments = 0;
     for (;;) {
       s.visited[k] = 1;
       const auto& g = s.segs[k];
       push_node(s.py, s.pz, s.pm, g.ya, g.za, g.mat);
-      ++segments;
       const std::int64_t nk = s.next[k];
       if (nk == static_cast<std::int64_t>(start)) {
         closed = true;
@@ -216,7 +214,6 @@ void add_mesh_sections(const TriangleMesh& mesh, std::int32_t id, const Eigen::V
         s.pm.push_back(s.pm[j - 1]);
       }
     }
-    (void)segments;
     emit(s, id, out);
   };
   for (std::size_t i = 0; i < m; ++i) {
