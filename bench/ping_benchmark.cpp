@@ -6,7 +6,8 @@
 // thread count and the per-stage CPU split returned by Simulator::run.
 //
 // Usage: ping_benchmark [scene.yaml] [--runs N] [--threads a,b,...] [--length-m L] [--no-truth]
-//                       [--noise none|paper|speckle] [--dump FILE]
+//                       [--noise none|paper|speckle] [--planes K] [--dump FILE]
+// --planes fixes the along-track plane count (default: automatic).
 // --dump writes every ping of the last run (samples, truth class, label, grazing angle) as raw
 // little-endian arrays, for bit-level comparison of two builds.
 #include <algorithm>
@@ -88,6 +89,8 @@ int run(int argc, char** argv) {
       length_m = std::stod(next());
     } else if (a == "--no-truth") {
       cfg.truth = false;
+    } else if (a == "--planes") {
+      cfg.quality.along_track_planes = std::stoi(next());
     } else if (a == "--dump") {
       dump_path = next();
     } else if (a == "--noise") {

@@ -12,6 +12,7 @@
 #include <map>
 #include <set>
 
+#include "mesh_file.hpp"
 #include "scene_bathymetry.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
@@ -195,9 +196,77 @@ struct Builder {
         p.base_step_m = 0.0;
       }
       scene.objects.add(std::move(p));
+    } else if (type == "mesh") {
+      add_mesh(o, heading, clearance, embed);
     } else {
-      o.fail_value("type", "one of pipe, cylinder, box, rock, wreck, moored");
+      o.fail_value("type", "one of pipe, cylinder, box, rock, wreck, moored, mesh");
     }
+  }
+
+  // A triangle mesh from a file (docs/scene-format.md "mesh").
+  void add_mesh(const Fields& o, double heading, double clearance, double embed) {
+    o.only({"type", "id", "name", "material", "position", "heading_deg", "file", "scale",
+            "face_materials", "up_axis", "clearance_m", "embed"});
+    const std::string path = resolve_path(base_dir, o.text("file"));
+    const std::string up = o.text("up_axis", "z");
+    if (up != "z" && up != "y") o.fail_value("up_axis", "z or y");
+    MeshPlacement where;
+    where.position_xy_m = position(o, "position");
+    where.heading_rad = heading;
+    where.clearance_m = clearance;
+    where.embed_fraction = embed;
+    if (o.has("scale")) {
+      if (o.node()["scale"].IsSequence()) {
+        const auto v = o.numbers("scale", 3);
+        where.scale = {v[0], v[1], v[2]};
+      } else {
+        const double v = o.number("scale");
+        where.scale = {v, v, v};
+      }
+      if (!(where.scale.minCoeff() > 0.0 && where.scale.maxCoeff() <= 1e4)) {
+        o.fail_value("scale", "0 < scale <= 1e4 (one number or [x, y, z])");
+      }
+    }
+    const std::uint16_t fallback = material(o, "steel");
+    mesh_file::Model model;
+    try {
+      model = mesh_file::load(path, up == "y");
+    } catch (const InputError& e) {
+      o.fail("file", e.what());
+    }
+    // The file's materials -> scene materials: by the file's material name or index.
+    std::vector<std::uint16_t> lut(model.material_names.size(), fallback);
+    if (o.has("face_materials")) {
+      const Fields fm = o.child("face_materials");
+      if (!fm.node().IsMap()) o.fail_value("face_materials", "a map {file material: material}");
+      for (const auto& kv : fm.node()) {
+        const std::string k = fm.scalar_text("face_materials", kv.first);
+        std::size_t idx = model.material_names.size();
+        for (std::size_t i = 0; i < model.material_names.size(); ++i) {
+          if (model.material_names[i] == k) idx = i;
+        }
+        if (idx == model.material_names.size() && !k.empty() &&
+            std::all_of(k.begin(), k.end(), [](char c) { return c >= '0' && c <= '9'; }) &&
+            k.size() < 6) {
+          idx = std::stoul(k);
+        }
+        if (idx >= model.material_names.size()) {
+          std::string names;
+          for (const auto& n : model.material_names) names += (names.empty() ? "" : ", ") + n;
+          fm.fail(k, "no material '" + k + "' in " + path + " (it has: " + names +
+                         "; or give an index below " + std::to_string(model.material_names.size()) +
+                         ")");
+        }
+        try {
+          lut[idx] = scene.materials.index_of(fm.scalar_text(k, kv.second));
+        } catch (const InputError& e) {
+          fm.fail(k, e.what());
+        }
+      }
+    }
+    for (auto& m : model.mesh.material) m = m < lut.size() ? lut[m] : fallback;
+    scene.objects.add(place_mesh(std::move(model.mesh), where, scene.bathymetry, take_id(o),
+                                 fallback, o.file() + ": " + o.path() + " (" + path + ")"));
   }
 
   // Objects from a vector layer: each feature's attributes are read as the keys of an inline
@@ -488,7 +557,7 @@ Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path
 
   // Objects.
   for (const Fields& o : top.sequence("objects")) {
-    if (o.has("file")) {
+    if (o.has("file") && o.text("type", "") != "mesh") {  // a vector layer of objects
       builder.add_object_layer(o);
     } else {
       builder.add_object(o);

@@ -426,10 +426,12 @@ void render_sections(const BeamProfile& prof, const SideParams& par, const Grid&
   const auto& pieces = w.seabed_pieces;
   for (const Segment& s : w.occluders) {
     Facet f{};
-    const double c0 =
-        setup_facet(f, in, hs, s.y0, s.z0 + hs, s.y1, s.z1 + hs, s.facet,
-                    kb * backscatter_coefficient(par.backscatter,
-                                                 par.materials[prof.section_material[s.section]]));
+    const double c0 = setup_facet(
+        f, in, hs, s.y0, s.z0 + hs, s.y1, s.z1 + hs, s.facet,
+        kb * backscatter_coefficient(
+                 par.backscatter,
+                 par.materials[prof.section_facet_mat(
+                     s.section, static_cast<std::size_t>(s.facet) - prof.seabed_facets())]));
     if (!(f.a > 0.0) || !(c0 > 0.0)) continue;
     auto& vis = w.visible;
     vis.assign({0.0, 1.0});
@@ -446,7 +448,8 @@ void render_sections(const BeamProfile& prof, const SideParams& par, const Grid&
                                      [&](const Segment& p) { return p.tan_lo > s.tan_hi; });
       for (; it != pieces.end() && it->tan_hi >= s.tan_lo && vis.size() > 1; ++it) hide(*it);
       for (const Segment& o : w.occluders) {
-        if (o.section == s.section || o.tan_hi < s.tan_lo || o.tan_lo > s.tan_hi) continue;
+        // Its own section too: a mesh's section need not be convex (docs/physics.md §2.1).
+        if (o.facet == s.facet || o.tan_hi < s.tan_lo || o.tan_lo > s.tan_hi) continue;
         if (vis.size() < 2) break;
         hide(o);
       }

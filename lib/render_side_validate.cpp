@@ -110,6 +110,18 @@ void validate_beam_profile(const BeamProfile& p, std::size_t n_materials, const 
            ". Violated constraint: material < materials.size() = " + std::to_string(n_materials));
     }
   }
+  if (!p.section_facet_material.empty() && p.section_facet_material.size() != nn) {
+    fail("profile section_facet_material.size() = " +
+         std::to_string(p.section_facet_material.size()) +
+         ". Violated constraint: empty or one per section node (" + std::to_string(nn) + ")");
+  }
+  for (std::size_t i = 0; i < p.section_facet_material.size(); ++i) {
+    if (p.section_facet_material[i] >= n_materials) {
+      fail("profile section_facet_material[" + std::to_string(i) +
+           "] = " + std::to_string(p.section_facet_material[i]) +
+           ". Violated constraint: material < materials.size() = " + std::to_string(n_materials));
+    }
+  }
   for (std::size_t i = 0; i < nn; ++i) {
     if (!(std::isfinite(p.section_y_m[i]) && std::isfinite(p.section_z_m[i]) &&
           p.section_y_m[i] >= 0.0)) {

@@ -32,6 +32,8 @@ const char* to_string(ObjectShape s) {
       return "box";
     case ObjectShape::kEllipsoid:
       return "ellipsoid";
+    case ObjectShape::kMesh:
+      return "mesh";
   }
   return "?";
 }
@@ -62,6 +64,8 @@ bool ObjectPrimitive::vertical_extent(double x_m, double y_m, double& z_bottom_m
   const Eigen::Vector2d uv = body_from_local({x_m, y_m});
   const double hu = half_extent_m.x(), hv = half_extent_m.y(), hz = half_extent_m.z();
   switch (shape) {
+    case ObjectShape::kMesh:
+      return mesh && mesh->vertical_extent(x_m, y_m, z_bottom_m, z_top_m);
     case ObjectShape::kBox: {
       if (std::abs(uv.x()) > hu || std::abs(uv.y()) > hv) return false;
       z_bottom_m = base_at(uv.x());
@@ -186,6 +190,68 @@ void ObjectPrimitive::place_on_seabed(const HeightGrid& seabed, double gap_m, do
     base_step_m = 0.0;
     base_z_m.push_back(static_cast<float>(seabed_at(centre_xy_m) + lift));
   }
+}
+
+ObjectPrimitive place_mesh(TriangleMesh model, const MeshPlacement& where, const HeightGrid& seabed,
+                           std::int32_t id, std::uint16_t material, const std::string& what) {
+  if (model.triangle.empty()) throw InputError(what + ": the mesh has no triangles");
+  if (!(where.scale.minCoeff() > 0.0) || !where.scale.allFinite()) {
+    throw InputError(what + ": scale = (" + std::to_string(where.scale.x()) + ", " +
+                     std::to_string(where.scale.y()) + ", " + std::to_string(where.scale.z()) +
+                     "). Violated constraint: every scale > 0");
+  }
+  if (!where.position_xy_m.allFinite() || !std::isfinite(where.heading_rad)) {
+    throw InputError(what + ": position or heading is not finite");
+  }
+  if (!(where.clearance_m >= 0.0)) {
+    throw InputError(what + ": clearance_m = " + std::to_string(where.clearance_m) +
+                     ". Violated constraint: clearance_m >= 0");
+  }
+  if (!(where.embed_fraction >= 0.0 && where.embed_fraction < 1.0)) {
+    throw InputError(what + ": embed = " + std::to_string(where.embed_fraction) +
+                     ". Violated constraint: 0 <= embed < 1");
+  }
+  for (auto& v : model.vertex_m) v = v.cwiseProduct(where.scale);
+  Eigen::Vector3d lo, hi;
+  model.build_index(what);  // checks indices and finiteness first
+  model.bounds(lo, hi);
+  const double sh = std::sin(where.heading_rad), ch = std::cos(where.heading_rad);
+  const Eigen::Vector2d fwd(sh, ch), port(-ch, sh);
+  const Eigen::Vector2d c = where.position_xy_m;
+  // The footprint box (model bounds turned to the heading); every corner over the seabed.
+  ObjectPrimitive p;
+  p.shape = ObjectShape::kMesh;
+  p.id = id;
+  p.material = material;
+  p.heading_rad = where.heading_rad;
+  p.centre_xy_m = c + 0.5 * (lo.x() + hi.x()) * fwd + 0.5 * (lo.y() + hi.y()) * port;
+  p.half_extent_m = (0.5 * (hi - lo)).cwiseMax(Eigen::Vector3d::Constant(1e-3));
+  auto seabed_at = [&](const Eigen::Vector2d& q) {
+    const double z = seabed.height_m(q.x(), q.y());
+    if (std::isnan(z)) {
+      throw InputError(what +
+                       ": lies outside the bathymetry grid or over a nodata hole at local (" +
+                       std::to_string(q.x()) + ", " + std::to_string(q.y()) + ") m");
+    }
+    return z;
+  };
+  for (double a : {lo.x(), hi.x()}) {
+    for (double b : {lo.y(), hi.y()}) seabed_at(c + a * fwd + b * port);
+  }
+  // Rounded as the primitives' bases are (base_z_m is float), so a mesh box is the box.
+  const double base = static_cast<float>(seabed_at(c) + where.clearance_m -
+                                         where.embed_fraction * (hi.z() - lo.z()));
+  for (auto& v : model.vertex_m) {
+    const Eigen::Vector2d q = c + v.x() * fwd + v.y() * port;
+    v = {q.x(), q.y(), v.z() - lo.z() + base};
+  }
+  model.build_index(what);
+  p.base_z_m = {static_cast<float>(base)};
+  p.base_step_m = 0.0;
+  p.clearance_m = where.clearance_m;
+  p.validate(what);
+  p.mesh = std::make_shared<const TriangleMesh>(std::move(model));
+  return p;
 }
 
 void ObjectSet::add(ObjectPrimitive p) {

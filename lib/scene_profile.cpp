@@ -109,7 +109,10 @@ void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
     const ObjectPrimitive& prim = scene.objects.primitives()[i];
     if (prim.footprint_interval(nadir_xy_m, across_dir, s0, s1) && s1 > 0.0 && s0 < max_y_m &&
         s1 > s0) {
-      if (prim.clearance_m > 0.0 || options.solid_resting_objects) {  // a closed section
+      if (prim.shape == ObjectShape::kMesh) {  // its sections, cut by the plane
+        if (prim.mesh)
+          add_mesh_sections(*prim.mesh, prim.id, nadir_xy_m, across_dir, out, scratch.mesh);
+      } else if (prim.clearance_m > 0.0 || options.solid_resting_objects) {  // a closed section
         add_object_section(prim, nadir_xy_m, across_dir, s0, s1, options.object_segments, out,
                            scratch);
       } else {

@@ -3,10 +3,12 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "sonarsynth/height_grid.hpp"
+#include "sonarsynth/triangle_mesh.hpp"
 
 namespace sonarsynth {
 
@@ -14,6 +16,7 @@ enum class ObjectShape : std::uint8_t {
   kCylinder,   ///< horizontal cylinder (pipe), axis along the body u axis
   kBox,        ///< rectangular box, edges along the body axes
   kEllipsoid,  ///< ellipsoid (rock), semi-axes along the body axes
+  kMesh,       ///< triangle mesh (`mesh`); centre, heading and half sizes give its footprint box
 };
 
 const char* to_string(ObjectShape s);
@@ -40,6 +43,8 @@ struct ObjectPrimitive {
   /// gap (free span, moored target) always enters the beam plane as a closed section; one
   /// without does too unless ProfileOptions::solid_resting_objects is false.
   double clearance_m = 0.0;
+  /// kMesh: the triangles, placed in the local frame (place_mesh), with their index built.
+  std::shared_ptr<const TriangleMesh> mesh;
 
   Eigen::Vector2d axis_u() const;
   /// (u, v) body coordinates of a local point.
@@ -63,6 +68,24 @@ struct ObjectPrimitive {
   /// Throws InputError naming the violated constraint.
   void validate(const std::string& what) const;
 };
+
+/// Where a mesh model goes. Model frame: x forward (along the heading), y to port, z up,
+/// metres (right-handed, so the winding of the triangles is kept).
+struct MeshPlacement {
+  Eigen::Vector2d position_xy_m = Eigen::Vector2d::Zero();  ///< model origin, local frame
+  double heading_rad = 0.0;                         ///< azimuth of the model x axis from grid north
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();  ///< per model axis, > 0
+  double clearance_m = 0.0;     ///< gap between the seabed and the model's lowest point, >= 0
+  double embed_fraction = 0.0;  ///< sinks the model by this fraction of its height, [0, 1)
+};
+
+/// The mesh object of `model` (model frame, per-triangle materials set) placed as `where` says:
+/// scaled, turned to the heading, its origin at the position and its lowest point on the seabed
+/// under the position (plus the clearance, minus the embedding). Builds the mesh's index.
+/// Throws InputError (naming `what`) if the model is empty or bad, or the seabed under the
+/// footprint is missing.
+ObjectPrimitive place_mesh(TriangleMesh model, const MeshPlacement& where, const HeightGrid& seabed,
+                           std::int32_t id, std::uint16_t material, const std::string& what);
 
 /// All objects of a scene, with a bucket index so that a query along a ping's line costs the
 /// buckets it crosses and the objects in them, not the number of objects in the scene.

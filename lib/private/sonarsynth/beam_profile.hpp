@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -40,6 +41,9 @@ struct BeamProfile {
   std::vector<std::uint32_t> section_start;     ///< first node of each section, then the total
   std::vector<std::int32_t> section_label;      ///< per section: object id (> 0)
   std::vector<std::uint16_t> section_material;  ///< per section: material table index
+  /// Empty, or per section node: the material of its facet to the next node (mesh objects with
+  /// per-face materials); when empty every facet of a section has section_material.
+  std::vector<std::uint16_t> section_facet_material;
 
   std::size_t nodes() const { return y_m.size(); }
   std::size_t sections() const { return section_label.size(); }
@@ -54,6 +58,7 @@ struct BeamProfile {
     section_start.clear();
     section_label.clear();
     section_material.clear();
+    section_facet_material.clear();
   }
   /// Appends a closed section (nodes clockwise in (y, z)); at least 3 nodes.
   void add_section(const double* ys, const double* zs, std::size_t count, std::int32_t id,
@@ -64,6 +69,25 @@ struct BeamProfile {
     section_start.push_back(static_cast<std::uint32_t>(section_y_m.size()));
     section_label.push_back(id);
     section_material.push_back(mat);
+    if (!section_facet_material.empty()) section_facet_material.resize(section_y_m.size(), mat);
+  }
+  /// Appends a closed section whose facets have their own materials (`mats[k]`: the facet from
+  /// node k to the next); `mat` names the section (its first facet's material is typical).
+  void add_section(const double* ys, const double* zs, const std::uint16_t* mats, std::size_t count,
+                   std::int32_t id, std::uint16_t mat) {
+    if (section_facet_material.empty()) {  // the sections so far: one material each
+      for (std::size_t s = 0; s < sections(); ++s) {
+        section_facet_material.resize(section_start[s + 1], section_material[s]);
+      }
+    }
+    add_section(ys, zs, count, id, mat);
+    section_facet_material.resize(section_y_m.size(), mat);
+    std::copy(mats, mats + count,
+              section_facet_material.end() - static_cast<std::ptrdiff_t>(count));
+  }
+  /// Material of the facet from section node k (in section s) to the next.
+  std::uint16_t section_facet_mat(std::size_t s, std::size_t k) const {
+    return section_facet_material.empty() ? section_material[s] : section_facet_material[k];
   }
   /// Facet index space of the renderer's truth: heightfield facets 0 .. nodes - 2, then section
   /// node k (its facet to the next node of its section) as nodes - 1 + k.
@@ -82,7 +106,9 @@ struct BeamProfile {
     return i + 1 < y_m.size() ? label[i] : section_label[section_of(i - seabed_facets())];
   }
   std::uint16_t facet_material(std::size_t i) const {
-    return i + 1 < y_m.size() ? material[i] : section_material[section_of(i - seabed_facets())];
+    if (i + 1 < y_m.size()) return material[i];
+    const std::size_t k = i - seabed_facets();
+    return section_facet_mat(section_of(k), k);
   }
   std::size_t seabed_facets() const { return y_m.empty() ? 0 : y_m.size() - 1; }
   /// Section holding section node k.

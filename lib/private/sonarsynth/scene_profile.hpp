@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "sonarsynth/beam_profile.hpp"
+#include "sonarsynth/mesh_slice.hpp"
 #include "sonarsynth/scene.hpp"
 
 namespace sonarsynth {
@@ -21,6 +22,7 @@ struct ProfileScratch {
   std::vector<Span> spans;
   std::vector<double> s;
   std::vector<double> section_y, section_z, section_extent;
+  MeshSliceScratch mesh;
 };
 
 /// The seabed and objects along the horizontal ray nadir_xy + y * across_dir, 0 <= y <= max_y_m,
