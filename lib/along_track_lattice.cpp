@@ -81,18 +81,6 @@ SONARSYNTH_AVX2 inline __m256i halves(__m256i a, __m256i b, bool high) {
   return _mm256_permute4x64_epi64(_mm256_castps_si256(t), _MM_SHUFFLE(3, 1, 2, 0));
 }
 
-// table[idx] of eight 32-bit indices: a gather, or eight scalar loads where gathers are slow.
-SONARSYNTH_AVX2 inline __m256 lookup8(const float* table, __m256i idx) {
-#ifdef SONARSYNTH_LATTICE_GATHER
-  return _mm256_i32gather_ps(table, idx, 4);
-#else
-  alignas(32) std::uint32_t k[8];
-  _mm256_store_si256(reinterpret_cast<__m256i*>(k), idx);
-  return _mm256_setr_ps(table[k[0]], table[k[1]], table[k[2]], table[k[3]], table[k[4]],
-                        table[k[5]], table[k[6]], table[k[7]]);
-#endif
-}
-
 SONARSYNTH_AVX2 inline __m256i set64(std::uint64_t v) {
   return _mm256_set1_epi64x(static_cast<long long>(v));
 }
@@ -132,8 +120,8 @@ SONARSYNTH_AVX2 void lattice_look_avx2(const LatticeSamples& s, std::uint64_t lo
     __m256 re = _mm256_setzero_ps(), im = _mm256_setzero_ps();
     for (int k = 0; k < 4; ++k) {
       const __m256i h = _mm256_blendv_epi8(half[k], half[k + 1], odd);
-      const __m256 g1 = lookup8(table, _mm256_and_si256(h, low16));
-      const __m256 g2 = lookup8(table, _mm256_srli_epi32(h, 16));
+      const __m256 g1 = _mm256_i32gather_ps(table, _mm256_and_si256(h, low16), 4);
+      const __m256 g2 = _mm256_i32gather_ps(table, _mm256_srli_epi32(h, 16), 4);
       const __m256 wk = _mm256_loadu_ps(s.w[k] + i);
       re = _mm256_add_ps(re, _mm256_mul_ps(wk, g1));
       im = _mm256_add_ps(im, _mm256_mul_ps(wk, g2));
