@@ -7,7 +7,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "sonarsynth/along_track_lattice.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/noise.hpp"
@@ -323,34 +322,26 @@ void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, in
   const auto nl = static_cast<std::size_t>(looks);
   out.resize(samples * nl);
   table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples);
-  for (auto& w : table.weight) w.resize(samples);
-  table.inv_2w2.resize(samples);
-  table.cell.resize(samples);
-  table.pair0.resize(samples);
-  table.odd.resize(samples);
+  const NormalTable& normal = NormalTable::get();
   const LatticeWeights& weights = LatticeWeights::get();
   const std::uint64_t line = hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key);
   const double* sw = table.sw.data();
   const double* inv_step = table.inv_step.data();
-  // The lattice's geometry per sample, the same for every look (lib/along_track_lattice.cpp
-  // draws the looks from it).
   for (std::size_t i = 0; i < samples; ++i) {
     // u = along-track position in lattice steps of 1.5 sw (sw = r theta / sqrt(8 ln 2)).
     const double u = f.along_track_m * inv_step[i];
     // Below the first return, and where consecutive pings are more than 2.5 footprints
     // (r beta_eff = 1.77 sw) apart (correlation < 1e-4), the speckle is drawn independently
-    // (and where the lattice index would not fit an integer: a degenerate beam or position):
-    // a NaN normalisation marks the sample.
+    // (and where the lattice index would not fit an integer: a degenerate beam or position).
     if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw[i] || !(std::abs(u) < 1e15)) {
-      for (auto& w : table.weight) w[i] = 0.0f;
-      table.inv_2w2[i] = std::numeric_limits<double>::quiet_NaN();
-      table.cell[i] = 0;
-      table.pair0[i] = 0;
-      table.odd[i] = 0;
+      for (std::size_t j = 0; j < nl; ++j) {
+        out[j * samples + i] = std::numeric_limits<double>::quiet_NaN();
+      }
       continue;
     }
     // Lattice step 1.5 sw: the lattice sum reproduces the continuous one to ~1e-4 (Poisson
-    // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5.
+    // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5. The
+    // lattice position and weights are the same for every look.
     auto m0 = static_cast<std::int64_t>(u);  // floor(u), |u| < 1e15
     if (static_cast<double>(m0) > u) --m0;
     const double frac = u - static_cast<double>(m0);
@@ -359,31 +350,39 @@ void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, in
     // The sum in float (relative rounding ~1e-7, far below the speckle's own spread), normalised
     // in double by 1 / (2 sum w^2) of the same float weights (the scatterers
     // (g1 + i g2) / sqrt(2) have unit power), so the mean stays exactly 1.
+    float wf[4];
     double w2 = 0.0;
     for (int k = 0; k < 4; ++k) {
-      const auto wf = static_cast<float>(w[k]);
-      table.weight[k][i] = wf;
-      w2 += static_cast<double>(wf) * static_cast<double>(wf);
+      wf[k] = static_cast<float>(w[k]);
+      w2 += static_cast<double>(wf[k]) * static_cast<double>(wf[k]);
     }
-    table.inv_2w2[i] = 0.5 / w2;
+    const double inv_2w2 = 0.5 / w2;
     const std::int64_t first = m0 - 1;
+    const int odd = static_cast<int>(first & 1);
     // The keyed word of (sample i, look, pair p of scatterers m = 2p, 2p + 1) is
     // splitmix_stream(cell, p + look 2^56): |p| < 2^49, so (p, look) pairs are distinct for
     // look < 2^8.
-    table.cell[i] = splitmix_stream(line, static_cast<std::uint64_t>(i));
-    table.pair0[i] = static_cast<std::uint64_t>(first >> 1);
-    table.odd[i] = static_cast<std::uint32_t>(first & 1);
-  }
-  LatticeSamples ls{};
-  for (int k = 0; k < 4; ++k) ls.w[k] = table.weight[k].data();
-  ls.inv_2w2 = table.inv_2w2.data();
-  ls.cell = table.cell.data();
-  ls.pair0 = table.pair0.data();
-  ls.odd = table.odd.data();
-  ls.samples = samples;
-  for (std::size_t j = 0; j < nl; ++j) {
-    lattice_look(ls, (static_cast<std::uint64_t>(first_look) + j) * kLookStride,
-                 out.data() + j * samples);
+    const std::uint64_t cell = splitmix_stream(line, static_cast<std::uint64_t>(i));
+    const auto pair0 = static_cast<std::uint64_t>(first >> 1);
+    for (std::size_t j = 0; j < nl; ++j) {
+      const std::uint64_t p0 = pair0 + (static_cast<std::uint64_t>(first_look) + j) * kLookStride;
+      // Scatterer m (lattice index m0 - 1 + k): g1 from the low 16 bits of one half of the
+      // word of the pair m >> 1, g2 from its high 16 bits (NormalTable): two words per sample,
+      // three when m0 - 1 is odd.
+      std::uint64_t h[3];
+      h[0] = splitmix_stream(cell, p0);
+      h[1] = splitmix_stream(cell, p0 + 1);
+      h[2] = odd != 0 ? splitmix_stream(cell, p0 + 2) : 0;
+      float re = 0.0f, im = 0.0f;
+      for (int k = 0; k < 4; ++k) {
+        const int q = k + odd;  // the scatterer's half among the words: word q / 2, half q % 2
+        const auto half = static_cast<std::uint32_t>(h[q >> 1] >> (32 * (q & 1)));
+        re += wf[k] * normal(half);
+        im += wf[k] * normal(half >> 16);
+      }
+      const auto dre = static_cast<double>(re), dim = static_cast<double>(im);
+      out[j * samples + i] = (dre * dre + dim * dim) * inv_2w2;
+    }
   }
 }
 

@@ -8,12 +8,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
 
-#include "sonarsynth/along_track_lattice.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/sensor_effects.hpp"
@@ -365,38 +363,6 @@ TEST(AlongTrackSpeckle, ExponentialOfUnitMeanAndIndependentLooks) {
   }
   EXPECT_LT(d, 1.63 / std::sqrt(n));
   EXPECT_THROW(along_track_speckle_looks(f, 10, 255, 2, table, v), std::invalid_argument);
-}
-
-// The AVX2 path of the lattice (where the CPU has it) against the scalar loop, bit for bit, on
-// many pings of a field whose sample count is not a multiple of 8: lattice positions on both
-// parities, samples drawn independently (NaN) below the first return and where the pings are
-// far apart, and several looks.
-TEST(AlongTrackSpeckle, VectorPathBitIdenticalToScalar) {
-  if (!lattice_simd_active()) GTEST_SKIP() << "no AVX2 on this CPU (or SONARSYNTH_SCALAR=1)";
-  AlongTrackField f;
-  f.key = 0x5eed;
-  f.seed = 12345;
-  f.sample_spacing_m = 0.009;
-  f.beam_3db_rad = 0.0035;
-  f.first_sample = 37;
-  f.ping_spacing_m = 0.05;
-  const std::size_t samples = 4101;
-  AlongTrackTable table;
-  std::vector<double> vec, sca;
-  std::size_t nan = 0, finite = 0;
-  for (int ping = 0; ping < 200; ++ping) {
-    f.along_track_m = -3.0 + 0.173 * ping;
-    along_track_speckle_looks(f, samples, ping % 5, 3, table, vec);
-    set_lattice_simd(false);
-    along_track_speckle_looks(f, samples, ping % 5, 3, table, sca);
-    set_lattice_simd(true);
-    ASSERT_EQ(vec.size(), sca.size());
-    ASSERT_EQ(std::memcmp(vec.data(), sca.data(), vec.size() * sizeof(double)), 0) << ping;
-    for (double v : vec) (std::isnan(v) ? nan : finite) += 1;
-  }
-  // Both kinds of samples occurred.
-  EXPECT_GT(nan, 200u * 3u * 37u);
-  EXPECT_GT(finite, nan);
 }
 
 // The default (tables + interference formula) and the reference (Box–Muller + Marsaglia–Tsang)

@@ -110,8 +110,6 @@ class NormalTable {
   static const NormalTable& get();
   /// The variate of the low 16 bits of `bits`.
   float operator()(std::uint32_t bits) const { return table_[bits & (kCells - 1)]; }
-  /// The kCells values (for vector gathers).
-  const float* data() const { return table_.data(); }
   /// The cell's lower edge Phi^-1(k / 2^16) (-inf for k = 0, +inf for k = kCells), for tests.
   double edge(std::size_t k) const { return edge_[k]; }
   /// The table's scale factor (the unscaled second moment is 1 / scale^2), for tests.

@@ -80,11 +80,6 @@ struct AlongTrackTable {
   double sample_spacing_m = 0.0, beam_3db_rad = 0.0;
   std::vector<double> sw;        ///< r theta / sqrt(8 ln 2) per sample
   std::vector<double> inv_step;  ///< 1 / (lattice step) per sample
-  /// The lattice of one ping per sample (LatticeSamples, along_track_lattice.hpp).
-  std::vector<float> weight[4];
-  std::vector<double> inv_2w2;
-  std::vector<std::uint64_t> cell, pair0;
-  std::vector<std::uint32_t> odd;
   void prepare(double sample_spacing_m, double beam_3db_rad, std::size_t samples);
 };
 
