@@ -134,9 +134,11 @@ class LabelsTest : public ::testing::Test {
     scene_ = (dir_ / "scene.yaml").string();
   }
   void TearDown() override { fs::remove_all(dir_); }
-  RunResult run(const std::string& extra, const fs::path& out, unsigned threads = 0) {
+  RunResult run(const std::string& extra, const fs::path& out, unsigned threads = 0,
+                bool overwrite = false) {
     std::ofstream(scene_) << kScene << extra;
     RunOptions o;
+    o.overwrite = overwrite;
     if (threads) o.overrides.threads = threads;
     return run_simulation(scene_, out, o);
   }
@@ -315,10 +317,11 @@ TEST_F(LabelsTest, RastersBoxesAndChipsAgreeWithTheTruth) {
   for (const fs::path& f : r.files) EXPECT_TRUE(fs::exists(f)) << f;
 }
 
-// The same files whatever the thread count.
+// The same files whatever the thread count; a run replaces an earlier one's label directories.
 TEST_F(LabelsTest, ByteIdenticalForAnyThreadCount) {
   run(kLabels, dir_ / "one", 1);
-  run(kLabels, dir_ / "two", 2);
+  run(kLabels, dir_ / "two", 1);
+  run(kLabels, dir_ / "two", 2, true);
   const auto bytes = [](const fs::path& p) {
     std::ifstream is(p, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(is), {});
