@@ -82,6 +82,22 @@ bool has_product_extension(const fs::path& p) {
   return false;
 }
 
+/// The label directories of `simulate` (chips/, yolo/: docs/labels.md): real directories holding
+/// only real directories and files with a product extension or .txt (YOLO boxes).
+bool is_label_dir(const fs::directory_entry& d) {
+  const std::string name = d.path().filename().string();
+  std::error_code ec;
+  if ((name != "chips" && name != "yolo") || d.is_symlink(ec) || !d.is_directory(ec)) return false;
+  for (fs::recursive_directory_iterator it(d.path(), ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code e2;
+    if (it->is_symlink(e2)) return false;
+    if (it->is_directory(e2)) continue;
+    if (!it->is_regular_file(e2)) return false;
+    if (!has_product_extension(it->path()) && it->path().extension() != ".txt") return false;
+  }
+  return !ec;
+}
+
 /// Exchanges two paths atomically; false (errno set) if the file system cannot.
 bool exchange_paths(const fs::path& a, const fs::path& b) {
 #ifdef RENAME_EXCHANGE
@@ -110,7 +126,9 @@ std::string why_not_replaceable_output(const fs::path& dir) {
     if (name == "effective.yaml") effective = true;
     // Ours: a regular file (not a link) with the extension of a product.
     std::error_code e2;
-    const bool ours = !it->is_symlink(e2) && it->is_regular_file(e2) && has_product_extension(p);
+    const bool ours =
+        (!it->is_symlink(e2) && it->is_regular_file(e2) && has_product_extension(p)) ||
+        is_label_dir(*it);
     if (!ours && foreign.empty()) {
       foreign = "it contains " + name + ", which is not a file sonarsynth writes";
     }

@@ -261,7 +261,21 @@ void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int b
     for (std::size_t b = 0; b < labels.descriptions.size(); ++b) {
       ds.GetRasterBand(static_cast<int>(b) + 1)->SetDescription(labels.descriptions[b].c_str());
     }
+    for (std::size_t b = 0; b < labels.band_metadata.size(); ++b) {
+      for (const auto& [k, v] : labels.band_metadata[b]) {
+        ds.GetRasterBand(static_cast<int>(b) + 1)->SetMetadataItem(k.c_str(), v.c_str());
+      }
+    }
     if (!band_values) return;
+    if (!labels.color_table.empty()) {
+      GDALColorTable table;
+      for (std::size_t i = 0; i < labels.color_table.size(); ++i) {
+        const auto& c = labels.color_table[i];
+        const GDALColorEntry e{c[0], c[1], c[2], c[3]};
+        table.SetColorEntry(static_cast<int>(i), &e);
+      }
+      ds.GetRasterBand(1)->SetColorTable(&table);
+    }
     for (std::size_t b = 0; b < labels.units.size(); ++b) {
       ds.GetRasterBand(static_cast<int>(b) + 1)->SetUnitType(labels.units[b].c_str());
     }

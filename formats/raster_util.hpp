@@ -5,6 +5,7 @@
 
 #include <gdal_priv.h>
 
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +47,10 @@ struct RasterLabels {
   std::vector<std::string> units;
   bool has_nodata = false;
   double nodata = 0.0;
+  /// Per band (from band 1): metadata items of the band (domain "").
+  std::vector<std::vector<std::pair<std::string, std::string>>> band_metadata;
+  /// Colour table of band 1 (r, g, b, a of the values 0, 1, ...), GTiff only; empty = none.
+  std::vector<std::array<short, 4>> color_table;
 };
 
 /// Writes the `rows` rows of `source` to `temp_path` through driver `driver` (creation options as

@@ -24,11 +24,12 @@ constexpr double kWorkspaceBytesPerSample = 200.0;
 constexpr double kProfileBytesPerCrossing = 48.0;
 // Mosaic accumulators per pixel (sums, counts, nearest values, labels, output), bytes.
 constexpr double kMosaicMemoryBytesPerPixel = 40.0;
-// Mosaic files per pixel: float intensity, RGBA display copy, int32 truth, uncompressed, each
-// with overviews (a third more).
-constexpr double kMosaicFileBytesPerPixel = 16.0;
-// Truth waterfall per sample (class, object id, grazing angle), uncompressed.
-constexpr double kTruthBytesPerSample = 9.0;
+// Mosaic files per pixel: float intensity, RGBA display copy, int32 truth, uint8 class and uint32
+// instance labels (docs/labels.md), uncompressed, the first three with overviews (a third more).
+constexpr double kMosaicFileBytesPerPixel = 21.0;
+// Truth waterfall per sample (class, object id, grazing angle) and the class and instance label
+// rasters (docs/labels.md), compressed.
+constexpr double kTruthBytesPerSample = 14.0;
 
 std::string num(double v, int precision = 6) {
   char buf[64];

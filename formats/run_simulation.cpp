@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 
+#include "label_sets.hpp"
 #include "sink_threads.hpp"
 #include "sonarsynth/formats/jsf_survey_writer.hpp"
 #include "sonarsynth/formats/output_dir.hpp"
@@ -25,6 +26,30 @@ double process_cpu_s() {
   timespec ts{};
   if (::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return 0.0;
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// The waterfalls that have label rasters (a line without pings has none).
+std::vector<labels::LabelImage> waterfall_label_images(const std::filesystem::path& dir,
+                                                       const SurveyProductOptions& po,
+                                                       const std::vector<std::string>& lines) {
+  std::vector<labels::LabelImage> out;
+  if (!po.waterfalls || !po.truth) return out;
+  for (const std::string& name : lines) {
+    labels::LabelImage li{name + "_waterfall.png", name + "_truth_class.tif",
+                          name + "_truth_instance.tif", name + "_waterfall"};
+    if (std::filesystem::exists(dir / li.image) && std::filesystem::exists(dir / li.classes)) {
+      out.push_back(li);
+    }
+  }
+  return out;
+}
+
+std::vector<labels::LabelImage> mosaic_label_images(const std::filesystem::path& dir,
+                                                    const SurveyProductOptions& po) {
+  labels::LabelImage li{"mosaic_rgb.tif", "truth_mosaic_class.tif", "truth_mosaic_instance.tif",
+                        "mosaic"};
+  if (!po.mosaic || !po.truth || !std::filesystem::exists(dir / li.classes)) return {};
+  return {li};
 }
 
 }  // namespace
@@ -94,6 +119,15 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   result.products_s = products.finish_s();
   result.output_cpu_s = sink.thread_cpu_s();
   for (const auto& w : products.writer_cpu_s()) result.output_cpu_s.push_back(w);
+  // Boxes and chips from the label rasters just written (output.labels, docs/labels.md).
+  labels::LabelSetResult label_sets;
+  if (setup->labels.any() && po.truth) {
+    const auto t_labels = std::chrono::steady_clock::now();
+    label_sets = labels::write_label_sets(
+        out.file(""), waterfall_label_images(out.file(""), po, result.line_names),
+        mosaic_label_images(out.file(""), po), setup->labels);
+    result.labels_s = seconds_since(t_labels);
+  }
   write_effective_config(scene_path, options.overrides, *setup, sim, out.file("effective.yaml"));
   out.commit();
 
@@ -107,8 +141,10 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
     for (const auto& f : jsf_out->files()) result.files.push_back(out.final_dir() / f.filename());
   }
   for (const auto& f : products.files()) result.files.push_back(out.final_dir() / f.filename());
+  for (const auto& f : label_sets.files) result.files.push_back(out.final_dir() / f);
   result.files.push_back(out.final_dir() / "effective.yaml");
   result.notes = products.notes();
+  result.notes.insert(result.notes.end(), label_sets.notes.begin(), label_sets.notes.end());
   result.line_statistics = stats.lines();
   result.total_pings = survey.total_pings();
   result.along_track = sim.along_track();

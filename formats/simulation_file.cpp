@@ -113,6 +113,34 @@ void read_beam(const Fields& b, SimulationSetup& setup) {
   }
 }
 
+// output.labels (docs/labels.md): coco, yolo, chips (a boolean, or a map of its settings).
+void read_labels(const Fields& f, SimulationSetup& setup) {
+  f.only({"coco", "yolo", "chips"});
+  LabelOutput& l = setup.labels;
+  l.coco = f.boolean("coco", l.coco);
+  l.yolo = f.boolean("yolo", l.yolo);
+  if (f.has("chips") && f.node()["chips"].IsMap()) {
+    const Fields c = f.child("chips");
+    c.only({"size_px", "stride_px", "max_nodata_fraction"});
+    l.chips = true;
+    const auto size = c.integer("size_px", static_cast<std::int64_t>(l.chip_size_px));
+    if (size < 16 || size > 8192) c.fail_value("size_px", "16 <= size_px <= 8192");
+    const auto stride = c.integer("stride_px", size);
+    if (stride < 1 || stride > 8192) c.fail_value("stride_px", "1 <= stride_px <= 8192");
+    l.chip_size_px = static_cast<std::size_t>(size);
+    l.chip_stride_px = static_cast<std::size_t>(stride);
+    l.chip_max_nodata_fraction = c.number("max_nodata_fraction", l.chip_max_nodata_fraction);
+    if (!(l.chip_max_nodata_fraction >= 0.0 && l.chip_max_nodata_fraction < 1.0)) {
+      c.fail_value("max_nodata_fraction", "0 <= max_nodata_fraction < 1");
+    }
+  } else {
+    l.chips = f.boolean("chips", l.chips);
+  }
+  if (l.any() && !setup.config.truth) {
+    f.fail("", "labels need the truth (output.truth: true)");
+  }
+}
+
 // A command-line override: the bounds of the option it overrides, the error naming the flag.
 template <class T>
 void check_override(const options::Option& o, T value) {
@@ -271,8 +299,9 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   // Output scaling and format.
   if (top.has("output")) {
     const Fields f = top.child("output");
-    f.only(keys_of("output"));
+    f.only(keys_of("output", {"labels"}));
     options::read_all(f, "output", setup);
+    if (f.has("labels")) read_labels(f.child("labels"), setup);
     // f32 samples are written unscaled unless a gain (not auto) is given.
     if (setup.sample_format == "f32" && std::isnan(cfg.output.gain_db)) cfg.output.gain_db = 0.0;
   }

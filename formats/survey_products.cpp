@@ -7,6 +7,7 @@
 
 #include "sink_threads.hpp"
 #include "sonarsynth/error.hpp"
+#include "truth_labels.hpp"
 
 namespace sonarsynth {
 
@@ -41,6 +42,11 @@ class SurveyProducts::MosaicPart final : public PingSink {
     if (!(lo.x() < hi.x() && lo.y() < hi.y())) {
       throw InputError("products: the survey lines do not overlap the bathymetry grid");
     }
+    if (options_.truth) {
+      std::vector<std::int32_t> ids;
+      for (const ObjectPrimitive& o : scene_->objects.primitives()) ids.push_back(o.id);
+      codes_ = std::make_unique<labels::MosaicLabelCodes>(std::move(ids));
+    }
     grid_ =
         std::make_unique<MosaicGrid>(MosaicGrid::geometry_covering(lo, hi, options_.mosaic_pixel_m),
                                      options_.mosaic_options, &scene_->bathymetry);
@@ -62,9 +68,12 @@ class SurveyProducts::MosaicPart final : public PingSink {
     m.slant_range_m = sonar_.max_range_m;
     m.port = p.port.samples;
     m.starboard = p.starboard.samples;
-    if (options_.truth) {
-      m.port_labels = p.port.truth_label;
-      m.starboard_labels = p.starboard.truth_label;
+    if (codes_ && !p.port.truth_class.empty()) {
+      // Class, id and shadow caster in one gridded code (formats/truth_labels.hpp).
+      codes_->encode(p.port.truth_class, p.port.truth_label, port_codes_);
+      codes_->encode(p.starboard.truth_class, p.starboard.truth_label, stbd_codes_);
+      m.port_labels = port_codes_;
+      m.starboard_labels = stbd_codes_;
     }
     grid_->add(m);
   }
@@ -78,11 +87,21 @@ class SurveyProducts::MosaicPart final : public PingSink {
     if (options_.truth) w.labels_path = (dir_ / "truth_mosaic.tif").string();
     const auto path = dir_ / "mosaic.tif";
     // The image replaces the accumulators: they are released before the files are written.
-    const MosaicImage image = std::move(*grid_).finish();
+    MosaicImage image = std::move(*grid_).finish();
     grid_.reset();
+    std::vector<std::uint8_t> cls;
+    std::vector<std::uint32_t> instance;
+    if (codes_ && !image.labels.empty()) codes_->decode(image.labels, cls, instance);
     write_mosaic(path.string(), scene_->frame, image, w);
     files_ = {path, w.rgb_path};
     if (options_.truth) files_.push_back(w.labels_path);
+    if (!cls.empty()) {
+      files_.push_back(dir_ / "truth_mosaic_class.tif");
+      files_.push_back(dir_ / "truth_mosaic_instance.tif");
+      labels::write_mosaic_label_rasters(files_[files_.size() - 2].string(), files_.back().string(),
+                                         scene_->frame, image.geometry, cls, instance, w.overwrite,
+                                         w.metadata);
+    }
     finish_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
@@ -97,6 +116,8 @@ class SurveyProducts::MosaicPart final : public PingSink {
   SonarConfig sonar_;
   const SurveyProductOptions& options_;
   std::unique_ptr<MosaicGrid> grid_;
+  std::unique_ptr<labels::MosaicLabelCodes> codes_;
+  std::vector<std::int32_t> port_codes_, stbd_codes_;
   std::vector<std::filesystem::path> files_;
   double finish_s_ = 0.0;
 };
@@ -128,15 +149,16 @@ class SurveyProducts::LinePart : public PingSink {
     drop();
   }
 
-  /// The path written for `line` (empty: none), and its note (empty: none).
-  const std::vector<std::filesystem::path>& files() const { return files_; }
+  /// The paths written for `line` (none: empty), and its note (empty: none).
+  const std::vector<std::vector<std::filesystem::path>>& files() const { return files_; }
   const std::vector<std::string>& notes() const { return notes_; }
   double cpu_s() const { return job_.cpu_s(); }
 
  protected:
-  /// The line's accumulator handed over as a job that writes `<dir>/<name><suffix>` and sets
-  /// `file` (and `note` if there is one), or an empty job if the line has nothing to write.
-  virtual std::function<void()> take_line(const std::string& name, std::filesystem::path& file,
+  /// The line's accumulator handed over as a job that writes `<dir>/<name><suffix>` files and
+  /// sets `files` (and `note` if there is one), or an empty job if the line has nothing to write.
+  virtual std::function<void()> take_line(const std::string& name,
+                                          std::vector<std::filesystem::path>& files,
                                           std::string& note) = 0;
   virtual void drop() noexcept = 0;
   const std::filesystem::path& dir() const { return dir_; }
@@ -144,7 +166,7 @@ class SurveyProducts::LinePart : public PingSink {
  private:
   std::filesystem::path dir_;
   std::vector<std::string> names_;
-  std::vector<std::filesystem::path> files_;
+  std::vector<std::vector<std::filesystem::path>> files_;
   std::vector<std::string> notes_;
   detail::BackgroundJob job_;
 };
@@ -171,14 +193,15 @@ class SurveyProducts::WaterfallPart final : public LinePart {
   }
 
  private:
-  std::function<void()> take_line(const std::string& name, std::filesystem::path& file,
+  std::function<void()> take_line(const std::string& name,
+                                  std::vector<std::filesystem::path>& files,
                                   std::string& note) override {
     std::shared_ptr<Waterfall> w = std::move(waterfall_);
     if (!w || w->rows() == 0) return {};
     const std::size_t max_pixels = options_.waterfall_max_pixels;
-    return [w, path = dir() / (name + "_waterfall.png"), max_pixels, &file, &note] {
+    return [w, path = dir() / (name + "_waterfall.png"), max_pixels, &files, &note] {
       w->write(path.string());
-      file = path;
+      files = {path};
       if (w->pings_per_row() > 1) {
         note = path.filename().string() + ": " + std::to_string(w->rows()) +
                " pings decimated along track, each row the mean of " +
@@ -201,29 +224,42 @@ class SurveyProducts::TruthPart final : public LinePart {
       : LinePart(std::move(dir), std::move(names)), options_(options) {}
   void begin_line(std::size_t /*line*/) override {
     truth_ = std::make_shared<TruthWaterfall>(dir());
+    labels_ = std::make_shared<labels::LabelWaterfall>(dir());
   }
   void ping(const RenderedPing& p) override {
     if (truth_ && !p.port.truth_class.empty()) {
       truth_->add_ping(p.port.truth_class, p.starboard.truth_class, p.port.truth_label,
                        p.starboard.truth_label, p.port.truth_grazing_rad,
                        p.starboard.truth_grazing_rad);
+      labels_->add_ping(p.port.truth_class, p.starboard.truth_class, p.port.truth_label,
+                        p.starboard.truth_label);
     }
   }
 
  private:
-  std::function<void()> take_line(const std::string& name, std::filesystem::path& file,
+  std::function<void()> take_line(const std::string& name,
+                                  std::vector<std::filesystem::path>& files,
                                   std::string& /*note*/) override {
     std::shared_ptr<TruthWaterfall> t = std::move(truth_);
+    std::shared_ptr<labels::LabelWaterfall> l = std::move(labels_);
     if (!t || t->rows() == 0) return {};
-    return [t, path = dir() / (name + "_truth.tif"), this, &file] {
+    // The label rasters (docs/labels.md) next to the truth of the line.
+    return [t, l, path = dir() / (name + "_truth.tif"),
+            class_path = dir() / (name + "_truth_class.tif"),
+            instance_path = dir() / (name + "_truth_instance.tif"), this, &files] {
       t->write(path.string(), false, options_.write_options.metadata);
-      file = path;
+      l->write(class_path.string(), instance_path.string(), false, options_.write_options.metadata);
+      files = {path, class_path, instance_path};
     };
   }
-  void drop() noexcept override { truth_.reset(); }
+  void drop() noexcept override {
+    truth_.reset();
+    labels_.reset();
+  }
 
   const SurveyProductOptions& options_;
   std::shared_ptr<TruthWaterfall> truth_;
+  std::shared_ptr<labels::LabelWaterfall> labels_;
 };
 
 SurveyProducts::SurveyProducts(std::filesystem::path dir, std::shared_ptr<const Scene> shared_scene,
@@ -301,8 +337,8 @@ std::vector<std::filesystem::path> SurveyProducts::files() const {
       std::max(waterfall_ ? waterfall_->files().size() : 0, truth_ ? truth_->files().size() : 0);
   for (std::size_t l = 0; l < lines; ++l) {
     for (const LinePart* part : {waterfall_.get(), truth_.get()}) {
-      if (part && l < part->files().size() && !part->files()[l].empty()) {
-        out.push_back(part->files()[l]);
+      if (part && l < part->files().size()) {
+        out.insert(out.end(), part->files()[l].begin(), part->files()[l].end());
       }
     }
   }

@@ -3,6 +3,7 @@
 // XTF file per survey line, the effective configuration and (when enabled) mosaic, waterfalls
 // and truth products.
 #include <algorithm>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 
@@ -64,7 +65,24 @@ void print_summary(const RunResult& r) {
             << " GB written at most, " << static_cast<double>(r.plan.memory_bytes) / 1e9
             << " GB of memory";
   std::cout << "\n  mosaic written in " << std::setprecision(2) << r.products_s << " s\n";
-  for (const auto& f : r.files) std::cout << "  " << f.string() << "\n";
+  // The chips (output.labels.chips, docs/labels.md) are counted, not listed one by one.
+  std::size_t chip_files = 0;
+  std::filesystem::path chips_dir;
+  for (const auto& f : r.files) {
+    if (f.parent_path().parent_path().filename() == "chips") {
+      ++chip_files;
+      chips_dir = f.parent_path().parent_path();
+      continue;
+    }
+    std::cout << "  " << f.string() << "\n";
+  }
+  if (chip_files > 0) {
+    std::cout << "  " << chips_dir.string() << "/ (" << chip_files << " files)\n";
+  }
+  if (r.labels_s > 0.0) {
+    std::cout << "  labels (boxes, chips) written in " << std::setprecision(2) << r.labels_s
+              << " s\n";
+  }
   for (const auto& note : r.notes) std::cout << "  note: " << note << "\n";
   for (std::size_t i = 0; i < r.line_names.size(); ++i) {
     const RunStatistics::Line& l = r.line_statistics[i];

@@ -51,8 +51,10 @@ struct RunResult {
   /// products, which run in parallel), seconds.
   double run_s = 0.0;
   double products_s = 0.0;  ///< wall time of writing the mosaics (part of run_s), seconds
-  double total_s = 0.0;     ///< wall time of the whole call, seconds
-  double cpu_s = 0.0;       ///< CPU time of the process during the whole call, seconds
+  /// Wall time of the boxes and chips (output.labels, after the run; not part of run_s), s.
+  double labels_s = 0.0;
+  double total_s = 0.0;  ///< wall time of the whole call, seconds
+  double cpu_s = 0.0;    ///< CPU time of the process during the whole call, seconds
   /// CPU seconds of each output thread: "xtf", "mosaic", "waterfall", "truth" (accumulating
   /// pings) and "waterfall images", "truth images" (writing them); the rendering threads and
   /// the run statistics take the rest of cpu_s.

@@ -37,6 +37,19 @@ struct RunLimits {
   double max_memory_gb = 8.0;   ///< renderer workspaces and mosaic accumulators, 10^9 bytes
 };
 
+/// output.labels: machine-learning labels besides the truth rasters (docs/labels.md). The
+/// class and instance rasters come with the truth; these are off by default.
+struct LabelOutput {
+  bool coco = false;               ///< waterfalls.coco.json, mosaic.coco.json (and chips/coco.json)
+  bool yolo = false;               ///< yolo/<image>.txt (and chips/labels/<chip>.txt)
+  bool chips = false;              ///< chips/images, chips/masks (and their boxes as asked above)
+  std::size_t chip_size_px = 256;  ///< chip side, pixels
+  std::size_t chip_stride_px = 256;  ///< step between chips, pixels
+  /// Chips with a larger fraction of nodata pixels are skipped (all-nodata ones always).
+  double chip_max_nodata_fraction = 0.5;
+  bool any() const { return coco || yolo || chips; }
+};
+
 /// What `sonarsynth simulate` runs: the scene, the simulation settings and the survey. A key left
 /// out of the scene file keeps the default of its struct member (formats/option_table.cpp
 /// declares each key once: its unit, bounds and member).
@@ -59,6 +72,8 @@ struct SimulationSetup {
   /// output.display: the waterfalls and mosaic_rgb show sample / full scale linearly (the
   /// founding paper's grey level, docs/paper-model.md) instead of a dB window.
   bool display_linear = false;
+  /// output.labels (docs/labels.md).
+  LabelOutput labels{};
   /// Where the range came from, for messages: "sonar.range_m" or "--range".
   std::string range_key = "sonar.range_m";
   Survey make_survey() const;

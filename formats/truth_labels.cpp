@@ -1,0 +1,333 @@
+// SPDX-License-Identifier: MIT
+#include "truth_labels.hpp"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+
+#include "raster_util.hpp"
+#include "row_spool.hpp"
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/mosaic.hpp"
+#include "sonarsynth/version.hpp"
+
+namespace sonarsynth::labels {
+namespace {
+
+constexpr const char* kClassNames[kClassCount] = {"water_column", "seabed", "object", "shadow",
+                                                  "no_seabed"};
+// Display colours of the class codes (the class raster's colour table), r g b a.
+constexpr std::array<short, 4> kClassColours[kClassCount] = {
+    {{0, 0, 128, 255}},      // water_column
+    {{194, 178, 128, 255}},  // seabed
+    {{255, 0, 0, 255}},      // object
+    {{64, 64, 64, 255}},     // shadow
+    {{255, 0, 255, 255}},    // no_seabed
+};
+
+constexpr const char* kShadowAttribution =
+    "a run of shadow samples of one ping side belongs to the object whose samples end just before "
+    "it (nearer in range); a run after seabed or water column has instance 0 (docs/labels.md)";
+constexpr const char* kInstanceCodes =
+    "0 = no object (seabed, water column, no seabed, shadow not cast by an object), > 0 = the "
+    "scene object with that id (class object: its echo, class shadow: the shadow it casts), "
+    "4294967295 = nodata";
+
+std::vector<std::array<short, 4>> class_colour_table() {
+  std::vector<std::array<short, 4>> t(256, std::array<short, 4>{{0, 0, 0, 0}});
+  std::copy(std::begin(kClassColours), std::end(kClassColours), t.begin());
+  return t;
+}
+
+std::vector<std::pair<std::string, std::string>> class_band_items() {
+  std::vector<std::pair<std::string, std::string>> items;
+  for (std::uint8_t c = 0; c < kClassCount; ++c) {
+    items.emplace_back("CLASS_" + std::to_string(c), kClassNames[c]);
+  }
+  items.emplace_back("CLASS_255", "nodata");
+  return items;
+}
+
+MetadataItems class_items(const MetadataItems& run, const std::string& quantity,
+                          const std::string& nodata) {
+  MetadataItems items = run;
+  items.insert(items.end(), {{"SONARSYNTH_VERSION", kVersion},
+                             {"SONARSYNTH_QUANTITY", quantity},
+                             {"SONARSYNTH_UNITS", "none (class code)"},
+                             {"SONARSYNTH_CLASS_CODES", class_codes_text()},
+                             {"SONARSYNTH_NODATA", nodata},
+                             {"SONARSYNTH_LABELS_DOC", "docs/labels.md"}});
+  return items;
+}
+
+MetadataItems instance_items(const MetadataItems& run, const std::string& quantity,
+                             const std::string& nodata) {
+  MetadataItems items = run;
+  items.insert(items.end(), {{"SONARSYNTH_VERSION", kVersion},
+                             {"SONARSYNTH_QUANTITY", quantity},
+                             {"SONARSYNTH_UNITS", "none (object id)"},
+                             {"SONARSYNTH_INSTANCE_CODES", kInstanceCodes},
+                             {"SONARSYNTH_SHADOW_ATTRIBUTION", kShadowAttribution},
+                             {"SONARSYNTH_NODATA", nodata},
+                             {"SONARSYNTH_LABELS_DOC", "docs/labels.md"}});
+  return items;
+}
+
+const std::vector<std::pair<std::string, std::string>> kTiffOptions = {
+    {"COMPRESS", "DEFLATE"}, {"TILED", "YES"}, {"BIGTIFF", "IF_SAFER"}};
+
+// Spool pads: class nodata, instance nodata as its low and high 16 bits.
+constexpr float kPads[3] = {255.0f, 65535.0f, 65535.0f};
+
+/// The rows of one of the two label rasters of a line, from the spool.
+class LabelRows final : public raster::RowSource {
+ public:
+  LabelRows(const detail::SideSpool& spool, bool instance)
+      : reader_(spool, kPads), instance_(instance), row_(3 * spool.cols()) {}
+  void next(void* out) override {
+    if (!reader_.next(row_)) throw FormatError("label waterfall: spool file ended early");
+    const std::size_t n = row_.size() / 3;
+    if (instance_) {
+      auto* o = static_cast<std::uint32_t*>(out);
+      for (std::size_t i = 0; i < n; ++i) {
+        o[i] = static_cast<std::uint32_t>(row_[n + i]) |
+               (static_cast<std::uint32_t>(row_[2 * n + i]) << 16);
+      }
+    } else {
+      auto* o = static_cast<std::uint8_t*>(out);
+      for (std::size_t i = 0; i < n; ++i) o[i] = static_cast<std::uint8_t>(row_[i]);
+    }
+  }
+  void rewind() override { reader_.rewind(); }
+
+ private:
+  detail::SideSpool::Reader reader_;
+  bool instance_;
+  std::vector<float> row_;
+};
+
+}  // namespace
+
+const char* class_name(std::uint8_t code) {
+  if (code < kClassCount) return kClassNames[code];
+  return code == kClassNodata ? "nodata" : nullptr;
+}
+
+std::string class_codes_text() {
+  std::string s;
+  for (std::uint8_t c = 0; c < kClassCount; ++c) {
+    s += std::to_string(c) + " = " + kClassNames[c] + ", ";
+  }
+  return s + "255 = nodata";
+}
+
+void side_instances(std::span<const SampleClass> cls, std::span<const std::int32_t> id,
+                    std::vector<std::uint32_t>& out) {
+  out.assign(cls.size(), 0);
+  std::uint32_t caster = 0;  // of the current shadow run
+  for (std::size_t i = 0; i < cls.size(); ++i) {
+    switch (cls[i]) {
+      case SampleClass::object:
+        out[i] = id[i] > 0 ? static_cast<std::uint32_t>(id[i]) : 0;
+        break;
+      case SampleClass::shadow:
+        if (i == 0 || cls[i - 1] != SampleClass::shadow) {
+          caster = i > 0 && cls[i - 1] == SampleClass::object && id[i - 1] > 0
+                       ? static_cast<std::uint32_t>(id[i - 1])
+                       : 0;
+        }
+        out[i] = caster;
+        break;
+      default:
+        break;
+    }
+  }
+}
+
+LabelWaterfall::LabelWaterfall(const std::filesystem::path& spool_dir)
+    : spool_(std::make_unique<detail::SideSpool>(spool_dir, 3, "label waterfall")) {}
+LabelWaterfall::~LabelWaterfall() = default;
+LabelWaterfall::LabelWaterfall(LabelWaterfall&&) noexcept = default;
+LabelWaterfall& LabelWaterfall::operator=(LabelWaterfall&&) noexcept = default;
+
+std::size_t LabelWaterfall::rows() const {
+  return spool_ ? spool_->rows() : 0;
+}
+
+std::size_t LabelWaterfall::cols() const {
+  return spool_ ? spool_->cols() : 0;
+}
+
+void LabelWaterfall::add_ping(std::span<const SampleClass> port_class,
+                              std::span<const SampleClass> stbd_class,
+                              std::span<const std::int32_t> port_id,
+                              std::span<const std::int32_t> stbd_id) {
+  if (port_id.size() != port_class.size() || stbd_id.size() != stbd_class.size()) {
+    throw InputError("label waterfall: ping " + std::to_string(rows()) +
+                     ": class and id spans of a side differ in size");
+  }
+  std::vector<float> values[2][3];
+  std::vector<std::uint32_t> inst;
+  auto fill = [&inst](std::vector<float>(&dst)[3], std::span<const SampleClass> c,
+                      std::span<const std::int32_t> id) {
+    side_instances(c, id, inst);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      dst[0].push_back(static_cast<float>(static_cast<std::uint8_t>(c[i])));
+      dst[1].push_back(static_cast<float>(inst[i] & 0xFFFFu));
+      dst[2].push_back(static_cast<float>(inst[i] >> 16));
+    }
+  };
+  fill(values[0], port_class, port_id);
+  fill(values[1], stbd_class, stbd_id);
+  const std::span<const float> port[3] = {values[0][0], values[0][1], values[0][2]};
+  const std::span<const float> stbd[3] = {values[1][0], values[1][1], values[1][2]};
+  spool_->append(port, stbd);
+}
+
+void LabelWaterfall::write(const std::string& class_path, const std::string& instance_path,
+                           bool overwrite, const MetadataItems& metadata) const {
+  constexpr const char* kWho = "label waterfall";
+  if (rows() == 0 || cols() == 0) {
+    throw FormatError(std::string(kWho) + ": " + class_path + ": no ping to write");
+  }
+  gdal::ensure_registered();
+  AtomicOutput class_out(class_path, overwrite);
+  AtomicOutput instance_out(instance_path, overwrite);
+  const std::string layout =
+      "row = ping, columns = port far -> near | starboard near -> far, slant range (as the "
+      "line's waterfall)";
+  const std::string nodata_class = "255: no sample (a shorter side's padding)";
+  const std::string nodata_instance = "4294967295: no sample (a shorter side's padding)";
+  {
+    LabelRows source(*spool_, false);
+    raster::RasterLabels l;
+    l.metadata =
+        class_items(metadata, "truth class of each sample (machine-learning label)", nodata_class);
+    l.metadata.emplace_back("SONARSYNTH_WATERFALL_LAYOUT", layout);
+    l.descriptions = {"class"};
+    l.has_nodata = true;
+    l.nodata = kClassNodata;
+    l.band_metadata = {class_band_items()};
+    l.color_table = class_colour_table();
+    raster::stream_to_file(source, cols(), rows(), 1, GDT_Byte, "GTiff",
+                           class_out.temp_path().string(), kTiffOptions, l, kWho, class_path);
+  }
+  {
+    LabelRows source(*spool_, true);
+    raster::RasterLabels l;
+    l.metadata = instance_items(
+        metadata, "truth instance (object id) of each sample (machine-learning label)",
+        nodata_instance);
+    l.metadata.emplace_back("SONARSYNTH_WATERFALL_LAYOUT", layout);
+    l.descriptions = {"instance"};
+    l.has_nodata = true;
+    l.nodata = kInstanceNodata;
+    raster::stream_to_file(source, cols(), rows(), 1, GDT_UInt32, "GTiff",
+                           instance_out.temp_path().string(), kTiffOptions, l, kWho, instance_path);
+  }
+  class_out.commit();
+  instance_out.commit();
+}
+
+MosaicLabelCodes::MosaicLabelCodes(std::vector<std::int32_t> object_ids)
+    : ids_(std::move(object_ids)) {
+  std::sort(ids_.begin(), ids_.end());
+  ids_.erase(std::unique(ids_.begin(), ids_.end()), ids_.end());
+  if (ids_.size() >= (std::size_t{1} << 27)) {
+    throw InputError("truth labels: " + std::to_string(ids_.size()) +
+                     " object ids. Violated constraint: < 2^27");
+  }
+}
+
+void MosaicLabelCodes::encode(std::span<const SampleClass> cls, std::span<const std::int32_t> id,
+                              std::vector<std::int32_t>& out) const {
+  std::vector<std::uint32_t> inst;
+  side_instances(cls, id, inst);
+  out.resize(cls.size());
+  for (std::size_t i = 0; i < cls.size(); ++i) {
+    std::int32_t index = 0;
+    if (inst[i] > 0) {
+      const auto v = static_cast<std::int32_t>(inst[i]);
+      const auto it = std::lower_bound(ids_.begin(), ids_.end(), v);
+      if (it == ids_.end() || *it != v) {
+        throw FormatError("truth labels: object id " + std::to_string(v) +
+                          " is not an object of the scene");
+      }
+      index = static_cast<std::int32_t>(it - ids_.begin()) + 1;
+    }
+    out[i] = static_cast<std::int32_t>(static_cast<std::uint8_t>(cls[i])) + 8 * index;
+  }
+}
+
+void MosaicLabelCodes::decode(std::vector<std::int32_t>& codes, std::vector<std::uint8_t>& cls,
+                              std::vector<std::uint32_t>& instance) const {
+  cls.assign(codes.size(), kClassNodata);
+  instance.assign(codes.size(), kInstanceNodata);
+  for (std::size_t i = 0; i < codes.size(); ++i) {
+    const std::int32_t code = codes[i];
+    if (code == MosaicImage::kNoLabel) continue;
+    const auto c = static_cast<std::uint8_t>(code & 7);
+    const auto index = static_cast<std::size_t>(code >> 3);
+    const std::int32_t object = index > 0 ? ids_[index - 1] : 0;
+    cls[i] = c;
+    instance[i] = static_cast<std::uint32_t>(object);
+    const auto sc = static_cast<SampleClass>(c);
+    codes[i] = sc == SampleClass::object ? object : sc == SampleClass::seabed ? 0 : -1;
+  }
+}
+
+void write_mosaic_label_rasters(const std::string& class_path, const std::string& instance_path,
+                                const GeoFrame& frame, const GridGeometry& g,
+                                const std::vector<std::uint8_t>& cls,
+                                const std::vector<std::uint32_t>& instance, bool overwrite,
+                                const MetadataItems& metadata) {
+  constexpr const char* kWho = "truth mosaic labels";
+  if (cls.size() != g.size() || instance.size() != g.size()) {
+    throw InputError(std::string(kWho) + ": " + class_path + ": buffers do not match the grid");
+  }
+  gdal::ensure_registered();
+  AtomicOutput class_out(class_path, overwrite);
+  AtomicOutput instance_out(instance_path, overwrite);
+  const std::string what = " of the sample nearest to nadir (machine-learning label)";
+  {
+    gdal::DatasetPtr mem =
+        raster::wrap_mem(g.cols, g.rows, GDT_Byte, {cls.data()}, kWho, class_path);
+    raster::set_georeferencing(*mem, frame, g, kWho, class_path);
+    for (const auto& [k, v] :
+         class_items(metadata, "truth class" + what, "255: no sample in the pixel")) {
+      mem->SetMetadataItem(k.c_str(), v.c_str());
+    }
+    GDALRasterBand* b = mem->GetRasterBand(1);
+    b->SetNoDataValue(kClassNodata);
+    b->SetDescription("class");
+    for (const auto& [k, v] : class_band_items()) b->SetMetadataItem(k.c_str(), v.c_str());
+    GDALColorTable table;
+    const auto colours = class_colour_table();
+    for (std::size_t i = 0; i < colours.size(); ++i) {
+      const GDALColorEntry e{colours[i][0], colours[i][1], colours[i][2], colours[i][3]};
+      table.SetColorEntry(static_cast<int>(i), &e);
+    }
+    b->SetColorTable(&table);
+    raster::copy_to_file(*mem, "GTiff", class_out.temp_path().string(), kTiffOptions, kWho,
+                         class_path);
+  }
+  {
+    gdal::DatasetPtr mem =
+        raster::wrap_mem(g.cols, g.rows, GDT_UInt32, {instance.data()}, kWho, instance_path);
+    raster::set_georeferencing(*mem, frame, g, kWho, instance_path);
+    for (const auto& [k, v] : instance_items(metadata, "truth instance (object id)" + what,
+                                             "4294967295: no sample in the pixel")) {
+      mem->SetMetadataItem(k.c_str(), v.c_str());
+    }
+    GDALRasterBand* b = mem->GetRasterBand(1);
+    b->SetNoDataValue(kInstanceNodata);
+    b->SetDescription("instance");
+    raster::copy_to_file(*mem, "GTiff", instance_out.temp_path().string(), kTiffOptions, kWho,
+                         instance_path);
+  }
+  class_out.commit();
+  instance_out.commit();
+}
+
+}  // namespace sonarsynth::labels

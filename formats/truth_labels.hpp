@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+// Private helper of the survey products: the machine-learning label rasters (docs/labels.md).
+// A class raster (uint8, one code per pixel from the stable table below) and an instance raster
+// (uint32: the object id of object pixels and of the shadow pixels attributed to an object,
+// 0 elsewhere), for each line's waterfall and for the survey mosaic.
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/height_grid.hpp"
+#include "sonarsynth/rendered_ping.hpp"
+
+namespace sonarsynth {
+namespace detail {
+class SideSpool;
+}
+
+namespace labels {
+
+using MetadataItems = std::vector<std::pair<std::string, std::string>>;
+
+/// Class codes: the values of SampleClass (include/sonarsynth/rendered_ping.hpp), a stable table
+/// (docs/labels.md); codes are never renumbered, new classes get new codes.
+inline constexpr std::uint8_t kClassCount = 5;
+/// Class raster nodata: no sample (a shorter side's padding, a mosaic pixel nothing reached).
+inline constexpr std::uint8_t kClassNodata = 255;
+/// Instance raster nodata (where the class is nodata).
+inline constexpr std::uint32_t kInstanceNodata = 0xFFFFFFFFu;
+
+/// The name of class `code` ("water_column", "seabed", "object", "shadow", "no_seabed";
+/// "nodata" for kClassNodata); nullptr for an unknown code.
+const char* class_name(std::uint8_t code);
+/// "0 = water_column, 1 = seabed, 2 = object, 3 = shadow, 4 = no_seabed, 255 = nodata".
+std::string class_codes_text();
+
+/// The instance of each sample of one side (NEAR -> FAR, `cls` and `id` of one size): an object
+/// sample its object id; a shadow sample the id of the object whose samples end just before the
+/// run of shadow samples it belongs to (the caster), 0 if the run follows anything else (seabed
+/// relief, water column); every other sample 0. Negative ids are taken as 0.
+void side_instances(std::span<const SampleClass> cls, std::span<const std::int32_t> id,
+                    std::vector<std::uint32_t>& out);
+
+/// Class and instance rasters of one line, rows = pings, columns as the waterfall's (port
+/// FAR -> NEAR | starboard NEAR -> FAR, slant range), padding nodata. Rows are spooled to an
+/// unnamed temporary file in `spool_dir` (12 bytes per sample) like TruthWaterfall's.
+class LabelWaterfall {
+ public:
+  explicit LabelWaterfall(const std::filesystem::path& spool_dir = {});
+  ~LabelWaterfall();
+  LabelWaterfall(LabelWaterfall&&) noexcept;
+  LabelWaterfall& operator=(LabelWaterfall&&) noexcept;
+  void add_ping(std::span<const SampleClass> port_class, std::span<const SampleClass> stbd_class,
+                std::span<const std::int32_t> port_id, std::span<const std::int32_t> stbd_id);
+  std::size_t rows() const;
+  std::size_t cols() const;
+  /// Writes `class_path` (Byte) and `instance_path` (UInt32) GeoTIFFs without georeferencing,
+  /// each under a temporary name renamed when complete; `metadata` first, then the writer's items.
+  void write(const std::string& class_path, const std::string& instance_path, bool overwrite,
+             const MetadataItems& metadata) const;
+
+ private:
+  std::unique_ptr<detail::SideSpool> spool_;  ///< bands: class, id low 16 bits, id high 16 bits
+};
+
+/// The single int32 label the mosaic grids per sample (MosaicPing::*_labels, nearest to nadir)
+/// carrying class, object id and shadow caster together, so that class and instance rasters
+/// come from the same sample: code = class + 8 x (1 + index), index into the sorted object ids
+/// of the scene (0 = no object).
+class MosaicLabelCodes {
+ public:
+  /// The ids of the scene's objects (any order, repeats allowed).
+  explicit MosaicLabelCodes(std::vector<std::int32_t> object_ids);
+  /// The codes of one side (NEAR -> FAR). Throws FormatError for an id not in the scene.
+  void encode(std::span<const SampleClass> cls, std::span<const std::int32_t> id,
+              std::vector<std::int32_t>& out) const;
+  /// Decodes gridded codes: `codes` becomes the plain truth label again (object id, 0 seabed,
+  /// -1 none; MosaicImage::kNoLabel stays), `cls` and `instance` the label rasters.
+  void decode(std::vector<std::int32_t>& codes, std::vector<std::uint8_t>& cls,
+              std::vector<std::uint32_t>& instance) const;
+
+ private:
+  std::vector<std::int32_t> ids_;  ///< sorted, unique
+};
+
+/// Writes the mosaic's class (Byte) and instance (UInt32) GeoTIFFs on its grid (the frame's UTM
+/// CRS, like write_mosaic), each atomically.
+void write_mosaic_label_rasters(const std::string& class_path, const std::string& instance_path,
+                                const GeoFrame& frame, const GridGeometry& geometry,
+                                const std::vector<std::uint8_t>& cls,
+                                const std::vector<std::uint32_t>& instance, bool overwrite,
+                                const MetadataItems& metadata);
+
+}  // namespace labels
+}  // namespace sonarsynth

@@ -1,0 +1,364 @@
+// SPDX-License-Identifier: MIT
+// Machine-learning labels (docs/labels.md): the class and instance rasters of a run, and the
+// COCO / YOLO boxes and chips computed from them, checked against the rasters read back with GDAL
+// and boxes recomputed here independently.
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "../formats/label_sets.hpp"
+#include "../formats/truth_labels.hpp"
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/run_simulation.hpp"
+#include "sonarsynth/mosaic.hpp"
+
+namespace sonarsynth {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// Two boxes well apart on either side of one line, on a flat seabed.
+const char* const kScene = R"(
+name: labels
+seed: 11
+bathymetry:
+  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [120, 120], cell_m: 0.5, depth_m: 12}
+survey:
+  start_time: "2026-03-01T10:00:00Z"
+  speed_m_s: 2.0
+  altitude_m: 5
+  lines:
+    - {name: a, waypoints: [{east_m: -40, north_m: 0}, {east_m: 40, north_m: 0}]}
+objects:
+  - {type: box, id: 3, position: {east_m: -10, north_m: 9}, size_m: [3, 1.5, 1.2]}
+  - {type: box, id: 7, position: {east_m: 15, north_m: -11}, size_m: [2, 2, 1.0]}
+sonar: {frequency_khz: 600, range_m: 25, samples: 500}
+)";
+
+const char* const kLabels =
+    "output: {labels: {coco: true, yolo: true, chips: {size_px: 64, stride_px: 48}}}\n";
+
+struct Raster {
+  std::size_t cols = 0, rows = 0;
+  std::vector<std::uint32_t> values;  // any band type, read as UInt32
+  bool has_nodata = false;
+  double nodata = 0.0;
+  GDALDataType type = GDT_Unknown;
+  std::map<std::string, std::string> band_items;
+};
+
+Raster read(const fs::path& path) {
+  GDALAllRegister();
+  auto* ds = static_cast<GDALDataset*>(GDALOpen(path.c_str(), GA_ReadOnly));
+  EXPECT_NE(ds, nullptr) << path;
+  Raster r;
+  if (!ds) return r;
+  r.cols = static_cast<std::size_t>(ds->GetRasterXSize());
+  r.rows = static_cast<std::size_t>(ds->GetRasterYSize());
+  GDALRasterBand* b = ds->GetRasterBand(1);
+  int ok = 0;
+  r.nodata = b->GetNoDataValue(&ok);
+  r.has_nodata = ok != 0;
+  r.type = b->GetRasterDataType();
+  r.values.resize(r.cols * r.rows);
+  EXPECT_EQ(b->RasterIO(GF_Read, 0, 0, static_cast<int>(r.cols), static_cast<int>(r.rows),
+                        r.values.data(), static_cast<int>(r.cols), static_cast<int>(r.rows),
+                        GDT_UInt32, 0, 0, nullptr),
+            CE_None);
+  if (char** md = b->GetMetadata()) {
+    for (char** p = md; *p; ++p) {
+      const std::string kv = *p;
+      const auto eq = kv.find('=');
+      r.band_items[kv.substr(0, eq)] = kv.substr(eq + 1);
+    }
+  }
+  GDALClose(ds);
+  return r;
+}
+
+// (instance, category) -> [x0, y0, x1, y1) from every pixel, the plain way.
+using Key = std::pair<std::uint32_t, int>;
+std::map<Key, std::array<std::size_t, 4>> brute_boxes(const Raster& cls, const Raster& inst,
+                                                      std::size_t x0 = 0, std::size_t y0 = 0,
+                                                      std::size_t w = 0, std::size_t h = 0) {
+  if (w == 0) {
+    w = cls.cols;
+    h = cls.rows;
+  }
+  std::map<Key, std::array<std::size_t, 4>> out;
+  for (std::size_t y = y0; y < y0 + h; ++y) {
+    for (std::size_t x = x0; x < x0 + w; ++x) {
+      const std::size_t i = y * cls.cols + x;
+      const std::uint32_t k = inst.values[i];
+      const int c = cls.values[i] == 2 ? 1 : cls.values[i] == 3 ? 2 : 0;
+      if (k == 0 || k == labels::kInstanceNodata || c == 0) continue;
+      auto [it, fresh] = out.try_emplace({k, c}, std::array<std::size_t, 4>{x, y, x + 1, y + 1});
+      auto& b = it->second;
+      b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x + 1), std::max(b[3], y + 1)};
+      (void)fresh;
+    }
+  }
+  // Relative to the window.
+  for (auto& [k, b] : out) b = {b[0] - x0, b[1] - y0, b[2] - x0, b[3] - y0};
+  return out;
+}
+
+json read_json(const fs::path& p) {
+  std::ifstream is(p);
+  EXPECT_TRUE(is.good()) << p;
+  return json::parse(is);
+}
+
+class LabelsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("sonarsynth_labels_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    scene_ = (dir_ / "scene.yaml").string();
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  RunResult run(const std::string& extra, const fs::path& out, unsigned threads = 0,
+                bool overwrite = false) {
+    std::ofstream(scene_) << kScene << extra;
+    RunOptions o;
+    o.overwrite = overwrite;
+    if (threads) o.overrides.threads = threads;
+    return run_simulation(scene_, out, o);
+  }
+  fs::path dir_;
+  std::string scene_;
+};
+
+// A shadow run takes the id of the object sample just before it; a run after seabed is 0.
+TEST(SideInstances, ShadowRunsFollowTheirCaster) {
+  using C = SampleClass;
+  const std::vector<C> cls = {C::water_column, C::seabed, C::object, C::object,
+                              C::shadow,       C::shadow, C::seabed, C::shadow,
+                              C::object,       C::seabed, C::shadow, C::no_seabed};
+  const std::vector<std::int32_t> id = {-1, 0, 5, 5, -1, -1, 0, -1, 9, 0, -1, -1};
+  std::vector<std::uint32_t> out;
+  labels::side_instances(cls, id, out);
+  EXPECT_EQ(out, (std::vector<std::uint32_t>{0, 0, 5, 5, 5, 5, 0, 0, 9, 0, 0, 0}));
+}
+
+// The mosaic's one gridded code carries class, object id and caster: decoding returns the plain
+// truth label (as before the labels existed) and the two rasters.
+TEST(MosaicLabelCodes, RoundTrip) {
+  using C = SampleClass;
+  const labels::MosaicLabelCodes codes({2'000'000'000, 4, 4, 17});
+  const std::vector<C> cls = {C::seabed, C::object, C::shadow,
+                              C::object, C::shadow, C::water_column};
+  const std::vector<std::int32_t> id = {0, 2'000'000'000, -1, 4, -1, -1};
+  std::vector<std::int32_t> code;
+  codes.encode(cls, id, code);
+  code.push_back(MosaicImage::kNoLabel);
+  std::vector<std::uint8_t> c;
+  std::vector<std::uint32_t> inst;
+  codes.decode(code, c, inst);
+  EXPECT_EQ(code,
+            (std::vector<std::int32_t>{0, 2'000'000'000, -1, 4, -1, -1, MosaicImage::kNoLabel}));
+  EXPECT_EQ(c, (std::vector<std::uint8_t>{1, 2, 3, 2, 3, 0, 255}));
+  EXPECT_EQ(inst, (std::vector<std::uint32_t>{0, 2'000'000'000, 2'000'000'000, 4, 4, 0,
+                                              labels::kInstanceNodata}));
+  EXPECT_THROW(codes.encode(std::vector<C>{C::object}, std::vector<std::int32_t>{5}, code),
+               FormatError);
+}
+
+TEST_F(LabelsTest, RastersBoxesAndChipsAgreeWithTheTruth) {
+  const fs::path out = dir_ / "out";
+  const RunResult r = run(kLabels, out);
+  const std::set<std::string> table = {"water_column", "seabed", "object", "shadow", "no_seabed"};
+  std::set<std::uint32_t> seen_objects;
+  for (const auto& [image, cls_name, inst_name] :
+       {std::tuple<std::string, std::string, std::string>{"a_waterfall.png", "a_truth_class.tif",
+                                                          "a_truth_instance.tif"},
+        {"mosaic_rgb.tif", "truth_mosaic_class.tif", "truth_mosaic_instance.tif"}}) {
+    SCOPED_TRACE(image);
+    const Raster cls = read(out / cls_name);
+    const Raster inst = read(out / inst_name);
+    ASSERT_EQ(cls.type, GDT_Byte);
+    ASSERT_EQ(inst.type, GDT_UInt32);
+    ASSERT_TRUE(cls.has_nodata);
+    EXPECT_EQ(cls.nodata, 255.0);
+    ASSERT_TRUE(inst.has_nodata);
+    EXPECT_EQ(inst.nodata, 4294967295.0);
+    for (std::uint32_t c = 0; c < labels::kClassCount; ++c) {
+      EXPECT_TRUE(table.count(cls.band_items.at("CLASS_" + std::to_string(c))));
+    }
+    ASSERT_EQ(cls.values.size(), inst.values.size());
+    for (std::size_t i = 0; i < cls.values.size(); ++i) {
+      const std::uint32_t c = cls.values[i];
+      ASSERT_TRUE(c < labels::kClassCount || c == 255) << c;
+      ASSERT_EQ(c == 255, inst.values[i] == labels::kInstanceNodata) << i;
+      if (c == 2) {
+        ASSERT_TRUE(inst.values[i] == 3 || inst.values[i] == 7) << inst.values[i];
+      }
+      if (c == 2) seen_objects.insert(inst.values[i]);
+      if (c != 2 && c != 3 && c != 255) {
+        ASSERT_EQ(inst.values[i], 0u);
+      }
+    }
+    // COCO: the boxes recomputed here from the rasters.
+    const std::string set = image == "mosaic_rgb.tif" ? "mosaic" : "waterfalls";
+    const json coco = read_json(out / (set + ".coco.json"));
+    ASSERT_EQ(coco["images"].size(), 1u);
+    EXPECT_EQ(coco["images"][0]["file_name"], image);
+    EXPECT_EQ(coco["images"][0]["width"], cls.cols);
+    EXPECT_EQ(coco["images"][0]["height"], cls.rows);
+    const auto expected = brute_boxes(cls, inst);
+    std::map<Key, std::array<std::size_t, 4>> got;
+    for (const json& a : coco["annotations"]) {
+      const auto& b = a["bbox"];
+      const std::size_t x = b[0], y = b[1], w = b[2], h = b[3];
+      got[{a["object_id"].get<std::uint32_t>(), a["category_id"].get<int>()}] = {x, y, x + w,
+                                                                                 y + h};
+    }
+    EXPECT_EQ(got, expected);
+    // Both objects boxed, with their shadows.
+    for (std::uint32_t k : {3u, 7u}) {
+      EXPECT_TRUE(got.count({k, 1})) << k;
+      EXPECT_TRUE(got.count({k, 2})) << k;
+    }
+    // Every object box holds every pixel of its object and none of another object.
+    for (const auto& [key, b] : got) {
+      for (std::size_t y = 0; y < cls.rows; ++y) {
+        for (std::size_t x = 0; x < cls.cols; ++x) {
+          const std::size_t i = y * cls.cols + x;
+          const bool inside = x >= b[0] && x < b[2] && y >= b[1] && y < b[3];
+          const std::uint32_t k = inst.values[i];
+          const int c = cls.values[i] == 2 ? 1 : cls.values[i] == 3 ? 2 : 0;
+          if (k == key.first && c == key.second) {
+            ASSERT_TRUE(inside) << x << "," << y;
+          }
+          if (inside && key.second == 1 && cls.values[i] == 2) {
+            ASSERT_EQ(k, key.first);
+          }
+        }
+      }
+    }
+    // YOLO: the same boxes, normalised.
+    std::ifstream yolo(out / "yolo" / (fs::path(image).stem().string() + ".txt"));
+    std::size_t lines = 0;
+    int c = 0;
+    double xc = 0, yc = 0, w = 0, h = 0;
+    std::vector<std::array<double, 5>> yolo_boxes;
+    while (yolo >> c >> xc >> yc >> w >> h) yolo_boxes.push_back({double(c), xc, yc, w, h});
+    ASSERT_EQ(yolo_boxes.size(), coco["annotations"].size());
+    for (const json& a : coco["annotations"]) {
+      const auto& yb = yolo_boxes[lines++];
+      const auto& b = a["bbox"];
+      EXPECT_EQ(yb[0], a["category_id"].get<int>() - 1);
+      const double W = static_cast<double>(cls.cols), H = static_cast<double>(cls.rows);
+      EXPECT_NEAR(yb[1], (b[0].get<double>() + 0.5 * b[2].get<double>()) / W, 1e-6);
+      EXPECT_NEAR(yb[2], (b[1].get<double>() + 0.5 * b[3].get<double>()) / H, 1e-6);
+      EXPECT_NEAR(yb[3], b[2].get<double>() / W, 1e-6);
+      EXPECT_NEAR(yb[4], b[3].get<double>() / H, 1e-6);
+    }
+  }
+  EXPECT_EQ(seen_objects, (std::set<std::uint32_t>{3, 7}));
+
+  // Chips: each chip's masks are the window of the full rasters, its boxes those of the window.
+  const json chips = read_json(out / "chips" / "coco.json");
+  ASSERT_GT(chips["images"].size(), 0u);
+  std::map<int, std::map<Key, std::array<std::size_t, 4>>> chip_boxes;
+  for (const json& a : chips["annotations"]) {
+    const auto& b = a["bbox"];
+    const std::size_t x = b[0], y = b[1], w = b[2], h = b[3];
+    chip_boxes[a["image_id"].get<int>()][{a["object_id"].get<std::uint32_t>(),
+                                          a["category_id"].get<int>()}] = {x, y, x + w, y + h};
+  }
+  std::map<std::string, std::pair<Raster, Raster>> sources;
+  sources["a_waterfall.png"] = {read(out / "a_truth_class.tif"),
+                                read(out / "a_truth_instance.tif")};
+  sources["mosaic_rgb.tif"] = {read(out / "truth_mosaic_class.tif"),
+                               read(out / "truth_mosaic_instance.tif")};
+  std::size_t with_boxes = 0;
+  for (const json& im : chips["images"]) {
+    const auto& [cls, inst] = sources.at(im["source_image"].get<std::string>());
+    const std::size_t x0 = im["source_x0"], y0 = im["source_y0"];
+    ASSERT_EQ(im["width"], 64);
+    const Raster mask = read(out / "chips" / im["class_mask"].get<std::string>());
+    ASSERT_EQ(mask.cols, 64u);
+    std::size_t nodata = 0;
+    for (std::size_t y = 0; y < 64; ++y) {
+      for (std::size_t x = 0; x < 64; ++x) {
+        ASSERT_EQ(mask.values[y * 64 + x], cls.values[(y0 + y) * cls.cols + x0 + x]);
+        nodata += mask.values[y * 64 + x] == 255;
+      }
+    }
+    EXPECT_LE(nodata, 64u * 64u / 2u);
+    const auto expected = brute_boxes(cls, inst, x0, y0, 64, 64);
+    EXPECT_EQ(chip_boxes[im["id"].get<int>()], expected) << im["file_name"];
+    with_boxes += !expected.empty();
+    EXPECT_TRUE(fs::exists(out / "chips" / im["file_name"].get<std::string>()));
+    const fs::path yolo = out / "chips" / "labels" /
+                          (fs::path(im["file_name"].get<std::string>()).stem().string() + ".txt");
+    EXPECT_TRUE(fs::exists(yolo));
+  }
+  EXPECT_GT(with_boxes, 0u);
+  // Every file listed exists.
+  for (const fs::path& f : r.files) EXPECT_TRUE(fs::exists(f)) << f;
+}
+
+// The same files whatever the thread count; a run replaces an earlier one's label directories.
+TEST_F(LabelsTest, ByteIdenticalForAnyThreadCount) {
+  run(kLabels, dir_ / "one", 1);
+  run(kLabels, dir_ / "two", 1);
+  run(kLabels, dir_ / "two", 2, true);
+  const auto bytes = [](const fs::path& p) {
+    std::ifstream is(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(is), {});
+  };
+  std::size_t compared = 0;
+  for (const auto& e : fs::recursive_directory_iterator(dir_ / "one")) {
+    if (!e.is_regular_file()) continue;
+    const fs::path rel = fs::relative(e.path(), dir_ / "one");
+    const std::string ext = rel.extension().string();
+    if (ext != ".tif" && ext != ".json" && ext != ".txt" && ext != ".png") continue;
+    ASSERT_TRUE(fs::exists(dir_ / "two" / rel)) << rel;
+    EXPECT_EQ(bytes(e.path()), bytes(dir_ / "two" / rel)) << rel;
+    ++compared;
+  }
+  EXPECT_GT(compared, 10u);
+}
+
+TEST_F(LabelsTest, BadSettingsNameFieldAndValue) {
+  const auto message = [&](const std::string& extra) {
+    try {
+      run(extra, dir_ / "bad");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message("output: {labels: {chips: {size_px: 8}}}\n")
+                .find("output.labels.chips.size_px = '8'"),
+            std::string::npos);
+  EXPECT_NE(message("output: {labels: {chips: {max_nodata_fraction: 1}}}\n")
+                .find("output.labels.chips.max_nodata_fraction = '1'"),
+            std::string::npos);
+  EXPECT_NE(message("output: {labels: {cocoa: true}}\n").find("cocoa"), std::string::npos);
+  EXPECT_NE(message("output: {truth: false, labels: {yolo: true}}\n").find("output.truth"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
+}  // namespace
+}  // namespace sonarsynth
