@@ -86,7 +86,9 @@ def test_python_run_equals_the_cli(spec, tmp_path, cli):
     subprocess.run([cli, "dataset", str(spec_file), "-o", str(tmp_path / "cli"), "-q"],
                    check=True)
     py, cl = digests(tmp_path / "py"), digests(tmp_path / "cli")
-    assert len(py) == 4 * 7  # scene, XTF, waterfall, truth, effective.yaml, item.json, marker
+    # scene, XTF, waterfall, truth, truth class and instance labels, effective.yaml, item.json,
+    # marker
+    assert len(py) == 4 * 9
     assert py == cl
     assert ((tmp_path / "py" / "manifest.jsonl").read_bytes() ==
             (tmp_path / "cli" / "manifest.jsonl").read_bytes())
