@@ -94,6 +94,10 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   po.write_options.quantity = setup->config.output.quantity == SampleQuantity::amplitude
                                   ? "backscatter (linear amplitude: the stored envelope)"
                                   : "backscatter (linear intensity)";
+  // One thread asked for (`--threads 1`, a Dask worker's item) means one core: the files and
+  // products are then written on the rendering thread, in the same order (the same bytes).
+  const bool one_core = setup->config.threads == 1;
+  if (one_core) po.background_images = false;
   SurveyProducts products(out.file(""), scene, setup->config.sonar, setup->lines, po);
   RunStatistics stats;
   // JSF sink (output.jsf): formats/jsf_survey_writer.cpp.
@@ -111,7 +115,12 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
          "jsf"});
   }
   for (const auto& [name, part] : products.parts()) threaded.push_back({part, name});
-  detail::ParallelSink sink({&stats}, threaded);
+  std::vector<PingSink*> inline_sinks = {&stats};
+  if (one_core) {
+    for (const auto& t : threaded) inline_sinks.push_back(t.sink);
+    threaded.clear();
+  }
+  detail::ParallelSink sink(inline_sinks, threaded);
 
   const auto t_render = std::chrono::steady_clock::now();
   result.timings = sim.run(survey, sink, options.progress);

@@ -126,8 +126,8 @@ class SurveyProducts::MosaicPart final : public PingSink {
 /// thread while the next line accumulates.
 class SurveyProducts::LinePart : public PingSink {
  public:
-  LinePart(std::filesystem::path dir, std::vector<std::string> names)
-      : dir_(std::move(dir)), names_(std::move(names)) {}
+  LinePart(std::filesystem::path dir, std::vector<std::string> names, bool background)
+      : dir_(std::move(dir)), names_(std::move(names)), background_(background) {}
 
   void end_line(std::size_t line) final {
     job_.wait();  // the previous line's image, before the slots may move
@@ -138,7 +138,14 @@ class SurveyProducts::LinePart : public PingSink {
     const std::string name =
         line < names_.size() ? names_[line] : "line" + std::to_string(line + 1);
     std::function<void()> job = take_line(name, files_[line], notes_[line]);
-    if (job) job_.run(std::move(job));
+    if (!job) return;
+    if (background_) {
+      job_.run(std::move(job));
+    } else {
+      const double cpu0 = detail::thread_cpu_s();
+      job();
+      inline_cpu_s_ += detail::thread_cpu_s() - cpu0;
+    }
   }
   void finish() final { job_.wait(); }
   void abort() noexcept final {
@@ -152,7 +159,7 @@ class SurveyProducts::LinePart : public PingSink {
   /// The paths written for `line` (none: empty), and its note (empty: none).
   const std::vector<std::vector<std::filesystem::path>>& files() const { return files_; }
   const std::vector<std::string>& notes() const { return notes_; }
-  double cpu_s() const { return job_.cpu_s(); }
+  double cpu_s() const { return job_.cpu_s() + inline_cpu_s_; }
 
  protected:
   /// The line's accumulator handed over as a job that writes `<dir>/<name><suffix>` files and
@@ -168,6 +175,8 @@ class SurveyProducts::LinePart : public PingSink {
   std::vector<std::string> names_;
   std::vector<std::vector<std::filesystem::path>> files_;
   std::vector<std::string> notes_;
+  bool background_;
+  double inline_cpu_s_ = 0.0;  ///< of the jobs run on the calling thread
   detail::BackgroundJob job_;
 };
 
@@ -175,7 +184,9 @@ class SurveyProducts::WaterfallPart final : public LinePart {
  public:
   WaterfallPart(std::filesystem::path dir, std::vector<std::string> names,
                 const SurveyProductOptions& options, const SonarConfig& sonar)
-      : LinePart(std::move(dir), std::move(names)), options_(options), sonar_(sonar) {}
+      : LinePart(std::move(dir), std::move(names), options.background_images),
+        options_(options),
+        sonar_(sonar) {}
   void begin_line(std::size_t /*line*/) override {
     // Rows are spooled next to the outputs (the same file system; the spool files are unnamed).
     WaterfallOptions wo;
@@ -221,7 +232,7 @@ class SurveyProducts::TruthPart final : public LinePart {
  public:
   TruthPart(std::filesystem::path dir, std::vector<std::string> names,
             const SurveyProductOptions& options)
-      : LinePart(std::move(dir), std::move(names)), options_(options) {}
+      : LinePart(std::move(dir), std::move(names), options.background_images), options_(options) {}
   void begin_line(std::size_t /*line*/) override {
     truth_ = std::make_shared<TruthWaterfall>(dir());
     labels_ = std::make_shared<labels::LabelWaterfall>(dir());

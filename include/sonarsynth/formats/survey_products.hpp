@@ -27,6 +27,9 @@ struct SurveyProductOptions {
   /// > 0: the waterfalls and mosaic_rgb show value / this linearly (output.display: linear, the
   /// samples' full scale); 0: a dB window (percentiles).
   double display_linear_full_scale = 0.0;
+  /// true: a finished line's images are written on a thread of their own while the next line
+  /// accumulates; false: on the calling thread (a one-thread run: one core). Same files.
+  bool background_images = true;
   void validate() const;
 };
 
