@@ -35,9 +35,8 @@ def cpu_s():
 
 
 def cluster_run(spec, out, workers):
-    from dask.distributed import Client, LocalCluster
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           dashboard_address=None)
+    from dask.distributed import Client
+    cluster = sonarsynth_dask.local_cluster(workers)
     client = Client(cluster)
     client.wait_for_workers(workers)
     # Warm-up: one item per worker (process start, module import), not timed.

@@ -51,6 +51,22 @@ def _print_progress(done, total, item):
                                               extra), file=sys.stderr, flush=True)
 
 
+# Dask workers sample their Python stacks every 10 ms by default; the items' time is spent in C++
+# where the samples see nothing, and on a fully loaded machine the sampling thread costs about 8 %
+# of the throughput of two workers on two cores (docs/dataset.md, Benchmarks).
+WORKER_CONFIG = {"distributed.worker.profile.enabled": False}
+
+
+def local_cluster(n_workers):
+    """A LocalCluster of ``n_workers`` single-threaded worker processes, without the statistical
+    profiler (WORKER_CONFIG; the nannies hand the config on to their workers)."""
+    import dask
+    from dask.distributed import LocalCluster
+    with dask.config.set(WORKER_CONFIG):
+        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                            dashboard_address=None)
+
+
 def generate(spec, out_dir, client=None, n_workers=2, indices=None, shard=(0, 1),
              threads_per_item=1, retries=2, progress=True, before_item=None):
     """Renders the items of ``spec`` (a sonarsynth.DatasetSpec or a spec file's path) into ``out_dir`` as Dask tasks.
@@ -71,7 +87,7 @@ def generate(spec, out_dir, client=None, n_workers=2, indices=None, shard=(0, 1)
     "failures": [{"index", "seed", "error"}], "seconds": wall time}. The manifest and summary
     are rewritten at the end.
     """
-    from dask.distributed import Client, LocalCluster, as_completed
+    from dask.distributed import Client, as_completed
 
     t0 = time.monotonic()
     if isinstance(spec, (str, os.PathLike)):
@@ -86,8 +102,7 @@ def generate(spec, out_dir, client=None, n_workers=2, indices=None, shard=(0, 1)
 
     own = None
     if client is None:
-        cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+        cluster = local_cluster(n_workers)
         own = (cluster, Client(cluster))
         client = own[1]
     try:
