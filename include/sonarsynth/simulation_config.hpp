@@ -154,7 +154,7 @@ struct OutputScaling {
 struct SensorConfig {
   /// Receiver noise after TVG and gain (electronics, ADC): RMS level of the stored quantity,
   /// dB re max_value (20 log10 for amplitude). Keeps the water column and shadows off zero.
-  double noise_floor_dbfs = -62.0;
+  double noise_floor_dbfs = -50.0;
   /// Volume reverberation (water-column scatterers), dB re seabed, at the reference altitude;
   /// after the spherical TVG it grows in proportion to the range (volume r^-2 against r^-3).
   double volume_reverberation_db = -29.0;

@@ -68,7 +68,7 @@ def base_scene(bathy_file=None):
                   "freeze_cell_m": 0, "along_track_correlation": True},
         # The sensor stage and the new output keys at their defaults (docs/scene-format.md): the
         # XTF is the same as without them.
-        "sensor": {"noise_floor_dbfs": -62, "volume_reverberation_db": -29, "shadow_fill_db": -36,
+        "sensor": {"noise_floor_dbfs": -50, "volume_reverberation_db": -29, "shadow_fill_db": -36,
                    "first_return_reflection_db": -6, "first_return_rms_slope": 0.15,
                    "side_lobe_db": -16, "ring_down_m": 0.15},
         "output": {"tvg": "spherical", "gain_db": "auto", "sample_format": "u16", "truth": True,
