@@ -306,6 +306,48 @@ void Waterfall::write(const std::string& path) const {
   out.commit();
 }
 
+WaterfallResult add_file_pings(const std::filesystem::path& sonar_path, Waterfall& wf,
+                               const WaterfallOptions& options, std::int64_t first_ping,
+                               std::int64_t last_ping) {
+  WaterfallResult result;
+  const std::unique_ptr<SideScanSource> reader = SideScanSource::open(sonar_path);
+  const bool track = options.slant_correct && options.altitude_source != AltitudeSource::kHeader;
+  const std::vector<double> tracked =
+      track ? track_file_altitudes(sonar_path) : std::vector<double>{};
+  SideScanRecord rec;
+  std::size_t k = 0;       // pings with samples and a positive slant range: as the tracker counts
+  std::int64_t index = 0;  // pings with samples
+  while (reader->next(rec)) {
+    const xtf::SonarPing& s = rec.sonar;
+    if (s.port.empty() && s.starboard.empty()) {
+      ++result.pings_no_samples;
+      continue;
+    }
+    if (last_ping >= 0 && index > last_ping) break;
+    double altitude_m = s.altitude_m;
+    bool tracked_altitude = false;
+    if (options.slant_correct && s.slant_range_m > 0.0 && std::isfinite(s.slant_range_m)) {
+      const double t = k < tracked.size() ? tracked[k] : std::nan("");
+      ++k;
+      const std::size_t n = std::max(s.port.size(), s.starboard.size());
+      const AltitudeChoice a = choose_altitude(options.altitude_source, s.altitude_m, t,
+                                               s.slant_range_m / static_cast<double>(n));
+      altitude_m = a.altitude_m;
+      tracked_altitude = a.tracked;
+    }
+    if (index >= first_ping) {
+      wf.add_ping(s.port, s.starboard, s.slant_range_m, altitude_m);
+      ++result.pings;
+      result.pings_tracked_altitude += tracked_altitude ? 1 : 0;
+    }
+    ++index;
+  }
+  result.pings_with_samples = static_cast<std::size_t>(index);
+  result.reader_anomalies = reader->total_anomalies();
+  result.reader_anomaly_messages = reader->anomaly_messages(10);
+  return result;
+}
+
 WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
                                     const std::string& image_path,
                                     const WaterfallOptions& options) {
@@ -324,39 +366,12 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
     if (std::filesystem::is_directory(dir, ec)) wo.spool_dir = dir;
   }
   Waterfall wf(wo);
-  WaterfallResult result;
-  const std::unique_ptr<SideScanSource> reader = SideScanSource::open(xtf_path);
-  const std::vector<double> tracked =
-      wo.slant_correct && wo.altitude_source != AltitudeSource::kHeader
-          ? track_file_altitudes(xtf_path)
-          : std::vector<double>{};
-  SideScanRecord rec;
-  std::size_t k = 0;  // pings with samples (and a positive slant range: as the tracker counts)
-  while (reader->next(rec)) {
-    const xtf::SonarPing& s = rec.sonar;
-    if (s.port.empty() && s.starboard.empty()) {
-      ++result.pings_no_samples;
-      continue;
-    }
-    double altitude_m = s.altitude_m;
-    if (wo.slant_correct && s.slant_range_m > 0.0 && std::isfinite(s.slant_range_m)) {
-      const double t = k < tracked.size() ? tracked[k] : std::nan("");
-      ++k;
-      const std::size_t n = std::max(s.port.size(), s.starboard.size());
-      const AltitudeChoice a = choose_altitude(wo.altitude_source, s.altitude_m, t,
-                                               s.slant_range_m / static_cast<double>(n));
-      altitude_m = a.altitude_m;
-      result.pings_tracked_altitude += a.tracked ? 1 : 0;
-    }
-    wf.add_ping(s.port, s.starboard, s.slant_range_m, altitude_m);
-  }
+  WaterfallResult result = add_file_pings(xtf_path, wf, wo);
   if (wf.rows() == 0) {
     throw FormatError("waterfall: " + xtf_path.string() +
                       ": no sonar channel (no ping has port or starboard samples)");
   }
   wf.write(image_path);
-  result.reader_anomalies = reader->total_anomalies();
-  result.reader_anomaly_messages = reader->anomaly_messages(10);
   result.pings = wf.rows();
   result.pings_per_row = wf.pings_per_row();
   result.rows = wf.image_rows();

@@ -57,24 +57,14 @@ MatchImage load_xtf(const std::string& path, const ImageSourceOptions& o) {
   }
   WaterfallOptions wo;
   wo.slant_correct = o.slant_correct;
+  wo.altitude_source = o.altitude_source;
   Waterfall wf(wo);
-  const std::unique_ptr<SideScanSource> reader = SideScanSource::open(path);
-  SideScanRecord rec;
-  std::int64_t index = 0;
-  while (reader->next(rec)) {
-    const xtf::SonarPing& s = rec.sonar;
-    if (s.port.empty() && s.starboard.empty()) continue;
-    if (index >= o.first_ping && (o.last_ping < 0 || index <= o.last_ping)) {
-      wf.add_ping(s.port, s.starboard, s.slant_range_m, s.altitude_m);
-    }
-    ++index;
-    if (o.last_ping >= 0 && index > o.last_ping) break;
-  }
+  const WaterfallResult r = add_file_pings(path, wf, wo, o.first_ping, o.last_ping);
   if (wf.rows() == 0) {
     throw FormatError(std::string(kWho) + ": " + path + ": no ping with samples in pings " +
                       std::to_string(o.first_ping) + ":" +
                       (o.last_ping < 0 ? std::string("end") : std::to_string(o.last_ping)) +
-                      " (the file has " + std::to_string(index) + ")");
+                      " (the file has " + std::to_string(r.pings_with_samples) + ")");
   }
   if (static_cast<std::int64_t>(wf.rows() * wf.cols()) > o.max_pixels) {
     throw InputError(std::string(kWho) + ": " + path + ": waterfall of " +

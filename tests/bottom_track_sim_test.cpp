@@ -16,6 +16,7 @@
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/run_simulation.hpp"
+#include "sonarsynth/formats/waterfall.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/formats/xtf_mosaic.hpp"
@@ -141,6 +142,79 @@ TEST_F(BottomTrackSimTest, ZeroedOrWrongHeaderAltitudeIsReplacedByTheTrackedOne)
   mo.altitude_source = AltitudeSource::kHeader;
   const XtfMosaicResult h = mosaic_xtf({bad}, mo);
   EXPECT_EQ(h.pings_no_altitude, (pings_.size() + 1) / 2);
+}
+
+// The file -> waterfall path `waterfall` and `match` share (add_file_pings): with the altitude
+// tracked, the slant-corrected rows of the bad copy are those of the true one (within the
+// tracker's two samples); with the header altitude they are not; a ping range gives the same
+// rows as the whole file.
+TEST_F(BottomTrackSimTest, FilePingsCorrectedWithTheTrackedAltitudeMatchTheTruth) {
+  const fs::path bad =
+      rewrite("bad.xtf", [](std::size_t k, double a) { return k % 2 == 0 ? 0.0 : 0.7 * a; });
+  const fs::path good = rewrite("good.xtf", [](std::size_t, double a) { return a; });
+  WaterfallOptions wo;
+  wo.slant_correct = true;
+  wo.spool_dir = dir_;
+  const auto rows_of = [&](const fs::path& file, AltitudeSource source, std::int64_t first,
+                           std::int64_t last, WaterfallResult* result) {
+    WaterfallOptions o = wo;
+    o.altitude_source = source;
+    Waterfall wf(o);
+    const WaterfallResult r = add_file_pings(file, wf, o, first, last);
+    if (result != nullptr) *result = r;
+    return wf.image();
+  };
+  WaterfallResult rb, rh;
+  const std::vector<float> truth = rows_of(good, AltitudeSource::kHeader, 0, -1, nullptr);
+  const std::vector<float> tracked = rows_of(bad, AltitudeSource::kAuto, 0, -1, &rb);
+  const std::vector<float> header = rows_of(bad, AltitudeSource::kHeader, 0, -1, &rh);
+  EXPECT_EQ(rb.pings, pings_.size());
+  EXPECT_EQ(rb.pings_tracked_altitude, pings_.size());
+  EXPECT_EQ(rh.pings_tracked_altitude, 0u);
+  ASSERT_EQ(tracked.size(), truth.size());
+  ASSERT_EQ(header.size(), truth.size());
+  // Column means over the pings (speckle averages out; a column is a ground range): within
+  // 10 % of the truth's, except near nadir where two samples of altitude error move the ground
+  // range most.
+  const std::size_t cols = truth.size() / pings_.size();
+  const auto column_means = [&](const std::vector<float>& img) {
+    std::vector<double> mean(cols, 0.0);
+    std::vector<std::size_t> n(cols, 0);
+    for (std::size_t i = 0; i < img.size(); ++i) {
+      if (std::isfinite(img[i])) {
+        mean[i % cols] += img[i];
+        ++n[i % cols];
+      }
+    }
+    for (std::size_t c = 0; c < cols; ++c)
+      mean[c] = n[c] > 0 ? mean[c] / static_cast<double>(n[c]) : std::nan("");
+    return mean;
+  };
+  const std::vector<double> m_truth = column_means(truth), m_tracked = column_means(tracked),
+                            m_header = column_means(header);
+  const auto close_fraction = [&](const std::vector<double>& m) {
+    std::size_t both = 0, close = 0;
+    for (std::size_t c = 0; c < cols; ++c) {
+      if (!(m_truth[c] > 0.0)) continue;
+      ++both;
+      if (std::isfinite(m[c]) && std::abs(m[c] - m_truth[c]) <= 0.1 * m_truth[c]) ++close;
+    }
+    return static_cast<double>(close) / static_cast<double>(std::max<std::size_t>(both, 1));
+  };
+  RecordProperty("tracked_columns_within_10pc", std::to_string(close_fraction(m_tracked)));
+  RecordProperty("header_columns_within_10pc", std::to_string(close_fraction(m_header)));
+  EXPECT_GE(close_fraction(m_tracked), 0.95);
+  EXPECT_LT(close_fraction(m_header), 0.9);
+  // Pings 10..19 alone: rows 10..19 of the whole file, bit for bit.
+  WaterfallResult part;
+  const std::vector<float> ten = rows_of(bad, AltitudeSource::kAuto, 10, 19, &part);
+  EXPECT_EQ(part.pings, 10u);
+  EXPECT_EQ(part.pings_with_samples, 20u);
+  ASSERT_EQ(ten.size(), 10 * cols);
+  for (std::size_t i = 0; i < ten.size(); ++i) {
+    const float a = ten[i], b = tracked[10 * cols + i];
+    ASSERT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << "pixel " << i;
+  }
 }
 
 TEST_F(BottomTrackSimTest, ConvertWritesTheTrackedAltitudeWhenAsked) {

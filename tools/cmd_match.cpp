@@ -96,7 +96,8 @@ void write_bytes(const AtomicOutput& out, const char* data, std::size_t size) {
 int run_match(const std::vector<std::string>& args) {
   po::options_description opts("options");
   std::string path_a, path_b, detectors = "sift,brisk,orb,akaze", prefilters = "none";
-  std::string model = "homography", pings_a, pings_b, bounds, json_path, image_path;
+  std::string model = "homography", pings_a, pings_b, bounds, json_path, image_path,
+              altitude_source = "auto";
   m::MatchOptions mo;
   m::PrefilterOptions pf;
   double tolerance_m = 1.0;
@@ -127,7 +128,9 @@ int run_match(const std::vector<std::string>& args) {
      "georeferenced: an inlier is correct if its pair is within this many metres of the truth")
     ("pings-a", po::value(&pings_a), "XTF A: ping range FIRST:LAST (0-based, inclusive)")
     ("pings-b", po::value(&pings_b), "XTF B: ping range FIRST:LAST")
-    ("no-slant-correct", "XTF: keep slant-range columns")
+    ("no-slant-correct", "XTF/JSF: keep slant-range columns")
+    ("altitude-source", po::value(&altitude_source)->default_value("auto"),
+     "XTF/JSF: auto | header | track: altitude for slant->ground (as for mosaic)")
     ("bounds", po::value(&bounds),
      "georeferenced: crop both to MINX,MINY,MAXX,MAXY (their CRS)")
     ("overlap", "georeferenced: crop both to the intersection of their extents")
@@ -160,6 +163,8 @@ int run_match(const std::vector<std::string>& args) {
   if (!pings_a.empty()) parse_pings(pings_a, "pings-a", so_a);
   if (!pings_b.empty()) parse_pings(pings_b, "pings-b", so_b);
   so_a.slant_correct = so_b.slant_correct = vm.count("no-slant-correct") == 0;
+  so_a.altitude_source = so_b.altitude_source =
+      parse_altitude_source(altitude_source, "--altitude-source");
   std::optional<m::WorldBounds> crop;
   if (!bounds.empty()) crop = m::parse_bounds(bounds, "bounds");
   if (crop && vm.count("overlap")) {

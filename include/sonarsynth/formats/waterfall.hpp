@@ -106,10 +106,21 @@ struct WaterfallResult {
   std::size_t rows = 0;           ///< image rows
   std::size_t cols = 0;
   std::size_t pings_no_samples = 0;
+  std::size_t pings_with_samples = 0;      ///< in the file (add_file_pings: before the ping range)
   std::size_t pings_tracked_altitude = 0;  ///< slant_correct: rows corrected with the tracked one
   std::uint64_t reader_anomalies = 0;      ///< reported by xtf::Reader (malformed packets skipped)
   std::vector<std::string> reader_anomaly_messages;  ///< the first of them (file, packet, value)
 };
+
+/// Adds to `wf` the pings of a sonar file (XTF or JSF) that have port or starboard samples,
+/// numbered from 0 among those, from first_ping to last_ping (-1: to the end). With
+/// options.slant_correct each ping's altitude comes from options.altitude_source (the whole
+/// file is bottom-tracked first unless it is kHeader; docs/conversion.md). Fills pings,
+/// pings_no_samples, pings_with_samples (up to last_ping), pings_tracked_altitude and the
+/// reader anomalies; throws FormatError for an unreadable file.
+WaterfallResult add_file_pings(const std::filesystem::path& sonar_path, Waterfall& wf,
+                               const WaterfallOptions& options, std::int64_t first_ping = 0,
+                               std::int64_t last_ping = -1);
 
 /// Waterfall of an XTF file (all pings with port or starboard samples, navigation not needed).
 /// Throws FormatError for an unreadable file or one without sonar channels. Without a

@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "sonarsynth/bottom_track.hpp"
+
 namespace sonarsynth::match {
 
 /// GDAL's affine geotransform: x = g[0] + col g[1] + row g[2], y = g[3] + col g[4] + row g[5],
@@ -35,8 +37,12 @@ struct ImageSourceOptions {
   /// last_ping < 0 = to the end.
   std::int64_t first_ping = 0;
   std::int64_t last_ping = -1;
-  /// XTF only: columns in ground range on a flat bottom (as `sonarsynth waterfall --slant`).
+  /// XTF/JSF only: columns in ground range on a flat bottom (as `sonarsynth waterfall --slant`).
   bool slant_correct = true;
+  /// XTF/JSF with slant_correct: where each ping's altitude comes from, as for `waterfall` and
+  /// `mosaic` (docs/conversion.md; auto: the header's unless missing, <= 0 or disagreeing with
+  /// the bottom tracked from the first return).
+  AltitudeSource altitude_source = AltitudeSource::kAuto;
   /// Non-8-bit rasters and XTF are linear intensities, displayed in dB between these percentiles.
   double lo_percentile = 1.0;
   double hi_percentile = 99.0;
