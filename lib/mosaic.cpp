@@ -142,8 +142,10 @@ MosaicAddStats MosaicGrid::add(const MosaicPing& ping) {
 void MosaicGrid::ground_ranges(const MosaicPing& ping, std::size_t n, const Eigen::Vector2d& start,
                                const Eigen::Vector2d& dir) {
   ground_.assign(n, kNaN);
+  nadir_slant_m_ = kNaN;
   const double dr = ping.slant_range_m / static_cast<double>(n);
   if (!bathymetry_) {
+    nadir_slant_m_ = ping.altitude_m;
     for (std::size_t i = 0; i < n; ++i) {
       ground_[i] = flat_ground_range_m((static_cast<double>(i) + 0.5) * dr, ping.altitude_m);
     }
@@ -160,6 +162,7 @@ void MosaicGrid::ground_ranges(const MosaicPing& ping, std::size_t n, const Eige
   std::size_t k = 0;
   const std::size_t m = profile_.size();
   auto rho = [&](std::size_t j) { return std::hypot(profile_[j].s_m, zs - profile_[j].z_m); };
+  if (m > 0 && std::isfinite(profile_[0].z_m)) nadir_slant_m_ = rho(0);
   for (std::size_t i = 0; i < n; ++i) {
     const double r = (static_cast<double>(i) + 0.5) * dr;
     while (k < m && !(std::isfinite(profile_[k].z_m) && rho(k) >= r)) ++k;
@@ -183,12 +186,40 @@ void MosaicGrid::add_side(const MosaicPing& ping, int side, std::span<const floa
   const double step_m = options_.fill_step_px * geometry_.dx_m;
   const bool have_labels = !labels.empty();
   std::size_t prev = n;  // index of the previous placed sample
+  nadir_ground_m_ = 0.0;
+  // The nadir gap: the first seabed sample is no further out than the bin holding the altitude
+  // reaches, the next bin centre when the altitude is a bin centre (a tracked one), with a
+  // margin for round-off (docs/conversion.md).
+  const double dr = ping.slant_range_m / static_cast<double>(n);
+  double nadir_reach_m = options_.nadir_fill && nadir_slant_m_ > 0.0
+                             ? 1.001 * std::sqrt((2.0 * nadir_slant_m_ + dr) * dr)
+                             : -1.0;
   for (std::size_t i = 0; i < n; ++i) {
     const double g = ground_[i];
     if (std::isnan(g) || !std::isfinite(values[i])) {
       ++stats.samples_water;
       prev = n;
       continue;
+    }
+    if (nadir_reach_m >= 0.0) {
+      if (g > 0.0 && g <= nadir_reach_m) {
+        nadir_sample_ = i;
+        nadir_ground_m_ = g;
+        const auto fills = static_cast<std::size_t>(std::ceil(g / step_m));
+        for (std::size_t j = 0; j < fills; ++j) {
+          const double gj = g * static_cast<double>(j) / static_cast<double>(fills);
+          const std::size_t before = stats.samples_placed;
+          splat(start + gj * dir, gj, swath_m, values[i],
+                have_labels ? labels[i] : MosaicImage::kNoLabel, stats);
+          if (stats.samples_placed > before) {
+            --stats.samples_placed;
+            ++stats.fill_points;
+          } else {
+            --stats.samples_outside;
+          }
+        }
+      }
+      nadir_reach_m = -1.0;  // only before the first seabed sample
     }
     if (prev < n) {
       const double gap = g - ground_[prev];
@@ -262,6 +293,13 @@ void MosaicGrid::resample_ground_line(std::span<const float> values,
       line.values[j] = static_cast<float>((1.0 - t) * values[i] + t * values[i + 1]);
       if (!labels.empty()) line.labels[j] = t < 0.5 ? labels[i] : labels[i + 1];
     }
+  }
+  // The nadir gap, as add_side filled it.
+  for (std::size_t j = 0; j < n && nadir_ground_m_ > 0.0; ++j) {
+    if ((static_cast<double>(j) + 0.5) * step_m >= nadir_ground_m_) break;
+    if (!std::isnan(line.values[j])) continue;
+    line.values[j] = values[nadir_sample_];
+    if (!labels.empty()) line.labels[j] = labels[nadir_sample_];
   }
 }
 

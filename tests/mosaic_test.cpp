@@ -185,6 +185,46 @@ TEST(MosaicGrid, BathymetrySlopeMatchesAnalyticIntersection) {
   EXPECT_NEAR(peak_x, y, g.dx_m);
 }
 
+// The nadir gap: on a flat bottom 10 m below with 0.1 m bins, the first seabed sample (centre
+// 10.05 m) lands 1.001 m from nadir; the bin holding the altitude covers the seabed from nadir,
+// so with nadir_fill the pixels in between take that sample's value, and without it they are
+// nodata.
+TEST(MosaicGrid, NadirGapTakesTheFirstSeabedSample) {
+  const GridGeometry g = MosaicGrid::geometry_covering({-5, -1}, {5, 11}, 0.1);
+  const double first_g = MosaicGrid::flat_ground_range_m(10.05, 10.0);
+  ASSERT_NEAR(first_g, 1.0012, 1e-4);
+  for (const bool fill : {true, false}) {
+    MosaicOptions o;
+    o.nadir_fill = fill;
+    MosaicGrid grid(g, o);
+    const std::vector<float> port(500, 1.0f), stbd(500, 2.0f);
+    for (int i = 0; i <= 200; ++i) {
+      MosaicPing p;
+      p.sensor_xy_m = {0.0, 0.05 * i};
+      p.altitude_m = 10.0;
+      p.slant_range_m = 50.0;
+      p.port = port;
+      p.starboard = stbd;
+      grid.add(p);
+    }
+    const MosaicImage img = grid.finish();
+    const auto row = static_cast<std::size_t>(std::floor(g.row_of_y(5.0) + 0.5));
+    for (std::size_t c = 0; c < g.cols; ++c) {
+      const double x = g.x_of_col(static_cast<double>(c));
+      const float v = img.intensity[row * g.cols + c];
+      if (std::abs(x) > first_g + 0.1) {
+        EXPECT_EQ(v, x < 0 ? 1.0f : 2.0f) << "x = " << x;
+      } else if (!fill && std::abs(x) < first_g - 0.1) {
+        EXPECT_TRUE(std::isnan(v)) << "x = " << x << ": " << v;
+      } else if (fill && std::abs(x) > 0.06) {
+        EXPECT_EQ(v, x < 0 ? 1.0f : 2.0f) << "x = " << x;
+      } else if (fill) {
+        EXPECT_TRUE(v >= 1.0f && v <= 2.0f) << "x = " << x << ": " << v;
+      }
+    }
+  }
+}
+
 // Single-look speckle (exponential intensity, mean mu): the mosaic mean equals mu. Averaging
 // the same samples in dB would be 2.51 dB low, far outside the tolerance used here.
 TEST(MosaicGrid, AveragesLinearIntensityWithoutSpeckleBias) {

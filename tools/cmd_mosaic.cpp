@@ -63,6 +63,7 @@ int run_mosaic(const std::vector<std::string>& args) {
      "auto | header | track: altitude for slant->ground; auto = the header's unless missing, "
      "<= 0 or disagreeing with the bottom tracked from the first return (docs/conversion.md)")
     ("no-bottom-pick", "same as --altitude-source header")
+    ("no-nadir-fill", "leave nodata between nadir and the first seabed sample (docs/conversion.md)")
     ("gain-normalisation", po::value(&gain_normalisation)->default_value("off"),
      "off | range | angle: empirical across-track gain over all the files, by slant range or "
      "depression angle (docs/conversion.md)")
@@ -87,6 +88,7 @@ int run_mosaic(const std::vector<std::string>& args) {
   if (inputs.empty()) throw InputError("no input file. Violated constraint: at least one XTF file");
   mo.gridding.rule = parse_rule(rule);
   mo.apply_layback = vm.count("layback") > 0;
+  mo.gridding.nadir_fill = vm.count("no-nadir-fill") == 0;
   mo.altitude_source = parse_altitude_source(altitude_source, "--altitude-source");
   if (vm.count("no-bottom-pick")) {
     if (!vm["altitude-source"].defaulted() && mo.altitude_source != AltitudeSource::kHeader) {

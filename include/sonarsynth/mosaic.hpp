@@ -41,6 +41,12 @@ struct MosaicOptions {
   /// than fill_step_px apart, unless the sensor moved more than max_ping_gap_m or turned more
   /// than max_ping_turn_rad (a new line, a turn or a data gap: no fill).
   bool along_track_fill = true;
+  /// Fill the nadir gap: the slant-range bin holding the altitude covers the seabed from nadir
+  /// out to its far edge, so the ground between nadir and the first seabed sample's centre
+  /// (at most sqrt(2 H dr + dr^2), H the altitude, dr the bin) takes that sample's value instead
+  /// of staying nodata. Only where the first seabed sample is that close (a seabed rising away
+  /// from nadir, seen first off to the side, is left as it is).
+  bool nadir_fill = true;
   double max_ping_gap_m = 5.0;      ///< > 0
   double max_ping_turn_rad = 0.35;  ///< > 0 (20 degrees)
   /// Subdivisions of each grid cell of the bathymetry profile (HeightGrid::profile), >= 1.
@@ -156,6 +162,11 @@ class MosaicGrid {
   GroundLine current_;
   // Scratch reused between pings.
   std::vector<double> ground_;
+  /// ground_ranges: slant range from the sensor to the seabed at nadir.
+  double nadir_slant_m_ = 0.0;
+  /// add_side: the sample that fills the nadir gap, and its ground range (0: no nadir fill).
+  std::size_t nadir_sample_ = 0;
+  double nadir_ground_m_ = 0.0;
   std::vector<ProfilePoint> profile_;
 };
 
