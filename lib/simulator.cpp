@@ -558,7 +558,7 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
     const double nx = nadir.x(), ny = nadir.y();
     const double dx = central_dir.x(), dy = central_dir.y();
     ws.keys.resize(n);
-    ws.nu.assign(nc.texture ? n : 0, 0.0);
+    ws.nu.resize(nc.texture ? n : 0);  // every entry written below (no memset per side)
     bool have_last = false;
     std::int64_t lx = 0, ly = 0, lz = 0;
     std::uint64_t last_key = 0;
@@ -589,6 +589,7 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
         if (nc.texture) ws.nu[i] = cal_->side.materials[e.truth_material[i]].texture_shape_nu;
       } else {
         ws.keys[i] = ws.noise_keys[i];
+        if (nc.texture) ws.nu[i] = 0.0;
       }
     }
     SpeckleNoise sn;
