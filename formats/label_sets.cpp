@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <tuple>
 #include <utility>
 
 #include "raster_util.hpp"
@@ -261,40 +262,96 @@ void write_chips(const fs::path& dir, const LabelImage& li, ImageLabels& il,
 
 }  // namespace
 
+std::size_t BoxAccumulator::root(std::size_t part) {
+  while (parent_[part] != part) {
+    parent_[part] = parent_[parent_[part]];
+    part = parent_[part];
+  }
+  return part;
+}
+
+void BoxAccumulator::join(std::size_t a, std::size_t b) {
+  a = root(a);
+  b = root(b);
+  if (a == b) return;
+  if (b < a) std::swap(a, b);
+  Box& keep = parts_[a];
+  const Box& gone = parts_[b];
+  keep.x0 = std::min(keep.x0, gone.x0);
+  keep.y0 = std::min(keep.y0, gone.y0);
+  keep.x1 = std::max(keep.x1, gone.x1);
+  keep.y1 = std::max(keep.y1, gone.y1);
+  keep.pixels += gone.pixels;
+  parent_[b] = a;
+}
+
 void BoxAccumulator::add_row(std::size_t y, std::span<const std::uint8_t> cls,
                              std::span<const std::uint32_t> instance, std::size_t x_offset) {
-  Box* last = nullptr;  // runs of one instance: the box found for the previous pixel
+  // Runs of this row: consecutive pixels of one (instance > 0, category).
+  current_.clear();
   for (std::size_t i = 0; i < cls.size(); ++i) {
     const std::uint32_t k = instance[i];
-    if (k == 0 || k == kInstanceNodata) continue;
     int category = 0;
-    if (cls[i] == static_cast<std::uint8_t>(SampleClass::object)) category = kCategoryObject;
-    if (cls[i] == static_cast<std::uint8_t>(SampleClass::shadow)) category = kCategoryShadow;
+    if (k != 0 && k != kInstanceNodata) {
+      if (cls[i] == static_cast<std::uint8_t>(SampleClass::object)) category = kCategoryObject;
+      if (cls[i] == static_cast<std::uint8_t>(SampleClass::shadow)) category = kCategoryShadow;
+    }
     if (category == 0) continue;
-    if (!last || last->instance != k || last->category != category) {
-      last = nullptr;
-      for (Box& b : boxes_) {
-        if (b.instance == k && b.category == category) last = &b;
-      }
-      if (!last) {
-        const std::size_t x = x_offset + i;
-        boxes_.push_back({k, category, x, y, x + 1, y + 1, 0});
-        last = &boxes_.back();
+    const std::size_t x = x_offset + i;
+    if (!current_.empty() && current_.back().x1 == x && current_.back().instance == k &&
+        current_.back().category == category) {
+      ++current_.back().x1;
+    } else {
+      current_.push_back({x, x + 1, k, category, 0});
+    }
+  }
+  const bool adjacent = has_previous_ && y == previous_y_ + 1 && x_offset == previous_offset_ &&
+                        cls.size() == previous_width_;
+  if (!adjacent) previous_.clear();
+  // Each run joins the components of the runs of the previous row with its key that touch it by
+  // a side or a corner (columns [x0 - 1, x1]); both rows' runs are sorted and disjoint.
+  std::size_t first = 0;
+  for (Run& r : current_) {
+    while (first < previous_.size() && previous_[first].x1 < r.x0) ++first;
+    bool joined = false;
+    for (std::size_t j = first; j < previous_.size() && previous_[j].x0 <= r.x1; ++j) {
+      const Run& p = previous_[j];
+      if (p.instance != r.instance || p.category != r.category) continue;
+      if (!joined) {
+        r.part = root(p.part);
+        joined = true;
+      } else {
+        join(r.part, p.part);
+        r.part = root(r.part);
       }
     }
-    const std::size_t x = x_offset + i;
-    last->x0 = std::min(last->x0, x);
-    last->x1 = std::max(last->x1, x + 1);
-    last->y0 = std::min(last->y0, y);
-    last->y1 = std::max(last->y1, y + 1);
-    ++last->pixels;
+    if (!joined) {
+      r.part = parts_.size();
+      parts_.push_back({r.instance, r.category, r.x0, y, r.x0, y, 0});
+      parent_.push_back(r.part);
+    }
+    Box& b = parts_[root(r.part)];
+    b.x0 = std::min(b.x0, r.x0);
+    b.x1 = std::max(b.x1, r.x1);
+    b.y0 = std::min(b.y0, y);
+    b.y1 = std::max(b.y1, y + 1);
+    b.pixels += r.x1 - r.x0;
   }
+  std::swap(previous_, current_);
+  previous_y_ = y;
+  previous_offset_ = x_offset;
+  previous_width_ = cls.size();
+  has_previous_ = true;
 }
 
 std::vector<Box> BoxAccumulator::boxes() const {
-  std::vector<Box> out = boxes_;
+  std::vector<Box> out;
+  for (std::size_t i = 0; i < parts_.size(); ++i) {
+    if (parent_[i] == i) out.push_back(parts_[i]);
+  }
   std::sort(out.begin(), out.end(), [](const Box& a, const Box& b) {
-    return a.instance != b.instance ? a.instance < b.instance : a.category < b.category;
+    return std::tie(a.instance, a.category, a.y0, a.x0, a.y1, a.x1) <
+           std::tie(b.instance, b.category, b.y0, b.x0, b.y1, b.x1);
   });
   return out;
 }

@@ -22,8 +22,8 @@ using LabelSetOptions = LabelOutput;
 inline constexpr int kCategoryObject = 1;
 inline constexpr int kCategoryShadow = 2;
 
-/// The extent of an instance's pixels of one category in an image: columns [x0, x1), rows
-/// [y0, y1) (pixel edges), and its pixel count.
+/// The extent of one connected piece of an instance's pixels of one category in an image:
+/// columns [x0, x1), rows [y0, y1) (pixel edges), and its pixel count.
 struct Box {
   std::uint32_t instance = 0;
   int category = 0;  ///< kCategoryObject or kCategoryShadow
@@ -31,18 +31,34 @@ struct Box {
   std::uint64_t pixels = 0;
 };
 
-/// Boxes of an image fed row by row: one box per (instance > 0, category) over all its pixels
-/// (class object: category object; class shadow: category shadow). Sorted by (instance,
-/// category).
+/// Boxes of an image fed row by row: one box per connected component (8-connected: pixels
+/// touching by a side or a corner) of the pixels of one instance > 0 in one category (class
+/// object: category object; class shadow: category shadow). An object whose pixels fall in two
+/// separate pieces gets two boxes. Sorted by (instance, category, y0, x0, y1, x1).
 class BoxAccumulator {
  public:
-  /// Row `y`, pixels from column `x_offset`.
+  /// Row `y`, pixels from column `x_offset`. Rows are connected to the previous call's only if
+  /// they are consecutive (y = previous y + 1) with the same `x_offset` and width.
   void add_row(std::size_t y, std::span<const std::uint8_t> cls,
                std::span<const std::uint32_t> instance, std::size_t x_offset = 0);
   std::vector<Box> boxes() const;
 
  private:
-  std::vector<Box> boxes_;  ///< unsorted, found by linear search (few instances per image)
+  /// Pixels x0..x1 - 1 of one row with one (instance, category), part of component `part`.
+  struct Run {
+    std::size_t x0, x1;
+    std::uint32_t instance;
+    int category;
+    std::size_t part;
+  };
+  std::size_t root(std::size_t part);
+  void join(std::size_t a, std::size_t b);
+
+  std::vector<Box> parts_;           ///< per component; valid at the roots
+  std::vector<std::size_t> parent_;  ///< union-find over parts_
+  std::vector<Run> previous_, current_;
+  std::size_t previous_y_ = 0, previous_offset_ = 0, previous_width_ = 0;
+  bool has_previous_ = false;
 };
 
 /// One image to label: its file and the label rasters on the same pixel grid (names relative

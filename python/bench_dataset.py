@@ -2,19 +2,22 @@
 """Benchmark of the dataset generator (docs/dataset.md, docs/benchmarks.md); not a test.
 
     PYTHONPATH=build/python /usr/bin/python3 python/bench_dataset.py samples/datasets/small.yaml \
-        /tmp/bench-dataset [--serial-items 40] [--cluster-items 16]
+        /tmp/bench-dataset [--serial-items 40] [--cluster-items 16] [--repeat 5] [--processes]
 
 1. Serial: the first --serial-items items of the spec, one after the other with all cores per
    item (what `sonarsynth dataset` does): wall and CPU seconds per item, and the time of the
    spec's whole count extrapolated from them (items are drawn from the same distributions).
-2. Dask: the first --cluster-items items on a LocalCluster of 1 worker process, then of 2 (one
-   thread each, one rendering thread per item): items/s and the ratio.
+2. Dask: the first --cluster-items items on sonarsynth_dask.local_cluster with 1 worker, then
+   with 2 (one thread each, one rendering thread per item; threads of this process, or worker
+   processes with --processes), alternately --repeat times: each run's time and load average,
+   the medians and the ratio of the medians (2 workers against 1).
 Every run writes into a fresh directory under OUT, removed afterwards.
 """
 import argparse
 import os
 import resource
 import shutil
+import statistics
 import time
 
 import sonarsynth
@@ -34,9 +37,9 @@ def cpu_s():
     return r.ru_utime + r.ru_stime
 
 
-def cluster_run(spec, out, workers):
+def cluster_run(spec, out, workers, processes):
     from dask.distributed import Client
-    cluster = sonarsynth_dask.local_cluster(workers)
+    cluster = sonarsynth_dask.local_cluster(workers, processes)
     client = Client(cluster)
     client.wait_for_workers(workers)
     # Warm-up: one item per worker (process start, module import), not timed.
@@ -59,6 +62,8 @@ def main():
     ap.add_argument("out")
     ap.add_argument("--serial-items", type=int, default=40)
     ap.add_argument("--cluster-items", type=int, default=16)
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--processes", action="store_true", help="worker processes (with nannies)")
     a = ap.parse_args()
     full = sonarsynth.DatasetSpec.from_file(a.spec)
     os.makedirs(a.out, exist_ok=True)
@@ -86,12 +91,20 @@ def main():
 
     if a.cluster_items > 0:
         spec = subset(full, a.cluster_items)
-        t1 = cluster_run(spec, os.path.join(a.out, "w1"), 1)
-        print("LocalCluster, 1 worker:  %d items in %.1f s (%.3f items/s)" %
-              (spec.count, t1, spec.count / t1))
-        t2 = cluster_run(spec, os.path.join(a.out, "w2"), 2)
-        print("LocalCluster, 2 workers: %d items in %.1f s (%.3f items/s), %.2fx one worker" %
-              (spec.count, t2, spec.count / t2, t1 / t2))
+        kind = "worker processes" if a.processes else "worker threads"
+        times = {1: [], 2: []}
+        for rep in range(a.repeat):
+            for w in (1, 2):
+                t = cluster_run(spec, os.path.join(a.out, "w%d" % w), w, a.processes)
+                times[w].append(t)
+                print("run %d, %d %s: %d items in %.1f s (%.3f items/s), load average %.2f" %
+                      (rep + 1, w, kind, spec.count, t, spec.count / t, os.getloadavg()[0]),
+                      flush=True)
+        m1, m2 = statistics.median(times[1]), statistics.median(times[2])
+        ratios = [t1 / t2 for t1, t2 in zip(times[1], times[2])]
+        print("LocalCluster (%s), %d items, %d alternating runs: median %.1f s with 1 worker, "
+              "%.1f s with 2: %.2fx (run by run %.2f-%.2fx)" %
+              (kind, spec.count, a.repeat, m1, m2, m1 / m2, min(ratios), max(ratios)))
         print("  load average after: %.2f %.2f %.2f" % os.getloadavg())
 
 

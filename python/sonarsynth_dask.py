@@ -51,29 +51,49 @@ def _print_progress(done, total, item):
                                               extra), file=sys.stderr, flush=True)
 
 
-# Dask workers sample their Python stacks every 10 ms by default; the items' time is spent in C++
-# where the samples see nothing, and on a fully loaded machine the sampling thread costs about 8 %
-# of the throughput of two workers on two cores (docs/dataset.md, Benchmarks).
-WORKER_CONFIG = {"distributed.worker.profile.enabled": False}
+# What a LocalCluster of ours leaves out or slows down: periodic work of Dask that costs CPU the
+# items then lack once every core renders an item (measured in docs/dataset.md, Benchmarks: with
+# Dask's defaults, 0.24-0.35 s of CPU per item besides the items' own 1.2-1.3 s, on two workers):
+# - the workers' statistical profiler samples Python stacks every 10 ms; the items' time is spent
+#   in C++, where the samples see nothing;
+# - the event-loop tick monitor (every 20 ms, only warns of a blocked loop), the system monitor
+#   (every 0.5 s, feeds the dashboard) and the memory monitor (every 0.1 s; items take a few
+#   hundred MiB at most) run every second or less often;
+# - work stealing (every 0.1 s) is off: every task is one item of about the same length, queued on
+#   the scheduler until a worker is free.
+WORKER_CONFIG = {
+    "distributed.worker.profile.enabled": False,
+    "distributed.admin.tick.interval": "1s",
+    "distributed.admin.system-monitor.interval": "5s",
+    "distributed.worker.memory.monitor-interval": "1s",
+    "distributed.scheduler.work-stealing": False,
+}
 
 
-def local_cluster(n_workers):
-    """A LocalCluster of ``n_workers`` single-threaded worker processes, without the statistical
-    profiler (WORKER_CONFIG; the nannies hand the config on to their workers)."""
+def local_cluster(n_workers, processes=False):
+    """A LocalCluster of ``n_workers`` single-threaded workers with WORKER_CONFIG.
+
+    processes=False (default): the workers are threads of this process, next to the scheduler,
+    with no nanny and no worker process (an item runs in C++ without the GIL, so two items run
+    on two cores). One event loop instead of one per process: 0.03 s of CPU per item besides the
+    item against 0.09 s with worker processes (docs/dataset.md, Benchmarks). A crash of the C++
+    code (not an exception: those are retried) ends the whole run, which is resumable.
+    processes=True: one worker process per worker, each under a nanny (the config is handed on).
+    """
     import dask
     from dask.distributed import LocalCluster
     with dask.config.set(WORKER_CONFIG):
-        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=processes,
                             dashboard_address=None)
 
 
 def generate(spec, out_dir, client=None, n_workers=2, indices=None, shard=(0, 1),
-             threads_per_item=1, retries=2, progress=True, before_item=None):
+             threads_per_item=1, retries=2, progress=True, before_item=None, processes=False):
     """Renders the items of ``spec`` (a sonarsynth.DatasetSpec or a spec file's path) into ``out_dir`` as Dask tasks.
 
     client: a dask.distributed.Client (any cluster; ``out_dir`` must be a path every worker can
-        write, e.g. a shared file system); None starts a LocalCluster of ``n_workers`` worker
-        processes with one thread each, closed at the end.
+        write, e.g. a shared file system); None starts ``local_cluster(n_workers, processes)``
+        (by default ``n_workers`` one-thread workers in this process), closed at the end.
     indices: the items to run (default: all of this shard); shard=(K, N): the items i with
         i % N == K, as ``sonarsynth dataset --shard K/N``.
     threads_per_item: rendering threads per item (1 suits one worker process per core); the
@@ -102,7 +122,7 @@ def generate(spec, out_dir, client=None, n_workers=2, indices=None, shard=(0, 1)
 
     own = None
     if client is None:
-        cluster = local_cluster(n_workers)
+        cluster = local_cluster(n_workers, processes)
         own = (cluster, Client(cluster))
         client = own[1]
     try:

@@ -4,6 +4,7 @@
 // and boxes recomputed here independently.
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -90,31 +91,64 @@ Raster read(const fs::path& path) {
   return r;
 }
 
-// (instance, category) -> [x0, y0, x1, y1) from every pixel, the plain way.
-using Key = std::pair<std::uint32_t, int>;
-std::map<Key, std::array<std::size_t, 4>> brute_boxes(const Raster& cls, const Raster& inst,
-                                                      std::size_t x0 = 0, std::size_t y0 = 0,
-                                                      std::size_t w = 0, std::size_t h = 0) {
+// The boxes of the 8-connected pieces of every (instance, category), found by a flood fill over
+// the pixels of a window: {instance, category, x0, y0, x1, y1} relative to the window, sorted.
+using BoxRow = std::array<std::size_t, 6>;
+int category_of(std::uint32_t cls) {
+  return cls == 2 ? 1 : cls == 3 ? 2 : 0;
+}
+std::vector<BoxRow> brute_boxes(const Raster& cls, const Raster& inst, std::size_t x0 = 0,
+                                std::size_t y0 = 0, std::size_t w = 0, std::size_t h = 0) {
   if (w == 0) {
     w = cls.cols;
     h = cls.rows;
   }
-  std::map<Key, std::array<std::size_t, 4>> out;
-  for (std::size_t y = y0; y < y0 + h; ++y) {
-    for (std::size_t x = x0; x < x0 + w; ++x) {
-      const std::size_t i = y * cls.cols + x;
-      const std::uint32_t k = inst.values[i];
-      const int c = cls.values[i] == 2 ? 1 : cls.values[i] == 3 ? 2 : 0;
-      if (k == 0 || k == labels::kInstanceNodata || c == 0) continue;
-      auto [it, fresh] = out.try_emplace({k, c}, std::array<std::size_t, 4>{x, y, x + 1, y + 1});
-      auto& b = it->second;
-      b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x + 1), std::max(b[3], y + 1)};
-      (void)fresh;
+  auto key = [&](std::size_t x, std::size_t y) {
+    const std::size_t i = (y0 + y) * cls.cols + x0 + x;
+    const std::uint32_t k = inst.values[i];
+    const int c = category_of(cls.values[i]);
+    if (k == labels::kInstanceNodata || c == 0) return std::pair<std::uint32_t, int>{0, 0};
+    return std::pair<std::uint32_t, int>{k, c};
+  };
+  std::vector<char> seen(w * h, 0);
+  std::vector<BoxRow> out;
+  for (std::size_t y = 0; y < h; ++y) {
+    for (std::size_t x = 0; x < w; ++x) {
+      const auto k = key(x, y);
+      if (k.first == 0 || seen[y * w + x]) continue;
+      BoxRow b = {k.first, static_cast<std::size_t>(k.second), x, y, x + 1, y + 1};
+      std::vector<std::pair<std::size_t, std::size_t>> stack = {{x, y}};
+      seen[y * w + x] = 1;
+      while (!stack.empty()) {
+        const auto [px, py] = stack.back();
+        stack.pop_back();
+        b = {b[0],
+             b[1],
+             std::min(b[2], px),
+             std::min(b[3], py),
+             std::max(b[4], px + 1),
+             std::max(b[5], py + 1)};
+        for (std::size_t ny = py == 0 ? 0 : py - 1; ny <= std::min(py + 1, h - 1); ++ny) {
+          for (std::size_t nx = px == 0 ? 0 : px - 1; nx <= std::min(px + 1, w - 1); ++nx) {
+            if (!seen[ny * w + nx] && key(nx, ny) == k) {
+              seen[ny * w + nx] = 1;
+              stack.push_back({nx, ny});
+            }
+          }
+        }
+      }
+      out.push_back(b);
     }
   }
-  // Relative to the window.
-  for (auto& [k, b] : out) b = {b[0] - x0, b[1] - y0, b[2] - x0, b[3] - y0};
+  std::sort(out.begin(), out.end());
   return out;
+}
+
+BoxRow box_row(const json& a) {
+  const auto& b = a["bbox"];
+  const std::size_t x = b[0], y = b[1], w = b[2], h = b[3];
+  return {
+      a["object_id"].get<std::size_t>(), a["category_id"].get<std::size_t>(), x, y, x + w, y + h};
 }
 
 json read_json(const fs::path& p) {
@@ -128,7 +162,8 @@ class LabelsTest : public ::testing::Test {
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
            ("sonarsynth_labels_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     scene_ = (dir_ / "scene.yaml").string();
@@ -160,6 +195,49 @@ TEST(SideInstances, ShadowRunsFollowTheirCaster) {
 
 // The mosaic's one gridded code carries class, object id and caster: decoding returns the plain
 // truth label (as before the labels existed) and the two rasters.
+// An object in separate pieces gets a box per piece; pieces touching by a corner, or joined
+// further down (a U), are one; its shadow is boxed on its own. Boxes worked out by hand.
+TEST(BoxAccumulator, OneBoxPerConnectedPiece) {
+  // a: object 5, A: shadow of 5, b: object 6, c: object 9, o: object with instance 0,
+  // n: nodata, '.': seabed.
+  const std::vector<std::string> image = {
+      "............",  //
+      ".aaa...aa...",  //
+      ".aaa...aa.n.",  //
+      ".AAA........",  //
+      ".b.b..c.....",  //
+      ".b.b...c..o.",  //
+      ".bbb........",  //
+      "..........a.",
+  };
+  labels::BoxAccumulator acc;
+  for (std::size_t y = 0; y < image.size(); ++y) {
+    std::vector<std::uint8_t> cls;
+    std::vector<std::uint32_t> inst;
+    for (char ch : image[y]) {
+      const bool object = ch == 'a' || ch == 'b' || ch == 'c' || ch == 'o';
+      cls.push_back(ch == 'n' ? labels::kClassNodata : object ? 2 : ch == 'A' ? 3 : 1);
+      inst.push_back(ch == 'a' || ch == 'A' ? 5u
+                     : ch == 'b'            ? 6u
+                     : ch == 'c'            ? 9u
+                     : ch == 'n'            ? labels::kInstanceNodata
+                                            : 0u);
+    }
+    acc.add_row(y, cls, inst);
+  }
+  using Row = std::array<std::uint64_t, 7>;  // instance, category, x0, y0, x1, y1, pixels
+  std::vector<Row> got;
+  for (const labels::Box& b : acc.boxes()) {
+    got.push_back(
+        {b.instance, static_cast<std::uint64_t>(b.category), b.x0, b.y0, b.x1, b.y1, b.pixels});
+  }
+  const std::vector<Row> expected = {
+      {5, 1, 1, 1, 4, 3, 6}, {5, 1, 7, 1, 9, 3, 4}, {5, 1, 10, 7, 11, 8, 1},
+      {5, 2, 1, 3, 4, 4, 3}, {6, 1, 1, 4, 4, 7, 7}, {9, 1, 6, 4, 8, 6, 2},
+  };
+  EXPECT_EQ(got, expected);
+}
+
 TEST(MosaicLabelCodes, RoundTrip) {
   using C = SampleClass;
   const labels::MosaicLabelCodes codes({2'000'000'000, 4, 4, 17});
@@ -223,33 +301,35 @@ TEST_F(LabelsTest, RastersBoxesAndChipsAgreeWithTheTruth) {
     EXPECT_EQ(coco["images"][0]["width"], cls.cols);
     EXPECT_EQ(coco["images"][0]["height"], cls.rows);
     const auto expected = brute_boxes(cls, inst);
-    std::map<Key, std::array<std::size_t, 4>> got;
-    for (const json& a : coco["annotations"]) {
-      const auto& b = a["bbox"];
-      const std::size_t x = b[0], y = b[1], w = b[2], h = b[3];
-      got[{a["object_id"].get<std::uint32_t>(), a["category_id"].get<int>()}] = {x, y, x + w,
-                                                                                 y + h};
-    }
+    std::vector<BoxRow> got;
+    for (const json& a : coco["annotations"]) got.push_back(box_row(a));
+    std::sort(got.begin(), got.end());
     EXPECT_EQ(got, expected);
     // Both objects boxed, with their shadows.
-    for (std::uint32_t k : {3u, 7u}) {
-      EXPECT_TRUE(got.count({k, 1})) << k;
-      EXPECT_TRUE(got.count({k, 2})) << k;
+    for (std::size_t k : {3u, 7u}) {
+      for (std::size_t c : {1u, 2u}) {
+        EXPECT_TRUE(std::any_of(got.begin(), got.end(),
+                                [&](const BoxRow& b) { return b[0] == k && b[1] == c; }))
+            << k << " " << c;
+      }
     }
-    // Every object box holds every pixel of its object and none of another object.
-    for (const auto& [key, b] : got) {
-      for (std::size_t y = 0; y < cls.rows; ++y) {
-        for (std::size_t x = 0; x < cls.cols; ++x) {
-          const std::size_t i = y * cls.cols + x;
-          const bool inside = x >= b[0] && x < b[2] && y >= b[1] && y < b[3];
-          const std::uint32_t k = inst.values[i];
-          const int c = cls.values[i] == 2 ? 1 : cls.values[i] == 3 ? 2 : 0;
-          if (k == key.first && c == key.second) {
-            ASSERT_TRUE(inside) << x << "," << y;
+    // Every pixel of an object (or its shadow) is in a box of that object (or shadow), and an
+    // object box holds no pixel of another object.
+    for (std::size_t y = 0; y < cls.rows; ++y) {
+      for (std::size_t x = 0; x < cls.cols; ++x) {
+        const std::size_t i = y * cls.cols + x;
+        const std::uint32_t k = inst.values[i];
+        const auto c = static_cast<std::size_t>(category_of(cls.values[i]));
+        bool boxed = false;
+        for (const BoxRow& b : got) {
+          const bool inside = x >= b[2] && x < b[4] && y >= b[3] && y < b[5];
+          if (inside && b[0] == k && b[1] == c) boxed = true;
+          if (inside && b[1] == 1 && c == 1) {
+            ASSERT_EQ(k, b[0]) << x << "," << y;
           }
-          if (inside && key.second == 1 && cls.values[i] == 2) {
-            ASSERT_EQ(k, key.first);
-          }
+        }
+        if (c != 0 && k != 0 && k != labels::kInstanceNodata) {
+          ASSERT_TRUE(boxed) << x << "," << y;
         }
       }
     }
@@ -277,13 +357,10 @@ TEST_F(LabelsTest, RastersBoxesAndChipsAgreeWithTheTruth) {
   // Chips: each chip's masks are the window of the full rasters, its boxes those of the window.
   const json chips = read_json(out / "chips" / "coco.json");
   ASSERT_GT(chips["images"].size(), 0u);
-  std::map<int, std::map<Key, std::array<std::size_t, 4>>> chip_boxes;
-  for (const json& a : chips["annotations"]) {
-    const auto& b = a["bbox"];
-    const std::size_t x = b[0], y = b[1], w = b[2], h = b[3];
-    chip_boxes[a["image_id"].get<int>()][{a["object_id"].get<std::uint32_t>(),
-                                          a["category_id"].get<int>()}] = {x, y, x + w, y + h};
-  }
+  std::map<int, std::vector<BoxRow>> chip_boxes;
+  for (const json& a : chips["annotations"])
+    chip_boxes[a["image_id"].get<int>()].push_back(box_row(a));
+  for (auto& [id, boxes] : chip_boxes) std::sort(boxes.begin(), boxes.end());
   std::map<std::string, std::pair<Raster, Raster>> sources;
   sources["a_waterfall.png"] = {read(out / "a_truth_class.tif"),
                                 read(out / "a_truth_instance.tif")};

@@ -4,6 +4,7 @@
 import hashlib
 import json
 import os
+import threading
 import pathlib
 import pickle
 import subprocess
@@ -120,6 +121,29 @@ def test_local_cluster_equals_serial_run(spec, tmp_path, client):
     # A rerun finds every item done.
     again = sonarsynth_dask.generate(spec, tmp_path / "dask", client=client, progress=False)
     assert again["skipped"] == 4 and again["done"] == 0
+
+
+def test_default_local_cluster_of_threads_equals_serial_run(spec, tmp_path):
+    # generate() without a client: two one-thread workers in this process, two items at once in
+    # one process (no GIL in the C++ code); the same bytes as one item after the other.
+    serial = sonarsynth.run_dataset(spec, str(tmp_path / "serial"), threads=1)
+    assert serial["done"] == 4
+    notes = tmp_path / "notes"
+    notes.mkdir()
+
+    def note_thread(index, seed, where=str(notes)):
+        name = "%d-%d-%d" % (os.getpid(), threading.get_ident(), index)
+        open(os.path.join(where, name), "w").close()
+
+    r = sonarsynth_dask.generate(spec, tmp_path / "dask", n_workers=2, before_item=note_thread,
+                                 progress=False)
+    assert r["done"] == 4 and r["failed"] == 0
+    # This process's two worker threads rendered the items.
+    assert {name.split("-")[0] for name in os.listdir(notes)} == {str(os.getpid())}
+    assert len({name.split("-")[1] for name in os.listdir(notes)}) == 2
+    assert digests(tmp_path / "dask") == digests(tmp_path / "serial")
+    assert ((tmp_path / "dask" / "manifest.jsonl").read_bytes() ==
+            (tmp_path / "serial" / "manifest.jsonl").read_bytes())
 
 
 def test_failed_item_is_reported_with_index_and_seed_after_retries(spec, tmp_path, client):
