@@ -534,14 +534,17 @@ Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path
 
   // Materials: the built-in table, overridden or extended.
   for (const Fields& m : top.sequence("materials")) {
-    m.only({"name", "lambert_mu_db", "reflectivity", "texture_shape"});
+    m.only({"name", "lambert_mu_db", "reflectivity", "texture_shape", "roughness_rms_m",
+            "roughness_length_m"});
     const std::string name = m.text("name");
     Material mat = scene.materials.contains(name) ? scene.materials[scene.materials.index_of(name)]
-                                                  : Material{name, 0.01, 0.5, 0.0};
+                                                  : Material{.name = name};
     if (m.has("lambert_mu_db"))
       mat.lambert_mu = std::pow(10.0, m.number_in("lambert_mu_db", 0, -100, 0) / 10.0);
     mat.paper_reflectivity = m.number_in("reflectivity", mat.paper_reflectivity, 0.0, 1.0);
     mat.texture_shape_nu = m.number_in("texture_shape", mat.texture_shape_nu, 0.0, 1e6);
+    mat.roughness_rms_m = m.number_in("roughness_rms_m", mat.roughness_rms_m, 0.0, 10.0);
+    mat.roughness_length_m = m.number_in("roughness_length_m", mat.roughness_length_m, 1e-4, 1e3);
     scene.materials.set(mat);
   }
 

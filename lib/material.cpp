@@ -28,18 +28,44 @@ void Material::validate() const {
     throw InputError(where + "texture_shape = " + std::to_string(texture_shape_nu) +
                      ". Violated constraint: texture_shape >= 0 (0 = none)");
   }
+  if (!(roughness_rms_m >= 0.0 && roughness_rms_m <= 10.0)) {
+    throw InputError(where + "roughness_rms_m = " + std::to_string(roughness_rms_m) +
+                     ". Violated constraint: 0 <= roughness_rms_m <= 10 (0 = smooth)");
+  }
+  if (!(roughness_length_m >= 1e-4 && roughness_length_m <= 1e3)) {
+    throw InputError(where + "roughness_length_m = " + std::to_string(roughness_length_m) +
+                     ". Violated constraint: 1e-4 <= roughness_length_m <= 1000");
+  }
 }
 
 MaterialTable MaterialTable::defaults() {
   // Lambert mu chosen so that BS at 30-45 deg grazing (mu sin^2 g, ~ -4 dB) falls at the
   // midpoints of the ranges in docs/physics.md §1.5: mud -35, sand -25, gravel -20, rock -15 dB.
   MaterialTable t;
-  t.set({"mud", from_db(-31.0), 0.25, 0.0});
-  t.set({"sand", from_db(-21.0), 0.5, 20.0});
-  t.set({"gravel", from_db(-16.0), 0.7, 5.0});
-  t.set({"rock", from_db(-11.0), 0.85, 2.0});
-  t.set({"steel", from_db(-8.0), 1.0, 0.0});
-  t.set({"concrete", from_db(-10.0), 0.9, 0.0});
+  t.set({.name = "mud",
+         .lambert_mu = from_db(-31.0),
+         .paper_reflectivity = 0.25,
+         .texture_shape_nu = 0.0});
+  t.set({.name = "sand",
+         .lambert_mu = from_db(-21.0),
+         .paper_reflectivity = 0.5,
+         .texture_shape_nu = 20.0});
+  t.set({.name = "gravel",
+         .lambert_mu = from_db(-16.0),
+         .paper_reflectivity = 0.7,
+         .texture_shape_nu = 5.0});
+  t.set({.name = "rock",
+         .lambert_mu = from_db(-11.0),
+         .paper_reflectivity = 0.85,
+         .texture_shape_nu = 2.0});
+  t.set({.name = "steel",
+         .lambert_mu = from_db(-8.0),
+         .paper_reflectivity = 1.0,
+         .texture_shape_nu = 0.0});
+  t.set({.name = "concrete",
+         .lambert_mu = from_db(-10.0),
+         .paper_reflectivity = 0.9,
+         .texture_shape_nu = 0.0});
   return t;
 }
 

@@ -104,17 +104,26 @@ void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
   // Objects the ray crosses, as spans of y.
   scratch.spans.clear();
   scene.objects.candidates_along(nadir_xy_m, across_dir, max_y_m, scratch.candidates);
+  const bool rough = !scratch.candidates.empty() && any_rough_material(scene.materials);
   for (std::uint32_t i : scratch.candidates) {
     double s0 = 0, s1 = 0;
     const ObjectPrimitive& prim = scene.objects.primitives()[i];
     if (prim.footprint_interval(nadir_xy_m, across_dir, s0, s1) && s1 > 0.0 && s0 < max_y_m &&
         s1 > s0) {
+      const std::size_t first_section = out.sections();
       if (prim.shape == ObjectShape::kMesh) {  // its sections, cut by the plane
         if (prim.mesh)
           add_mesh_sections(*prim.mesh, prim.id, nadir_xy_m, across_dir, out, scratch.mesh);
       } else if (prim.clearance_m > 0.0 || options.solid_resting_objects) {  // a closed section
         add_object_section(prim, nadir_xy_m, across_dir, s0, s1, options.object_segments, out,
                            scratch);
+      }
+      if (prim.shape == ObjectShape::kMesh || prim.clearance_m > 0.0 ||
+          options.solid_resting_objects) {
+        if (rough) {
+          roughen_sections(out, first_section, prim.id, nadir_xy_m, across_dir, scene.materials,
+                           scratch.rough);
+        }
       } else {
         scratch.spans.push_back({std::max(s0, 0.0), std::min(s1, max_y_m), i});
       }

@@ -96,6 +96,32 @@ TEST(SceneFromString, KeysAndValuesOfTheWrongTypeAreInputErrors) {
 )",
       "inline.yaml: seabed.polygons[0].coordinates_deg[1][1] = 'east'. Violated constraint: "
       "a finite number");
+  expect_input_error(flat + "materials:\n  - {name: rust, roughness_rms_m: -0.01}\n",
+                     "roughness_rms_m");
+  expect_input_error(flat + "materials:\n  - {name: rust, roughness_length_m: 0}\n",
+                     "roughness_length_m");
+}
+
+TEST(SceneFromString, MaterialRoughnessKeysAreRead) {
+  const Scene s = load_scene_from_string(R"(bathymetry:
+  generate:
+    centre: {lat_deg: -33.9, lon_deg: 151.3}
+    size_m: [100, 80]
+    cell_m: 0.5
+materials:
+  - {name: rust, roughness_rms_m: 0.012, roughness_length_m: 0.07}
+  - {name: steel, texture_shape: 8}
+)",
+                                         "inline.yaml", ".");
+  const Material& rust = s.materials[s.materials.index_of("rust")];
+  EXPECT_DOUBLE_EQ(rust.roughness_rms_m, 0.012);
+  EXPECT_DOUBLE_EQ(rust.roughness_length_m, 0.07);
+  const Material& steel = s.materials[s.materials.index_of("steel")];
+  EXPECT_DOUBLE_EQ(steel.texture_shape_nu, 8.0);
+  EXPECT_DOUBLE_EQ(steel.roughness_rms_m, 0.0);  // smooth unless asked
+  EXPECT_DOUBLE_EQ(
+      steel.lambert_mu,
+      MaterialTable::defaults()[MaterialTable::defaults().index_of("steel")].lambert_mu);
 }
 
 }  // namespace

@@ -20,6 +20,12 @@ struct Material {
   double paper_reflectivity = 0.5;
   /// Shape nu of the K-distribution texture (Gamma(nu, 1/nu)); 0 = no texture (Rayleigh).
   double texture_shape_nu = 0.0;
+  /// RMS height of the surface roughness of objects of this material, metres, >= 0; 0 = smooth
+  /// (the default). Object section nodes move along their normal by a Gaussian-correlated field
+  /// of this RMS (docs/physics.md §1.11). The seabed's roughness is its bathymetry's.
+  double roughness_rms_m = 0.0;
+  /// Correlation length L of that roughness, metres, > 0: autocorrelation exp(-d^2 / (2 L^2)).
+  double roughness_length_m = 0.05;
 
   /// Throws InputError naming the violated constraint.
   void validate() const;

@@ -7,6 +7,7 @@
 
 #include "sonarsynth/beam_profile.hpp"
 #include "sonarsynth/mesh_slice.hpp"
+#include "sonarsynth/object_roughness.hpp"
 #include "sonarsynth/scene.hpp"
 
 namespace sonarsynth {
@@ -23,6 +24,7 @@ struct ProfileScratch {
   std::vector<double> s;
   std::vector<double> section_y, section_z, section_extent;
   MeshSliceScratch mesh;
+  RoughnessScratch rough;
 };
 
 /// The seabed and objects along the horizontal ray nadir_xy + y * across_dir, 0 <= y <= max_y_m,
@@ -32,6 +34,7 @@ struct ProfileScratch {
 /// options.solid_resting_objects false, objects resting on the seabed (clearance_m = 0) enter
 /// the height profile instead, as its upper envelope with the seabed (vertical walls at their
 /// footprint edges). Facets are labelled (0 seabed, else object id) and carry their material.
+/// Sections of objects of a rough material are roughened (roughen_sections, docs/physics.md §1.11).
 /// Cost: the grid cells and objects the ray crosses, not the scene size.
 void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
                         const Eigen::Vector2d& across_dir, double max_y_m, double sensor_z_m,
