@@ -3,6 +3,10 @@
 
 #include <time.h>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <stdexcept>
 #include <utility>
 
@@ -12,6 +16,12 @@ double thread_cpu_s() noexcept {
   timespec ts{};
   if (::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return 0.0;
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+void release_free_memory() noexcept {
+#if defined(__GLIBC__)
+  ::malloc_trim(0);
+#endif
 }
 
 BackgroundJob::~BackgroundJob() {
@@ -41,6 +51,7 @@ void BackgroundJob::loop() noexcept {
       error = std::current_exception();
     }
     job = nullptr;  // what the job holds is released before it counts as done
+    release_free_memory();
     {
       std::lock_guard lock(mutex_);
       if (error && !error_) error_ = error;

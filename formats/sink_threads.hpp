@@ -21,6 +21,11 @@ namespace sonarsynth::detail {
 /// CPU time of the calling thread, seconds (CLOCK_THREAD_CPUTIME_ID).
 double thread_cpu_s() noexcept;
 
+/// Returns the free pages of the C allocator's heaps to the system (glibc: malloc_trim; a no-op
+/// elsewhere). Large buffers freed by one thread otherwise stay resident in that thread's arena,
+/// and the resident size of the run keeps the sum of every thread's largest moment.
+void release_free_memory() noexcept;
+
 /// One job at a time on a thread of its own (the same thread for every job, started with the
 /// first): run() waits for the previous job (rethrowing its exception), then hands `job` over;
 /// wait() waits for the last one and rethrows its exception. The destructor waits without

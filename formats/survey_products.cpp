@@ -89,19 +89,24 @@ class SurveyProducts::MosaicPart final : public PingSink {
     // The image replaces the accumulators: they are released before the files are written.
     MosaicImage image = std::move(*grid_).finish();
     grid_.reset();
-    std::vector<std::uint8_t> cls;
-    std::vector<std::uint32_t> instance;
-    if (codes_ && !image.labels.empty()) codes_->decode(image.labels, cls, instance);
-    write_mosaic(path.string(), scene_->frame, image, w);
-    files_ = {path, w.rgb_path};
-    if (options_.truth) files_.push_back(w.labels_path);
-    if (!cls.empty()) {
-      files_.push_back(dir_ / "truth_mosaic_class.tif");
-      files_.push_back(dir_ / "truth_mosaic_instance.tif");
-      labels::write_mosaic_label_rasters(files_[files_.size() - 2].string(), files_.back().string(),
+    detail::release_free_memory();
+    // The class and instance rasters first, their buffers released before the three mosaic
+    // files (each with its own display or overview buffers) are written at once.
+    std::vector<std::filesystem::path> label_files;
+    if (codes_ && !image.labels.empty()) {
+      std::vector<std::uint8_t> cls;
+      std::vector<std::uint32_t> instance;
+      codes_->decode(image.labels, cls, instance);
+      label_files = {dir_ / "truth_mosaic_class.tif", dir_ / "truth_mosaic_instance.tif"};
+      labels::write_mosaic_label_rasters(label_files[0].string(), label_files[1].string(),
                                          scene_->frame, image.geometry, cls, instance, w.overwrite,
                                          w.metadata);
     }
+    detail::release_free_memory();
+    write_mosaic(path.string(), scene_->frame, image, w);
+    files_ = {path, w.rgb_path};
+    if (options_.truth) files_.push_back(w.labels_path);
+    files_.insert(files_.end(), label_files.begin(), label_files.end());
     finish_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 

@@ -410,7 +410,19 @@ MosaicImage MosaicGrid::finish() const& {
 MosaicImage MosaicGrid::finish() && {
   MosaicImage out;
   out.geometry = geometry_;
-  out.intensity = intensity();
+  // The intensity is computed in place in the buffer of the sums (weighted mean) or of the
+  // values (max, nearest), the same float operations as intensity(): no further image-sized
+  // buffer while the accumulators are held.
+  std::vector<float>& image = options_.rule == MosaicRule::weighted_mean ? sum_wi_ : best_;
+  const std::size_t n = geometry_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (count_[i] == 0) {
+      image[i] = std::numeric_limits<float>::quiet_NaN();
+    } else if (options_.rule == MosaicRule::weighted_mean) {
+      image[i] = sum_wi_[i] / sum_w_[i];
+    }
+  }
+  out.intensity = std::move(image);
   std::vector<float>().swap(sum_wi_);
   std::vector<float>().swap(sum_w_);
   std::vector<float>().swap(best_);

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <string>
 
@@ -331,6 +332,54 @@ TEST(MosaicGrid, LabelsTakeTheNearestToNadir) {
   const auto row = static_cast<std::size_t>(std::floor(g.row_of_y(0.0) + 0.5));
   EXPECT_EQ(img.labels[row * g.cols + static_cast<std::size_t>(g.col_of_x(3.0) + 0.5)], 7);
   EXPECT_EQ(img.labels[row * g.cols + static_cast<std::size_t>(g.col_of_x(8.0) + 0.5)], 9);
+}
+
+// finish() && computes the image in the buffer of the sums (or values) to save memory; it must
+// give the bits of the copying finish() const&, which divides into a fresh buffer, for every rule.
+TEST(MosaicGrid, TheMovingFinishGivesTheCopyingFinishBitForBit) {
+  const GridGeometry g = MosaicGrid::geometry_covering({-40, -10}, {40, 30}, 0.5);
+  for (MosaicRule rule : {MosaicRule::weighted_mean, MosaicRule::max, MosaicRule::nearest}) {
+    MosaicOptions o;
+    o.rule = rule;
+    MosaicGrid grid(g, o);
+    std::mt19937_64 rng(11);
+    std::exponential_distribution<float> speckle(0.01f);
+    std::vector<float> port(300), stbd(300);
+    std::vector<std::int32_t> labels(300);
+    for (int i = 0; i < 60; ++i) {
+      for (auto* side : {&port, &stbd}) {
+        for (float& v : *side) v = speckle(rng);
+      }
+      for (std::size_t k = 0; k < labels.size(); ++k) labels[k] = static_cast<std::int32_t>(k % 5);
+      MosaicPing p;
+      p.sensor_xy_m = {0.3 * i, 0.25 * i};
+      p.heading_grid_rad = 0.2;
+      p.altitude_m = 4.0;
+      p.slant_range_m = 30.0;
+      p.port = port;
+      p.starboard = stbd;
+      p.port_labels = labels;
+      grid.add(p);
+    }
+    const MosaicImage copied = grid.finish();
+    const MosaicImage moved = std::move(grid).finish();
+    ASSERT_EQ(moved.intensity.size(), g.size());
+    std::size_t empty = 0;
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      std::uint32_t a = 0, b = 0;
+      std::memcpy(&a, &copied.intensity[i], sizeof a);
+      std::memcpy(&b, &moved.intensity[i], sizeof b);
+      ASSERT_EQ(a, b) << "pixel " << i << ", rule " << static_cast<int>(rule);
+      if (copied.count[i] == 0) {
+        ++empty;
+        EXPECT_TRUE(std::isnan(moved.intensity[i]));
+      }
+    }
+    EXPECT_GT(empty, 0u);  // the scene has empty pixels (NaN) as well as gridded ones
+    EXPECT_LT(empty, g.size());
+    EXPECT_EQ(copied.count, moved.count);
+    EXPECT_EQ(copied.labels, moved.labels);
+  }
 }
 
 TEST(MosaicGrid, RejectsBadOptionsAndPings) {

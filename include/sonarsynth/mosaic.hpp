@@ -121,7 +121,8 @@ class MosaicGrid {
   const GridGeometry& geometry() const { return geometry_; }
   MosaicImage finish() const&;
   /// The same image, the grid's buffers moved into it or released as it is built (the grid is
-  /// left empty): memory peaks at the accumulators plus one float per pixel.
+  /// left empty): memory peaks at the accumulators (the image is computed in the buffer of the
+  /// sums or values).
   MosaicImage finish() &&;
 
  private:
