@@ -110,22 +110,24 @@ void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
     const ObjectPrimitive& prim = scene.objects.primitives()[i];
     if (prim.footprint_interval(nadir_xy_m, across_dir, s0, s1) && s1 > 0.0 && s0 < max_y_m &&
         s1 > s0) {
+      // Meshes, and solids where asked, are closed sections; other resting objects raise the
+      // height profile over their span.
+      if (prim.shape != ObjectShape::kMesh && !(prim.clearance_m > 0.0) &&
+          !options.solid_resting_objects) {
+        scratch.spans.push_back({std::max(s0, 0.0), std::min(s1, max_y_m), i});
+        continue;
+      }
       const std::size_t first_section = out.sections();
       if (prim.shape == ObjectShape::kMesh) {  // its sections, cut by the plane
         if (prim.mesh)
           add_mesh_sections(*prim.mesh, prim.id, nadir_xy_m, across_dir, out, scratch.mesh);
-      } else if (prim.clearance_m > 0.0 || options.solid_resting_objects) {  // a closed section
+      } else {  // a closed section
         add_object_section(prim, nadir_xy_m, across_dir, s0, s1, options.object_segments, out,
                            scratch);
       }
-      if (prim.shape == ObjectShape::kMesh || prim.clearance_m > 0.0 ||
-          options.solid_resting_objects) {
-        if (rough) {
-          roughen_sections(out, first_section, prim.id, nadir_xy_m, across_dir, scene.materials,
-                           scratch.rough);
-        }
-      } else {
-        scratch.spans.push_back({std::max(s0, 0.0), std::min(s1, max_y_m), i});
+      if (rough) {
+        roughen_sections(out, first_section, prim.id, nadir_xy_m, across_dir, scene.materials,
+                         scratch.rough);
       }
     }
   }
