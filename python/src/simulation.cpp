@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -11,6 +12,8 @@
 #include "bindings.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/scene_object.hpp"
+#include "sonarsynth/triangle_mesh.hpp"
 
 namespace sonarsynth::python {
 
@@ -221,6 +224,101 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       "of the body u axis clockwise from grid north; material = index into the scene's material "
       "table; clearance_m lifts it (a free span), embed_fraction in [0, 1) sinks it.");
   cls.def(
+      "add_mesh",
+      [](PySimulation& s, std::int32_t id,
+         const py::array_t<double, py::array::c_style | py::array::forcecast>& vertices_m,
+         const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& triangles,
+         double x_m, double y_m, double heading_rad, const py::object& scale,
+         std::uint16_t material, const py::object& face_materials, double clearance_m,
+         double embed_fraction) {
+        const std::string what = s.name + ": mesh object " + std::to_string(id);
+        if (vertices_m.ndim() != 2 || vertices_m.shape(1) != 3) {
+          throw InputError(what + ": vertices_m must be an (n, 3) array");
+        }
+        if (triangles.ndim() != 2 || triangles.shape(1) != 3) {
+          throw InputError(what + ": triangles must be an (m, 3) array of vertex indices");
+        }
+        const std::size_t material_count = s.scene->materials.size();
+        const auto check_material = [&](std::int64_t m, const std::string& field) {
+          if (m < 0 || static_cast<std::uint64_t>(m) >= material_count) {
+            throw InputError(what + ": " + field + " = " + std::to_string(m) +
+                             ". Violated constraint: >= 0 and < " + std::to_string(material_count));
+          }
+          return static_cast<std::uint16_t>(m);
+        };
+        check_material(material, "material");
+        TriangleMesh model;
+        const auto v = vertices_m.unchecked<2>();
+        model.vertex_m.reserve(static_cast<std::size_t>(v.shape(0)));
+        for (py::ssize_t i = 0; i < v.shape(0); ++i)
+          model.vertex_m.emplace_back(v(i, 0), v(i, 1), v(i, 2));
+        const auto t = triangles.unchecked<2>();
+        const auto vertex_count = static_cast<std::int64_t>(v.shape(0));
+        model.triangle.reserve(static_cast<std::size_t>(t.shape(0)));
+        for (py::ssize_t i = 0; i < t.shape(0); ++i) {
+          std::array<std::uint32_t, 3> tri{};
+          for (py::ssize_t k = 0; k < 3; ++k) {
+            if (t(i, k) < 0 || t(i, k) >= vertex_count) {
+              throw InputError(what + ": triangles[" + std::to_string(i) + "] = " +
+                               std::to_string(t(i, k)) + ". Violated constraint: >= 0 and < " +
+                               std::to_string(vertex_count) + " (the number of vertices)");
+            }
+            tri[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(t(i, k));
+          }
+          model.triangle.push_back(tri);
+        }
+        if (face_materials.is_none()) {
+          model.material.assign(model.triangle.size(), material);
+        } else {
+          const auto fm =
+              face_materials
+                  .cast<py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>>();
+          if (fm.ndim() != 1 || static_cast<std::size_t>(fm.shape(0)) != model.triangle.size()) {
+            throw InputError(what + ": face_materials must hold one material per triangle (" +
+                             std::to_string(model.triangle.size()) + ")");
+          }
+          for (py::ssize_t i = 0; i < fm.shape(0); ++i) {
+            model.material.push_back(
+                check_material(fm.at(i), "face_materials[" + std::to_string(i) + "]"));
+          }
+        }
+        MeshPlacement where;
+        where.position_xy_m = {x_m, y_m};
+        where.heading_rad = heading_rad;
+        where.clearance_m = clearance_m;
+        where.embed_fraction = embed_fraction;
+        if (py::isinstance<py::float_>(scale) || py::isinstance<py::int_>(scale)) {
+          const double k = scale.cast<double>();
+          where.scale = {k, k, k};
+        } else {
+          const auto k = scale.cast<std::array<double, 3>>();
+          where.scale = {k[0], k[1], k[2]};
+        }
+        if (!(where.scale.minCoeff() > 0.0 && where.scale.maxCoeff() <= 1e4)) {
+          throw InputError(what + ": scale = (" + std::to_string(where.scale.x()) + ", " +
+                           std::to_string(where.scale.y()) + ", " +
+                           std::to_string(where.scale.z()) +
+                           "). Violated constraint: 0 < scale <= 1e4");
+        }
+        Scene& scene = s.mutable_scene();
+        scene.objects.add(
+            place_mesh(std::move(model), where, scene.bathymetry, id, material, what));
+        scene.objects.build_index();
+      },
+      py::arg("id"), py::arg("vertices_m"), py::arg("triangles"), py::kw_only(), py::arg("x_m"),
+      py::arg("y_m"), py::arg("heading_rad") = 0.0, py::arg("scale") = py::float_(1.0),
+      py::arg("material") = 0, py::arg("face_materials") = py::none(), py::arg("clearance_m") = 0.0,
+      py::arg("embed_fraction") = 0.0,
+      "Adds a triangle mesh object (docs/scene-format.md \"mesh\"): vertices_m (n, 3) in the "
+      "model frame (x forward along heading_rad, y to port, z up; metres), triangles (m, 3) "
+      "vertex indices wound counter-clockwise seen from outside; id > 0 (its label in the "
+      "truth). The model is scaled (one number or (x, y, z)), turned to heading_rad (azimuth of "
+      "the model x axis clockwise from grid north), its origin put at (x_m, y_m) in the local "
+      "frame and its lowest point on the seabed there, plus clearance_m (moored or floating) or "
+      "sunk by embed_fraction of its height. material = index into the scene's material table; "
+      "face_materials, one index per triangle, overrides it face by face. Mesh files: a scene "
+      "file's `type: mesh` (from_yaml), or read them with any Python mesh library.");
+  cls.def(
       "add_line",
       [](PySimulation& s, const std::string& line_name,
          py::array_t<double, py::array::c_style | py::array::forcecast> waypoints_xy_m) {
@@ -321,6 +419,18 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
   cls.def_property_readonly(
       "along_track_planes", [](PySimulation& s) { return s.simulator()->along_track().planes; },
       "Along-track planes per ping side the renderer uses (chosen automatically or set).");
+  cls.def(
+      "material_index",
+      [](const PySimulation& s, const std::string& material_name) {
+        try {
+          return s.scene->materials.index_of(material_name);
+        } catch (const InputError& e) {
+          throw InputError(s.name + ": " + e.what());
+        }
+      },
+      py::arg("name"),
+      "Index of a material of the scene's table by name (the built-in mud, sand, gravel, rock, "
+      "steel, concrete, or the scene file's own), for add_object and add_mesh.");
   cls.def(
       "local_from_geodetic",
       [](const PySimulation& s, double lat_deg, double lon_deg) {
