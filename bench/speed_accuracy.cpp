@@ -12,7 +12,12 @@
 // equal (pareto_strict: plain dominance).
 //
 // Usage: speed_accuracy [--out DIR] [--pings N] [--runs R] [--min-time S] [--time-tolerance F]
-//                       [--scenes flat,rough,paper] [--tiny] [--worst N]
+//                       [--scenes flat,rough,paper] [--tiny] [--worst N] [--rays LIST]
+//
+// --rays LIST (e.g. 100000,300000,1000000@0.05) times only the default against uniform-angle
+// ray casting with these rays per side (`@cell` renders the rays on a DEM of that cell, metres,
+// and adds the default on that DEM), side by side in one run: the comparison of issue 17 at
+// equal accuracy.
 //
 // --worst N prints the default's N worst bins (error, ping, side, slant range, and the
 // depression of that range over a flat seabed at the track altitude with its off-axis angle
@@ -42,10 +47,47 @@ using namespace bench;
 
 using sonarsynth::analytic::flat_seabed_F;
 
-std::vector<Method> methods(bool tiny, int default_planes) {
+struct RaySpec {
+  std::size_t rays = 0;
+  double cell_m = 0.0;  ///< 0 = the default's DEM
+};
+
+std::vector<Method> methods(bool tiny, int default_planes, const std::vector<RaySpec>& rays_only) {
   std::vector<Method> out;
   const Method d = default_method(default_planes);
   out.push_back(d);
+  if (!rays_only.empty()) {
+    // The default on each finer DEM the rays use too: equal inputs, side by side.
+    std::vector<double> cells;
+    for (const RaySpec& r : rays_only) {
+      if (r.cell_m > 0.0 && std::find(cells.begin(), cells.end(), r.cell_m) == cells.end()) {
+        cells.push_back(r.cell_m);
+        Method m = d;
+        m.family = "cell";
+        m.is_default = false;
+        m.cell_m = r.cell_m;
+        std::ostringstream l;
+        l << "cell=" << r.cell_m;
+        m.label = l.str();
+        out.push_back(m);
+      }
+    }
+    for (const RaySpec& r : rays_only) {
+      Method m = d;
+      m.family = "rays";
+      m.is_default = false;
+      m.rays = r.rays;
+      std::ostringstream l;
+      l << "rays=" << r.rays;
+      if (r.cell_m > 0.0) {
+        m.cell_m = r.cell_m;
+        l << "+cell=" << r.cell_m;
+      }
+      m.label = l.str();
+      out.push_back(m);
+    }
+    return out;
+  }
   auto var = [&](const std::string& family, const std::string& label, auto&& edit) {
     Method m = d;
     m.family = family;
@@ -122,7 +164,8 @@ Method reference_method() {
 }
 
 void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, double min_time_s,
-               double time_tolerance, bool tiny, std::size_t worst) {
+               double time_tolerance, bool tiny, std::size_t worst,
+               const std::vector<RaySpec>& rays_only) {
   const std::string yaml = SONARSYNTH_SAMPLES_DIR "/paper_pipes.yaml";
   const Track track = track_for(kind, pings);
   std::map<double, Scene> scenes;
@@ -189,7 +232,7 @@ void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, 
   };
   std::vector<Row> rows;
   std::vector<double> got;
-  for (const Method& m : methods(tiny, choice.planes)) {
+  for (const Method& m : methods(tiny, choice.planes, rays_only)) {
     const Scene& sc = scene_at(m.cell_m);
     Row row{m, 0.0, {}};
     for (std::size_t p = 0; p < use_poses.size(); ++p) {
@@ -271,6 +314,7 @@ int run(int argc, char** argv) {
   bool tiny = false;
   std::size_t worst = 0;
   std::vector<SceneKind> kinds = {SceneKind::flat, SceneKind::rough, SceneKind::paper};
+  std::vector<RaySpec> rays_only;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -302,12 +346,23 @@ int run(int argc, char** argv) {
         kinds.push_back(tok == "flat"    ? SceneKind::flat
                         : tok == "rough" ? SceneKind::rough
                                          : SceneKind::paper);
+    } else if (a == "--rays") {
+      std::stringstream ss(next());
+      std::string tok;
+      while (std::getline(ss, tok, ',')) {
+        RaySpec r;
+        const auto at = tok.find('@');
+        r.rays = static_cast<std::size_t>(std::stoul(tok.substr(0, at)));
+        if (at != std::string::npos) r.cell_m = std::stod(tok.substr(at + 1));
+        if (r.rays == 0 || r.cell_m < 0.0) throw std::runtime_error("--rays: bad item " + tok);
+        rays_only.push_back(r);
+      }
     } else {
       throw std::runtime_error("unknown argument " + a);
     }
   }
   for (const SceneKind k : kinds)
-    run_scene(k, out, pings, runs, min_time_s, time_tolerance, tiny, worst);
+    run_scene(k, out, pings, runs, min_time_s, time_tolerance, tiny, worst, rays_only);
   return 0;
 }
 
