@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Bottom tracking and gain normalisation on a real file (issue 16; docs/conversion.md).
-// Usage: bottom_track_real FILE.xtf|.jsf
-// 1. Agreement of the tracked first return (BottomTracker) with the "visible first return" of
-//    the realism measures (bench/realism_stats, docs/realism.md measure 4: a running-median
-//    level detector 20 dB below the seabed level with a hold, an independent method): per side
-//    and per ping (the tracked altitude against the mean of the sides' visible returns).
+// Usage: bottom_track_real FILE.xtf|.jsf [REFERENCE_MEDIAN_PINGS [CHANGE_WINDOW_M]]
+// 1. Agreement of the tracked first return (BottomTracker) with the "visible first return",
+//    per side and per ping (the tracked altitude against the mean of the sides' returns), for
+//    two references: the realism measures' detector (bench/realism_stats, docs/realism.md
+//    measure 4: a running-median level detector 20 dB below the seabed level with a hold;
+//    optionally median-filtered along track over REFERENCE_MEDIAN_PINGS) and the threshold-free
+//    change point of bench/first_return_change_point (seabed part CHANGE_WINDOW_M, 1 m).
 // 2. The band beside nadir: pings slant-range corrected on a flat bottom with an altitude,
 //    levels 20 log10(sample) averaged per ground-range bin; the band is ground range
 //    [0, kBandM) and the reference [kRefBeginM, kRefEndM); reported as band - reference, in dB,
@@ -35,7 +37,8 @@ constexpr double kRefBeginM = 3.0;
 constexpr double kRefEndM = 15.0;
 constexpr double kBinM = 0.25;
 // Reference 2: the length of seabed after the onset that its two-level fit sees.
-constexpr double kChangeWindowM = 1.0;
+double kChangeWindowM = 1.0;
+std::size_t kRefMedianPings = 1;
 
 struct Levels {
   std::vector<double> sum, n;
@@ -80,16 +83,18 @@ std::vector<rs::FirstReturn> smoothed(std::vector<rs::FirstReturn> fr, std::size
   return out;
 }
 
-std::size_t kRefMedianPings = 1;
-
 }  // namespace
 
 int main(int argc, char** argv) try {
-  if (argc != 2 && argc != 3) {
-    std::fprintf(stderr, "usage: bottom_track_real FILE.xtf|.jsf [REFERENCE_MEDIAN_PINGS]\n");
+  if (argc < 2 || argc > 4) {
+    std::fprintf(
+        stderr,
+        "usage: bottom_track_real FILE.xtf|.jsf [REFERENCE_MEDIAN_PINGS [CHANGE_WINDOW_M]]\n");
     return 2;
   }
-  if (argc == 3) kRefMedianPings = static_cast<std::size_t>(std::atoi(argv[2]));
+  if (argc == 4) kChangeWindowM = std::atof(argv[3]);
+  if (!(kChangeWindowM > 0.0)) throw InputError("CHANGE_WINDOW_M must be > 0");
+  if (argc >= 3) kRefMedianPings = static_cast<std::size_t>(std::atoi(argv[2]));
   const std::string path = argv[1];
   std::vector<rs::Ping> pings;
   {
