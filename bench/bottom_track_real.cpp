@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Bottom tracking and gain normalisation on a real file (issue 16; docs/conversion.md).
-// Usage: bottom_track_real FILE.xtf|.jsf
-// 1. Agreement of the tracked first return (BottomTracker) with the "visible first return" of
-//    the realism measures (bench/realism_stats, docs/realism.md measure 4: a running-median
-//    level detector 20 dB below the seabed level with a hold, an independent method): per side
-//    and per ping (the tracked altitude against the mean of the sides' visible returns).
+// Usage: bottom_track_real FILE.xtf|.jsf [REFERENCE_MEDIAN_PINGS [CHANGE_WINDOW_M]]
+// 1. Agreement of the tracked first return (BottomTracker) with the "visible first return",
+//    per side and per ping (the tracked altitude against the mean of the sides' returns), for
+//    two references: the realism measures' detector (bench/realism_stats, docs/realism.md
+//    measure 4: a running-median level detector 20 dB below the seabed level with a hold;
+//    optionally median-filtered along track over REFERENCE_MEDIAN_PINGS) and the threshold-free
+//    change point of bench/first_return_change_point (seabed part CHANGE_WINDOW_M, 1 m).
 // 2. The band beside nadir: pings slant-range corrected on a flat bottom with an altitude,
 //    levels 20 log10(sample) averaged per ground-range bin; the band is ground range
 //    [0, kBandM) and the reference [kRefBeginM, kRefEndM); reported as band - reference, in dB,
@@ -14,10 +16,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "first_return_change_point.hpp"
 #include "realism_stats.hpp"
 #include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/error.hpp"
@@ -32,6 +36,9 @@ constexpr double kBandM = 1.0;
 constexpr double kRefBeginM = 3.0;
 constexpr double kRefEndM = 15.0;
 constexpr double kBinM = 0.25;
+// Reference 2: the length of seabed after the onset that its two-level fit sees.
+double kChangeWindowM = 1.0;
+std::size_t kRefMedianPings = 1;
 
 struct Levels {
   std::vector<double> sum, n;
@@ -76,16 +83,18 @@ std::vector<rs::FirstReturn> smoothed(std::vector<rs::FirstReturn> fr, std::size
   return out;
 }
 
-std::size_t kRefMedianPings = 1;
-
 }  // namespace
 
 int main(int argc, char** argv) try {
-  if (argc != 2 && argc != 3) {
-    std::fprintf(stderr, "usage: bottom_track_real FILE.xtf|.jsf [REFERENCE_MEDIAN_PINGS]\n");
+  if (argc < 2 || argc > 4) {
+    std::fprintf(
+        stderr,
+        "usage: bottom_track_real FILE.xtf|.jsf [REFERENCE_MEDIAN_PINGS [CHANGE_WINDOW_M]]\n");
     return 2;
   }
-  if (argc == 3) kRefMedianPings = static_cast<std::size_t>(std::atoi(argv[2]));
+  if (argc == 4) kChangeWindowM = std::atof(argv[3]);
+  if (!(kChangeWindowM > 0.0)) throw InputError("CHANGE_WINDOW_M must be > 0");
+  if (argc >= 3) kRefMedianPings = static_cast<std::size_t>(std::atoi(argv[2]));
   const std::string path = argv[1];
   std::vector<rs::Ping> pings;
   {
@@ -110,58 +119,78 @@ int main(int argc, char** argv) try {
   const auto ref_p = smoothed(rs::first_returns(pings, rs::Side::kPort, ro), kRefMedianPings);
   const auto ref_s = smoothed(rs::first_returns(pings, rs::Side::kStarboard, ro), kRefMedianPings);
   const double dr = pings[0].slant_range_m / static_cast<double>(pings[0].port.size());
-  std::size_t side_n[2] = {0, 0}, side_ok[2] = {0, 0}, ping_n = 0, ping_ok = 0, header_far = 0;
-  std::vector<double> header_minus_track;
+  const auto window = static_cast<std::size_t>(std::lround(kChangeWindowM / dr));
+  // Per reference: the first-return range per side and ping (NaN where it has none).
+  std::vector<double> refs[2][2];
   for (int side = 0; side < 2; ++side) {
-    const std::vector<double> tr = tracker.side_ranges_m(side);
-    const auto& ref = side == 0 ? ref_p : ref_s;
+    const auto& old = side == 0 ? ref_p : ref_s;
     for (std::size_t k = 0; k < pings.size(); ++k) {
-      if (!ref[k].found) continue;
-      ++side_n[side];
-      if (std::abs(tr[k] - ref[k].range_m) <= 2.0 * dr + 1e-9) ++side_ok[side];
-      if (std::getenv("BT_DEBUG")) {
-        std::printf("dbg %d %zu %.1f %.1f %.1f\n", side, k, tr[k] / dr, ref[k].range_m / dr,
-                    pings[k].altitude_m / dr);
-      }
+      refs[0][side].push_back(old[k].found ? old[k].range_m : std::nan(""));
+      const std::vector<float>& v = side == 0 ? pings[k].port : pings[k].starboard;
+      const std::ptrdiff_t c = v.empty() ? -1 : bench::change_point_first_return(v, window);
+      refs[1][side].push_back(c < 0 ? std::nan("")
+                                    : (static_cast<double>(c) + 0.5) * pings[k].slant_range_m /
+                                          static_cast<double>(v.size()));
     }
   }
-  for (std::size_t k = 0; k < pings.size(); ++k) {
-    double sum = 0.0, c = 0.0;
-    for (const auto* ref : {&ref_p, &ref_s}) {
-      if ((*ref)[k].found) {
-        sum += (*ref)[k].range_m;
-        c += 1.0;
+  const std::vector<double> track_side[2] = {tracker.side_ranges_m(0), tracker.side_ranges_m(1)};
+  std::printf("file %s: %zu pings, sample %.4f m\n", path.c_str(), pings.size(), dr);
+  for (int r = 0; r < 2; ++r) {
+    if (r == 0) {
+      std::printf(
+          "agreement within 2 samples of the visible first return, reference 1: realism measure "
+          "4 (threshold 20 dB below the near seabed), along-track median of %zu pings:\n",
+          kRefMedianPings);
+    } else {
+      std::printf(
+          "reference 2: change point of a two-level model of the dB levels, seabed part %zu "
+          "samples (%.2f m):\n",
+          window, kChangeWindowM);
+    }
+    for (int side = 0; side < 2; ++side) {
+      std::size_t n = 0, ok = 0;
+      for (std::size_t k = 0; k < pings.size(); ++k) {
+        const double ref = refs[r][side][k];
+        if (!std::isfinite(ref)) continue;
+        ++n;
+        if (std::abs(track_side[side][k] - ref) <= 2.0 * dr + 1e-9) ++ok;
+        if (std::getenv("BT_DEBUG")) {
+          std::printf("dbg %d %d %zu %.1f %.1f\n", r, side, k, track_side[side][k] / dr, ref / dr);
+        }
       }
+      std::printf("  %s: %zu of %zu pings (%.1f %%)\n", side == 0 ? "port" : "starboard", ok, n,
+                  100.0 * static_cast<double>(ok) / static_cast<double>(n));
     }
-    if (c == 0.0) continue;
-    ++ping_n;
-    if (std::abs(alt[k] - sum / c) <= 2.0 * dr + 1e-9) ++ping_ok;
-    if (pings[k].altitude_m > 0.0) {
-      header_minus_track.push_back(pings[k].altitude_m - alt[k]);
-      if (std::abs(pings[k].altitude_m - sum / c) > 2.0 * dr) ++header_far;
+    std::size_t ping_n = 0, ping_ok = 0, header_near = 0;
+    for (std::size_t k = 0; k < pings.size(); ++k) {
+      double sum = 0.0, c = 0.0;
+      for (int side = 0; side < 2; ++side) {
+        if (std::isfinite(refs[r][side][k])) {
+          sum += refs[r][side][k];
+          c += 1.0;
+        }
+      }
+      if (c == 0.0) continue;
+      ++ping_n;
+      if (std::abs(alt[k] - sum / c) <= 2.0 * dr + 1e-9) ++ping_ok;
+      if (std::abs(pings[k].altitude_m - sum / c) <= 2.0 * dr) ++header_near;
     }
+    std::printf("  ping altitude (mean of sides): %zu of %zu pings (%.1f %%)\n", ping_ok, ping_n,
+                100.0 * static_cast<double>(ping_ok) / static_cast<double>(ping_n));
+    std::printf("  header altitude within 2 samples of it: %zu of %zu pings\n", header_near,
+                ping_n);
+  }
+  std::vector<double> header_minus_track;
+  for (std::size_t k = 0; k < pings.size(); ++k) {
+    if (pings[k].altitude_m > 0.0) header_minus_track.push_back(pings[k].altitude_m - alt[k]);
   }
   std::sort(header_minus_track.begin(), header_minus_track.end());
-  std::printf("file %s: %zu pings, sample %.4f m\n", path.c_str(), pings.size(), dr);
-  std::printf(
-      "agreement within 2 samples of the visible first return (realism measure 4, along-track "
-      "median of %zu pings):\n",
-      kRefMedianPings);
-  for (int side = 0; side < 2; ++side) {
-    std::printf("  %s: %zu of %zu pings (%.1f %%)\n", side == 0 ? "port" : "starboard",
-                side_ok[side], side_n[side],
-                100.0 * static_cast<double>(side_ok[side]) / static_cast<double>(side_n[side]));
-  }
-  std::printf("  ping altitude (mean of sides): %zu of %zu pings (%.1f %%)\n", ping_ok, ping_n,
-              100.0 * static_cast<double>(ping_ok) / static_cast<double>(ping_n));
-  std::printf("  header altitude within 2 samples of it: %zu of %zu pings\n", ping_n - header_far,
-              ping_n);
   if (!header_minus_track.empty()) {
     const auto q = [&](double f) {
       return header_minus_track[static_cast<std::size_t>(
           f * static_cast<double>(header_minus_track.size() - 1))];
     };
-    std::printf("  header - tracked altitude: median %.3f m, 5 %% %.3f m, 95 %% %.3f m\n", q(0.5),
+    std::printf("header - tracked altitude: median %.3f m, 5 %% %.3f m, 95 %% %.3f m\n", q(0.5),
                 q(0.05), q(0.95));
   }
 

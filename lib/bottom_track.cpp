@@ -53,6 +53,46 @@ std::vector<double> despike(const std::vector<double>& picks, std::size_t window
   return out;
 }
 
+/// The leading edge below a coarse pick (docs/conversion.md): the water level is the median of
+/// the dB levels from the end of the transmit pulse to the coarse pick's smoothing window, the
+/// seabed level the median over the hold samples from the coarse pick; the edge is the first
+/// sample after the pulse (up to hold samples past the coarse pick) whose 3-sample running
+/// median reaches the middle of the two levels in dB and whose following hold samples have a
+/// median there too, moved back to the first raw sample of that 3-sample window at the middle.
+std::size_t leading_edge(std::span<const float> s, std::size_t start, std::size_t coarse,
+                         double floor_amplitude, const BottomTrackOptions& o) {
+  const std::size_t n = s.size();
+  const std::size_t hold = o.hold_samples;
+  const std::size_t guard = o.smooth_samples / 2 + 1;
+  if (coarse < start + guard + hold / 2 || coarse + hold > n) return coarse;
+  const auto db = [&](std::size_t i) {
+    const double v = std::isfinite(s[i]) ? std::abs(static_cast<double>(s[i])) : 0.0;
+    return 20.0 * std::log10(std::max(v, floor_amplitude));
+  };
+  std::vector<double> win;
+  for (std::size_t i = start; i < coarse - guard; ++i) win.push_back(db(i));
+  const double water_db = median_of(win);
+  win.clear();
+  for (std::size_t i = coarse; i < coarse + hold; ++i) win.push_back(db(i));
+  const double seabed_db = median_of(win);
+  if (!(seabed_db > water_db)) return coarse;
+  const double mid_db = 0.5 * (water_db + seabed_db);
+  for (std::size_t j = start + 1; j + hold <= n && j <= coarse + hold; ++j) {
+    win = {db(j - 1), db(j), db(std::min(n - 1, j + 1))};
+    if (median_of(win) < mid_db) continue;
+    win.clear();
+    for (std::size_t k = j; k < j + hold; ++k) win.push_back(db(k));
+    if (median_of(win) < mid_db) continue;
+    // As for the coarse pick: the first raw sample of the running median's window that reaches
+    // the level is the edge.
+    for (std::size_t k = j - 1; k <= j + 1; ++k) {
+      if (k >= start && db(k) >= mid_db) return k;
+    }
+    return j;
+  }
+  return coarse;
+}
+
 void require(bool ok, const std::string& field, double value, const std::string& constraint) {
   if (ok) return;
   std::ostringstream os;
@@ -116,10 +156,22 @@ std::ptrdiff_t first_return_sample(std::span<const float> s, const BottomTrackOp
     // The running mean rises up to `half` samples before the onset: the first raw sample at or
     // above the threshold within the window is the onset.
     const std::size_t a = std::max(start, i >= half ? i - half : 0);
+    std::size_t coarse = i;
     for (std::size_t j = a; j <= std::min(n - 1, i + half); ++j) {
-      if (std::abs(static_cast<double>(s[j])) >= t) return static_cast<std::ptrdiff_t>(j);
+      if (std::abs(static_cast<double>(s[j])) >= t) {
+        coarse = j;
+        break;
+      }
     }
-    return static_cast<std::ptrdiff_t>(i);
+    if (!o.leading_edge) return static_cast<std::ptrdiff_t>(coarse);
+    // Again from the edge while it moves earlier: a crossing far up a slow rise has seabed in
+    // its water window.
+    for (int again = 0; again < 20; ++again) {
+      const std::size_t edge = leading_edge(s, start, coarse, seabed * 1e-3, o);
+      if (edge >= coarse) break;
+      coarse = edge;
+    }
+    return static_cast<std::ptrdiff_t>(coarse);
   }
   return -1;
 }

@@ -49,6 +49,39 @@ TEST(FirstReturnSample, FindsTheStepWithinTwoSamplesOverManySpeckleRealisations)
   EXPECT_GE(within, trials * 95 / 100);
 }
 
+TEST(FirstReturnSample, LeadingEdgeFindsTheStepBeforeASeabedThatBrightensWithRange) {
+  // The Iver2 shape (docs/conversion.md): a step of 12 dB out of the water, then a seabed that
+  // brightens by 30 dB (linearly in dB) over the rest of the side, Rayleigh speckle. The side's
+  // seabed percentile is the bright far seabed, so the threshold crossing falls up the slope;
+  // the leading edge between the local levels does not.
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> noise(0.5, 1.5);
+  std::exponential_distribution<double> intensity(1.0);
+  BottomTrackOptions crossing;
+  crossing.leading_edge = false;
+  int edge_within = 0, crossing_within = 0;
+  const int trials = 400;
+  for (int t = 0; t < trials; ++t) {
+    const std::size_t n = 1000, bottom = 60 + static_cast<std::size_t>(t % 300);
+    std::vector<float> s(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i < 3) {
+        s[i] = 5000.0f;
+      } else if (i < bottom) {
+        s[i] = static_cast<float>(2.0 * noise(rng));
+      } else {
+        const double f = static_cast<double>(i - bottom) / static_cast<double>(n - bottom);
+        s[i] = static_cast<float>(8.0 * std::pow(10.0, 1.5 * f) * std::sqrt(intensity(rng)));
+      }
+    }
+    const auto b = static_cast<std::ptrdiff_t>(bottom);
+    if (std::abs(first_return_sample(s) - b) <= 2) ++edge_within;
+    if (std::abs(first_return_sample(s, crossing) - b) <= 2) ++crossing_within;
+  }
+  EXPECT_GE(edge_within, trials * 95 / 100) << edge_within;
+  EXPECT_LT(crossing_within, trials * 80 / 100) << crossing_within;
+}
+
 TEST(FirstReturnSample, NoContrastOrTooShortGivesNoPick) {
   const std::vector<float> flat(500, 1.0f);
   EXPECT_EQ(first_return_sample(flat), -1);

@@ -24,6 +24,10 @@ struct BottomTrackOptions {
   /// The median of the smoothed samples over the hold_samples from the crossing must stay
   /// above the threshold (rejects an isolated spike in the water column).
   std::size_t hold_samples = 15;
+  /// Move the threshold crossing back to the leading edge: where the level reaches the middle
+  /// (in dB) of the water column's level and the seabed's level at the crossing, repeated
+  /// while it moves (docs/conversion.md); false keeps the crossing.
+  bool leading_edge = true;
   /// Along-track median window, in pings (odd, >= 1).
   std::size_t median_pings = 9;
   /// A side's pick farther than this many samples from its along-track median is an outlier
@@ -42,7 +46,8 @@ struct BottomTrackOptions {
 /// after skipping the samples above the threshold at the start (transmit pulse), the first
 /// sample whose smoothed value reaches the threshold and whose following hold_samples have a
 /// smoothed median above it too, moved back to the first raw sample at or above the threshold
-/// within the smoothing window. -1 if none (too short, no contrast, nothing above).
+/// within the smoothing window; with leading_edge, then moved back to the leading edge.
+/// -1 if none (too short, no contrast, nothing above).
 std::ptrdiff_t first_return_sample(std::span<const float> near_to_far,
                                    const BottomTrackOptions& options = {});
 
