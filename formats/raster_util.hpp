@@ -65,6 +65,15 @@ void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int b
                     const std::vector<std::pair<std::string, std::string>>& creation_options,
                     const RasterLabels& labels, const char* who, const std::string& final_path);
 
+/// Writes the `rows` rows of `source` (1 band: grey, or 3: red, green, blue; 8 bits) to
+/// `temp_path` as a PNG through libpng, row by row, with `metadata` in tEXt chunks as GDAL's PNG
+/// driver writes them (WRITE_METADATA_AS_TEXT), no row filter and zlib level 1 (GDAL's driver
+/// always applies libpng's adaptive filters: twice the CPU for a larger file here). Throws
+/// FormatError("<who>: <final_path>: ...") on failure; an exception of `source` propagates.
+void stream_to_png(RowSource& source, std::size_t cols, std::size_t rows, int bands,
+                   const std::vector<std::pair<std::string, std::string>>& metadata,
+                   const std::string& temp_path, const char* who, const std::string& final_path);
+
 /// Writes a whole band from a row-major buffer of `type`.
 void write_band(GDALDataset& ds, int band, const void* data, GDALDataType type, const char* who,
                 const std::string& path);

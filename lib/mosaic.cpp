@@ -161,15 +161,20 @@ void MosaicGrid::ground_ranges(const MosaicPing& ping, std::size_t n, const Eige
   // because rho is continuous from rho(0): the first crossing of a larger r comes later.
   std::size_t k = 0;
   const std::size_t m = profile_.size();
-  auto rho = [&](std::size_t j) { return std::hypot(profile_[j].s_m, zs - profile_[j].z_m); };
-  if (m > 0 && std::isfinite(profile_[0].z_m)) nadir_slant_m_ = rho(0);
+  // Computed once per point (the sweep below reads each several times).
+  rho_m_.resize(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    rho_m_[j] =
+        std::isfinite(profile_[j].z_m) ? std::hypot(profile_[j].s_m, zs - profile_[j].z_m) : kNaN;
+  }
+  if (m > 0 && std::isfinite(profile_[0].z_m)) nadir_slant_m_ = rho_m_[0];
   for (std::size_t i = 0; i < n; ++i) {
     const double r = (static_cast<double>(i) + 0.5) * dr;
-    while (k < m && !(std::isfinite(profile_[k].z_m) && rho(k) >= r)) ++k;
+    while (k < m && !(std::isfinite(profile_[k].z_m) && rho_m_[k] >= r)) ++k;
     if (k >= m) break;                                            // never reaches the seabed
     if (k == 0 || !std::isfinite(profile_[k - 1].z_m)) continue;  // water column or hole edge
-    const double r0 = rho(k - 1);
-    const double r1 = rho(k);
+    const double r0 = rho_m_[k - 1];
+    const double r1 = rho_m_[k];
     const double t = r1 > r0 ? (r - r0) / (r1 - r0) : 1.0;
     ground_[i] = profile_[k - 1].s_m + t * (profile_[k].s_m - profile_[k - 1].s_m);
   }

@@ -169,6 +169,7 @@ class MosaicGrid {
   std::size_t nadir_sample_ = 0;
   double nadir_ground_m_ = 0.0;
   std::vector<ProfilePoint> profile_;
+  std::vector<double> rho_m_;  ///< slant range of each profile_ point (NaN: no seabed)
 };
 
 }  // namespace sonarsynth
