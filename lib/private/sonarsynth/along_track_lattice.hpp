@@ -101,8 +101,8 @@ inline bool sample_at(const AlongTrackField& f, const AlongTrackTable& table, st
   const std::int64_t first = m0 - 1;
   s.shift = static_cast<unsigned>(first & 1) * 32;
   // The keyed word of (sample i, look, pair p of scatterers m = 2p, 2p + 1) is
-  // splitmix_stream(cell, p + look 2^56): |p| < 2^49, so (p, look) pairs are distinct for
-  // look < 2^8.
+  // wyrand_stream(cell, p + look 2^56), cell = splitmix_stream(line, i): |p| < 2^49, so (p, look)
+  // pairs are distinct for look < 2^8.
   s.cell = splitmix_stream(line, static_cast<std::uint64_t>(i));
   s.pair0 = static_cast<std::uint64_t>(first >> 1);
   return true;
@@ -114,9 +114,9 @@ inline bool sample_at(const AlongTrackField& f, const AlongTrackTable& table, st
 // are the 128 bits of the words from bit `shift` on.
 inline double look_power(const Sample& s, std::uint64_t look, const NormalTable& normal) {
   const std::uint64_t p0 = s.pair0 + look * kLookStride;
-  const std::uint64_t h0 = splitmix_stream(s.cell, p0);
-  const std::uint64_t h1 = splitmix_stream(s.cell, p0 + 1);
-  const std::uint64_t h2 = s.shift != 0 ? splitmix_stream(s.cell, p0 + 2) : 0;
+  const std::uint64_t h0 = wyrand_stream(s.cell, p0);
+  const std::uint64_t h1 = wyrand_stream(s.cell, p0 + 1);
+  const std::uint64_t h2 = s.shift != 0 ? wyrand_stream(s.cell, p0 + 2) : 0;
   const std::uint64_t keep = std::uint64_t{0} - (s.shift >> 5);  // all ones when shifted
   const std::uint64_t lo = (h0 >> s.shift) | ((h1 << 32) & keep);
   const std::uint64_t hi = (h1 >> s.shift) | ((h2 << 32) & keep);
