@@ -424,7 +424,7 @@ void detector_look(const DetectorLoop& d, const double* f, std::uint64_t seed_s,
     }
     // One keyed word per sample and look: its high half the thermal noise, its low half the
     // receiver noise.
-    const std::uint64_t hn = splitmix_stream(seed_n, d.noise_keys[i]);
+    const std::uint64_t hn = wyrand_stream(seed_n, d.noise_keys[i]);
     if (thermal) a = add_thermal_noise(a, d.half_n, d.sqrt_half_n, hn, normal);
     double p = a * d.gain[i];
     if (floor) p += d.floor_power * exp1_from_low_half(hn, normal);

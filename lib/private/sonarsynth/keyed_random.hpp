@@ -40,9 +40,9 @@ constexpr std::uint64_t splitmix_stream(std::uint64_t seed, std::uint64_t key) {
 /// wyhash/wyrand): s = seed + key * 0xa0761d6478bd642f (a Weyl sequence, as splitmix_stream's),
 /// then the 128-bit product s (s ^ 0xe7037ed1a0b428db) folded by the xor of its halves. One
 /// 64 x 64 -> 128-bit multiply per 64 random bits instead of splitmix_stream's three multiplies
-/// and three xor-shifts; for the along-track lattice's scatterer words, the most numerous keyed
-/// words of a ping (tests/noise_test.cpp checks the words' 16-bit fields and the speckle built
-/// from them).
+/// and three xor-shifts; for the most numerous keyed words of a ping, the along-track
+/// lattice's scatterers and the thermal and receiver noise per sample and look
+/// (tests/noise_test.cpp checks the words' 16-bit fields and the speckle built from them).
 inline std::uint64_t wyrand_stream(std::uint64_t seed, std::uint64_t key) {
   __extension__ typedef unsigned __int128 U128;
   const std::uint64_t x = seed + key * 0xa0761d6478bd642fULL;
