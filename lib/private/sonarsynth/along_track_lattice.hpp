@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The along-track scatterer lattice of along_track_speckle (docs/physics.md §1.6), per sample:
-// shared by along_track_speckle_looks (all samples of some looks into an array) and
-// detect_speckle's fused pass (every look of one sample at a time), so both compute the same
-// values by the same operations.
+// what the looks of a sample share (sample_at) and one look's power (look_power), for
+// along_track_speckle_looks and any pass that needs the lattice one sample at a time.
 #pragma once
 
 #include <cmath>
