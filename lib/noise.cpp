@@ -128,12 +128,12 @@ class TextureTables {
 };
 
 // The tables sampler (see SpeckleSampler::tables for the method). Two keyed 64-bit words per
-// sample (splitmix_stream, one multiply and one mix each), each split into two 32-bit uniforms
-// (the halves of one splitmix64 output are each uniform and jointly independent to the mixer's
-// quality):
-//  - frozen part: hk = stream(seed, key), E_s from its high half, T from its low half; runs of
-//    samples sharing (key, nu) reuse the product T E_s;
-//  - thermal part: hn = stream(seed', noise_key), the noise field's two standard normals g1, g2
+// sample, each split into two 32-bit uniforms (the halves of one mixed output are each uniform
+// and jointly independent to the mixer's quality):
+//  - frozen part: hk = splitmix_stream(seed, key), E_s from its high half, T from its low half;
+//    runs of samples sharing (key, nu) reuse the product T E_s;
+//  - thermal part: hn = wyrand_stream(seed', noise_key) (one word per sample and look: the
+//    cheaper mixer), the noise field's two standard normals g1, g2
 //    from the 16-bit quarters of its high half (NormalTable); the low 32 bits are the
 //    detector's receiver noise.
 // UnitGammaTable takes the top 12 bits of a half as the bin and the next 20 as the position in
@@ -185,7 +185,7 @@ void speckle_tables(const SpeckleNoise& noise, std::span<const std::uint64_t> ke
       if (given) a *= field[i];
     }
     if (n_power > 0.0)
-      a = add_thermal_noise(a, half_n, sqrt_half_n, splitmix_stream(seed_n, noise_keys[i]), normal);
+      a = add_thermal_noise(a, half_n, sqrt_half_n, wyrand_stream(seed_n, noise_keys[i]), normal);
     intensity[i] = a;
   }
 }

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "sonarsynth/along_track_lattice.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/noise.hpp"
@@ -34,13 +35,6 @@ constexpr double kGw[4] = {0.5 * 0.34785484513745385737, 0.5 * 0.652145154862546
 
 // Stream of the receiver noise of look j (distinct from the speckle and thermal streams).
 constexpr std::uint64_t kFloorStream = 0x5e15e0f1001ULL;
-// Lattice step of along_track_speckle in units of the weight's standard deviation.
-constexpr double kLatticeStep = 1.5;
-// Salt of the along-track scatterer lattice.
-constexpr std::uint64_t kFieldSalt = 0xa10e7a0c5ca77e45ULL;
-// Looks of along_track_speckle_looks: look l adds l 2^56 to the pair index of its keyed words.
-constexpr int kMaxFieldLooks = 256;
-constexpr std::uint64_t kLookStride = std::uint64_t{1} << 56;
 // Salt of the seeds of look j >= 1.
 constexpr std::uint64_t kLookSalt = 0x100000000ULL;
 // Stream of the texture's Marsaglia–Tsang fallback beyond the tables (as in noise.cpp).
@@ -246,46 +240,6 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
   }
 }
 
-namespace {
-
-// The lattice weights w_k(frac) = exp(-1.125 (k - 1 - frac)^2), k = 0 .. 3, of along_track_speckle
-// (the two-way amplitude pattern at the scatterers around the ping, frac in [0, 1) the ping's
-// position between lattice points), tabulated at frac = j / kSteps and interpolated linearly:
-// |w''| <= 2.25, so the error is below 2.25 / (8 kSteps^2) = 4.3e-6 (the sample is normalised by
-// the interpolated sum of w^2, so its mean stays exactly 1).
-class LatticeWeights {
- public:
-  static constexpr int kSteps = 256;
-  static const LatticeWeights& get() {
-    static const LatticeWeights table;
-    return table;
-  }
-  // The four weights at `frac`.
-  void at(double frac, double w[4]) const {
-    const double x = frac * kSteps;
-    auto j = static_cast<int>(x);
-    j = j < 0 ? 0 : (j >= kSteps ? kSteps - 1 : j);
-    const double t = x - j;
-    const double* a = w_[j];
-    const double* b = w_[j + 1];
-    for (int k = 0; k < 4; ++k) w[k] = a[k] + t * (b[k] - a[k]);
-  }
-
- private:
-  LatticeWeights() {
-    for (int j = 0; j <= kSteps; ++j) {
-      const double frac = static_cast<double>(j) / kSteps;
-      for (int k = 0; k < 4; ++k) {
-        const double d = k - 1 - frac;
-        w_[j][k] = std::exp(-1.125 * d * d);
-      }
-    }
-  }
-  double w_[kSteps + 1][4];
-};
-
-}  // namespace
-
 void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t samples) {
   if (spacing_m == sample_spacing_m && beam_rad == beam_3db_rad && sw.size() == samples) return;
   sample_spacing_m = spacing_m;
@@ -296,7 +250,7 @@ void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t sam
   for (std::size_t i = 0; i < samples; ++i) {
     const double r = (static_cast<double>(i) + 0.5) * spacing_m;
     sw[i] = r * beam_rad * inv_sqrt_8ln2;
-    inv_step[i] = 1.0 / (kLatticeStep * sw[i]);
+    inv_step[i] = 1.0 / (lattice::kStep * sw[i]);
   }
 }
 
@@ -313,75 +267,29 @@ void along_track_speckle(const AlongTrackField& f, std::size_t samples, int look
 
 void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, int first_look,
                                int looks, AlongTrackTable& table, std::vector<double>& out) {
-  if (first_look < 0 || looks < 0 || first_look + looks > kMaxFieldLooks) {
+  if (first_look < 0 || looks < 0 || first_look + looks > lattice::kMaxLooks) {
     throw std::invalid_argument("along_track_speckle_looks: looks " + std::to_string(first_look) +
                                 " .. " + std::to_string(first_look + looks - 1) +
                                 ". Violated constraint: 0 <= look < " +
-                                std::to_string(kMaxFieldLooks));
+                                std::to_string(lattice::kMaxLooks));
   }
   const auto nl = static_cast<std::size_t>(looks);
   out.resize(samples * nl);
   table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples);
   const NormalTable& normal = NormalTable::get();
-  const LatticeWeights& weights = LatticeWeights::get();
-  const std::uint64_t line = hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key);
-  const double* sw = table.sw.data();
-  const double* inv_step = table.inv_step.data();
+  const lattice::Weights& weights = lattice::Weights::get();
+  const std::uint64_t line = lattice::line_word(f);
   for (std::size_t i = 0; i < samples; ++i) {
-    // u = along-track position in lattice steps of 1.5 sw (sw = r theta / sqrt(8 ln 2)).
-    const double u = f.along_track_m * inv_step[i];
-    // Below the first return, and where consecutive pings are more than 2.5 footprints
-    // (r beta_eff = 1.77 sw) apart (correlation < 1e-4), the speckle is drawn independently
-    // (and where the lattice index would not fit an integer: a degenerate beam or position).
-    if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw[i] || !(std::abs(u) < 1e15)) {
+    lattice::Sample ls;
+    if (!lattice::sample_at(f, table, line, weights, i, ls)) {
       for (std::size_t j = 0; j < nl; ++j) {
         out[j * samples + i] = std::numeric_limits<double>::quiet_NaN();
       }
       continue;
     }
-    // Lattice step 1.5 sw: the lattice sum reproduces the continuous one to ~1e-4 (Poisson
-    // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5. The
-    // lattice position and weights are the same for every look.
-    auto m0 = static_cast<std::int64_t>(u);  // floor(u), |u| < 1e15
-    if (static_cast<double>(m0) > u) --m0;
-    const double frac = u - static_cast<double>(m0);
-    double w[4];
-    weights.at(frac, w);
-    // The sum in float (relative rounding ~1e-7, far below the speckle's own spread), normalised
-    // in double by 1 / (2 sum w^2) of the same float weights (the scatterers
-    // (g1 + i g2) / sqrt(2) have unit power), so the mean stays exactly 1.
-    float wf[4];
-    double w2 = 0.0;
-    for (int k = 0; k < 4; ++k) {
-      wf[k] = static_cast<float>(w[k]);
-      w2 += static_cast<double>(wf[k]) * static_cast<double>(wf[k]);
-    }
-    const double inv_2w2 = 0.5 / w2;
-    const std::int64_t first = m0 - 1;
-    const int odd = static_cast<int>(first & 1);
-    // The keyed word of (sample i, look, pair p of scatterers m = 2p, 2p + 1) is
-    // splitmix_stream(cell, p + look 2^56): |p| < 2^49, so (p, look) pairs are distinct for
-    // look < 2^8.
-    const std::uint64_t cell = splitmix_stream(line, static_cast<std::uint64_t>(i));
-    const auto pair0 = static_cast<std::uint64_t>(first >> 1);
     for (std::size_t j = 0; j < nl; ++j) {
-      const std::uint64_t p0 = pair0 + (static_cast<std::uint64_t>(first_look) + j) * kLookStride;
-      // Scatterer m (lattice index m0 - 1 + k): g1 from the low 16 bits of one half of the
-      // word of the pair m >> 1, g2 from its high 16 bits (NormalTable): two words per sample,
-      // three when m0 - 1 is odd.
-      std::uint64_t h[3];
-      h[0] = splitmix_stream(cell, p0);
-      h[1] = splitmix_stream(cell, p0 + 1);
-      h[2] = odd != 0 ? splitmix_stream(cell, p0 + 2) : 0;
-      float re = 0.0f, im = 0.0f;
-      for (int k = 0; k < 4; ++k) {
-        const int q = k + odd;  // the scatterer's half among the words: word q / 2, half q % 2
-        const auto half = static_cast<std::uint32_t>(h[q >> 1] >> (32 * (q & 1)));
-        re += wf[k] * normal(half);
-        im += wf[k] * normal(half >> 16);
-      }
-      const auto dre = static_cast<double>(re), dim = static_cast<double>(im);
-      out[j * samples + i] = (dre * dre + dim * dim) * inv_2w2;
+      out[j * samples + i] =
+          lattice::look_power(ls, static_cast<std::uint64_t>(first_look) + j, normal);
     }
   }
 }
@@ -516,7 +424,7 @@ void detector_look(const DetectorLoop& d, const double* f, std::uint64_t seed_s,
     }
     // One keyed word per sample and look: its high half the thermal noise, its low half the
     // receiver noise.
-    const std::uint64_t hn = splitmix_stream(seed_n, d.noise_keys[i]);
+    const std::uint64_t hn = wyrand_stream(seed_n, d.noise_keys[i]);
     if (thermal) a = add_thermal_noise(a, d.half_n, d.sqrt_half_n, hn, normal);
     double p = a * d.gain[i];
     if (floor) p += d.floor_power * exp1_from_low_half(hn, normal);

@@ -115,7 +115,10 @@ TEST_F(BottomTrackSimTest, ZeroedOrWrongHeaderAltitudeIsReplacedByTheTrackedOne)
   EXPECT_EQ(g.pings_header_altitude, g.pings_gridded);
   EXPECT_EQ(g.pings_tracked_altitude, 0u);
   // The corrected mosaic is the true one wherever both have a value, within the tracker's
-  // two samples of altitude error (a few percent of a sample value near nadir).
+  // two samples of altitude error (a few percent of a sample value near nadir). The share of
+  // close pixels depends on the speckle's random values: 94.8-95.2 % over the scene seeds 1-4
+  // and 9 (and 95.1 % with the random streams before issue 17's wyrand_stream), so the bound
+  // is 94 %, below that spread.
   std::size_t both = 0, close = 0;
   for (std::size_t i = 0; i < r.image.intensity.size(); ++i) {
     const float a = r.image.intensity[i], b = g.image.intensity[i];
@@ -124,7 +127,7 @@ TEST_F(BottomTrackSimTest, ZeroedOrWrongHeaderAltitudeIsReplacedByTheTrackedOne)
     if (std::abs(a - b) <= 0.1f * b) ++close;
   }
   ASSERT_GT(both, 1000u);
-  EXPECT_GE(static_cast<double>(close), 0.95 * static_cast<double>(both));
+  EXPECT_GE(static_cast<double>(close), 0.94 * static_cast<double>(both));
   // waterfall --slant-correct: every row tracked with auto, none with header.
   const std::string n = std::to_string(pings_.size());
   const test::CliResult w = test::run_cli(

@@ -36,6 +36,20 @@ constexpr std::uint64_t splitmix_stream(std::uint64_t seed, std::uint64_t key) {
   return splitmix64(seed + key * 0x9e3779b97f4a7c15ULL);
 }
 
+/// Output number `key` of the wyrand generator with state `seed` (Wang Yi's public-domain
+/// wyhash/wyrand): s = seed + key * 0xa0761d6478bd642f (a Weyl sequence, as splitmix_stream's),
+/// then the 128-bit product s (s ^ 0xe7037ed1a0b428db) folded by the xor of its halves. One
+/// 64 x 64 -> 128-bit multiply per 64 random bits instead of splitmix_stream's three multiplies
+/// and three xor-shifts; for the most numerous keyed words of a ping, the along-track
+/// lattice's scatterers and the thermal and receiver noise per sample and look
+/// (tests/noise_test.cpp checks the words' 16-bit fields and the speckle built from them).
+inline std::uint64_t wyrand_stream(std::uint64_t seed, std::uint64_t key) {
+  __extension__ typedef unsigned __int128 U128;
+  const std::uint64_t x = seed + key * 0xa0761d6478bd642fULL;
+  const U128 t = static_cast<U128>(x) * (x ^ 0xe7037ed1a0b428dbULL);
+  return static_cast<std::uint64_t>(t >> 64) ^ static_cast<std::uint64_t>(t);
+}
+
 /// 64 random bits from 32 (the high half of `bits`), for UnitGammaTable and
 /// cos_uniform_phase_from_bits: the high 32 bits kept, bit 31 set (the midpoint of the 2^-32 cell
 /// the 32 bits select, so that the derived uniform is unbiased), the rest 0.

@@ -55,7 +55,7 @@ struct SpeckleNoise {
 };
 
 /// Seeds of the tables sampler's keyed words: the frozen part (E_s and T) is
-/// splitmix_stream(seed_s, key), the thermal part splitmix_stream(seed_n, noise_key).
+/// splitmix_stream(seed_s, key), the thermal part wyrand_stream(seed_n, noise_key).
 inline std::uint64_t speckle_seed(std::uint64_t seed) {
   return splitmix64(seed);
 }
