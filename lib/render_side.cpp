@@ -538,6 +538,23 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
       tan_h = std::min({tan_h, ta, tb});
     }
     if (!(f.a > 0.0)) continue;  // zero-length facet
+    // A facet wholly nearer than render_from_m: horizon only (its slant range is largest at an
+    // end, the range being convex along it); it can still occlude the sections below.
+    const bool skip = par.render_from_m > 0.0 &&
+                      std::max(ya * ya + (za - hs) * (za - hs), yb * yb + (zb - hs) * (zb - hs)) <
+                          par.render_from_m * par.render_from_m;
+    if (skip) {
+      // Only the piece that occludes the sections, as below (setup_facet's uy, uz and sign of
+      // c0), without the integrand.
+      if (!(has_sections && par.shadows) || !(t1 > t0)) continue;
+      const double uy = yb - ya, uz = zb - za, wz = za - hs;
+      if (!((ya * uz - wz * uy) / std::sqrt(f.a) > 0.0)) continue;
+      const double ya0 = ya + t0 * uy, za0 = wz + t0 * uz, ya1 = ya + t1 * uy, za1 = wz + t1 * uz;
+      const double tp0 = tan_depression(ya0, za0), tp1 = tan_depression(ya1, za1);
+      w.seabed_pieces.push_back({ya0, za0, ya1, za1, std::min(tp0, tp1), std::max(tp0, tp1), 0,
+                                 static_cast<std::int32_t>(i)});
+      continue;
+    }
     const double c0 =
         setup_facet(f, in, hs, ya, za, yb, zb, static_cast<std::int32_t>(i),
                     kb * backscatter_coefficient(par.backscatter, par.materials[prof.material[i]]));
