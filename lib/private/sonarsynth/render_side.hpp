@@ -92,6 +92,7 @@ struct SideEcho {
       std::int32_t facet;     ///< facet index (BeamProfile::facet_ends)
     };
     std::vector<Segment> occluders;
+    std::vector<Segment> occluders_by_tan;  ///< the occluders by increasing tan_lo
     std::vector<Segment> seabed_pieces;
     std::vector<double> visible, visible_next;
   } workspace;
