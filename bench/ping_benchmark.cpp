@@ -91,6 +91,8 @@ int run(int argc, char** argv) {
       cfg.truth = false;
     } else if (a == "--planes") {
       cfg.quality.along_track_planes = std::stoi(next());
+    } else if (a == "--float") {  // unrounded samples (for the accuracy of --dump)
+      cfg.output.round_to_integer = false;
     } else if (a == "--dump") {
       dump_path = next();
     } else if (a == "--noise") {
@@ -128,8 +130,15 @@ int run(int argc, char** argv) {
     std::printf("along-track planes %d (auto: %s, estimated error %.3f dB, pilot %.1f ms)\n",
                 sim.along_track().planes, sim.along_track().automatic ? "yes" : "no",
                 sim.along_track().estimated_error_db, 1e3 * sim.along_track().pilot_s);
+    if (sim.along_track().object_planes > sim.along_track().planes) {
+      std::printf(
+          "  %d planes over the range window of objects and shadows (estimated error with "
+          "objects %.3f dB)\n",
+          sim.along_track().object_planes, sim.along_track().object_estimated_error_db);
+    }
     std::vector<double> rate, profile_us, render_us, noise_us;
     double checksum = 0.0;
+    std::uint64_t window_sides = 0, window_samples = 0;
     for (int r = 0; r < runs; ++r) {
       ChecksumSink sink;
       std::ofstream dump;
@@ -148,6 +157,8 @@ int run(int argc, char** argv) {
       render_us.push_back(tm.render_s / n * 1e6);
       noise_us.push_back(tm.noise_s / n * 1e6);
       checksum = sink.sum;
+      window_sides = tm.window_sides;
+      window_samples = tm.window_samples;
     }
     std::printf(
         "threads %u: %8.0f pings/s (median of %d; min %.0f, max %.0f) | CPU per ping (both "
@@ -155,6 +166,11 @@ int run(int argc, char** argv) {
         threads, median(rate), runs, *std::min_element(rate.begin(), rate.end()),
         *std::max_element(rate.begin(), rate.end()), median(profile_us), median(render_us),
         median(noise_us), checksum);
+    if (window_sides > 0) {
+      std::printf("  object windows: %llu ping sides, %.0f samples each on average\n",
+                  static_cast<unsigned long long>(window_sides),
+                  static_cast<double>(window_samples) / static_cast<double>(window_sides));
+    }
   }
   return 0;
 }

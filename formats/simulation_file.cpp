@@ -590,6 +590,11 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
   if (at.automatic) {
     d["along_track_estimated_error_db"] = at.estimated_error_db;
     d["along_track_pilot_pings"] = at.pilot_pings;
+    if (at.object_planes > at.planes) {
+      // The count over the range window of objects and their shadows (docs/physics.md §1.3).
+      d["along_track_object_planes"] = at.object_planes;
+      d["along_track_object_estimated_error_db"] = at.object_estimated_error_db;
+    }
   }
   root["derived"] = d;
   YAML::Emitter e;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "sonarsynth/error.hpp"
@@ -11,6 +12,10 @@
 #include "sonarsynth/simulator.hpp"
 
 namespace sonarsynth {
+
+namespace {
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+}  // namespace
 
 AlongTrackPlanes make_along_track_planes(const SonarConfig& sonar, int count, double beta_eff_rad) {
   if (count < 1) throw InputError("along-track planes: count < 1");
@@ -61,6 +66,23 @@ ObjectPlaneRefiner::ObjectPlaneRefiner(const ObjectSet& objects, const SonarConf
   }
 }
 
+bool ObjectPlaneRefiner::sees_object(const Eigen::Vector2d& nadir_xy_m,
+                                     const Eigen::Vector2d& across, double max_y_m) const {
+  for (const Footprint& f : footprints_) {
+    if (in_fan(f, nadir_xy_m, across, max_y_m)) return true;
+  }
+  return false;
+}
+
+bool ObjectPlaneRefiner::in_fan(const Footprint& f, const Eigen::Vector2d& nadir_xy_m,
+                                const Eigen::Vector2d& across, double max_y_m) const {
+  const Eigen::Vector2d d = f.centre_xy_m - nadir_xy_m;
+  const double y = d.dot(across);
+  if (y + f.radius_m <= 0.0 || y - f.radius_m > max_y_m) return false;  // behind or out of range
+  return std::abs(across.x() * d.y() - across.y() * d.x()) - f.radius_m <=
+         std::tan(half_fan_rad_) * (y + f.radius_m);  // else outside the fan
+}
+
 bool ObjectPlaneRefiner::refine(const Eigen::Vector2d& nadir_xy_m, const Eigen::Vector2d& across,
                                 double max_y_m, AlongTrackPlanes& out,
                                 std::vector<double>& scratch) const {
@@ -71,12 +93,7 @@ bool ObjectPlaneRefiner::refine(const Eigen::Vector2d& nadir_xy_m, const Eigen::
   scratch.clear();
   double step = base_step;
   for (const Footprint& f : footprints_) {
-    const Eigen::Vector2d d = f.centre_xy_m - nadir_xy_m;
-    const double y = d.dot(across);
-    if (y + f.radius_m <= 0.0 || y - f.radius_m > max_y_m) continue;  // behind or out of range
-    if (std::abs(across.x() * d.y() - across.y() * d.x()) - f.radius_m >
-        std::tan(h) * (y + f.radius_m))
-      continue;  // outside the fan
+    if (!in_fan(f, nadir_xy_m, across, max_y_m)) continue;
     double a = kPi, b = -kPi;
     bool ahead = true;
     for (const Eigen::Vector2d& c : f.corner_xy_m) {
@@ -146,6 +163,54 @@ bool ObjectPlaneRefiner::refine(const Eigen::Vector2d& nadir_xy_m, const Eigen::
   // The central plane: azimuth 0 (kept above), else the first past it.
   out.central = static_cast<std::size_t>(std::lower_bound(az.begin(), az.end(), 0.0) - az.begin());
   if (out.central == az.size()) out.central = az.size() - 1;
+  return true;
+}
+
+bool object_range_window(const BeamProfile& profile, double& r_lo_m, double& r_hi_m) {
+  const double hs = profile.sensor_z_m;
+  // Squared slant ranges (no overflow at sonar ranges).
+  double r2_lo = kInfinity, y_hi = -kInfinity, tan_min = kInfinity, r2_hi = 0.0;
+  bool any = false;
+  // An object's segment (y0, z0)-(y1, z1): its least distance to the sensor, its nodes' largest,
+  // their ground range and tan of depression.
+  const auto object_segment = [&](double y0, double z0, double y1, double z1) {
+    if (!std::isfinite(z0) || !std::isfinite(z1)) return;
+    any = true;
+    const double dz0 = z0 - hs, uy = y1 - y0, uz = z1 - z0, uu = uy * uy + uz * uz;
+    const double t = uu > 0.0 ? std::clamp(-(y0 * uy + dz0 * uz) / uu, 0.0, 1.0) : 0.0;
+    const double py = y0 + t * uy, pz = dz0 + t * uz;
+    r2_lo = std::min(r2_lo, py * py + pz * pz);
+    for (const auto& [y, z] : {std::pair{y0, z0}, std::pair{y1, z1}}) {
+      y_hi = std::max(y_hi, y);
+      const double d = hs - z;
+      tan_min = std::min(tan_min, y > 0.0 ? d / y : (d >= 0.0 ? kInfinity : -kInfinity));
+      r2_hi = std::max(r2_hi, y * y + d * d);
+    }
+  };
+  for (std::size_t s = 0; s < profile.sections(); ++s) {
+    const std::size_t a = profile.section_start[s], b = profile.section_start[s + 1];
+    for (std::size_t k = a; k < b; ++k) {
+      const std::size_t k1 = k + 1 < b ? k + 1 : a;  // closed
+      object_segment(profile.section_y_m[k], profile.section_z_m[k], profile.section_y_m[k1],
+                     profile.section_z_m[k1]);
+    }
+  }
+  const std::size_t n = profile.nodes();
+  for (std::size_t i = 0; i + 1 < n; ++i) {
+    if (profile.label[i] != 0) {
+      object_segment(profile.y_m[i], profile.z_m[i], profile.y_m[i + 1], profile.z_m[i + 1]);
+    }
+  }
+  if (!any) return false;
+  bool seen = false;  // a seabed node past the objects above their horizon
+  for (std::size_t i = 0; i < n && !seen; ++i) {
+    const double y = profile.y_m[i], z = profile.z_m[i];
+    if (!std::isfinite(z)) continue;
+    r2_hi = std::max(r2_hi, y * y + (hs - z) * (hs - z));
+    seen = y > y_hi && (hs - z) / y <= tan_min;
+  }
+  r_lo_m = std::sqrt(r2_lo);
+  r_hi_m = seen ? std::sqrt(r2_hi) : kInfinity;
   return true;
 }
 

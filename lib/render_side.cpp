@@ -378,6 +378,18 @@ void mark_shadow(const Facet& f, const Grid& grid, double h0, double h1,
 
 using sections::hidden_by;
 using sections::kMinHidden;
+
+// The occluders (sorted by tan_lo, widest tan span `span`) whose tan range can meet [lo, hi]:
+// those with tan_lo in [lo - span, hi] (a small margin below for the rounding of the span).
+std::span<const sections::Segment> occluders_meeting(const std::vector<sections::Segment>& by_tan,
+                                                     double span, double lo, double hi) {
+  const double from = lo - 1.001 * span - 1e-12 * std::abs(lo);
+  const auto a = std::partition_point(
+      by_tan.begin(), by_tan.end(), [from](const sections::Segment& o) { return o.tan_lo < from; });
+  const auto b = std::partition_point(a, by_tan.end(),
+                                      [hi](const sections::Segment& o) { return o.tan_lo <= hi; });
+  return {a, b};
+}
 using sections::section_occluders;
 using sections::Segment;
 using sections::subtract_interval;
@@ -421,7 +433,8 @@ double setup_facet(Facet& f, const Integrand& in, double hs, double ya, double z
 // and the other sections hide.
 template <bool kTruth, class Grid>
 void render_sections(const BeamProfile& prof, const SideParams& par, const Grid& grid,
-                     const Integrand& in, double kb, const Workspace& ws, SideEcho::Workspace& w) {
+                     const Integrand& in, double kb, double span, const Workspace& ws,
+                     SideEcho::Workspace& w) {
   const double hs = prof.sensor_z_m;
   const auto& pieces = w.seabed_pieces;
   for (const Segment& s : w.occluders) {
@@ -447,8 +460,10 @@ void render_sections(const BeamProfile& prof, const SideParams& par, const Grid&
       auto it = std::partition_point(pieces.begin(), pieces.end(),
                                      [&](const Segment& p) { return p.tan_lo > s.tan_hi; });
       for (; it != pieces.end() && it->tan_hi >= s.tan_lo && vis.size() > 1; ++it) hide(*it);
-      for (const Segment& o : w.occluders) {
-        // Its own section too: a mesh's section need not be convex (docs/physics.md §2.1).
+      // Its own section too: a mesh's section need not be convex (docs/physics.md §2.1). The
+      // visible part left does not depend on the order of the occluders (subtract_interval keeps
+      // their ends as they are).
+      for (const Segment& o : occluders_meeting(w.occluders_by_tan, span, s.tan_lo, s.tan_hi)) {
         if (o.facet == s.facet || o.tan_hi < s.tan_lo || o.tan_lo > s.tan_hi) continue;
         if (vis.size() < 2) break;
         hide(o);
@@ -499,11 +514,16 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
   section_occluders(prof, kMinTanY, occluders);
   const bool has_sections = !occluders.empty();
   w.seabed_pieces.clear();
-  double sec_tan_lo = kInf, sec_tan_hi = -kInf;
+  double sec_tan_lo = kInf, sec_tan_hi = -kInf, span = 0.0;
   for (const Segment& o : occluders) {
     sec_tan_lo = std::min(sec_tan_lo, o.tan_lo);
     sec_tan_hi = std::max(sec_tan_hi, o.tan_hi);
+    span = std::max(span, o.tan_hi - o.tan_lo);
   }
+  auto& by_tan = w.occluders_by_tan;
+  by_tan.assign(occluders.begin(), occluders.end());
+  std::sort(by_tan.begin(), by_tan.end(),
+            [](const Segment& a, const Segment& b) { return a.tan_lo < b.tan_lo; });
   for (std::size_t i = 0; i + 1 < n; ++i) {
     const double ya = prof.y_m[i], za = prof.z_m[i];
     const double yb = prof.y_m[i + 1], zb = prof.z_m[i + 1];
@@ -538,6 +558,23 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
       tan_h = std::min({tan_h, ta, tb});
     }
     if (!(f.a > 0.0)) continue;  // zero-length facet
+    // A facet wholly nearer than render_from_m: horizon only (its slant range is largest at an
+    // end, the range being convex along it); it can still occlude the sections below.
+    const bool skip = par.render_from_m > 0.0 &&
+                      std::max(ya * ya + (za - hs) * (za - hs), yb * yb + (zb - hs) * (zb - hs)) <
+                          par.render_from_m * par.render_from_m;
+    if (skip) {
+      // Only the piece that occludes the sections, as below (setup_facet's uy, uz and sign of
+      // c0), without the integrand.
+      if (!(has_sections && par.shadows) || !(t1 > t0)) continue;
+      const double uy = yb - ya, uz = zb - za, wz = za - hs;
+      if (!((ya * uz - wz * uy) / std::sqrt(f.a) > 0.0)) continue;
+      const double ya0 = ya + t0 * uy, za0 = wz + t0 * uz, ya1 = ya + t1 * uy, za1 = wz + t1 * uz;
+      const double tp0 = tan_depression(ya0, za0), tp1 = tan_depression(ya1, za1);
+      w.seabed_pieces.push_back({ya0, za0, ya1, za1, std::min(tp0, tp1), std::max(tp0, tp1), 0,
+                                 static_cast<std::int32_t>(i)});
+      continue;
+    }
     const double c0 =
         setup_facet(f, in, hs, ya, za, yb, zb, static_cast<std::int32_t>(i),
                     kb * backscatter_coefficient(par.backscatter, par.materials[prof.material[i]]));
@@ -554,7 +591,7 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
       if (thi >= sec_tan_lo && tlo <= sec_tan_hi) {
         auto& vis = w.visible;
         vis.assign({t0, t1});
-        for (const Segment& o : occluders) {
+        for (const Segment& o : occluders_meeting(by_tan, span, tlo, thi)) {
           if (o.tan_hi < tlo || o.tan_lo > thi) continue;
           double q0 = 0.0, q1 = 0.0;
           if (!hidden_by(o, ya, wz, uy, uz, q0, q1)) continue;
@@ -573,7 +610,7 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     }
     render_lit<kTruth>(f, in, grid, t0, t1, std::clamp(f.tm0, t0, t1), ws);
   }
-  if (has_sections) render_sections<kTruth>(prof, par, grid, in, kb, ws, w);
+  if (has_sections) render_sections<kTruth>(prof, par, grid, in, kb, span, ws, w);
   return any_valid || has_sections;
 }
 

@@ -17,6 +17,10 @@ void SideParams::validate() const {
   if (samples < 1 || samples > (std::size_t{1} << 24)) {
     bad("samples = " + std::to_string(samples) + ". Violated constraint: 1 <= samples <= 2^24");
   }
+  if (!(std::isfinite(render_from_m) && render_from_m >= 0.0)) {
+    bad("render_from_m = " + std::to_string(render_from_m) +
+        ". Violated constraint: finite render_from_m >= 0");
+  }
   if (gauss_points < 1 || gauss_points > 5) {
     bad("gauss_points = " + std::to_string(gauss_points) +
         ". Violated constraint: 1 <= gauss_points <= 5");

@@ -14,6 +14,7 @@
 #include "sonarsynth/render_side.hpp"
 #include "sonarsynth/scene_profile.hpp"
 #include "sonarsynth/sensor_effects.hpp"
+#include "sonarsynth/simulator_state.hpp"
 #include "sonarsynth/tvg.hpp"
 
 namespace sonarsynth {
@@ -79,39 +80,6 @@ inline double round_nonnegative(double v) {
 }
 
 }  // namespace
-
-struct Simulator::Workspace {
-  SideParams params;
-  BeamProfile profile;
-  ProfileScratch scratch;
-  SideEcho echo;
-  std::vector<double> accum;
-  std::vector<std::uint64_t> keys;
-  std::vector<std::uint64_t> noise_keys;
-  std::vector<double> nu;
-  std::vector<double> tvg_gain;  // linear TVG x quantiser gain per sample (precomputed)
-  SensorMeanTables sensor_mean;  // volume / fill per sample over tvg_gain (precomputed)
-  // splitmix64(i) per sample index (precomputed): the per-ping part of the (ping, side, sample)
-  // key then costs one splitmix64 per sample (see ping_sample_keys).
-  std::vector<std::uint64_t> sample_hash;
-  DetectorScratch detector;
-  AlongTrackPlanes refined;  // the planes of a ping side that sees a small object
-  std::vector<double> refine_scratch;
-  // Refined sides: per sample, the energy of the planes whose contributor is an object, and the
-  // truth of the brightest of them (see render_planes).
-  std::vector<double> object_energy, best_object_energy;
-  SideEcho best_object;
-};
-
-struct Simulator::Calibration {
-  SideParams side;
-  Tvg tvg;
-  Quantizer quantizer;
-  AlongTrackPlanes planes;
-  /// Set when render.quality.small_object_planes is on and the scene has objects.
-  std::unique_ptr<ObjectPlaneRefiner> refiner;
-  SensorModel sensor;
-};
 
 double Simulator::gain_db() const {
   return cal_->quantizer.gain_db;
@@ -236,96 +204,19 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
         pilot.empty() ? pilot_poses(scene.bathymetry, reference_altitude_m, s.max_range_m) : pilot);
   } else {
     along_track_.planes = config_.quality.along_track_planes;
+    along_track_.object_planes = along_track_.planes;
   }
   cal_->planes = make_along_track_planes(s, along_track_.planes, cal_->side.beta_eff_rad);
+  if (along_track_.object_planes > along_track_.planes) {
+    cal_->object_planes =
+        make_along_track_planes(s, along_track_.object_planes, cal_->side.beta_eff_rad);
+    cal_->object_finder = std::make_unique<ObjectPlaneRefiner>(
+        scene.objects, s, cal_->object_planes, cal_->side.beta_eff_rad);
+  }
   if (config_.quality.small_object_planes && !scene.objects.empty()) {
     cal_->refiner = std::make_unique<ObjectPlaneRefiner>(scene.objects, s, cal_->planes,
                                                          cal_->side.beta_eff_rad);
   }
-}
-
-namespace {
-
-// RMS over lit bins of |10 log10(a / b)|, in the bench's metric (docs/benchmarks.md): a bin is
-// lit when either value exceeds 1e-3 x the median of the positive values of `b` on that side; a
-// bin lit in one and below 1e-4 of the other counts as 40 dB.
-class DbDifference {
- public:
-  void add(const std::vector<double>& a, const std::vector<double>& b) {
-    positive_.clear();
-    for (const double v : b)
-      if (v > 0.0) positive_.push_back(v);
-    if (positive_.empty()) return;
-    const auto mid = positive_.begin() + static_cast<std::ptrdiff_t>(positive_.size() / 2);
-    std::nth_element(positive_.begin(), mid, positive_.end());
-    const double lit = 1e-3 * *mid;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      const double x = a[i], y = b[i];
-      if (!(x > lit || y > lit)) continue;
-      const double d = x <= 1e-4 * y || y <= 1e-4 * x ? kCapDb : std::abs(10.0 * std::log10(x / y));
-      sum_sq_ += d * d;
-      ++bins_;
-    }
-  }
-  bool empty() const { return bins_ == 0; }
-  double rms_db() const {
-    return bins_ > 0 ? std::sqrt(sum_sq_ / static_cast<double>(bins_)) : 0.0;
-  }
-
- private:
-  static constexpr double kCapDb = 40.0;
-  std::vector<double> positive_;
-  double sum_sq_ = 0.0;
-  std::size_t bins_ = 0;
-};
-
-}  // namespace
-
-AlongTrackChoice Simulator::choose_along_track_planes(const std::vector<PingPose>& pilot) const {
-  const auto t0 = Clock::now();
-  static constexpr int kLevels[] = {1, 3, 5, 9, 15};
-  constexpr std::size_t kCount = sizeof(kLevels) / sizeof(kLevels[0]);
-  const WorkspacePtr ws = make_workspace();
-  // Noise-free energies of every pilot ping side at one plane count.
-  auto energies = [&](int count) {
-    const AlongTrackPlanes planes =
-        make_along_track_planes(config_.sonar, count, cal_->side.beta_eff_rad);
-    std::vector<std::vector<double>> e;
-    for (const PingPose& pose : pilot) {
-      for (const bool starboard : {false, true}) {
-        render_planes(pose, starboard, planes, false, false, *ws, nullptr);
-        e.push_back(ws->accum);
-      }
-    }
-    return e;
-  };
-  AlongTrackChoice choice;
-  choice.automatic = true;
-  std::vector<std::vector<double>> coarse = energies(kLevels[0]);
-  const auto lit = [](const std::vector<double>& e) {
-    return std::any_of(e.begin(), e.end(), [](double v) { return v > 0.0; });
-  };
-  for (std::size_t p = 0; p < pilot.size(); ++p) {
-    if (lit(coarse[2 * p]) || lit(coarse[2 * p + 1])) ++choice.pilot_pings;
-  }
-  choice.planes = kLevels[0];
-  if (choice.pilot_pings > 0) {
-    for (std::size_t j = 0; j + 1 < kCount; ++j) {
-      std::vector<std::vector<double>> fine = energies(kLevels[j + 1]);
-      DbDifference diff;
-      for (std::size_t i = 0; i < fine.size(); ++i) diff.add(coarse[i], fine[i]);
-      choice.estimated_error_db = diff.rms_db();
-      choice.estimates_db.push_back(choice.estimated_error_db);
-      choice.planes = kLevels[j];
-      if (choice.estimated_error_db <= config_.quality.along_track_tolerance_db) break;
-      choice.planes = kLevels[j + 1];
-      coarse = std::move(fine);
-    }
-  } else {
-    choice.estimated_error_db = 0.0;
-  }
-  choice.pilot_s = seconds_since(t0);
-  return choice;
 }
 
 Simulator::~Simulator() = default;
@@ -347,118 +238,6 @@ Simulator::WorkspacePtr Simulator::make_workspace() const {
   ws->sample_hash.resize(cal_->side.samples);
   for (std::size_t i = 0; i < cal_->side.samples; ++i) ws->sample_hash[i] = splitmix64(i);
   return ws;
-}
-
-Simulator::SideGeometry Simulator::render_planes(const PingPose& pose, bool starboard,
-                                                 const AlongTrackPlanes& run_planes, bool refine,
-                                                 bool truth, Workspace& ws,
-                                                 RenderTimings* timings) const {
-  const std::size_t n = cal_->side.samples;
-  const Eigen::Vector2d fwd(std::sin(pose.heading_rad), std::cos(pose.heading_rad));
-  const Eigen::Vector2d stbd(fwd.y(), -fwd.x());
-  const Eigen::Vector2d across = starboard ? stbd : Eigen::Vector2d(-stbd);
-  SideGeometry geo;
-  // Pitch tilts the beam plane: on a flat seabed its ground line moves along-track by
-  // altitude * tan(pitch) (nose up -> ahead).
-  const double alt = std::isfinite(pose.altitude_m) ? pose.altitude_m : 0.0;
-  geo.nadir_xy_m = pose.sensor_xy_m + alt * std::tan(pose.pitch_rad) * fwd;
-  geo.central_dir = across;
-  // Roll (+ starboard down) depresses the starboard beam and raises the port one.
-  ws.params.beam_axis_depression_rad =
-      config_.sonar.tilt_rad + (starboard ? pose.roll_rad : -pose.roll_rad);
-  const double max_y = config_.sonar.max_range_m;
-
-  // Clock reads only when timings are requested.
-  const auto now = [timings] { return timings != nullptr ? Clock::now() : Clock::time_point{}; };
-  const AlongTrackPlanes& planes =
-      refine && cal_->refiner &&
-              cal_->refiner->refine(geo.nadir_xy_m, across, max_y, ws.refined, ws.refine_scratch)
-          ? ws.refined
-          : run_planes;
-  const std::size_t count = planes.size();
-  const std::size_t central = planes.central;
-  if (timings != nullptr && &planes == &ws.refined) {
-    ++timings->refined_sides;
-    timings->refined_planes += count;
-  }
-  // A refined side renders every plane with truth: an object its central plane misses is
-  // labelled where the planes that see it hold most of a sample's energy.
-  const bool object_truth = truth && &planes == &ws.refined;
-  if (object_truth) begin_object_truth(ws);
-  // The central plane is rendered last, so its truth is what the echo holds afterwards.
-  for (std::size_t idx = 0; idx < count; ++idx) {
-    const std::size_t k = (idx + central + 1) % count;
-    const double c = std::cos(planes.azimuth_rad[k]), s = std::sin(planes.azimuth_rad[k]);
-    const Eigen::Vector2d dir(c * across.x() - s * across.y(), s * across.x() + c * across.y());
-    const auto t0 = now();
-    build_beam_profile(*scene_, geo.nadir_xy_m, dir, max_y, pose.sensor_z_m,
-                       config_.quality.profile, ws.profile, ws.scratch);
-    const auto t1 = now();
-    ws.params.beta_eff_rad = planes.beta_eff_rad[k];
-    ws.params.truth = truth && (k == central || object_truth);
-    render_side(ws.profile, ws.params, ws.echo);
-    if (object_truth) collect_object_truth(ws);
-    if (timings) {
-      timings->profile_s += std::chrono::duration<double>(t1 - t0).count();
-      timings->render_s += seconds_since(t1);
-    }
-    // The first plane's intensity is taken over (0 + x == x; the echo's buffer is swapped, not
-    // copied), later planes are added.
-    if (idx == 0) {
-      std::swap(ws.accum, ws.echo.intensity);
-    } else {
-      for (std::size_t i = 0; i < n; ++i) ws.accum[i] += ws.echo.intensity[i];
-    }
-    if (k == central) geo.central_dir = dir;
-  }
-  if (object_truth) apply_object_truth(ws);
-  return geo;
-}
-
-void Simulator::begin_object_truth(Workspace& ws) const {
-  const std::size_t n = cal_->side.samples;
-  ws.object_energy.assign(n, 0.0);
-  ws.best_object_energy.assign(n, 0.0);
-  SideEcho& b = ws.best_object;
-  b.truth_label.assign(n, 0);
-  b.truth_material.assign(n, 0);
-  b.truth_grazing_rad.assign(cal_->side.truth_grazing ? n : 0, 0.0);
-  b.truth_ground_y_m.assign(n, 0.0);
-  b.truth_ground_z_m.assign(n, 0.0);
-}
-
-void Simulator::collect_object_truth(Workspace& ws) const {
-  const SideEcho& e = ws.echo;
-  SideEcho& b = ws.best_object;
-  const bool grazing = !b.truth_grazing_rad.empty();
-  for (std::size_t i = 0; i < e.intensity.size(); ++i) {
-    if (e.truth_class[i] != SampleClass::object) continue;
-    const double v = e.intensity[i];
-    ws.object_energy[i] += v;
-    if (v <= ws.best_object_energy[i]) continue;
-    ws.best_object_energy[i] = v;
-    b.truth_label[i] = e.truth_label[i];
-    b.truth_material[i] = e.truth_material[i];
-    if (grazing) b.truth_grazing_rad[i] = e.truth_grazing_rad[i];
-    b.truth_ground_y_m[i] = e.truth_ground_y_m[i];
-    b.truth_ground_z_m[i] = e.truth_ground_z_m[i];
-  }
-}
-
-void Simulator::apply_object_truth(Workspace& ws) const {
-  SideEcho& e = ws.echo;  // the central plane's truth
-  const SideEcho& b = ws.best_object;
-  const bool grazing = !b.truth_grazing_rad.empty();
-  for (std::size_t i = 0; i < e.truth_class.size(); ++i) {
-    if (e.truth_class[i] == SampleClass::object || !(ws.object_energy[i] > 0.5 * ws.accum[i]))
-      continue;
-    e.truth_class[i] = SampleClass::object;
-    e.truth_label[i] = b.truth_label[i];
-    e.truth_material[i] = b.truth_material[i];
-    if (grazing) e.truth_grazing_rad[i] = b.truth_grazing_rad[i];
-    e.truth_ground_y_m[i] = b.truth_ground_y_m[i];
-    e.truth_ground_z_m[i] = b.truth_ground_z_m[i];
-  }
 }
 
 void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& out,

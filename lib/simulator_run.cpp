@@ -121,6 +121,8 @@ RenderTimings Simulator::run_pings(
     sum.noise_s += t.noise_s;
     sum.refined_sides += t.refined_sides;
     sum.refined_planes += t.refined_planes;
+    sum.window_sides += t.window_sides;
+    sum.window_samples += t.window_samples;
   }
   return sum;
 }

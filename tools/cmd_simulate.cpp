@@ -52,6 +52,15 @@ void print_summary(const RunResult& r) {
               << std::setprecision(2) << at.estimated_error_db << " dB, tolerance "
               << r.along_track_tolerance_db << " dB, " << std::setprecision(0) << 1e3 * at.pilot_s
               << " ms)";
+    if (at.object_planes > at.planes) {
+      std::cout << "; " << at.object_planes << " over the range window of objects and shadows ("
+                << std::setprecision(2) << at.object_estimated_error_db << " dB with objects, "
+                << r.timings.window_sides << " ping sides, " << std::setprecision(0)
+                << (r.timings.window_sides > 0 ? static_cast<double>(r.timings.window_samples) /
+                                                     static_cast<double>(r.timings.window_sides)
+                                               : 0.0)
+                << " samples each on average)";
+    }
   }
   if (r.timings.refined_sides > 0) {
     std::cout << "; " << r.timings.refined_sides << " ping sides near small objects with "

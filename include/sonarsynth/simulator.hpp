@@ -40,6 +40,14 @@ struct AlongTrackChoice {
   double estimated_error_db = std::numeric_limits<double>::quiet_NaN();
   /// Automatic only: the estimate of each count tried (1, 3, 5, ... against the next).
   std::vector<double> estimates_db;
+  /// Automatic only: the count chosen with the objects' sections in the pilot pings (the count
+  /// `planes` is chosen without them, for the seabed). When it is larger, a ping side whose
+  /// profiles cut an object renders it over the range window the objects and their shadows
+  /// affect, and `planes` elsewhere (docs/physics.md §1.3). Equal to `planes` otherwise.
+  int object_planes = 1;
+  /// Automatic only: the estimate of object_planes (as estimated_error_db, objects included);
+  /// NaN when the scene has no objects or the count is not automatic.
+  double object_estimated_error_db = std::numeric_limits<double>::quiet_NaN();
   std::size_t pilot_pings = 0;  ///< pilot pings that had lit bins
   double pilot_s = 0.0;         ///< wall time of the choice, seconds
 };
@@ -53,6 +61,10 @@ struct RenderTimings {
   /// and the planes rendered on them.
   std::uint64_t refined_sides = 0;
   std::uint64_t refined_planes = 0;
+  /// Ping sides whose object window was rendered with the object planes
+  /// (AlongTrackChoice::object_planes), and the samples of those windows.
+  std::uint64_t window_sides = 0;
+  std::uint64_t window_samples = 0;
 };
 
 /// Renders pings of a survey over a scene. Construction derives the global calibration
@@ -129,6 +141,15 @@ class Simulator {
                              const AlongTrackPlanes& run_planes, bool refine, bool truth,
                              Workspace& ws, RenderTimings* timings) const;
   AlongTrackChoice choose_along_track_planes(const std::vector<PingPose>& pilot) const;
+  /// The object plane (index into Calibration::object_planes) at the azimuth of a single run
+  /// plane, whose window is that plane's ws.accum scaled to its share of beta_eff in
+  /// render_object_window (the intensity is linear in it: equal to round-off); the object plane
+  /// count if none.
+  std::size_t shared_plane(const AlongTrackPlanes& run_planes) const;
+  /// Replaces ws.accum over the samples that slant ranges [r_lo_m, r_hi_m] may reach by the sum
+  /// of the object planes, rendered from ws.object_profiles over those samples only.
+  void render_object_window(double r_lo_m, double r_hi_m, Workspace& ws,
+                            RenderTimings* timings) const;
   /// Truth of a refined side: object energy per sample over the planes, the brightest object
   /// contributor's truth, and the central plane's truth overridden where objects hold more than
   /// half of the sample's energy.

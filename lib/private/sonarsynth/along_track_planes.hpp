@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "sonarsynth/beam_profile.hpp"
 #include "sonarsynth/scene_object.hpp"
 #include "sonarsynth/sonar.hpp"
 
@@ -47,6 +48,11 @@ class ObjectPlaneRefiner {
   bool refine(const Eigen::Vector2d& nadir_xy_m, const Eigen::Vector2d& across, double max_y_m,
               AlongTrackPlanes& out, std::vector<double>& scratch) const;
   bool empty() const { return footprints_.empty(); }
+  /// Whether the footprint of an object may lie in the planes' fan (+-1.25 horizontal beam
+  /// widths) of the ping side at `nadir_xy_m` looking along `across`, within max_y_m: the
+  /// conservative test of refine(), which a profile of that side can only confirm.
+  bool sees_object(const Eigen::Vector2d& nadir_xy_m, const Eigen::Vector2d& across,
+                   double max_y_m) const;
 
  private:
   struct Footprint {
@@ -54,12 +60,23 @@ class ObjectPlaneRefiner {
     Eigen::Vector2d corner_xy_m[4];  ///< of the footprint's bounding rectangle (body axes)
     double radius_m;                 ///< centre to the farthest corner
   };
+  bool in_fan(const Footprint& f, const Eigen::Vector2d& nadir_xy_m, const Eigen::Vector2d& across,
+              double max_y_m) const;
   std::vector<Footprint> footprints_;
   AlongTrackPlanes base_;
   double beam_width_rad_;
   double beta_eff_rad_;
   double half_fan_rad_;
 };
+
+/// The slant ranges [r_lo_m, r_hi_m] outside which the objects of a beam-plane profile change
+/// nothing in its render (render_side): from the objects' least distance to the sensor (an
+/// object occludes only what lies behind it along the sensor's rays) to the largest slant range
+/// of the nodes up to the first seabed node past the objects that the objects' horizon (their
+/// least tan of depression) no longer hides, i.e. the end of their shadow; r_hi_m = +inf if the
+/// shadow reaches the profile's end. Objects are the closed sections and the seabed facets
+/// labelled with an object. Returns false (r unchanged) without objects.
+bool object_range_window(const BeamProfile& profile, double& r_lo_m, double& r_hi_m);
 
 /// Integral of SonarConfig::horizontal_two_way (for this beam width) over [psi0_rad, psi1_rad]
 /// (closed form: the pattern is a Gaussian in azimuth), radians.

@@ -39,6 +39,11 @@ struct SideParams {
   /// With truth: also fill truth_grazing_rad (one asin per sample); false leaves it empty (the
   /// other truth arrays, e.g. for speckle keys and texture, are still filled).
   bool truth_grazing = true;
+  /// Slant range, metres, >= 0, below which seabed facets are swept for the horizon (they still
+  /// shadow what lies behind them) but not integrated: a facet whose slant range stays below it
+  /// adds nothing. Bins that only such facets reach are then 0; every fine bin whose lower edge
+  /// is at or above it is bit-identical to the render with 0 (the default: everything).
+  double render_from_m = 0.0;
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
@@ -87,6 +92,7 @@ struct SideEcho {
       std::int32_t facet;     ///< facet index (BeamProfile::facet_ends)
     };
     std::vector<Segment> occluders;
+    std::vector<Segment> occluders_by_tan;  ///< the occluders by increasing tan_lo
     std::vector<Segment> seabed_pieces;
     std::vector<double> visible, visible_next;
   } workspace;
