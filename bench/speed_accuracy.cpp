@@ -56,38 +56,6 @@ std::vector<Method> methods(bool tiny, int default_planes, const std::vector<Ray
   std::vector<Method> out;
   const Method d = default_method(default_planes);
   out.push_back(d);
-  if (!rays_only.empty()) {
-    // The default on each finer DEM the rays use too: equal inputs, side by side.
-    std::vector<double> cells;
-    for (const RaySpec& r : rays_only) {
-      if (r.cell_m > 0.0 && std::find(cells.begin(), cells.end(), r.cell_m) == cells.end()) {
-        cells.push_back(r.cell_m);
-        Method m = d;
-        m.family = "cell";
-        m.is_default = false;
-        m.cell_m = r.cell_m;
-        std::ostringstream l;
-        l << "cell=" << r.cell_m;
-        m.label = l.str();
-        out.push_back(m);
-      }
-    }
-    for (const RaySpec& r : rays_only) {
-      Method m = d;
-      m.family = "rays";
-      m.is_default = false;
-      m.rays = r.rays;
-      std::ostringstream l;
-      l << "rays=" << r.rays;
-      if (r.cell_m > 0.0) {
-        m.cell_m = r.cell_m;
-        l << "+cell=" << r.cell_m;
-      }
-      m.label = l.str();
-      out.push_back(m);
-    }
-    return out;
-  }
   auto var = [&](const std::string& family, const std::string& label, auto&& edit) {
     Method m = d;
     m.family = family;
@@ -96,6 +64,28 @@ std::vector<Method> methods(bool tiny, int default_planes, const std::vector<Ray
     edit(m);
     out.push_back(m);
   };
+  if (!rays_only.empty()) {
+    // The default on each finer DEM the rays use too: equal inputs, side by side.
+    std::vector<double> cells;
+    for (const RaySpec& r : rays_only) {
+      if (r.cell_m > 0.0 && std::find(cells.begin(), cells.end(), r.cell_m) == cells.end()) {
+        cells.push_back(r.cell_m);
+        std::ostringstream l;
+        l << "cell=" << r.cell_m;
+        var("cell", l.str(), [&r](Method& m) { m.cell_m = r.cell_m; });
+      }
+    }
+    for (const RaySpec& r : rays_only) {
+      std::ostringstream l;
+      l << "rays=" << r.rays;
+      if (r.cell_m > 0.0) l << "+cell=" << r.cell_m;
+      var("rays", l.str(), [&r](Method& m) {
+        m.rays = r.rays;
+        if (r.cell_m > 0.0) m.cell_m = r.cell_m;
+      });
+    }
+    return out;
+  }
   for (const int g : {1, 3, 5})
     var("gauss", "gauss=" + std::to_string(g), [g](Method& m) { m.gauss_points = g; });
   for (const int s : {2, 4, 8})
