@@ -74,6 +74,92 @@ double noise_with_key(double u, double v, std::uint64_t key) {
   return a + sv * (b - a);
 }
 
+// std::floor without the library call the x86-64 baseline makes of it (no SSE4.1 round):
+// truncation, moved down for negative non-integers; exact where |u| < 2^52.
+double floor_of(double u) {
+  if (!(std::abs(u) < 0x1p52)) return std::floor(u);
+  const auto t = static_cast<double>(static_cast<std::int64_t>(u));
+  return t > u ? t - 1.0 : t;
+}
+
+// noise_with_key along a row (v fixed), value for value: the row's lattice hashes are computed
+// once per row and the corners' gradients once per lattice cell entered, not per point (a cell
+// spans base_wavelength / cell nodes on the first octave).
+class RowNoise {
+ public:
+  RowNoise(std::uint64_t key, double v) : key_(key) {
+    const double fv = std::floor(v);
+    tv_ = v - fv;
+    const auto iv = static_cast<std::uint64_t>(static_cast<std::int64_t>(fv));
+    hv0_ = splitmix64(iv);
+    hv1_ = splitmix64(iv + 1);
+    sv_ = fade(tv_);
+  }
+  double operator()(double u) {
+    const GradientTable& g = gradients();
+    const double fu = floor_of(u);
+    const double tu = u - fu;
+    const auto iu = static_cast<std::uint64_t>(static_cast<std::int64_t>(fu));
+    if (!have_ || iu != iu_) {
+      if (have_ && iu == iu_ + 1) {  // the next cell: its left corners are the old right ones
+        i00_ = i10_;
+        i01_ = i11_;
+      } else {
+        i00_ = index(iu, hv0_);
+        i01_ = index(iu, hv1_);
+      }
+      i10_ = index(iu + 1, hv0_);
+      i11_ = index(iu + 1, hv1_);
+      iu_ = iu;
+      have_ = true;
+    }
+    const double n00 = g.gx[i00_] * tu + g.gy[i00_] * tv_;
+    const double n10 = g.gx[i10_] * (tu - 1.0) + g.gy[i10_] * tv_;
+    const double n01 = g.gx[i01_] * tu + g.gy[i01_] * (tv_ - 1.0);
+    const double n11 = g.gx[i11_] * (tu - 1.0) + g.gy[i11_] * (tv_ - 1.0);
+    const double su = fade(tu);
+    const double a = n00 + su * (n10 - n00);
+    const double b = n01 + su * (n11 - n01);
+    return a + sv_ * (b - a);
+  }
+
+ private:
+  std::size_t index(std::uint64_t cu, std::uint64_t hv) const {
+    return static_cast<std::size_t>(splitmix64(key_ ^ splitmix64(cu ^ hv)) >> 58);
+  }
+  std::uint64_t key_, hv0_ = 0, hv1_ = 0, iu_ = 0;
+  double tv_ = 0.0, sv_ = 0.0;
+  std::size_t i00_ = 0, i10_ = 0, i01_ = 0, i11_ = 0;
+  bool have_ = false;
+};
+
+// The octaves of an fbm component: amplitude, frequency, key and lattice offset of each.
+struct FbmOctaves {
+  struct Octave {
+    double amplitude, freq, ou, ov;
+    std::uint64_t key;
+  };
+  std::vector<Octave> octaves;
+  FbmOctaves(const bathy::Fbm& f, std::uint64_t seed) {
+    double sum_sq = 0.0;
+    double a = 1.0;
+    for (int k = 0; k < f.octaves; ++k, a *= f.persistence) sum_sq += a * a;
+    const double scale = f.rms_m / std::sqrt(kGradientNoiseVariance * sum_sq);
+    const std::uint64_t s = seed + f.seed_offset;
+    double amplitude = scale;
+    double freq = 1.0 / f.base_wavelength_m;
+    for (int k = 0; k < f.octaves; ++k) {
+      const std::uint64_t key = octave_key(s, static_cast<std::uint64_t>(k));
+      // Per-octave lattice offset so that the octaves' zeros (lattice points) do not coincide.
+      const double ou = 256.0 * uniform_from_bits(splitmix64(key ^ 1));
+      const double ov = 256.0 * uniform_from_bits(splitmix64(key ^ 2));
+      octaves.push_back({amplitude, freq, ou, ov, key});
+      amplitude *= f.persistence;
+      freq *= 2.0;
+    }
+  }
+};
+
 void require(bool ok, const std::string& what) {
   if (!ok) throw InputError("bathymetry generator: " + what);
 }
@@ -110,25 +196,13 @@ struct RowAdder {
     }
   }
   void operator()(const bathy::Fbm& f) const {
-    double sum_sq = 0.0;
-    double a = 1.0;
-    for (int k = 0; k < f.octaves; ++k, a *= f.persistence) sum_sq += a * a;
-    const double scale = f.rms_m / std::sqrt(kGradientNoiseVariance * sum_sq);
-    const std::uint64_t s = seed + f.seed_offset;
-    double amplitude = scale;
-    double freq = 1.0 / f.base_wavelength_m;
-    for (int k = 0; k < f.octaves; ++k) {
-      const std::uint64_t key = octave_key(s, static_cast<std::uint64_t>(k));
-      // Per-octave lattice offset so that the octaves' zeros (lattice points) do not coincide.
-      const double ou = 256.0 * uniform_from_bits(splitmix64(key ^ 1));
-      const double ov = 256.0 * uniform_from_bits(splitmix64(key ^ 2));
-      const double v = y * freq + ov;
+    const FbmOctaves octaves(f, seed);
+    for (const FbmOctaves::Octave& o : octaves.octaves) {
+      RowNoise row(o.key, y * o.freq + o.ov);
       for (std::size_t c = 0; c < acc.size(); ++c) {
         const double x = x0 + static_cast<double>(c) * dx;
-        acc[c] += amplitude * noise_with_key(x * freq + ou, v, key);
+        acc[c] += o.amplitude * row(x * o.freq + o.ou);
       }
-      amplitude *= f.persistence;
-      freq *= 2.0;
     }
   }
   void operator()(const bathy::Seamount& m) const {
@@ -221,6 +295,14 @@ bathy::Plane bathy::Plane::from_dip(double slope_rad, double downslope_azimuth_r
   const double t = std::tan(slope_rad);
   // Heights decrease along (sin az, cos az).
   return {-t * std::sin(downslope_azimuth_rad), -t * std::cos(downslope_azimuth_rad), ref_x, ref_y};
+}
+
+double bathy::Fbm::height_m(double x_m, double y_m, std::uint64_t seed) const {
+  double z = 0.0;
+  for (const FbmOctaves::Octave& o : FbmOctaves(*this, seed).octaves) {
+    z += o.amplitude * noise_with_key(x_m * o.freq + o.ou, y_m * o.freq + o.ov, o.key);
+  }
+  return z;
 }
 
 double gradient_noise(double u, double v, std::uint64_t seed, std::uint64_t octave) {

@@ -185,6 +185,33 @@ TEST(BathyGen, FbmDeterministicPerSeedAndThreadCount) {
   EXPECT_GT(differing, one.heights().size() * 9 / 10);
 }
 
+TEST(BathyGen, FbmNodesEqualThePointDefinition) {
+  // The row evaluator (lattice hashes per cell, not per node) against Fbm::height_m, which
+  // evaluates gradient_noise point by point: equal to the bit at every node, on a grid finer
+  // than the finest octave's lattice (cells reused) and one coarser (cells skipped), across the
+  // origin (negative lattice indices).
+  const bathy::Fbm f = test_fbm();
+  for (const double cell_m : {0.1, 0.75}) {
+    BathyGenSpec s = base_spec();
+    s.geometry = BathyGenSpec::centred_geometry(0.3, -0.2, 40.0, 30.0, cell_m);
+    s.components.push_back(f);
+    const GridGeometry& g = s.geometry;
+    HeightGrid grid(g, std::vector<float>(g.size(), 0.0f));
+    add_bathymetry_components(s, grid);
+    std::size_t checked = 0;
+    for (std::size_t r = 0; r < g.rows; ++r) {
+      const double y = g.y_of_row(static_cast<double>(r));
+      for (std::size_t c = 0; c < g.cols; ++c) {
+        const double x = g.x0_m + static_cast<double>(c) * g.dx_m;
+        ASSERT_EQ(grid.node(c, r), static_cast<float>(f.height_m(x, y, s.seed)))
+            << "cell " << cell_m << " node " << c << "," << r;
+        ++checked;
+      }
+    }
+    EXPECT_EQ(checked, g.size());
+  }
+}
+
 TEST(BathyGen, ValuesDependOnPositionOnly) {
   // A grid shifted by whole cells shares nodes with the first: same heights there.
   BathyGenSpec a = base_spec(40.0, 30.0, 0.5);

@@ -54,6 +54,11 @@ struct Fbm {
   int octaves = 6;                  ///< number of octaves, [1, 24]
   double persistence = 0.5;         ///< amplitude ratio between octaves, (0, 1]; 2^-H for Hurst H
   std::uint64_t seed_offset = 0;    ///< added to the spec's seed (decorrelates two Fbm layers)
+
+  /// The component's height at local (x_m, y_m), metres, for the spec's `seed`: the sum over
+  /// octaves k of amplitude_k gradient_noise at frequency 2^k / base_wavelength_m (the value
+  /// generate_bathymetry adds at a node, evaluated anywhere).
+  double height_m(double x_m, double y_m, std::uint64_t seed) const;
 };
 
 /// A Gaussian seamount (or pit, with a negative height): z += height_m exp(-r^2 / (2 radius^2)).
