@@ -14,26 +14,27 @@ double from_db(double db) {
 }  // namespace
 
 void Material::validate() const {
-  const std::string where = "material '" + name + "': ";
+  // Built only on failure: render_side validates its materials on every ping.
+  const auto where = [this] { return "material '" + name + "': "; };
   if (name.empty()) throw InputError("material: empty name");
   if (!(lambert_mu > 0.0 && lambert_mu <= 1.0)) {
-    throw InputError(where + "lambert_mu = " + std::to_string(lambert_mu) +
+    throw InputError(where() + "lambert_mu = " + std::to_string(lambert_mu) +
                      ". Violated constraint: 0 < lambert_mu <= 1");
   }
   if (!(paper_reflectivity >= 0.0 && paper_reflectivity <= 1.0)) {
-    throw InputError(where + "reflectivity = " + std::to_string(paper_reflectivity) +
+    throw InputError(where() + "reflectivity = " + std::to_string(paper_reflectivity) +
                      ". Violated constraint: 0 <= reflectivity <= 1");
   }
   if (!(texture_shape_nu >= 0.0) || !std::isfinite(texture_shape_nu)) {
-    throw InputError(where + "texture_shape = " + std::to_string(texture_shape_nu) +
+    throw InputError(where() + "texture_shape = " + std::to_string(texture_shape_nu) +
                      ". Violated constraint: texture_shape >= 0 (0 = none)");
   }
   if (!(roughness_rms_m >= 0.0 && roughness_rms_m <= 10.0)) {
-    throw InputError(where + "roughness_rms_m = " + std::to_string(roughness_rms_m) +
+    throw InputError(where() + "roughness_rms_m = " + std::to_string(roughness_rms_m) +
                      ". Violated constraint: 0 <= roughness_rms_m <= 10 (0 = smooth)");
   }
   if (!(roughness_length_m >= 1e-4 && roughness_length_m <= 1e3)) {
-    throw InputError(where + "roughness_length_m = " + std::to_string(roughness_length_m) +
+    throw InputError(where() + "roughness_length_m = " + std::to_string(roughness_length_m) +
                      ". Violated constraint: 1e-4 <= roughness_length_m <= 1000");
   }
 }
