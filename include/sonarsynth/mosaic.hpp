@@ -148,9 +148,10 @@ class MosaicGrid {
 
   const GridGeometry& geometry() const { return geometry_; }
   MosaicImage finish() const&;
-  /// The same image, the grid's buffers moved into it or released as it is built (the grid is
-  /// left empty): memory peaks at the accumulators (the image is computed in the buffer of the
-  /// sums or values).
+  /// The same image, the tiles released as it is built and the spill file removed (the grid is
+  /// left empty): the tiles in memory are reduced to their image in place first, then the
+  /// image's intensity, count and labels are filled one after the other, so that memory peaks at
+  /// the larger of the accumulators and the image (plus the tiles not yet copied).
   MosaicImage finish() &&;
 
  private:
