@@ -50,6 +50,7 @@ class SurveyProducts::MosaicPart final : public PingSink {
     grid_ =
         std::make_unique<MosaicGrid>(MosaicGrid::geometry_covering(lo, hi, options_.mosaic_pixel_m),
                                      options_.mosaic_options, &scene_->bathymetry);
+    if (options_.mosaic_resident_bytes > 0) grid_->spill_to(dir_, options_.mosaic_resident_bytes);
   }
 
   void begin_line(std::size_t /*line*/) override {

@@ -182,6 +182,8 @@ void WaterfallOptions::validate() const {
        << ". Violated constraint: finite lo_db < hi_db";
   } else if (max_pixels == 0) {
     os << "waterfall: max_pixels = 0. Violated constraint: max_pixels > 0";
+  } else if (range_samples == 0) {
+    os << "waterfall: range_samples = 0. Violated constraint: range_samples > 0";
   } else if (!(linear_full_scale >= 0.0 && std::isfinite(linear_full_scale))) {
     os << "waterfall: linear_full_scale = " << linear_full_scale
        << ". Violated constraint: linear_full_scale >= 0 (0 = dB scaling)";
@@ -262,7 +264,7 @@ void Waterfall::write(const std::string& path) const {
   const bool linear = options_.linear_full_scale > 0.0;
   if (!options_.fixed_db && !linear) {
     // First pass: the subsample robust_db_range would take of the whole image.
-    DbRangeSampler sampler(cols() * image_rows());
+    DbRangeSampler sampler(cols() * image_rows(), options_.range_samples);
     MeanRows reader(*spool_, per_row);
     std::vector<float> row(cols());
     while (reader.next(row)) sampler.add(row);

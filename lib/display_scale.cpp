@@ -54,7 +54,7 @@ DisplayRange robust_db_range(std::span<const float> linear, double lo_percentile
 
 DbRangeSampler::DbRangeSampler(std::size_t count, std::size_t max_samples)
     : stride_(std::max<std::size_t>(1, count / std::max<std::size_t>(1, max_samples))) {
-  db_.reserve(std::min(count, max_samples) + 1);
+  values_.reserve(std::min(count, max_samples) + 1);
 }
 
 void DbRangeSampler::add(std::span<const float> linear) {
@@ -62,19 +62,20 @@ void DbRangeSampler::add(std::span<const float> linear) {
   const std::size_t first = (stride_ - seen_ % stride_) % stride_;
   for (std::size_t i = first; i < linear.size(); i += stride_) {
     const float v = linear[i];
-    if (std::isfinite(v) && v > 0.0f) db_.push_back(10.0 * std::log10(static_cast<double>(v)));
+    if (std::isfinite(v) && v > 0.0f) values_.push_back(v);
   }
   seen_ += linear.size();
 }
 
 DisplayRange DbRangeSampler::range(double lo_percentile, double hi_percentile) {
   check_percentiles(lo_percentile, hi_percentile);
-  if (db_.empty()) return {};
+  if (values_.empty()) return {};
   auto pick = [&](double pct) {
-    const auto k =
-        static_cast<std::size_t>(std::llround(pct / 100.0 * static_cast<double>(db_.size() - 1)));
-    std::nth_element(db_.begin(), db_.begin() + static_cast<std::ptrdiff_t>(k), db_.end());
-    return db_[k];
+    const auto k = static_cast<std::size_t>(
+        std::llround(pct / 100.0 * static_cast<double>(values_.size() - 1)));
+    std::nth_element(values_.begin(), values_.begin() + static_cast<std::ptrdiff_t>(k),
+                     values_.end());
+    return 10.0 * std::log10(static_cast<double>(values_[k]));
   };
   DisplayRange r{pick(lo_percentile), pick(hi_percentile)};
   if (!(r.hi_db > r.lo_db)) r.hi_db = r.lo_db + 1.0;

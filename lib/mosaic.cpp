@@ -2,12 +2,15 @@
 #include "sonarsynth/mosaic.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/spill_file.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -33,6 +36,23 @@ double swath_weight(double ground_m, double swath_m, double taper_fraction) {
 
 }  // namespace
 
+namespace {
+
+/// The buffers of a tile, in their order in a spill slot (7 buffers of 4-byte values).
+template <typename TileT>
+auto tile_buffers(TileT& t) {
+  return std::make_tuple(&t.sum_wi, &t.sum_w, &t.count, &t.best, &t.best_range, &t.labels,
+                         &t.label_range);
+}
+constexpr std::size_t kTileBuffers = 7;
+
+template <typename V>
+void release(V& v) {
+  V().swap(v);
+}
+
+}  // namespace
+
 void MosaicOptions::validate() const {
   if (!(taper_fraction >= 0.0 && taper_fraction <= 0.5)) {
     bad("taper_fraction", taper_fraction, "0 <= taper_fraction <= 0.5");
@@ -50,28 +70,148 @@ void MosaicOptions::validate() const {
 }
 
 MosaicGrid::MosaicGrid(GridGeometry geometry, MosaicOptions options, const HeightGrid* bathymetry)
-    : geometry_(geometry), options_(options), bathymetry_(bathymetry) {
+    : MosaicGrid(geometry, options, bathymetry, kDefaultTilePx) {}
+
+MosaicGrid::MosaicGrid(GridGeometry geometry, MosaicOptions options, const HeightGrid* bathymetry,
+                       std::size_t tile_px)
+    : geometry_(geometry), options_(options), bathymetry_(bathymetry), tile_px_(tile_px) {
   options_.validate();
   geometry_.validate("mosaic");
   if (!(geometry_.dx_m > 0.0) || geometry_.dy_m != -geometry_.dx_m) {
     bad("geometry.dy_m", geometry_.dy_m, "north-up square pixels: dx_m > 0 and dy_m == -dx_m");
   }
+  if (tile_px_ < 1) bad("tile_px", 0.0, "tile_px >= 1");
   if (bathymetry_ && bathymetry_->empty()) bathymetry_ = nullptr;
-  const std::size_t n = geometry_.size();
-  count_.assign(n, 0);
+  tiles_x_ = (geometry_.cols + tile_px_ - 1) / tile_px_;
+  tiles_y_ = (geometry_.rows + tile_px_ - 1) / tile_px_;
+  tiles_.resize(tiles_x_ * tiles_y_);
+  last_use_.assign(tiles_.size(), 0);
+  spilled_.assign(tiles_.size(), 0);
+}
+
+MosaicGrid::~MosaicGrid() = default;
+MosaicGrid::MosaicGrid(MosaicGrid&&) noexcept = default;
+MosaicGrid& MosaicGrid::operator=(MosaicGrid&&) noexcept = default;
+
+MosaicGrid::Tile& MosaicGrid::tile(std::size_t tx, std::size_t ty) {
+  const std::size_t index = ty * tiles_x_ + tx;
+  last_use_[index] = clock_;
+  std::unique_ptr<Tile>& t = tiles_[index];
+  if (t) return *t;
+  if (spilled_[index]) {
+    t = std::make_unique<Tile>(load(index));
+    spilled_[index] = 0;
+    resident_bytes_ += tile_bytes(*t);
+    return *t;
+  }
+  t = std::make_unique<Tile>();
+  const std::size_t n = tile_px_ * tile_px_;
+  t->count.assign(n, 0);
   switch (options_.rule) {
     case MosaicRule::weighted_mean:
-      sum_wi_.assign(n, 0.0f);
-      sum_w_.assign(n, 0.0f);
+      t->sum_wi.assign(n, 0.0f);
+      t->sum_w.assign(n, 0.0f);
       break;
     case MosaicRule::max:
-      best_.assign(n, -std::numeric_limits<float>::infinity());
+      t->best.assign(n, -std::numeric_limits<float>::infinity());
       break;
     case MosaicRule::nearest:
-      best_.assign(n, std::numeric_limits<float>::quiet_NaN());
-      best_range_.assign(n, std::numeric_limits<float>::infinity());
+      t->best.assign(n, std::numeric_limits<float>::quiet_NaN());
+      t->best_range.assign(n, std::numeric_limits<float>::infinity());
       break;
   }
+  resident_bytes_ += tile_bytes(*t);
+  return *t;
+}
+
+std::size_t MosaicGrid::tile_bytes(const Tile& t) {
+  std::size_t bytes = 0;
+  std::apply([&](auto*... v) { ((bytes += v->size() * 4), ...); }, tile_buffers(t));
+  return bytes;
+}
+
+void MosaicGrid::spill_to(const std::filesystem::path& dir, std::size_t resident_bytes) {
+  spill_ = std::make_unique<detail::SpillFile>(dir, "mosaic");
+  resident_budget_ = resident_bytes;
+}
+
+std::filesystem::path MosaicGrid::spill_path() const {
+  return spill_ ? spill_->path() : std::filesystem::path();
+}
+
+void MosaicGrid::store(std::size_t index) {
+  Tile& t = *tiles_[index];
+  const std::size_t slot_bytes = kTileBuffers * 4 * tile_px_ * tile_px_;
+  std::uint8_t mask = 0x80;
+  std::size_t k = 0;
+  std::apply(
+      [&](auto*... v) {
+        (
+            [&] {
+              if (!v->empty()) {
+                spill_->write(index * slot_bytes + k * 4 * tile_px_ * tile_px_, v->data(),
+                              4 * v->size());
+                mask = static_cast<std::uint8_t>(mask | (1u << k));
+              }
+              ++k;
+            }(),
+            ...);
+      },
+      tile_buffers(t));
+  resident_bytes_ -= tile_bytes(t);
+  spilled_[index] = mask;
+  tiles_[index].reset();
+  ++spill_writes_;
+}
+
+MosaicGrid::Tile MosaicGrid::load(std::size_t index) const {
+  Tile t;
+  const std::size_t n = tile_px_ * tile_px_;
+  const std::size_t slot_bytes = kTileBuffers * 4 * n;
+  const std::uint8_t mask = spilled_[index];
+  std::size_t k = 0;
+  std::apply(
+      [&](auto*... v) {
+        (
+            [&] {
+              if (mask & (1u << k)) {
+                v->resize(n);
+                spill_->read(index * slot_bytes + k * 4 * n, v->data(), 4 * n);
+              }
+              ++k;
+            }(),
+            ...);
+      },
+      tile_buffers(t));
+  return t;
+}
+
+void MosaicGrid::enforce_budget() {
+  if (!spill_) return;
+  while (resident_bytes_ > resident_budget_) {
+    // The least recently used tile, never one the current ping used.
+    std::size_t oldest = tiles_.size();
+    for (std::size_t i = 0; i < tiles_.size(); ++i) {
+      if (tiles_[i] && last_use_[i] < clock_ &&
+          (oldest == tiles_.size() || last_use_[i] < last_use_[oldest])) {
+        oldest = i;
+      }
+    }
+    if (oldest == tiles_.size()) return;
+    store(oldest);
+  }
+}
+
+std::size_t MosaicGrid::accumulator_bytes() const {
+  std::size_t bytes = 0;
+  for (const auto& t : tiles_) {
+    if (!t) continue;
+    bytes += sizeof(float) * (t->sum_wi.capacity() + t->sum_w.capacity() + t->best.capacity() +
+                              t->best_range.capacity() + t->label_range.capacity()) +
+             sizeof(std::uint32_t) * t->count.capacity() +
+             sizeof(std::int32_t) * t->labels.capacity();
+  }
+  return bytes;
 }
 
 GridGeometry MosaicGrid::geometry_covering(const Eigen::Vector2d& min_xy_m,
@@ -134,8 +274,10 @@ MosaicAddStats MosaicGrid::add(const MosaicPing& ping) {
                                  : 0.0;
   const Eigen::Vector2d start = ping.sensor_xy_m + along_shift * forward;
   MosaicAddStats stats;
+  ++clock_;
   add_side(ping, 0, ping.port, ping.port_labels, start, -starboard, stats);
   add_side(ping, 1, ping.starboard, ping.starboard_labels, start, starboard, stats);
+  enforce_budget();
   return stats;
 }
 
@@ -352,91 +494,128 @@ void MosaicGrid::splat(const Eigen::Vector2d& p, double ground_m, double swath_m
     return;
   }
   ++stats.samples_placed;
-  const std::size_t idx =
-      static_cast<std::size_t>(r) * geometry_.cols + static_cast<std::size_t>(c);
-  ++count_[idx];
+  const auto col = static_cast<std::size_t>(c);
+  const auto row = static_cast<std::size_t>(r);
+  Tile& t = tile(col / tile_px_, row / tile_px_);
+  const std::size_t idx = (row % tile_px_) * tile_px_ + col % tile_px_;
+  ++t.count[idx];
   const auto range = static_cast<float>(ground_m);
   switch (options_.rule) {
     case MosaicRule::weighted_mean: {
       const double w = swath_weight(ground_m, swath_m, options_.taper_fraction);
-      sum_wi_[idx] += static_cast<float>(w * value);
-      sum_w_[idx] += static_cast<float>(w);
+      t.sum_wi[idx] += static_cast<float>(w * value);
+      t.sum_w[idx] += static_cast<float>(w);
       break;
     }
     case MosaicRule::max:
-      best_[idx] = std::max(best_[idx], value);
+      t.best[idx] = std::max(t.best[idx], value);
       break;
     case MosaicRule::nearest:
-      if (range < best_range_[idx]) {
-        best_range_[idx] = range;
-        best_[idx] = value;
+      if (range < t.best_range[idx]) {
+        t.best_range[idx] = range;
+        t.best[idx] = value;
       }
       break;
   }
   if (label != MosaicImage::kNoLabel) {
-    if (labels_.empty()) {
-      labels_.assign(geometry_.size(), MosaicImage::kNoLabel);
-      label_range_.assign(geometry_.size(), std::numeric_limits<float>::infinity());
+    has_labels_ = true;
+    if (t.labels.empty()) {
+      t.labels.assign(tile_px_ * tile_px_, MosaicImage::kNoLabel);
+      t.label_range.assign(tile_px_ * tile_px_, std::numeric_limits<float>::infinity());
+      resident_bytes_ += 8 * tile_px_ * tile_px_;
     }
-    if (range < label_range_[idx]) {
-      label_range_[idx] = range;
-      labels_[idx] = label;
+    if (range < t.label_range[idx]) {
+      t.label_range[idx] = range;
+      t.labels[idx] = label;
     }
   }
 }
 
-std::vector<float> MosaicGrid::intensity() const {
-  const std::size_t n = geometry_.size();
-  std::vector<float> out(n, std::numeric_limits<float>::quiet_NaN());
-  for (std::size_t i = 0; i < n; ++i) {
-    if (count_[i] == 0) continue;
-    switch (options_.rule) {
-      case MosaicRule::weighted_mean:
-        out[i] = sum_wi_[i] / sum_w_[i];
-        break;
-      case MosaicRule::max:
-      case MosaicRule::nearest:
-        out[i] = best_[i];
-        break;
+void MosaicGrid::finalize_tile(Tile& t) const {
+  std::vector<float>& image = options_.rule == MosaicRule::weighted_mean ? t.sum_wi : t.best;
+  for (std::size_t i = 0; i < t.count.size(); ++i) {
+    if (t.count[i] == 0) {
+      image[i] = std::numeric_limits<float>::quiet_NaN();
+    } else if (options_.rule == MosaicRule::weighted_mean) {
+      image[i] = t.sum_wi[i] / t.sum_w[i];
     }
   }
-  return out;
+  release(t.sum_w);
+  release(t.best_range);
+  release(t.label_range);
+}
+
+template <typename T>
+void MosaicGrid::copy_tile(std::size_t index, const std::vector<T>& from,
+                           std::vector<T>& to) const {
+  if (from.empty()) return;
+  const std::size_t col0 = (index % tiles_x_) * tile_px_;
+  const std::size_t row0 = (index / tiles_x_) * tile_px_;
+  const std::size_t cols = std::min(tile_px_, geometry_.cols - col0);
+  const std::size_t rows = std::min(tile_px_, geometry_.rows - row0);
+  for (std::size_t r = 0; r < rows; ++r) {
+    std::copy_n(from.begin() + static_cast<std::ptrdiff_t>(r * tile_px_), cols,
+                to.begin() + static_cast<std::ptrdiff_t>((row0 + r) * geometry_.cols + col0));
+  }
 }
 
 MosaicImage MosaicGrid::finish() const& {
   MosaicImage out;
   out.geometry = geometry_;
-  out.count = count_;
-  out.labels = labels_;
-  out.intensity = intensity();
+  const std::size_t n = geometry_.size();
+  out.intensity.assign(n, std::numeric_limits<float>::quiet_NaN());
+  out.count.assign(n, 0);
+  if (has_labels_) out.labels.assign(n, MosaicImage::kNoLabel);
+  for (std::size_t i = 0; i < tiles_.size(); ++i) {
+    if (!tiles_[i] && !spilled_[i]) continue;
+    Tile t = tiles_[i] ? *tiles_[i] : load(i);
+    finalize_tile(t);
+    copy_tile(i, options_.rule == MosaicRule::weighted_mean ? t.sum_wi : t.best, out.intensity);
+    copy_tile(i, t.count, out.count);
+    copy_tile(i, t.labels, out.labels);
+  }
   return out;
 }
 
 MosaicImage MosaicGrid::finish() && {
+  // The tiles in memory are finalised in place first (the weights and ranges released), then the
+  // image's buffers are filled one at a time, each tile's part released as it is copied: memory
+  // peaks at the accumulators as they were (or the image and spill budget when spilling).
+  for (auto& t : tiles_) {
+    if (t) finalize_tile(*t);
+  }
   MosaicImage out;
   out.geometry = geometry_;
-  // The intensity is computed in place in the buffer of the sums (weighted mean) or of the
-  // values (max, nearest), the same float operations as intensity(): no further image-sized
-  // buffer while the accumulators are held.
-  std::vector<float>& image = options_.rule == MosaicRule::weighted_mean ? sum_wi_ : best_;
   const std::size_t n = geometry_.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    if (count_[i] == 0) {
-      image[i] = std::numeric_limits<float>::quiet_NaN();
-    } else if (options_.rule == MosaicRule::weighted_mean) {
-      image[i] = sum_wi_[i] / sum_w_[i];
+  const bool mean = options_.rule == MosaicRule::weighted_mean;
+  for (int pass = 0; pass < 3; ++pass) {
+    if (pass == 0) out.intensity.assign(n, std::numeric_limits<float>::quiet_NaN());
+    if (pass == 1) out.count.assign(n, 0);
+    if (pass == 2 && has_labels_) out.labels.assign(n, MosaicImage::kNoLabel);
+    for (std::size_t i = 0; i < tiles_.size(); ++i) {
+      Tile loaded;
+      Tile* t = tiles_[i].get();
+      if (!t) {
+        if (!spilled_[i]) continue;
+        loaded = load(i);
+        finalize_tile(loaded);
+        t = &loaded;
+      }
+      if (pass == 0) {
+        copy_tile(i, mean ? t->sum_wi : t->best, out.intensity);
+        release(mean ? t->sum_wi : t->best);
+      } else if (pass == 1) {
+        copy_tile(i, t->count, out.count);
+        release(t->count);
+      } else {
+        copy_tile(i, t->labels, out.labels);
+        release(t->labels);
+      }
     }
   }
-  out.intensity = std::move(image);
-  std::vector<float>().swap(sum_wi_);
-  std::vector<float>().swap(sum_w_);
-  std::vector<float>().swap(best_);
-  std::vector<float>().swap(best_range_);
-  std::vector<float>().swap(label_range_);
-  out.count = std::move(count_);
-  out.labels = std::move(labels_);
-  count_.clear();
-  labels_.clear();
+  tiles_.clear();
+  spill_.reset();  // the spill file is removed
+  resident_bytes_ = 0;
   return out;
 }
 

@@ -34,7 +34,18 @@ RenderTimings Simulator::run_pings(
     const std::function<void(std::uint64_t, std::uint64_t)>& progress) const {
   const unsigned requested_threads = detail::worker_thread_count(config_.threads);
   const std::uint64_t total = survey.total_pings();
-  const std::uint64_t block = 32ULL * requested_threads;
+  // 32 pings per thread a block, fewer when pings are large (long sides with truth) so that a
+  // block holds at most kBlockBytes: two blocks are in flight. Never fewer than one per thread
+  // (the output does not depend on the block size, see Job).
+  constexpr std::uint64_t kBlockBytes = 8ULL << 20;
+  const std::uint64_t sample_bytes = sizeof(float) * (config_.clean_samples ? 2 : 1) +
+                                     (config_.truth ? sizeof(SampleClass) + sizeof(std::int32_t) +
+                                                          sizeof(float) + 2 * sizeof(double)
+                                                    : 0);
+  const std::uint64_t ping_bytes =
+      std::max<std::uint64_t>(1, 2 * config_.sonar.samples_per_channel * sample_bytes);
+  const std::uint64_t block = std::clamp<std::uint64_t>(kBlockBytes / ping_bytes, requested_threads,
+                                                        32ULL * requested_threads);
   std::vector<WorkspacePtr> workspaces;
   std::vector<RenderTimings> timings(requested_threads);
   for (unsigned t = 0; t < requested_threads; ++t) workspaces.push_back(make_workspace());

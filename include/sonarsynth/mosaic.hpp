@@ -4,13 +4,18 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "sonarsynth/height_grid.hpp"
 
 namespace sonarsynth {
+namespace detail {
+class SpillFile;
+}
 
 /// How overlapping samples are combined in a mosaic pixel. All rules work on linear intensity
 /// (never dB: a dB average of single-look speckle is 2.5 dB low).
@@ -94,13 +99,36 @@ struct MosaicImage {
   static constexpr std::int32_t kNoLabel = std::numeric_limits<std::int32_t>::min();
 };
 
-/// Streaming mosaic accumulator: pings are added one at a time, memory is the grid only.
+/// Streaming mosaic accumulator: pings are added one at a time, memory is the accumulators of
+/// the tiles of the grid that samples have landed in (until finish()).
 class MosaicGrid {
  public:
   /// `geometry` must have dx_m > 0 and dy_m == -dx_m (north-up, square pixels). `bathymetry`
   /// (optional, borrowed, must outlive the grid) switches slant->ground correction from flat
   /// bottom to the seabed profile. Throws InputError for bad options or geometry.
   MosaicGrid(GridGeometry geometry, MosaicOptions options, const HeightGrid* bathymetry = nullptr);
+  /// The same with accumulator tiles of `tile_px` x `tile_px` pixels (>= 1; the output does not
+  /// depend on it).
+  MosaicGrid(GridGeometry geometry, MosaicOptions options, const HeightGrid* bathymetry,
+             std::size_t tile_px);
+  ~MosaicGrid();
+  MosaicGrid(MosaicGrid&&) noexcept;
+  MosaicGrid& operator=(MosaicGrid&&) noexcept;
+
+  /// Pixels a side of the accumulator tiles by default.
+  static constexpr std::size_t kDefaultTilePx = 256;
+  /// Bytes of accumulators held in memory now (tiles touched so far and not spilled).
+  std::size_t accumulator_bytes() const;
+  /// Bounds the accumulators held in memory: after each ping, while they exceed
+  /// `resident_bytes`, the tile used least recently is written to a temporary file created in
+  /// `dir` (and read back when a later ping reaches it, or by finish()). The file is removed when
+  /// the grid is destroyed or finished, whatever happened. Throws FormatError naming the file if
+  /// it cannot be created.
+  void spill_to(const std::filesystem::path& dir, std::size_t resident_bytes);
+  /// The temporary file of spill_to(), empty before.
+  std::filesystem::path spill_path() const;
+  /// Tiles written to the temporary file so far (counting each time).
+  std::size_t spilled_tiles() const { return spill_writes_; }
 
   /// A north-up geometry of square `pixel_m` pixels covering [min, max] (local frame), pixel
   /// edges on multiples of pixel_m. Throws InputError for a non-finite box or > 10^5 pixels a
@@ -120,9 +148,10 @@ class MosaicGrid {
 
   const GridGeometry& geometry() const { return geometry_; }
   MosaicImage finish() const&;
-  /// The same image, the grid's buffers moved into it or released as it is built (the grid is
-  /// left empty): memory peaks at the accumulators (the image is computed in the buffer of the
-  /// sums or values).
+  /// The same image, the tiles released as it is built and the spill file removed (the grid is
+  /// left empty): the tiles in memory are reduced to their image in place first, then the
+  /// image's intensity, count and labels are filled one after the other, so that memory peaks at
+  /// the larger of the accumulators and the image (plus the tiles not yet copied).
   MosaicImage finish() &&;
 
  private:
@@ -137,13 +166,42 @@ class MosaicGrid {
   GridGeometry geometry_;
   MosaicOptions options_;
   const HeightGrid* bathymetry_;
-  std::vector<float> sum_wi_;  ///< float: the image is Float32, and 8 bytes a pixel less
-  std::vector<float> sum_w_;
-  std::vector<std::uint32_t> count_;
-  std::vector<float> best_;        ///< max or nearest value
-  std::vector<float> best_range_;  ///< ground range of the nearest value
-  std::vector<std::int32_t> labels_;
-  std::vector<float> label_range_;  ///< ground range of the label
+  /// The accumulators of one square tile of the grid, allocated when a sample first lands in
+  /// it (a survey leaves much of its bounding box untouched); only the buffers of the rule.
+  struct Tile {
+    std::vector<float> sum_wi;  ///< float: the image is Float32, and 8 bytes a pixel less
+    std::vector<float> sum_w;
+    std::vector<std::uint32_t> count;
+    std::vector<float> best;        ///< max or nearest value
+    std::vector<float> best_range;  ///< ground range of the nearest value
+    std::vector<std::int32_t> labels;
+    std::vector<float> label_range;  ///< ground range of the label
+  };
+  /// Tile (tx, ty) of the grid, allocated (with the accumulators' initial values) if needed.
+  Tile& tile(std::size_t tx, std::size_t ty);
+  /// Copies the pixels of tile `index` inside the grid from a tile buffer to an image buffer
+  /// (nothing if the tile buffer is empty).
+  template <typename T>
+  void copy_tile(std::size_t index, const std::vector<T>& from, std::vector<T>& to) const;
+  void store(std::size_t index);       ///< writes a tile to the spill file and releases it
+  Tile load(std::size_t index) const;  ///< reads a spilled tile back
+  /// Writes the least recently used tiles to the spill file until the rest fit the budget.
+  void enforce_budget();
+  /// Converts a tile to its final form in place (intensity in sum_wi or best, the rest freed).
+  void finalize_tile(Tile& t) const;
+  static std::size_t tile_bytes(const Tile& t);
+  std::unique_ptr<detail::SpillFile> spill_;
+  std::size_t resident_budget_ = 0;
+  std::size_t resident_bytes_ = 0;
+  std::size_t spill_writes_ = 0;
+  std::uint64_t clock_ = 0;              ///< pings added
+  std::vector<std::uint64_t> last_use_;  ///< per tile: clock_ of the last ping that used it
+  std::vector<std::uint8_t> spilled_;    ///< per tile: 1 = in the spill file
+  std::size_t tile_px_;                  ///< pixels a side of a tile
+  std::size_t tiles_x_ = 0;
+  std::size_t tiles_y_ = 0;
+  std::vector<std::unique_ptr<Tile>> tiles_;  ///< row-major, null = never touched
+  bool has_labels_ = false;                   ///< some sample had a label
   /// A side of the last ping resampled at equal ground ranges (j + 0.5) * step (NaN = none).
   struct GroundLine {
     bool valid = false;
@@ -158,7 +216,6 @@ class MosaicGrid {
   void resample_ground_line(std::span<const float> values, std::span<const std::int32_t> labels,
                             GroundLine& line) const;
   void fill_between(const GroundLine& a, const GroundLine& b, MosaicAddStats& stats);
-  std::vector<float> intensity() const;
   GroundLine previous_[2];
   GroundLine current_;
   // Scratch reused between pings.

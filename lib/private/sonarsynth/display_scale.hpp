@@ -32,7 +32,7 @@ DisplayRange robust_db_range(std::span<const float> linear, double lo_percentile
 
 /// robust_db_range of values that arrive in pieces (an image streamed row by row): add() the
 /// `count` values in order, then range() returns exactly what robust_db_range would on all of
-/// them, holding only the subsample (at most 2 x max_samples + 1 values, whatever `count`).
+/// them, holding only the subsample (at most 2 x max_samples + 1 floats, whatever `count`).
 class DbRangeSampler {
  public:
   explicit DbRangeSampler(std::size_t count, std::size_t max_samples = 1'000'000);
@@ -44,7 +44,9 @@ class DbRangeSampler {
  private:
   std::size_t stride_;
   std::size_t seen_ = 0;  ///< values added so far
-  std::vector<double> db_;
+  /// The subsample's finite positive values, linear (log10 is monotonic: the percentiles are
+  /// the same values; only the two picked are converted to dB).
+  std::vector<float> values_;
 };
 
 }  // namespace sonarsynth

@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: MIT
+// The mosaic accumulators in tiles, spilled to a temporary file beyond a memory budget: the
+// image must be the bits of the untiled grid (one tile covering it, never spilled), and the
+// temporary file must be gone after finishing and after a failure.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "mosaic_test_util.hpp"
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/mosaic.hpp"
+
+namespace sonarsynth {
+namespace {
+
+/// Three lines over a 100 m x 80 m box (the second crosses the first and the third re-crosses
+/// ground the first left long before), speckled values and labels.
+template <typename Grid>
+void survey(Grid& grid) {
+  std::mt19937_64 rng(5);
+  std::exponential_distribution<float> speckle(0.01f);
+  std::vector<float> port(400), stbd(400);
+  std::vector<std::int32_t> labels(400);
+  const Eigen::Vector2d starts[3] = {{-40, -30}, {-35, 35}, {30, -35}};
+  const double headings[3] = {1.2, 2.6, -0.6};
+  for (int line = 0; line < 3; ++line) {
+    grid.break_line();
+    for (int i = 0; i < 150; ++i) {
+      for (auto* side : {&port, &stbd}) {
+        for (float& v : *side) v = speckle(rng);
+      }
+      for (std::size_t k = 0; k < labels.size(); ++k) {
+        labels[k] = static_cast<std::int32_t>((k / 40 + static_cast<std::size_t>(line)) % 4);
+      }
+      MosaicPing p;
+      p.heading_grid_rad = headings[line];
+      p.sensor_xy_m =
+          starts[line] +
+          0.5 * i * Eigen::Vector2d(std::sin(p.heading_grid_rad), std::cos(p.heading_grid_rad));
+      p.altitude_m = 3.0;
+      p.slant_range_m = 20.0;
+      p.port = port;
+      p.starboard = stbd;
+      p.port_labels = labels;
+      p.starboard_labels = labels;
+      grid.add(p);
+    }
+  }
+}
+
+void expect_same_bits(const MosaicImage& a, const MosaicImage& b, const std::string& what) {
+  ASSERT_EQ(a.intensity.size(), b.intensity.size()) << what;
+  std::size_t gridded = 0;
+  for (std::size_t i = 0; i < a.intensity.size(); ++i) {
+    std::uint32_t x = 0, y = 0;
+    std::memcpy(&x, &a.intensity[i], sizeof x);
+    std::memcpy(&y, &b.intensity[i], sizeof y);
+    ASSERT_EQ(x, y) << what << ", pixel " << i;
+    if (a.count[i] > 0) ++gridded;
+  }
+  EXPECT_GT(gridded, a.intensity.size() / 4) << what;
+  EXPECT_LT(gridded, a.intensity.size()) << what;
+  EXPECT_EQ(a.count, b.count) << what;
+  EXPECT_EQ(a.labels, b.labels) << what;
+}
+
+TEST(MosaicTiles, SpilledTilesGiveTheUntiledImageBitForBit) {
+  const auto dir = test::mosaic_temp_dir("tiles");
+  const GridGeometry g = MosaicGrid::geometry_covering({-50, -40}, {50, 40}, 0.25);
+  for (MosaicRule rule : {MosaicRule::weighted_mean, MosaicRule::max, MosaicRule::nearest}) {
+    const std::string what = "rule " + std::to_string(static_cast<int>(rule));
+    MosaicOptions o;
+    o.rule = rule;
+    // The untiled layout: one tile covering the grid, never spilled.
+    MosaicGrid whole(g, o, nullptr, std::max(g.cols, g.rows));
+    survey(whole);
+    const MosaicImage reference = std::move(whole).finish();
+
+    // 17-pixel tiles (not dividing the grid: partial tiles at the right and bottom edges) and a
+    // budget of a few tiles: most tiles go to the file and come back when a line recrosses them.
+    MosaicGrid tiled(g, o, nullptr, 17);
+    const std::size_t budget = 4 * 17 * 17 * 20;
+    tiled.spill_to(dir, budget);
+    const std::filesystem::path spill = tiled.spill_path();
+    ASSERT_TRUE(std::filesystem::exists(spill)) << what;
+    EXPECT_EQ(spill.parent_path(), dir);
+    survey(tiled);
+    EXPECT_GT(tiled.spilled_tiles(), 100u) << what;
+    // After a ping, at most the budget plus the tiles of that ping (a swath of 40 m crosses at
+    // most ceil(40 / (17 x 0.25)) + 2 = 12 tiles along each of its two sides and the fill).
+    EXPECT_LE(tiled.accumulator_bytes(), budget + 40 * 17 * 17 * 20) << what;
+    const MosaicImage copied = tiled.finish();  // reads the spilled tiles, keeps the grid
+    expect_same_bits(reference, copied, what + " (copying finish)");
+    const MosaicImage moved = std::move(tiled).finish();
+    expect_same_bits(reference, moved, what + " (moving finish)");
+    EXPECT_FALSE(std::filesystem::exists(spill)) << what << ": spill file left after finish";
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(MosaicTiles, UntouchedTilesTakeNoMemory) {
+  const GridGeometry g = MosaicGrid::geometry_covering({-500, -500}, {500, 500}, 0.5);
+  MosaicGrid grid(g, MosaicOptions{});
+  EXPECT_EQ(grid.accumulator_bytes(), 0u);
+  std::vector<float> v(200, 1.0f);
+  MosaicPing p;
+  p.altitude_m = 2.0;
+  p.slant_range_m = 20.0;
+  p.port = v;
+  p.starboard = v;
+  grid.add(p);
+  // One ping 40 m wide crosses at most 2 x 2 tiles of 128 m: far below the 2000 x 2000 grid.
+  EXPECT_GT(grid.accumulator_bytes(), 0u);
+  EXPECT_LE(grid.accumulator_bytes(), 4u * 256 * 256 * 12);
+}
+
+TEST(MosaicTiles, SpillFileIsRemovedAfterAFailure) {
+  const auto dir = test::mosaic_temp_dir("tiles_fail");
+  const GridGeometry g = MosaicGrid::geometry_covering({-50, -40}, {50, 40}, 0.25);
+  std::filesystem::path spill;
+  try {
+    MosaicGrid grid(g, MosaicOptions{}, nullptr, 17);
+    grid.spill_to(dir, 17 * 17 * 20);
+    spill = grid.spill_path();
+    survey(grid);
+    ASSERT_GT(grid.spilled_tiles(), 0u);
+    ASSERT_TRUE(std::filesystem::exists(spill));
+    MosaicPing bad;  // altitude 0 on a flat bottom: InputError, the grid unwinds
+    bad.slant_range_m = 10.0;
+    grid.add(bad);
+    FAIL() << "the bad ping was accepted";
+  } catch (const InputError&) {
+  }
+  EXPECT_FALSE(spill.empty());
+  EXPECT_FALSE(std::filesystem::exists(spill)) << "spill file left after an exception";
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+  EXPECT_THROW(MosaicGrid(g, MosaicOptions{}).spill_to(dir / "missing", 1), FormatError);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sonarsynth
