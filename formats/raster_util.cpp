@@ -321,10 +321,16 @@ void stream_to_files(std::vector<StreamTarget>& targets, std::size_t cols, std::
   }
   struct Open {
     gdal::DatasetPtr ds;
-    std::size_t flush_every = 1;
-    GSpacing type_bytes = 0;
-    GSpacing band_bytes = 0;
-    std::vector<unsigned char> row;
+    std::size_t block_cols = 1, block_rows = 1;
+    std::size_t type_bytes = 0;
+    std::size_t band_bytes = 0;  ///< of a row
+    /// Whole blocks handed to the driver (WriteBlock), which encodes and writes each at once:
+    /// bands stored apart (one band, or INTERLEAVE=BAND), so a block is one band's. Otherwise
+    /// rows go through RasterIO and the block cache.
+    bool direct = false;
+    std::vector<unsigned char> rows;   ///< direct: a row of blocks; else one row
+    std::vector<unsigned char> block;  ///< direct: one block
+    std::vector<unsigned char> pad;    ///< direct: one block of nodata (0 without)
   };
   std::vector<Open> open(targets.size());
   for (std::size_t i = 0; i < targets.size(); ++i) {
@@ -339,23 +345,72 @@ void stream_to_files(std::vector<StreamTarget>& targets, std::size_t cols, std::
     describe(*o.ds, t.labels, t.bands, true);
     int block_cols = 0, block_rows = 0;
     o.ds->GetRasterBand(1)->GetBlockSize(&block_cols, &block_rows);
-    o.flush_every = static_cast<std::size_t>(std::max(1, block_rows));
-    o.type_bytes = static_cast<GSpacing>(GDALGetDataTypeSizeBytes(t.type));
-    o.band_bytes = o.type_bytes * static_cast<GSpacing>(cols);
-    o.row.resize(static_cast<std::size_t>(o.band_bytes) * static_cast<std::size_t>(t.bands));
+    o.block_cols = static_cast<std::size_t>(std::max(1, block_cols));
+    o.block_rows = static_cast<std::size_t>(std::max(1, block_rows));
+    o.type_bytes = static_cast<std::size_t>(GDALGetDataTypeSizeBytes(t.type));
+    o.band_bytes = o.type_bytes * cols;
+    const char* interleave = o.ds->GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE");
+    o.direct = std::string(driver_name) == "GTiff" &&
+               (t.bands == 1 || (interleave && std::string(interleave) == "BAND"));
+    const auto n_bands = static_cast<std::size_t>(t.bands);
+    o.rows.resize(o.band_bytes * n_bands * (o.direct ? o.block_rows : 1));
+    if (o.direct) {
+      const std::size_t pixels = o.block_cols * o.block_rows;
+      o.block.resize(pixels * o.type_bytes);
+      o.pad.resize(pixels * o.type_bytes);
+      // What GDAL puts in the part of an edge block outside the image: the nodata value.
+      if (t.labels.has_nodata) {
+        GDALCopyWords64(&t.labels.nodata, GDT_Float64, 0, o.pad.data(), t.type,
+                        static_cast<int>(o.type_bytes), static_cast<GPtrDiff_t>(pixels));
+      }
+    }
   }
+  // Blocks of the row of blocks that ends at image row `last` (a partial one at the bottom).
+  auto write_blocks = [&](const StreamTarget& t, Open& o, std::size_t last) {
+    const std::size_t by = last / o.block_rows;
+    const std::size_t r0 = by * o.block_rows;
+    const std::size_t n_rows = last + 1 - r0;
+    const std::size_t n_bands = static_cast<std::size_t>(t.bands);
+    for (int b = 1; b <= t.bands; ++b) {
+      const auto band = static_cast<std::size_t>(b - 1);
+      for (std::size_t bx = 0; bx * o.block_cols < cols; ++bx) {
+        const std::size_t c0 = bx * o.block_cols;
+        const std::size_t n_cols = std::min(o.block_cols, cols - c0);
+        if (n_cols < o.block_cols || n_rows < o.block_rows) o.block = o.pad;
+        for (std::size_t r = 0; r < n_rows; ++r) {
+          const unsigned char* src =
+              o.rows.data() + (r * n_bands + band) * o.band_bytes + c0 * o.type_bytes;
+          std::memcpy(o.block.data() + r * o.block_cols * o.type_bytes, src, n_cols * o.type_bytes);
+        }
+        if (o.ds->GetRasterBand(b)->WriteBlock(static_cast<int>(bx), static_cast<int>(by),
+                                               o.block.data()) != CE_None) {
+          fail(who, t.final_path,
+               "cannot write the blocks of rows " + std::to_string(r0) + " to " +
+                   std::to_string(last));
+        }
+      }
+    }
+  };
   for (std::size_t r = 0; r < rows; ++r) {
     for (std::size_t i = 0; i < targets.size(); ++i) {
       const StreamTarget& t = targets[i];
       Open& o = open[i];
-      t.source->next(o.row.data());
-      if (o.ds->RasterIO(GF_Write, 0, static_cast<int>(r), static_cast<int>(cols), 1, o.row.data(),
-                         static_cast<int>(cols), 1, t.type, t.bands, nullptr, o.type_bytes,
-                         o.band_bytes, o.band_bytes, nullptr) != CE_None) {
+      if (o.direct) {
+        const std::size_t in_block = r % o.block_rows;
+        t.source->next(o.rows.data() + in_block * o.band_bytes * static_cast<std::size_t>(t.bands));
+        if (in_block + 1 == o.block_rows || r + 1 == rows) write_blocks(t, o, r);
+        continue;
+      }
+      t.source->next(o.rows.data());
+      const auto type_bytes = static_cast<GSpacing>(o.type_bytes);
+      const auto band_bytes = static_cast<GSpacing>(o.band_bytes);
+      if (o.ds->RasterIO(GF_Write, 0, static_cast<int>(r), static_cast<int>(cols), 1, o.rows.data(),
+                         static_cast<int>(cols), 1, t.type, t.bands, nullptr, type_bytes,
+                         band_bytes, band_bytes, nullptr) != CE_None) {
         fail(who, t.final_path, "cannot write row " + std::to_string(r));
       }
       // A completed row of blocks goes to the file and leaves the cache.
-      if ((r + 1) % o.flush_every == 0 || r + 1 == rows) o.ds->FlushCache(false);
+      if ((r + 1) % o.block_rows == 0 || r + 1 == rows) o.ds->FlushCache(false);
     }
   }
   for (std::size_t i = 0; i < targets.size(); ++i) {
