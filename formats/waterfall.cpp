@@ -107,41 +107,44 @@ class ColouredRows final : public raster::RowSource {
       : reader_(spool, per_row), range_(range), map_(map), linear_(spool.cols()) {}
   void next(void* out) override {
     if (!reader_.next(linear_)) throw FormatError("waterfall: spool file ended early");
-    const bool grey = map_ == Colormap::grey;
     const std::size_t n = linear_.size();
-    auto* bytes = static_cast<std::uint8_t*>(out);
-    std::fill(bytes, bytes + (grey ? 1 : 3) * n, std::uint8_t{0});
+    auto* red = static_cast<std::uint8_t*>(out);
+    if (map_ == Colormap::grey) {
+      for (std::size_t i = 0; i < n; ++i) red[i] = colour(linear_[i]).r;
+      return;
+    }
+    std::uint8_t* green = red + n;
+    std::uint8_t* blue = green + n;
     for (std::size_t i = 0; i < n; ++i) {
       const Colour& c = colour(linear_[i]);
-      if (!c.valid) continue;  // nodata: black
-      bytes[i] = c.rgb.r;
-      if (!grey) {
-        bytes[n + i] = c.rgb.g;
-        bytes[2 * n + i] = c.rgb.b;
-      }
+      red[i] = c.r;
+      green[i] = c.g;
+      blue[i] = c.b;
     }
   }
   void rewind() override { reader_.rewind(); }
 
  private:
+  /// 8 bytes, so that the cache stays small: the float it is the colour of, and the colour
+  /// (black for nodata: the colour of a pixel without a sample).
   struct Colour {
-    std::uint32_t bits = 0;  ///< the float it is the colour of
+    std::uint32_t bits = 0;
+    std::uint8_t r = 0, g = 0, b = 0;
     bool known = false;
-    bool valid = false;  ///< false: nodata
-    Rgb8 rgb;
   };
   /// The colour of `value`, remembered by its bits: samples repeat (quantised), and the colour
   /// is a function of the value alone, so a remembered one is the one computed afresh.
   const Colour& colour(float value) {
-    std::uint32_t bits = 0;
-    std::memcpy(&bits, &value, sizeof bits);
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(value);
     Colour& c = cache_[(bits ^ (bits >> 16)) & (kCacheSize - 1)];
     if (c.known && c.bits == bits) return c;
     const double v = range_.value(value);
+    const Rgb8 rgb = std::isnan(v) ? Rgb8{} : colormap(map_, v);
     c.bits = bits;
     c.known = true;
-    c.valid = !std::isnan(v);
-    c.rgb = c.valid ? colormap(map_, v) : Rgb8{};
+    c.r = rgb.r;
+    c.g = rgb.g;
+    c.b = rgb.b;
     return c;
   }
   static constexpr std::size_t kCacheSize = std::size_t{1} << 16;
