@@ -246,6 +246,40 @@ void copy_to_file(GDALDataset& src, const char* driver_name, const std::string& 
   std::filesystem::remove(temp_path + ".aux.xml", ec);
 }
 
+namespace {
+
+/// Sets what `labels` says on `ds` (`band_values`: also the colour table, units and nodata,
+/// which a streamed CreateCopy source cannot give).
+void describe(GDALDataset& ds, const RasterLabels& labels, int bands, bool band_values) {
+  for (const auto& [k, v] : labels.metadata) ds.SetMetadataItem(k.c_str(), v.c_str());
+  for (std::size_t b = 0; b < labels.descriptions.size(); ++b) {
+    ds.GetRasterBand(static_cast<int>(b) + 1)->SetDescription(labels.descriptions[b].c_str());
+  }
+  for (std::size_t b = 0; b < labels.band_metadata.size(); ++b) {
+    for (const auto& [k, v] : labels.band_metadata[b]) {
+      ds.GetRasterBand(static_cast<int>(b) + 1)->SetMetadataItem(k.c_str(), v.c_str());
+    }
+  }
+  if (!band_values) return;
+  if (!labels.color_table.empty()) {
+    GDALColorTable table;
+    for (std::size_t i = 0; i < labels.color_table.size(); ++i) {
+      const auto& c = labels.color_table[i];
+      const GDALColorEntry e{c[0], c[1], c[2], c[3]};
+      table.SetColorEntry(static_cast<int>(i), &e);
+    }
+    ds.GetRasterBand(1)->SetColorTable(&table);
+  }
+  for (std::size_t b = 0; b < labels.units.size(); ++b) {
+    ds.GetRasterBand(static_cast<int>(b) + 1)->SetUnitType(labels.units[b].c_str());
+  }
+  if (labels.has_nodata) {
+    for (int b = 1; b <= bands; ++b) ds.GetRasterBand(b)->SetNoDataValue(labels.nodata);
+  }
+}
+
+}  // namespace
+
 void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int bands,
                     GDALDataType type, const char* driver_name, const std::string& temp_path,
                     const std::vector<std::pair<std::string, std::string>>& creation_options,
@@ -256,67 +290,134 @@ void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int b
   if (!driver) fail(who, final_path, std::string("GDAL has no ") + driver_name + " driver");
   // The streamed source of a CreateCopy has no unit or nodata to give (its bands are read-only
   // views of the rows); the drivers written that way (PNG) could not store them anyway.
-  auto describe = [&](GDALDataset& ds, bool band_values) {
-    for (const auto& [k, v] : labels.metadata) ds.SetMetadataItem(k.c_str(), v.c_str());
-    for (std::size_t b = 0; b < labels.descriptions.size(); ++b) {
-      ds.GetRasterBand(static_cast<int>(b) + 1)->SetDescription(labels.descriptions[b].c_str());
-    }
-    for (std::size_t b = 0; b < labels.band_metadata.size(); ++b) {
-      for (const auto& [k, v] : labels.band_metadata[b]) {
-        ds.GetRasterBand(static_cast<int>(b) + 1)->SetMetadataItem(k.c_str(), v.c_str());
-      }
-    }
-    if (!band_values) return;
-    if (!labels.color_table.empty()) {
-      GDALColorTable table;
-      for (std::size_t i = 0; i < labels.color_table.size(); ++i) {
-        const auto& c = labels.color_table[i];
-        const GDALColorEntry e{c[0], c[1], c[2], c[3]};
-        table.SetColorEntry(static_cast<int>(i), &e);
-      }
-      ds.GetRasterBand(1)->SetColorTable(&table);
-    }
-    for (std::size_t b = 0; b < labels.units.size(); ++b) {
-      ds.GetRasterBand(static_cast<int>(b) + 1)->SetUnitType(labels.units[b].c_str());
-    }
-    if (labels.has_nodata) {
-      for (int b = 1; b <= bands; ++b) ds.GetRasterBand(b)->SetNoDataValue(labels.nodata);
-    }
-  };
   if (!CPLFetchBool(driver->GetMetadata(), GDAL_DCAP_CREATE, false)) {
     gdal::DatasetPtr src(
         new StreamingDataset(static_cast<int>(cols), static_cast<int>(rows), bands, type, source));
-    describe(*src, false);
+    describe(*src, labels, bands, false);
     copy_to_file(*src, driver_name, temp_path, creation_options, who, final_path);
     return;
   }
-  CPLStringList co;
-  for (const auto& [k, v] : creation_options) co.SetNameValue(k.c_str(), v.c_str());
-  CPLErrorReset();
-  gdal::DatasetPtr ds(driver->Create(temp_path.c_str(), static_cast<int>(cols),
-                                     static_cast<int>(rows), bands, type, co.List()));
-  if (!ds) fail(who, final_path, std::string("cannot create ") + driver_name);
-  describe(*ds, true);
-  int block_cols = 0, block_rows = 0;
-  ds->GetRasterBand(1)->GetBlockSize(&block_cols, &block_rows);
-  const auto flush_every = static_cast<std::size_t>(std::max(1, block_rows));
-  const auto type_bytes = static_cast<GSpacing>(GDALGetDataTypeSizeBytes(type));
-  const GSpacing band_bytes = type_bytes * static_cast<GSpacing>(cols);
-  std::vector<unsigned char> row(static_cast<std::size_t>(band_bytes) *
-                                 static_cast<std::size_t>(bands));
-  for (std::size_t r = 0; r < rows; ++r) {
-    source.next(row.data());
-    if (ds->RasterIO(GF_Write, 0, static_cast<int>(r), static_cast<int>(cols), 1, row.data(),
-                     static_cast<int>(cols), 1, type, bands, nullptr, type_bytes, band_bytes,
-                     band_bytes, nullptr) != CE_None) {
-      fail(who, final_path, "cannot write row " + std::to_string(r));
-    }
-    // A completed row of blocks goes to the file and leaves the cache.
-    if ((r + 1) % flush_every == 0 || r + 1 == rows) ds->FlushCache(false);
+  std::vector<StreamTarget> targets(1);
+  StreamTarget& t = targets[0];
+  t.source = &source;
+  t.bands = bands;
+  t.type = type;
+  t.temp_path = temp_path;
+  t.creation_options = creation_options;
+  t.labels = labels;
+  t.final_path = final_path;
+  stream_to_files(targets, cols, rows, driver_name, who);
+}
+
+void stream_to_files(std::vector<StreamTarget>& targets, std::size_t cols, std::size_t rows,
+                     const char* driver_name, const char* who) {
+  gdal::ensure_registered();
+  for (const StreamTarget& t : targets) check_size(cols, rows, who, t.final_path);
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name);
+  const std::string& first = targets.empty() ? std::string() : targets[0].final_path;
+  if (!driver) fail(who, first, std::string("GDAL has no ") + driver_name + " driver");
+  if (!CPLFetchBool(driver->GetMetadata(), GDAL_DCAP_CREATE, false)) {
+    fail(who, first, std::string("the ") + driver_name + " driver cannot create files");
   }
-  gdal::close_checked(std::move(ds), final_path, who);
-  std::error_code ec;  // as in copy_to_file()
-  std::filesystem::remove(temp_path + ".aux.xml", ec);
+  struct Open {
+    gdal::DatasetPtr ds;
+    std::size_t block_cols = 1, block_rows = 1;
+    std::size_t type_bytes = 0;
+    std::size_t band_bytes = 0;  ///< of a row
+    /// Whole blocks handed to the driver (WriteBlock), which encodes and writes each at once:
+    /// bands stored apart (one band, or INTERLEAVE=BAND), so a block is one band's. Otherwise
+    /// rows go through RasterIO and the block cache.
+    bool direct = false;
+    std::vector<unsigned char> rows;   ///< direct: a row of blocks; else one row
+    std::vector<unsigned char> block;  ///< direct: one block
+    std::vector<unsigned char> pad;    ///< direct: one block of nodata (0 without)
+  };
+  std::vector<Open> open(targets.size());
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const StreamTarget& t = targets[i];
+    Open& o = open[i];
+    CPLStringList co;
+    for (const auto& [k, v] : t.creation_options) co.SetNameValue(k.c_str(), v.c_str());
+    CPLErrorReset();
+    o.ds.reset(driver->Create(t.temp_path.c_str(), static_cast<int>(cols), static_cast<int>(rows),
+                              t.bands, t.type, co.List()));
+    if (!o.ds) fail(who, t.final_path, std::string("cannot create ") + driver_name);
+    describe(*o.ds, t.labels, t.bands, true);
+    int block_cols = 0, block_rows = 0;
+    o.ds->GetRasterBand(1)->GetBlockSize(&block_cols, &block_rows);
+    o.block_cols = static_cast<std::size_t>(std::max(1, block_cols));
+    o.block_rows = static_cast<std::size_t>(std::max(1, block_rows));
+    o.type_bytes = static_cast<std::size_t>(GDALGetDataTypeSizeBytes(t.type));
+    o.band_bytes = o.type_bytes * cols;
+    const char* interleave = o.ds->GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE");
+    o.direct = std::string(driver_name) == "GTiff" &&
+               (t.bands == 1 || (interleave && std::string(interleave) == "BAND"));
+    const auto n_bands = static_cast<std::size_t>(t.bands);
+    o.rows.resize(o.band_bytes * n_bands * (o.direct ? o.block_rows : 1));
+    if (o.direct) {
+      const std::size_t pixels = o.block_cols * o.block_rows;
+      o.block.resize(pixels * o.type_bytes);
+      o.pad.resize(pixels * o.type_bytes);
+      // What GDAL puts in the part of an edge block outside the image: the nodata value.
+      if (t.labels.has_nodata) {
+        GDALCopyWords64(&t.labels.nodata, GDT_Float64, 0, o.pad.data(), t.type,
+                        static_cast<int>(o.type_bytes), static_cast<GPtrDiff_t>(pixels));
+      }
+    }
+  }
+  // Blocks of the row of blocks that ends at image row `last` (a partial one at the bottom).
+  auto write_blocks = [&](const StreamTarget& t, Open& o, std::size_t last) {
+    const std::size_t by = last / o.block_rows;
+    const std::size_t r0 = by * o.block_rows;
+    const std::size_t n_rows = last + 1 - r0;
+    const std::size_t n_bands = static_cast<std::size_t>(t.bands);
+    for (int b = 1; b <= t.bands; ++b) {
+      const auto band = static_cast<std::size_t>(b - 1);
+      for (std::size_t bx = 0; bx * o.block_cols < cols; ++bx) {
+        const std::size_t c0 = bx * o.block_cols;
+        const std::size_t n_cols = std::min(o.block_cols, cols - c0);
+        if (n_cols < o.block_cols || n_rows < o.block_rows) o.block = o.pad;
+        for (std::size_t r = 0; r < n_rows; ++r) {
+          const unsigned char* src =
+              o.rows.data() + (r * n_bands + band) * o.band_bytes + c0 * o.type_bytes;
+          std::memcpy(o.block.data() + r * o.block_cols * o.type_bytes, src, n_cols * o.type_bytes);
+        }
+        if (o.ds->GetRasterBand(b)->WriteBlock(static_cast<int>(bx), static_cast<int>(by),
+                                               o.block.data()) != CE_None) {
+          fail(who, t.final_path,
+               "cannot write the blocks of rows " + std::to_string(r0) + " to " +
+                   std::to_string(last));
+        }
+      }
+    }
+  };
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t i = 0; i < targets.size(); ++i) {
+      const StreamTarget& t = targets[i];
+      Open& o = open[i];
+      if (o.direct) {
+        const std::size_t in_block = r % o.block_rows;
+        t.source->next(o.rows.data() + in_block * o.band_bytes * static_cast<std::size_t>(t.bands));
+        if (in_block + 1 == o.block_rows || r + 1 == rows) write_blocks(t, o, r);
+        continue;
+      }
+      t.source->next(o.rows.data());
+      const auto type_bytes = static_cast<GSpacing>(o.type_bytes);
+      const auto band_bytes = static_cast<GSpacing>(o.band_bytes);
+      if (o.ds->RasterIO(GF_Write, 0, static_cast<int>(r), static_cast<int>(cols), 1, o.rows.data(),
+                         static_cast<int>(cols), 1, t.type, t.bands, nullptr, type_bytes,
+                         band_bytes, band_bytes, nullptr) != CE_None) {
+        fail(who, t.final_path, "cannot write row " + std::to_string(r));
+      }
+      // A completed row of blocks goes to the file and leaves the cache.
+      if ((r + 1) % o.block_rows == 0 || r + 1 == rows) o.ds->FlushCache(false);
+    }
+  }
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    gdal::close_checked(std::move(open[i].ds), targets[i].final_path, who);
+    std::error_code ec;  // as in copy_to_file()
+    std::filesystem::remove(targets[i].temp_path + ".aux.xml", ec);
+  }
 }
 
 std::string lower_extension(const std::string& path) {

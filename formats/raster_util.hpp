@@ -65,6 +65,24 @@ void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int b
                     const std::vector<std::pair<std::string, std::string>>& creation_options,
                     const RasterLabels& labels, const char* who, const std::string& final_path);
 
+/// One file of stream_to_files(): as the arguments of stream_to_file() (the driver must be able
+/// to create files: GTiff).
+struct StreamTarget {
+  RowSource* source = nullptr;
+  int bands = 1;
+  GDALDataType type = GDT_Byte;
+  std::string temp_path;
+  std::vector<std::pair<std::string, std::string>> creation_options;
+  RasterLabels labels;
+  std::string final_path;
+};
+
+/// Writes several files of the same size at once, row r of every file before row r + 1 of any:
+/// sources that share one reader (e.g. bands of one spool row) then read their rows once. Each
+/// file is what stream_to_file() writes from the same source and arguments.
+void stream_to_files(std::vector<StreamTarget>& targets, std::size_t cols, std::size_t rows,
+                     const char* driver, const char* who);
+
 /// Writes the `rows` rows of `source` (1 band: grey, or 3: red, green, blue; 8 bits) to
 /// `temp_path` as a PNG through libpng, row by row, with `metadata` in tEXt chunks as GDAL's PNG
 /// driver writes them (WRITE_METADATA_AS_TEXT), no row filter and zlib level 1 (GDAL's driver

@@ -241,15 +241,12 @@ class SurveyProducts::TruthPart final : public LinePart {
       : LinePart(std::move(dir), std::move(names), options.background_images), options_(options) {}
   void begin_line(std::size_t /*line*/) override {
     truth_ = std::make_shared<TruthWaterfall>(dir());
-    labels_ = std::make_shared<labels::LabelWaterfall>(dir());
   }
   void ping(const RenderedPing& p) override {
     if (truth_ && !p.port.truth_class.empty()) {
       truth_->add_ping(p.port.truth_class, p.starboard.truth_class, p.port.truth_label,
                        p.starboard.truth_label, p.port.truth_grazing_rad,
                        p.starboard.truth_grazing_rad);
-      labels_->add_ping(p.port.truth_class, p.starboard.truth_class, p.port.truth_label,
-                        p.starboard.truth_label);
     }
   }
 
@@ -258,25 +255,20 @@ class SurveyProducts::TruthPart final : public LinePart {
                                   std::vector<std::filesystem::path>& files,
                                   std::string& /*note*/) override {
     std::shared_ptr<TruthWaterfall> t = std::move(truth_);
-    std::shared_ptr<labels::LabelWaterfall> l = std::move(labels_);
     if (!t || t->rows() == 0) return {};
-    // The label rasters (docs/labels.md) next to the truth of the line.
-    return [t, l, path = dir() / (name + "_truth.tif"),
-            class_path = dir() / (name + "_truth_class.tif"),
-            instance_path = dir() / (name + "_truth_instance.tif"), this, &files] {
-      t->write(path.string(), false, options_.write_options.metadata);
-      l->write(class_path.string(), instance_path.string(), false, options_.write_options.metadata);
-      files = {path, class_path, instance_path};
-    };
+    // The label rasters (docs/labels.md) next to the truth of the line, from the same spool rows.
+    return
+        [t, path = dir() / (name + "_truth.tif"), class_path = dir() / (name + "_truth_class.tif"),
+         instance_path = dir() / (name + "_truth_instance.tif"), this, &files] {
+          t->write_with_labels(path.string(), class_path.string(), instance_path.string(), false,
+                               options_.write_options.metadata);
+          files = {path, class_path, instance_path};
+        };
   }
-  void drop() noexcept override {
-    truth_.reset();
-    labels_.reset();
-  }
+  void drop() noexcept override { truth_.reset(); }
 
   const SurveyProductOptions& options_;
   std::shared_ptr<TruthWaterfall> truth_;
-  std::shared_ptr<labels::LabelWaterfall> labels_;
 };
 
 SurveyProducts::SurveyProducts(std::filesystem::path dir, std::shared_ptr<const Scene> shared_scene,

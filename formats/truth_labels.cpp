@@ -145,6 +145,67 @@ void side_instances(std::span<const SampleClass> cls, std::span<const std::int32
   }
 }
 
+namespace {
+constexpr const char* kWaterfallLayout =
+    "row = ping, columns = port far -> near | starboard near -> far, slant range (as the "
+    "line's waterfall)";
+}  // namespace
+
+raster::RasterLabels waterfall_class_labels(const MetadataItems& metadata) {
+  raster::RasterLabels l;
+  l.metadata = class_items(metadata, "truth class of each sample (machine-learning label)",
+                           "255: no sample (a shorter side's padding)");
+  l.metadata.emplace_back("SONARSYNTH_WATERFALL_LAYOUT", kWaterfallLayout);
+  l.descriptions = {"class"};
+  l.has_nodata = true;
+  l.nodata = kClassNodata;
+  l.band_metadata = {class_band_items()};
+  l.color_table = class_colour_table();
+  return l;
+}
+
+raster::RasterLabels waterfall_instance_labels(const MetadataItems& metadata) {
+  raster::RasterLabels l;
+  l.metadata =
+      instance_items(metadata, "truth instance (object id) of each sample (machine-learning label)",
+                     "4294967295: no sample (a shorter side's padding)");
+  l.metadata.emplace_back("SONARSYNTH_WATERFALL_LAYOUT", kWaterfallLayout);
+  l.descriptions = {"instance"};
+  l.has_nodata = true;
+  l.nodata = kInstanceNodata;
+  return l;
+}
+
+const std::vector<std::pair<std::string, std::string>>& label_tiff_options() {
+  return kTiffOptions;
+}
+
+void waterfall_label_row(std::span<const float> cls, std::span<const std::int32_t> id,
+                         std::uint8_t* class_out, std::uint32_t* instance_out,
+                         LabelRowScratch& scratch) {
+  const std::size_t cols = cls.size();
+  const std::size_t side = cols / 2;
+  for (std::size_t i = 0; i < cols; ++i) {
+    class_out[i] = static_cast<std::uint8_t>(cls[i]);
+    instance_out[i] = kInstanceNodata;
+  }
+  // Each side NEAR -> FAR up to its padding: port from the middle leftwards, starboard rightwards.
+  for (const bool port : {true, false}) {
+    scratch.cls.clear();
+    scratch.id.clear();
+    for (std::size_t k = 0; k < side; ++k) {
+      const std::size_t c = port ? side - 1 - k : side + k;
+      if (class_out[c] == kClassNodata) break;
+      scratch.cls.push_back(static_cast<SampleClass>(class_out[c]));
+      scratch.id.push_back(id[c]);
+    }
+    side_instances(scratch.cls, scratch.id, scratch.instance);
+    for (std::size_t k = 0; k < scratch.instance.size(); ++k) {
+      instance_out[port ? side - 1 - k : side + k] = scratch.instance[k];
+    }
+  }
+}
+
 LabelWaterfall::LabelWaterfall(const std::filesystem::path& spool_dir)
     : spool_(std::make_unique<detail::SideSpool>(spool_dir, 3, "label waterfall")) {}
 LabelWaterfall::~LabelWaterfall() = default;
@@ -194,37 +255,17 @@ void LabelWaterfall::write(const std::string& class_path, const std::string& ins
   gdal::ensure_registered();
   AtomicOutput class_out(class_path, overwrite);
   AtomicOutput instance_out(instance_path, overwrite);
-  const std::string layout =
-      "row = ping, columns = port far -> near | starboard near -> far, slant range (as the "
-      "line's waterfall)";
-  const std::string nodata_class = "255: no sample (a shorter side's padding)";
-  const std::string nodata_instance = "4294967295: no sample (a shorter side's padding)";
   {
     LabelRows source(*spool_, false);
-    raster::RasterLabels l;
-    l.metadata =
-        class_items(metadata, "truth class of each sample (machine-learning label)", nodata_class);
-    l.metadata.emplace_back("SONARSYNTH_WATERFALL_LAYOUT", layout);
-    l.descriptions = {"class"};
-    l.has_nodata = true;
-    l.nodata = kClassNodata;
-    l.band_metadata = {class_band_items()};
-    l.color_table = class_colour_table();
     raster::stream_to_file(source, cols(), rows(), 1, GDT_Byte, "GTiff",
-                           class_out.temp_path().string(), kTiffOptions, l, kWho, class_path);
+                           class_out.temp_path().string(), kTiffOptions,
+                           waterfall_class_labels(metadata), kWho, class_path);
   }
   {
     LabelRows source(*spool_, true);
-    raster::RasterLabels l;
-    l.metadata = instance_items(
-        metadata, "truth instance (object id) of each sample (machine-learning label)",
-        nodata_instance);
-    l.metadata.emplace_back("SONARSYNTH_WATERFALL_LAYOUT", layout);
-    l.descriptions = {"instance"};
-    l.has_nodata = true;
-    l.nodata = kInstanceNodata;
     raster::stream_to_file(source, cols(), rows(), 1, GDT_UInt32, "GTiff",
-                           instance_out.temp_path().string(), kTiffOptions, l, kWho, instance_path);
+                           instance_out.temp_path().string(), kTiffOptions,
+                           waterfall_instance_labels(metadata), kWho, instance_path);
   }
   class_out.commit();
   instance_out.commit();

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "raster_util.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/height_grid.hpp"
 #include "sonarsynth/rendered_ping.hpp"
@@ -47,6 +48,25 @@ std::string class_codes_text();
 /// relief, water column); every other sample 0. Negative ids are taken as 0.
 void side_instances(std::span<const SampleClass> cls, std::span<const std::int32_t> id,
                     std::vector<std::uint32_t>& out);
+
+/// The class (Byte) and instance (UInt32) label rows of one waterfall row (port FAR -> NEAR |
+/// starboard NEAR -> FAR, `cls.size()` = `id.size()` = 2 x side) from its class codes (255 =
+/// padding, which is only ever beyond a side's last sample) and object ids: the pixels
+/// LabelWaterfall writes for the same pings. `scratch` is reused between calls.
+struct LabelRowScratch {
+  std::vector<SampleClass> cls;
+  std::vector<std::int32_t> id;
+  std::vector<std::uint32_t> instance;
+};
+void waterfall_label_row(std::span<const float> cls, std::span<const std::int32_t> id,
+                         std::uint8_t* class_out, std::uint32_t* instance_out,
+                         LabelRowScratch& scratch);
+
+/// What the line class and instance rasters say they hold (metadata, descriptions, nodata,
+/// colour table), `metadata` first; and their creation options.
+raster::RasterLabels waterfall_class_labels(const MetadataItems& metadata);
+raster::RasterLabels waterfall_instance_labels(const MetadataItems& metadata);
+const std::vector<std::pair<std::string, std::string>>& label_tiff_options();
 
 /// Class and instance rasters of one line, rows = pings, columns as the waterfall's (port
 /// FAR -> NEAR | starboard NEAR -> FAR, slant range), padding nodata. Rows are spooled to an

@@ -2,12 +2,14 @@
 #include "sonarsynth/formats/waterfall.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -22,6 +24,7 @@
 #include "sonarsynth/formats/xtf_mosaic.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/version.hpp"
+#include "truth_labels.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -104,41 +107,44 @@ class ColouredRows final : public raster::RowSource {
       : reader_(spool, per_row), range_(range), map_(map), linear_(spool.cols()) {}
   void next(void* out) override {
     if (!reader_.next(linear_)) throw FormatError("waterfall: spool file ended early");
-    const bool grey = map_ == Colormap::grey;
     const std::size_t n = linear_.size();
-    auto* bytes = static_cast<std::uint8_t*>(out);
-    std::fill(bytes, bytes + (grey ? 1 : 3) * n, std::uint8_t{0});
+    auto* red = static_cast<std::uint8_t*>(out);
+    if (map_ == Colormap::grey) {
+      for (std::size_t i = 0; i < n; ++i) red[i] = colour(linear_[i]).r;
+      return;
+    }
+    std::uint8_t* green = red + n;
+    std::uint8_t* blue = green + n;
     for (std::size_t i = 0; i < n; ++i) {
       const Colour& c = colour(linear_[i]);
-      if (!c.valid) continue;  // nodata: black
-      bytes[i] = c.rgb.r;
-      if (!grey) {
-        bytes[n + i] = c.rgb.g;
-        bytes[2 * n + i] = c.rgb.b;
-      }
+      red[i] = c.r;
+      green[i] = c.g;
+      blue[i] = c.b;
     }
   }
   void rewind() override { reader_.rewind(); }
 
  private:
+  /// 8 bytes, so that the cache stays small: the float it is the colour of, and the colour
+  /// (black for nodata: the colour of a pixel without a sample).
   struct Colour {
-    std::uint32_t bits = 0;  ///< the float it is the colour of
+    std::uint32_t bits = 0;
+    std::uint8_t r = 0, g = 0, b = 0;
     bool known = false;
-    bool valid = false;  ///< false: nodata
-    Rgb8 rgb;
   };
   /// The colour of `value`, remembered by its bits: samples repeat (quantised), and the colour
   /// is a function of the value alone, so a remembered one is the one computed afresh.
   const Colour& colour(float value) {
-    std::uint32_t bits = 0;
-    std::memcpy(&bits, &value, sizeof bits);
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(value);
     Colour& c = cache_[(bits ^ (bits >> 16)) & (kCacheSize - 1)];
     if (c.known && c.bits == bits) return c;
     const double v = range_.value(value);
+    const Rgb8 rgb = std::isnan(v) ? Rgb8{} : colormap(map_, v);
     c.bits = bits;
     c.known = true;
-    c.valid = !std::isnan(v);
-    c.rgb = c.valid ? colormap(map_, v) : Rgb8{};
+    c.r = rgb.r;
+    c.g = rgb.g;
+    c.b = rgb.b;
     return c;
   }
   static constexpr std::size_t kCacheSize = std::size_t{1} << 16;
@@ -150,23 +156,98 @@ class ColouredRows final : public raster::RowSource {
   std::vector<Colour> cache_ = std::vector<Colour>(kCacheSize);
 };
 
-constexpr float kTruthPads[3] = {255.0f, -1.0f, kNaNf};
+/// The object id band of a truth spool holds the int32's bits: float copies move bits
+/// unchanged, and no arithmetic touches the band before it is read back.
+float id_bits(std::int32_t id) {
+  return std::bit_cast<float>(id);
+}
 
-/// The rows of a truth waterfall (float32, 3 bands) from its spool.
-class TruthRows final : public raster::RowSource {
+const float kTruthPads[3] = {255.0f, id_bits(-1), kNaNf};
+
+/// The rows of a truth spool: the truth waterfall's (float32, 3 bands: class, id as a float,
+/// grazing), and on request the class and instance label rows of the same row.
+class TruthSpoolRows {
  public:
-  explicit TruthRows(const detail::SideSpool& spool)
-      : reader_(spool, kTruthPads), cols_(spool.cols()) {}
-  void next(void* out) override {
-    if (!reader_.next(std::span<float>(static_cast<float*>(out), 3 * cols_))) {
-      throw FormatError("truth waterfall: spool file ended early");
-    }
+  explicit TruthSpoolRows(const detail::SideSpool& spool)
+      : reader_(spool, kTruthPads), cols_(spool.cols()), row_(3 * cols_), ids_(cols_) {}
+  std::size_t cols() const { return cols_; }
+  /// Reads row `index` (the next one, or the current one again).
+  void at(std::size_t index) {
+    if (index + 1 == read_) return;
+    if (index != read_) throw std::logic_error("truth waterfall: rows requested out of order");
+    if (!reader_.next(row_)) throw FormatError("truth waterfall: spool file ended early");
+    ++read_;
+    float* id = row_.data() + cols_;
+    for (std::size_t i = 0; i < cols_; ++i) ids_[i] = std::bit_cast<std::int32_t>(id[i]);
   }
-  void rewind() override { reader_.rewind(); }
+  void truth(float* out) const {
+    std::copy(row_.begin(), row_.begin() + static_cast<std::ptrdiff_t>(cols_), out);
+    for (std::size_t i = 0; i < cols_; ++i) out[cols_ + i] = static_cast<float>(ids_[i]);
+    std::copy(row_.begin() + static_cast<std::ptrdiff_t>(2 * cols_), row_.end(), out + 2 * cols_);
+  }
+  /// The class and instance label rows of the current row (computed once per row).
+  const std::uint8_t* classes() {
+    label_row();
+    return classes_.data();
+  }
+  const std::uint32_t* instances() {
+    label_row();
+    return instances_.data();
+  }
+  void rewind() {
+    reader_.rewind();
+    read_ = 0;
+    labels_of_ = 0;
+  }
 
  private:
+  void label_row() {
+    if (labels_of_ == read_) return;
+    classes_.resize(cols_);
+    instances_.resize(cols_);
+    labels::waterfall_label_row(std::span(row_).first(cols_), ids_, classes_.data(),
+                                instances_.data(), scratch_);
+    labels_of_ = read_;
+  }
+
   detail::SideSpool::Reader reader_;
   std::size_t cols_;
+  std::vector<float> row_;
+  std::vector<std::int32_t> ids_;
+  std::vector<std::uint8_t> classes_;
+  std::vector<std::uint32_t> instances_;
+  labels::LabelRowScratch scratch_;
+  std::size_t read_ = 0;       ///< rows read
+  std::size_t labels_of_ = 0;  ///< label rows computed for rows [0, labels_of_)
+};
+
+/// One raster of the rows of a TruthSpoolRows, which several such views may share (each asks
+/// for its rows in order; the spool row is read once for all of them).
+class TruthView final : public raster::RowSource {
+ public:
+  enum class Kind { truth, class_code, instance };
+  TruthView(TruthSpoolRows& rows, Kind kind) : rows_(rows), kind_(kind) {}
+  void next(void* out) override {
+    rows_.at(row_++);
+    if (kind_ == Kind::truth) {
+      rows_.truth(static_cast<float*>(out));
+      return;
+    }
+    if (kind_ == Kind::class_code) {
+      std::copy_n(rows_.classes(), rows_.cols(), static_cast<std::uint8_t*>(out));
+    } else {
+      std::copy_n(rows_.instances(), rows_.cols(), static_cast<std::uint32_t*>(out));
+    }
+  }
+  void rewind() override {
+    rows_.rewind();
+    row_ = 0;
+  }
+
+ private:
+  TruthSpoolRows& rows_;
+  Kind kind_;
+  std::size_t row_ = 0;
 };
 
 }  // namespace
@@ -412,13 +493,15 @@ void TruthWaterfall::add_ping(std::span<const SampleClass> port_class,
     throw InputError("truth waterfall: ping " + std::to_string(rows()) +
                      ": class, id and grazing spans of a side differ in size");
   }
-  std::vector<float> values[2][3];  // side, band: class, id, grazing (deg)
+  std::vector<float> values[2][3];  // side, band: class, id (its bits), grazing (deg)
   auto fill = [](std::vector<float>(&dst)[3], std::span<const SampleClass> c,
                  std::span<const std::int32_t> id, std::span<const float> g) {
-    for (std::size_t i = 0; i < c.size(); ++i) {
-      dst[0].push_back(static_cast<float>(static_cast<std::uint8_t>(c[i])));
-      dst[1].push_back(static_cast<float>(id[i]));
-      dst[2].push_back(static_cast<float>(deg_from_rad(static_cast<double>(g[i]))));
+    const std::size_t n = c.size();
+    for (auto& band : dst) band.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      dst[0][i] = static_cast<float>(static_cast<std::uint8_t>(c[i]));
+      dst[1][i] = id_bits(id[i]);
+      dst[2][i] = static_cast<float>(deg_from_rad(static_cast<double>(g[i])));
     }
   };
   fill(values[0], port_class, port_id, port_grazing_rad);
@@ -428,15 +511,10 @@ void TruthWaterfall::add_ping(std::span<const SampleClass> port_class,
   spool_->append(port, stbd);
 }
 
-void TruthWaterfall::write(const std::string& path, bool overwrite,
-                           const std::vector<std::pair<std::string, std::string>>& metadata) const {
-  constexpr const char* kWho = "truth waterfall";
-  if (rows() == 0 || cols() == 0) {
-    throw FormatError(std::string(kWho) + ": " + path + ": no ping to write");
-  }
-  gdal::ensure_registered();
-  AtomicOutput out(path, overwrite);
-  TruthRows source(*spool_);
+namespace {
+
+raster::RasterLabels truth_labels(
+    const std::vector<std::pair<std::string, std::string>>& metadata) {
   raster::RasterLabels labels;
   labels.metadata = metadata;
   labels.metadata.insert(
@@ -458,19 +536,72 @@ void TruthWaterfall::write(const std::string& path, bool overwrite,
   labels.units = {"", "", "deg"};
   labels.has_nodata = true;
   labels.nodata = std::numeric_limits<double>::quiet_NaN();
-  // Band-interleaved tiles with horizontal differencing (lossless: on the 32-bit words): the
-  // class and id bands are long runs of equal values, the grazing angle varies smoothly along a
-  // row. Against pixel-interleaved tiles without a predictor this is 0.58x the size and ~0.7x
-  // the CPU (docs/benchmarks.md, "End to end with every product").
-  raster::stream_to_file(source, cols(), rows(), 3, GDT_Float32, "GTiff", out.temp_path().string(),
-                         {{"COMPRESS", "ZSTD"},
-                          {"ZSTD_LEVEL", "1"},
-                          {"PREDICTOR", "2"},
-                          {"INTERLEAVE", "BAND"},
-                          {"TILED", "YES"},
-                          {"BIGTIFF", "IF_SAFER"}},
-                         labels, kWho, path);
+  return labels;
+}
+
+// Band-interleaved tiles with horizontal differencing (lossless: on the 32-bit words): the
+// class and id bands are long runs of equal values, the grazing angle varies smoothly along a
+// row. Against pixel-interleaved tiles without a predictor this is 0.58x the size and ~0.7x
+// the CPU (docs/benchmarks.md, "End to end with every product").
+const std::vector<std::pair<std::string, std::string>> kTruthTiffOptions = {
+    {"COMPRESS", "ZSTD"},   {"ZSTD_LEVEL", "1"}, {"PREDICTOR", "2"},
+    {"INTERLEAVE", "BAND"}, {"TILED", "YES"},    {"BIGTIFF", "IF_SAFER"}};
+
+}  // namespace
+
+void TruthWaterfall::write(const std::string& path, bool overwrite,
+                           const std::vector<std::pair<std::string, std::string>>& metadata) const {
+  constexpr const char* kWho = "truth waterfall";
+  if (rows() == 0 || cols() == 0) {
+    throw FormatError(std::string(kWho) + ": " + path + ": no ping to write");
+  }
+  gdal::ensure_registered();
+  AtomicOutput out(path, overwrite);
+  TruthSpoolRows rows(*spool_);
+  TruthView source(rows, TruthView::Kind::truth);
+  raster::stream_to_file(source, cols(), this->rows(), 3, GDT_Float32, "GTiff",
+                         out.temp_path().string(), kTruthTiffOptions, truth_labels(metadata), kWho,
+                         path);
   out.commit();
+}
+
+void TruthWaterfall::write_with_labels(
+    const std::string& path, const std::string& class_path, const std::string& instance_path,
+    bool overwrite, const std::vector<std::pair<std::string, std::string>>& metadata) const {
+  constexpr const char* kWho = "truth waterfall";
+  if (rows() == 0 || cols() == 0) {
+    throw FormatError(std::string(kWho) + ": " + path + ": no ping to write");
+  }
+  gdal::ensure_registered();
+  AtomicOutput out(path, overwrite);
+  AtomicOutput class_out(class_path, overwrite);
+  AtomicOutput instance_out(instance_path, overwrite);
+  TruthSpoolRows rows(*spool_);
+  TruthView truth(rows, TruthView::Kind::truth);
+  TruthView classes(rows, TruthView::Kind::class_code);
+  TruthView instances(rows, TruthView::Kind::instance);
+  std::vector<raster::StreamTarget> targets(3);
+  targets[0] = {
+      &truth, 3, GDT_Float32, out.temp_path().string(), kTruthTiffOptions, truth_labels(metadata),
+      path};
+  targets[1] = {&classes,
+                1,
+                GDT_Byte,
+                class_out.temp_path().string(),
+                labels::label_tiff_options(),
+                labels::waterfall_class_labels(metadata),
+                class_path};
+  targets[2] = {&instances,
+                1,
+                GDT_UInt32,
+                instance_out.temp_path().string(),
+                labels::label_tiff_options(),
+                labels::waterfall_instance_labels(metadata),
+                instance_path};
+  raster::stream_to_files(targets, cols(), this->rows(), "GTiff", kWho);
+  out.commit();
+  class_out.commit();
+  instance_out.commit();
 }
 
 }  // namespace sonarsynth

@@ -15,6 +15,7 @@
 #include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
@@ -25,6 +26,7 @@
 #include "../formats/truth_labels.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/run_simulation.hpp"
+#include "sonarsynth/formats/waterfall.hpp"
 #include "sonarsynth/mosaic.hpp"
 
 namespace sonarsynth {
@@ -191,6 +193,74 @@ TEST(SideInstances, ShadowRunsFollowTheirCaster) {
   std::vector<std::uint32_t> out;
   labels::side_instances(cls, id, out);
   EXPECT_EQ(out, (std::vector<std::uint32_t>{0, 0, 5, 5, 5, 5, 0, 0, 9, 0, 0, 0}));
+}
+
+// The truth waterfall's label rasters (one spool, one pass) against the label waterfall's (a
+// spool of their own): every pixel, the band type, nodata and items alike, over rows of varying
+// side lengths (empty sides, padding) with object and shadow runs and ids beyond float's exact
+// range (2^24) and negative ones.
+TEST(TruthWaterfall, LabelRastersAreThoseOfTheLabelWaterfall) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("sonarsynth_truth_labels_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::mt19937 rng(17);
+  std::uniform_int_distribution<std::size_t> len(0, 90);
+  std::uniform_int_distribution<int> cls(0, 4), run(1, 6);
+  const std::int32_t ids[] = {-1, 0, 3, 16777217, 2147483647, -5, 16777216 + 3};
+  std::uniform_int_distribution<std::size_t> pick(0, std::size(ids) - 1);
+  TruthWaterfall truth(dir);
+  labels::LabelWaterfall label(dir);
+  for (int p = 0; p < 300; ++p) {
+    std::vector<SampleClass> c[2];
+    std::vector<std::int32_t> id[2];
+    std::vector<float> g[2];
+    for (int s = 0; s < 2; ++s) {
+      const std::size_t n = p % 7 == s ? 0 : len(rng);
+      while (c[s].size() < n) {
+        const auto k = static_cast<SampleClass>(cls(rng));
+        const std::int32_t v = ids[pick(rng)];
+        for (int r = run(rng); r > 0 && c[s].size() < n; --r) {
+          c[s].push_back(k);
+          id[s].push_back(v);
+          g[s].push_back(0.25f);
+        }
+      }
+    }
+    truth.add_ping(c[0], c[1], id[0], id[1], g[0], g[1]);
+    label.add_ping(c[0], c[1], id[0], id[1]);
+  }
+  const std::vector<std::pair<std::string, std::string>> items = {{"RUN", "test"}};
+  truth.write_with_labels((dir / "truth.tif").string(), (dir / "class.tif").string(),
+                          (dir / "instance.tif").string(), false, items);
+  label.write((dir / "class_ref.tif").string(), (dir / "instance_ref.tif").string(), false, items);
+  for (const char* name : {"class", "instance"}) {
+    const Raster got = read(dir / (std::string(name) + ".tif"));
+    const Raster want = read(dir / (std::string(name) + "_ref.tif"));
+    EXPECT_EQ(got.cols, want.cols) << name;
+    EXPECT_EQ(got.rows, 300u) << name;
+    EXPECT_EQ(got.type, want.type) << name;
+    EXPECT_EQ(got.has_nodata, want.has_nodata) << name;
+    EXPECT_EQ(got.nodata, want.nodata) << name;
+    EXPECT_EQ(got.band_items, want.band_items) << name;
+    EXPECT_TRUE(got.values == want.values) << name;
+  }
+  // Hand-worked row: port NEAR -> FAR seabed, object 2^24 + 1, shadow (its caster), starboard
+  // empty; columns port FAR -> NEAR | starboard.
+  TruthWaterfall one(dir);
+  const std::vector<SampleClass> port = {SampleClass::seabed, SampleClass::object,
+                                         SampleClass::shadow};
+  const std::vector<std::int32_t> port_id = {0, 16777217, -1};
+  const std::vector<float> port_g = {0.1f, 0.2f, 0.3f};
+  one.add_ping(port, {}, port_id, {}, port_g, {});
+  one.write_with_labels((dir / "one.tif").string(), (dir / "one_class.tif").string(),
+                        (dir / "one_instance.tif").string(), false, items);
+  EXPECT_EQ(read(dir / "one_class.tif").values,
+            (std::vector<std::uint32_t>{3, 2, 1, 255, 255, 255}));
+  EXPECT_EQ(
+      read(dir / "one_instance.tif").values,
+      (std::vector<std::uint32_t>{16777217, 16777217, 0, 0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu}));
+  fs::remove_all(dir);
 }
 
 // The mosaic's one gridded code carries class, object id and caster: decoding returns the plain

@@ -157,9 +157,18 @@ class TruthWaterfall {
   /// `metadata`: items written before the writer's own (e.g. the run's run_metadata()).
   void write(const std::string& path, bool overwrite = false,
              const std::vector<std::pair<std::string, std::string>>& metadata = {}) const;
+  /// As write(), and in the same pass over the rows the line's class (Byte) and instance
+  /// (UInt32) label rasters of docs/labels.md at `class_path` and `instance_path`: the files the
+  /// label waterfall of the same pings writes (formats/truth_labels.hpp), without a spool of
+  /// their own.
+  void write_with_labels(const std::string& path, const std::string& class_path,
+                         const std::string& instance_path, bool overwrite,
+                         const std::vector<std::pair<std::string, std::string>>& metadata) const;
 
  private:
-  std::unique_ptr<detail::SideSpool> spool_;  ///< bands: class, id, grazing (deg)
+  /// Bands: class, object id (the int32's bits, so that ids stay exact for the label rasters),
+  /// grazing (deg).
+  std::unique_ptr<detail::SideSpool> spool_;
 };
 
 }  // namespace sonarsynth
