@@ -192,8 +192,13 @@ TEST_F(RunSimulationTest, AFailingProductThreadFailsTheRunAndLeavesNothing) {
     if (removed || 2 * done < total) return;
     for (const auto& e : fs::directory_iterator(dir_)) {
       if (e.is_directory() && e.path().filename().string().front() == '.') {
-        fs::remove_all(e.path());
-        removed = true;
+        // The product threads keep creating files in it: a removal can meet a file made after
+        // it listed the directory ("not empty"); repeat until the directory is gone.
+        std::error_code ec;
+        for (int attempt = 0; attempt < 1000 && fs::exists(e.path()); ++attempt) {
+          fs::remove_all(e.path(), ec);
+        }
+        removed = !fs::exists(e.path());
       }
     }
   };
