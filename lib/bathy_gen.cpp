@@ -12,6 +12,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/keyed_random.hpp"
+#include "sonarsynth/render_math.hpp"
 #include "worker_threads.hpp"
 
 namespace sonarsynth {
@@ -74,14 +75,6 @@ double noise_with_key(double u, double v, std::uint64_t key) {
   return a + sv * (b - a);
 }
 
-// std::floor without the library call the x86-64 baseline makes of it (no SSE4.1 round):
-// truncation, moved down for negative non-integers; exact where |u| < 2^52.
-double floor_of(double u) {
-  if (!(std::abs(u) < 0x1p52)) return std::floor(u);
-  const auto t = static_cast<double>(static_cast<std::int64_t>(u));
-  return t > u ? t - 1.0 : t;
-}
-
 // noise_with_key along a row (v fixed), value for value: the row's lattice hashes are computed
 // once per row and the corners' gradients once per lattice cell entered, not per point (a cell
 // spans base_wavelength / cell nodes on the first octave).
@@ -97,7 +90,7 @@ class RowNoise {
   }
   double operator()(double u) {
     const GradientTable& g = gradients();
-    const double fu = floor_of(u);
+    const double fu = render_math::floor_fast(u);
     const double tu = u - fu;
     const auto iu = static_cast<std::uint64_t>(static_cast<std::int64_t>(fu));
     if (!have_ || iu != iu_) {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/render_math.hpp"
 #include "sonarsynth/spill_file.hpp"
 
 namespace sonarsynth {
@@ -81,6 +83,8 @@ MosaicGrid::MosaicGrid(GridGeometry geometry, MosaicOptions options, const Heigh
     bad("geometry.dy_m", geometry_.dy_m, "north-up square pixels: dx_m > 0 and dy_m == -dx_m");
   }
   if (tile_px_ < 1) bad("tile_px", 0.0, "tile_px >= 1");
+  tile_pow2_ = std::has_single_bit(tile_px_);
+  tile_shift_ = static_cast<unsigned>(std::countr_zero(tile_px_));
   if (bathymetry_ && bathymetry_->empty()) bathymetry_ = nullptr;
   tiles_x_ = (geometry_.cols + tile_px_ - 1) / tile_px_;
   tiles_y_ = (geometry_.rows + tile_px_ - 1) / tile_px_;
@@ -95,16 +99,21 @@ MosaicGrid& MosaicGrid::operator=(MosaicGrid&&) noexcept = default;
 
 MosaicGrid::Tile& MosaicGrid::tile(std::size_t tx, std::size_t ty) {
   const std::size_t index = ty * tiles_x_ + tx;
+  // Consecutive samples mostly share a tile; the cache is dropped at every ping (so last_use_
+  // sees the ping) and whenever a tile is stored.
+  if (index == cached_index_) return *cached_tile_;
   last_use_[index] = clock_;
   std::unique_ptr<Tile>& t = tiles_[index];
-  if (t) return *t;
+  cached_index_ = index;
+  if (t) return *(cached_tile_ = t.get());
   if (spilled_[index]) {
     t = std::make_unique<Tile>(load(index));
     spilled_[index] = 0;
     resident_bytes_ += tile_bytes(*t);
-    return *t;
+    return *(cached_tile_ = t.get());
   }
   t = std::make_unique<Tile>();
+  cached_tile_ = t.get();
   const std::size_t n = tile_px_ * tile_px_;
   t->count.assign(n, 0);
   switch (options_.rule) {
@@ -140,6 +149,7 @@ std::filesystem::path MosaicGrid::spill_path() const {
 }
 
 void MosaicGrid::store(std::size_t index) {
+  cached_index_ = kNoTile;
   Tile& t = *tiles_[index];
   const std::size_t slot_bytes = kTileBuffers * 4 * tile_px_ * tile_px_;
   std::uint8_t mask = 0x80;
@@ -275,6 +285,7 @@ MosaicAddStats MosaicGrid::add(const MosaicPing& ping) {
   const Eigen::Vector2d start = ping.sensor_xy_m + along_shift * forward;
   MosaicAddStats stats;
   ++clock_;
+  cached_index_ = kNoTile;
   add_side(ping, 0, ping.port, ping.port_labels, start, -starboard, stats);
   add_side(ping, 1, ping.starboard, ping.starboard_labels, start, starboard, stats);
   enforce_budget();
@@ -486,8 +497,8 @@ void MosaicGrid::fill_between(const GroundLine& a, const GroundLine& b, MosaicAd
 
 void MosaicGrid::splat(const Eigen::Vector2d& p, double ground_m, double swath_m, float value,
                        std::int32_t label, MosaicAddStats& stats) {
-  const double c = std::floor(geometry_.col_of_x(p.x()) + 0.5);
-  const double r = std::floor(geometry_.row_of_y(p.y()) + 0.5);
+  const double c = render_math::floor_fast(geometry_.col_of_x(p.x()) + 0.5);
+  const double r = render_math::floor_fast(geometry_.row_of_y(p.y()) + 0.5);
   if (!(c >= 0.0 && r >= 0.0 && c < static_cast<double>(geometry_.cols) &&
         r < static_cast<double>(geometry_.rows))) {
     ++stats.samples_outside;
@@ -496,8 +507,20 @@ void MosaicGrid::splat(const Eigen::Vector2d& p, double ground_m, double swath_m
   ++stats.samples_placed;
   const auto col = static_cast<std::size_t>(c);
   const auto row = static_cast<std::size_t>(r);
-  Tile& t = tile(col / tile_px_, row / tile_px_);
-  const std::size_t idx = (row % tile_px_) * tile_px_ + col % tile_px_;
+  // Every sample of the survey lands here: shifts and masks for the default (power-of-two)
+  // tiles, not four integer divisions.
+  std::size_t tx, ty, idx;
+  if (tile_pow2_) {
+    const std::size_t mask = tile_px_ - 1;
+    tx = col >> tile_shift_;
+    ty = row >> tile_shift_;
+    idx = ((row & mask) << tile_shift_) | (col & mask);
+  } else {
+    tx = col / tile_px_;
+    ty = row / tile_px_;
+    idx = (row % tile_px_) * tile_px_ + col % tile_px_;
+  }
+  Tile& t = tile(tx, ty);
   ++t.count[idx];
   const auto range = static_cast<float>(ground_m);
   switch (options_.rule) {
@@ -614,6 +637,7 @@ MosaicImage MosaicGrid::finish() && {
     }
   }
   tiles_.clear();
+  cached_index_ = kNoTile;
   spill_.reset();  // the spill file is removed
   resident_bytes_ = 0;
   return out;

@@ -7,10 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "analytic/flat_seabed.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/render_math.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -647,6 +649,41 @@ TEST(RenderSide, InvalidInputNamesTheConstraint) {
   EXPECT_THROW(render_side(bad, p, e), InputError);
   p.sample_spacing_m = 0.0;
   EXPECT_THROW(render_side(prof, p, e), InputError);
+}
+
+TEST(RenderMath, FloorFastIsStdFloor) {
+  // Bit for bit, at the cases that matter: integers and their neighbours of both signs, halves,
+  // zeros, the 2^52 boundary, huge values, infinities and NaN.
+  std::vector<double> xs = {0.0,
+                            -0.0,
+                            0.5,
+                            -0.5,
+                            1.0,
+                            -1.0,
+                            0x1p52,
+                            -0x1p52,
+                            0x1p60,
+                            -0x1p60,
+                            1e300,
+                            -1e300,
+                            std::numeric_limits<double>::infinity(),
+                            -std::numeric_limits<double>::infinity(),
+                            std::numeric_limits<double>::denorm_min()};
+  for (double b : {0.0, 1.0, 7.0, 4503599627370495.0, 123456.0}) {
+    for (double s : {1.0, -1.0}) {
+      xs.push_back(s * b);
+      xs.push_back(std::nextafter(s * b, 1e308));
+      xs.push_back(std::nextafter(s * b, -1e308));
+      xs.push_back(s * b + 0.5);
+    }
+  }
+  for (int k = 0; k < 10000; ++k) xs.push_back((k - 5000) * 0.37 + 1e-3 * k);
+  for (const double x : xs) {
+    const double got = render_math::floor_fast(x), want = std::floor(x);
+    ASSERT_EQ(std::signbit(got), std::signbit(want)) << x;
+    ASSERT_EQ(got, want) << x;
+  }
+  EXPECT_TRUE(std::isnan(render_math::floor_fast(std::nan(""))));
 }
 
 }  // namespace

@@ -198,6 +198,11 @@ class MosaicGrid {
   std::vector<std::uint64_t> last_use_;  ///< per tile: clock_ of the last ping that used it
   std::vector<std::uint8_t> spilled_;    ///< per tile: 1 = in the spill file
   std::size_t tile_px_;                  ///< pixels a side of a tile
+  unsigned tile_shift_ = 0;              ///< log2(tile_px_) when a power of two
+  bool tile_pow2_ = false;               ///< tile_px_ is a power of two: shifts, not divisions
+  static constexpr std::size_t kNoTile = static_cast<std::size_t>(-1);
+  std::size_t cached_index_ = kNoTile;  ///< the tile tile() returned last (this ping), or kNoTile
+  Tile* cached_tile_ = nullptr;
   std::size_t tiles_x_ = 0;
   std::size_t tiles_y_ = 0;
   std::vector<std::unique_ptr<Tile>> tiles_;  ///< row-major, null = never touched
