@@ -2,17 +2,15 @@
 #include "sonarsynth/mosaic.hpp"
 
 #include <algorithm>
-#include <array>
 #include <bit>
 #include <cmath>
 #include <sstream>
 #include <string>
-#include <tuple>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/render_math.hpp"
-#include "sonarsynth/spill_file.hpp"
+#include "sonarsynth/spill_file.hpp"  // complete type for ~MosaicGrid
 
 namespace sonarsynth {
 namespace {
@@ -34,23 +32,6 @@ double swath_weight(double ground_m, double swath_m, double taper_fraction) {
   if (t >= 1.0) return 1.0;
   const double s = std::sin(0.5 * kPi * t);
   return std::max(kMinMosaicWeight, s * s);
-}
-
-}  // namespace
-
-namespace {
-
-/// The buffers of a tile, in their order in a spill slot (7 buffers of 4-byte values).
-template <typename TileT>
-auto tile_buffers(TileT& t) {
-  return std::make_tuple(&t.sum_wi, &t.sum_w, &t.count, &t.best, &t.best_range, &t.labels,
-                         &t.label_range);
-}
-constexpr std::size_t kTileBuffers = 7;
-
-template <typename V>
-void release(V& v) {
-  V().swap(v);
 }
 
 }  // namespace
@@ -96,133 +77,6 @@ MosaicGrid::MosaicGrid(GridGeometry geometry, MosaicOptions options, const Heigh
 MosaicGrid::~MosaicGrid() = default;
 MosaicGrid::MosaicGrid(MosaicGrid&&) noexcept = default;
 MosaicGrid& MosaicGrid::operator=(MosaicGrid&&) noexcept = default;
-
-MosaicGrid::Tile& MosaicGrid::tile(std::size_t tx, std::size_t ty) {
-  const std::size_t index = ty * tiles_x_ + tx;
-  // Consecutive samples mostly share a tile; the cache is dropped at every ping (so last_use_
-  // sees the ping) and whenever a tile is stored.
-  if (index == cached_index_) return *cached_tile_;
-  last_use_[index] = clock_;
-  std::unique_ptr<Tile>& t = tiles_[index];
-  cached_index_ = index;
-  if (t) return *(cached_tile_ = t.get());
-  if (spilled_[index]) {
-    t = std::make_unique<Tile>(load(index));
-    spilled_[index] = 0;
-    resident_bytes_ += tile_bytes(*t);
-    return *(cached_tile_ = t.get());
-  }
-  t = std::make_unique<Tile>();
-  cached_tile_ = t.get();
-  const std::size_t n = tile_px_ * tile_px_;
-  t->count.assign(n, 0);
-  switch (options_.rule) {
-    case MosaicRule::weighted_mean:
-      t->sum_wi.assign(n, 0.0f);
-      t->sum_w.assign(n, 0.0f);
-      break;
-    case MosaicRule::max:
-      t->best.assign(n, -std::numeric_limits<float>::infinity());
-      break;
-    case MosaicRule::nearest:
-      t->best.assign(n, std::numeric_limits<float>::quiet_NaN());
-      t->best_range.assign(n, std::numeric_limits<float>::infinity());
-      break;
-  }
-  resident_bytes_ += tile_bytes(*t);
-  return *t;
-}
-
-std::size_t MosaicGrid::tile_bytes(const Tile& t) {
-  std::size_t bytes = 0;
-  std::apply([&](auto*... v) { ((bytes += v->size() * 4), ...); }, tile_buffers(t));
-  return bytes;
-}
-
-void MosaicGrid::spill_to(const std::filesystem::path& dir, std::size_t resident_bytes) {
-  spill_ = std::make_unique<detail::SpillFile>(dir, "mosaic");
-  resident_budget_ = resident_bytes;
-}
-
-std::filesystem::path MosaicGrid::spill_path() const {
-  return spill_ ? spill_->path() : std::filesystem::path();
-}
-
-void MosaicGrid::store(std::size_t index) {
-  cached_index_ = kNoTile;
-  Tile& t = *tiles_[index];
-  const std::size_t slot_bytes = kTileBuffers * 4 * tile_px_ * tile_px_;
-  std::uint8_t mask = 0x80;
-  std::size_t k = 0;
-  std::apply(
-      [&](auto*... v) {
-        (
-            [&] {
-              if (!v->empty()) {
-                spill_->write(index * slot_bytes + k * 4 * tile_px_ * tile_px_, v->data(),
-                              4 * v->size());
-                mask = static_cast<std::uint8_t>(mask | (1u << k));
-              }
-              ++k;
-            }(),
-            ...);
-      },
-      tile_buffers(t));
-  resident_bytes_ -= tile_bytes(t);
-  spilled_[index] = mask;
-  tiles_[index].reset();
-  ++spill_writes_;
-}
-
-MosaicGrid::Tile MosaicGrid::load(std::size_t index) const {
-  Tile t;
-  const std::size_t n = tile_px_ * tile_px_;
-  const std::size_t slot_bytes = kTileBuffers * 4 * n;
-  const std::uint8_t mask = spilled_[index];
-  std::size_t k = 0;
-  std::apply(
-      [&](auto*... v) {
-        (
-            [&] {
-              if (mask & (1u << k)) {
-                v->resize(n);
-                spill_->read(index * slot_bytes + k * 4 * n, v->data(), 4 * n);
-              }
-              ++k;
-            }(),
-            ...);
-      },
-      tile_buffers(t));
-  return t;
-}
-
-void MosaicGrid::enforce_budget() {
-  if (!spill_) return;
-  while (resident_bytes_ > resident_budget_) {
-    // The least recently used tile, never one the current ping used.
-    std::size_t oldest = tiles_.size();
-    for (std::size_t i = 0; i < tiles_.size(); ++i) {
-      if (tiles_[i] && last_use_[i] < clock_ &&
-          (oldest == tiles_.size() || last_use_[i] < last_use_[oldest])) {
-        oldest = i;
-      }
-    }
-    if (oldest == tiles_.size()) return;
-    store(oldest);
-  }
-}
-
-std::size_t MosaicGrid::accumulator_bytes() const {
-  std::size_t bytes = 0;
-  for (const auto& t : tiles_) {
-    if (!t) continue;
-    bytes += sizeof(float) * (t->sum_wi.capacity() + t->sum_w.capacity() + t->best.capacity() +
-                              t->best_range.capacity() + t->label_range.capacity()) +
-             sizeof(std::uint32_t) * t->count.capacity() +
-             sizeof(std::int32_t) * t->labels.capacity();
-  }
-  return bytes;
-}
 
 GridGeometry MosaicGrid::geometry_covering(const Eigen::Vector2d& min_xy_m,
                                            const Eigen::Vector2d& max_xy_m, double pixel_m) {
@@ -552,95 +406,6 @@ void MosaicGrid::splat(const Eigen::Vector2d& p, double ground_m, double swath_m
       t.labels[idx] = label;
     }
   }
-}
-
-void MosaicGrid::finalize_tile(Tile& t) const {
-  std::vector<float>& image = options_.rule == MosaicRule::weighted_mean ? t.sum_wi : t.best;
-  for (std::size_t i = 0; i < t.count.size(); ++i) {
-    if (t.count[i] == 0) {
-      image[i] = std::numeric_limits<float>::quiet_NaN();
-    } else if (options_.rule == MosaicRule::weighted_mean) {
-      image[i] = t.sum_wi[i] / t.sum_w[i];
-    }
-  }
-  release(t.sum_w);
-  release(t.best_range);
-  release(t.label_range);
-}
-
-template <typename T>
-void MosaicGrid::copy_tile(std::size_t index, const std::vector<T>& from,
-                           std::vector<T>& to) const {
-  if (from.empty()) return;
-  const std::size_t col0 = (index % tiles_x_) * tile_px_;
-  const std::size_t row0 = (index / tiles_x_) * tile_px_;
-  const std::size_t cols = std::min(tile_px_, geometry_.cols - col0);
-  const std::size_t rows = std::min(tile_px_, geometry_.rows - row0);
-  for (std::size_t r = 0; r < rows; ++r) {
-    std::copy_n(from.begin() + static_cast<std::ptrdiff_t>(r * tile_px_), cols,
-                to.begin() + static_cast<std::ptrdiff_t>((row0 + r) * geometry_.cols + col0));
-  }
-}
-
-MosaicImage MosaicGrid::finish() const& {
-  MosaicImage out;
-  out.geometry = geometry_;
-  const std::size_t n = geometry_.size();
-  out.intensity.assign(n, std::numeric_limits<float>::quiet_NaN());
-  out.count.assign(n, 0);
-  if (has_labels_) out.labels.assign(n, MosaicImage::kNoLabel);
-  for (std::size_t i = 0; i < tiles_.size(); ++i) {
-    if (!tiles_[i] && !spilled_[i]) continue;
-    Tile t = tiles_[i] ? *tiles_[i] : load(i);
-    finalize_tile(t);
-    copy_tile(i, options_.rule == MosaicRule::weighted_mean ? t.sum_wi : t.best, out.intensity);
-    copy_tile(i, t.count, out.count);
-    copy_tile(i, t.labels, out.labels);
-  }
-  return out;
-}
-
-MosaicImage MosaicGrid::finish() && {
-  // The tiles in memory are finalised in place first (the weights and ranges released), then the
-  // image's buffers are filled one at a time, each tile's part released as it is copied: memory
-  // peaks at the accumulators as they were (or the image and spill budget when spilling).
-  for (auto& t : tiles_) {
-    if (t) finalize_tile(*t);
-  }
-  MosaicImage out;
-  out.geometry = geometry_;
-  const std::size_t n = geometry_.size();
-  const bool mean = options_.rule == MosaicRule::weighted_mean;
-  for (int pass = 0; pass < 3; ++pass) {
-    if (pass == 0) out.intensity.assign(n, std::numeric_limits<float>::quiet_NaN());
-    if (pass == 1) out.count.assign(n, 0);
-    if (pass == 2 && has_labels_) out.labels.assign(n, MosaicImage::kNoLabel);
-    for (std::size_t i = 0; i < tiles_.size(); ++i) {
-      Tile loaded;
-      Tile* t = tiles_[i].get();
-      if (!t) {
-        if (!spilled_[i]) continue;
-        loaded = load(i);
-        finalize_tile(loaded);
-        t = &loaded;
-      }
-      if (pass == 0) {
-        copy_tile(i, mean ? t->sum_wi : t->best, out.intensity);
-        release(mean ? t->sum_wi : t->best);
-      } else if (pass == 1) {
-        copy_tile(i, t->count, out.count);
-        release(t->count);
-      } else {
-        copy_tile(i, t->labels, out.labels);
-        release(t->labels);
-      }
-    }
-  }
-  tiles_.clear();
-  cached_index_ = kNoTile;
-  spill_.reset();  // the spill file is removed
-  resident_bytes_ = 0;
-  return out;
 }
 
 }  // namespace sonarsynth
