@@ -51,33 +51,9 @@ std::uint64_t octave_key(std::uint64_t seed, std::uint64_t octave) {
   return splitmix64(seed ^ splitmix64(octave ^ 0x6f63746176650000ULL));
 }
 
-double noise_with_key(double u, double v, std::uint64_t key) {
-  const GradientTable& g = gradients();
-  const double fu = std::floor(u);
-  const double fv = std::floor(v);
-  const double tu = u - fu;
-  const double tv = v - fv;
-  const auto iu = static_cast<std::uint64_t>(static_cast<std::int64_t>(fu));
-  const auto iv = static_cast<std::uint64_t>(static_cast<std::int64_t>(fv));
-  auto corner = [&](std::uint64_t cu, std::uint64_t cv, double du, double dv) {
-    const std::uint64_t h = splitmix64(key ^ splitmix64(cu ^ splitmix64(cv)));
-    const auto i = static_cast<std::size_t>(h >> 58);  // top 6 bits: 0..63
-    return g.gx[i] * du + g.gy[i] * dv;
-  };
-  const double n00 = corner(iu, iv, tu, tv);
-  const double n10 = corner(iu + 1, iv, tu - 1.0, tv);
-  const double n01 = corner(iu, iv + 1, tu, tv - 1.0);
-  const double n11 = corner(iu + 1, iv + 1, tu - 1.0, tv - 1.0);
-  const double su = fade(tu);
-  const double sv = fade(tv);
-  const double a = n00 + su * (n10 - n00);
-  const double b = n01 + su * (n11 - n01);
-  return a + sv * (b - a);
-}
-
-// noise_with_key along a row (v fixed), value for value: the row's lattice hashes are computed
-// once per row and the corners' gradients once per lattice cell entered, not per point (a cell
-// spans base_wavelength / cell nodes on the first octave).
+// Gradient noise along a row (v fixed): the row's lattice hashes are computed once per row and
+// the corners' gradients once per lattice cell entered, not per point (a cell spans
+// base_wavelength / cell nodes on the first octave).
 class RowNoise {
  public:
   RowNoise(std::uint64_t key, double v) : key_(key) {
@@ -125,6 +101,12 @@ class RowNoise {
   std::size_t i00_ = 0, i10_ = 0, i01_ = 0, i11_ = 0;
   bool have_ = false;
 };
+
+// Gradient noise at (u, v) for a per-(seed, octave) key: splitmix64 of (key, floor(u),
+// floor(v)) picks each lattice corner's gradient. The row evaluator at a single point.
+double noise_with_key(double u, double v, std::uint64_t key) {
+  return RowNoise(key, v)(u);
+}
 
 // The octaves of an fbm component: amplitude, frequency, key and lattice offset of each.
 struct FbmOctaves {
