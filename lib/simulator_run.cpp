@@ -37,7 +37,7 @@ RenderTimings Simulator::run_pings(
   // 32 pings per thread a block, fewer when pings are large (long sides with truth) so that a
   // block holds at most kBlockBytes: two blocks are in flight. Never fewer than one per thread
   // (the output does not depend on the block size, see Job).
-  constexpr std::uint64_t kBlockBytes = 8ULL << 20;
+  constexpr std::uint64_t kBlockBytes = 4ULL << 20;
   const std::uint64_t sample_bytes = sizeof(float) * (config_.clean_samples ? 2 : 1) +
                                      (config_.truth ? sizeof(SampleClass) + sizeof(std::int32_t) +
                                                           sizeof(float) + 2 * sizeof(double)

@@ -26,7 +26,7 @@ struct SurveyProductOptions {
   /// Mosaic accumulators held in memory while the survey runs; the tiles used least recently
   /// beyond this go to a temporary file in the output directory (MosaicGrid::spill_to), so that
   /// memory does not grow with the survey. 0 = all in memory.
-  std::size_t mosaic_resident_bytes = std::size_t{32} << 20;
+  std::size_t mosaic_resident_bytes = std::size_t{16} << 20;
   MosaicWriteOptions write_options;  ///< format, creation options (paths are set here)
   /// > 0: the waterfalls and mosaic_rgb show value / this linearly (output.display: linear, the
   /// samples' full scale); 0: a dB window (percentiles).
