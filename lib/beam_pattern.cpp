@@ -6,6 +6,7 @@
 #include <string>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/render_math.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -74,7 +75,7 @@ double VerticalBeamPattern::one_way(double off) const {
     case VerticalBeamShape::paper_sine_pair: {
       const double w = off < 0.0 ? upper_half_width_rad : lower_half_width_rad;
       const double x = off / w;
-      return std::abs(x) >= 1.0 ? 0.0 : std::cos(0.5 * kPiD * x);
+      return std::abs(x) >= 1.0 ? 0.0 : render_math::cos_half_pi(x);
     }
     case VerticalBeamShape::gaussian: {
       const double x = off / width_3db_rad;
