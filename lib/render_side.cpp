@@ -116,7 +116,10 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
                &kRules[par.gauss_points - 1],
                {},
                -kInf,
-               kInf};
+               kInf,
+               shape == VerticalBeamShape::paper_sine_pair,
+               par.vertical_beam.upper_half_width_rad,
+               par.vertical_beam.lower_half_width_rad};
   double kink_storage[3];
   if (in.beam != nullptr) in.kinks = beam_kinks(par.vertical_beam, kink_storage);
   if (shape == VerticalBeamShape::paper_sine_pair) {

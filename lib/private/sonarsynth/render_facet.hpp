@@ -61,7 +61,17 @@ struct Integrand {
   std::span<const double> kinks;
   // The beam is 0 outside [lit_lo, lit_hi] (off-axis, radians): the paper sine pair.
   double lit_lo, lit_hi;
+  // The paper sine pair (then also in beam), evaluated inline by paper_one_way: its half-widths
+  // above (off < 0) and below the axis.
+  bool paper;
+  double paper_upper_rad, paper_lower_rad;
 };
+
+// VerticalBeamPattern::one_way of the paper sine pair, the same operations.
+inline double paper_one_way(const Integrand& in, double off) {
+  const double x = off / (off < 0.0 ? in.paper_upper_rad : in.paper_lower_rad);
+  return std::abs(x) >= 1.0 ? 0.0 : cos_half_pi(x);
+}
 
 // The kinks of a beam (Integrand::kinks), in `storage` (3 entries) or the table itself.
 inline std::span<const double> beam_kinks(const VerticalBeamPattern& b, double (&storage)[3]) {
@@ -145,17 +155,27 @@ constexpr double kMaxPieceOverRange = 0.02;
 #ifdef SONARSYNTH_GAUSS_PAIRS
 // Two Gauss points (parameters t, weights w) of the integrand below in the lanes of one vector:
 // the same operations as gauss_sum's scalar loop lane by lane. Requires r2 > 0 in both lanes
-// (the caller checks), a Gaussian or uniform beam and, with a Gaussian beam, the atan series
-// valid on the facet (series_terms > 0).
+// (the caller checks), a Gaussian, paper sine pair or uniform beam and, with the first two, the
+// atan series valid on the facet (series_terms > 0).
 [[gnu::always_inline]] inline V2d gauss_pair(const Facet& f, const Integrand& in, V2d t, V2d w,
                                              V2d r2) {
   const V2d r = sqrt2(r2);
   V2d v = w / (in.spreading ? r2 * r2 * r : r);
   V2d expo = V2d{} + 0.0;
-  if (in.gauss_coef > 0.0) {
+  if (in.gauss_coef > 0.0 || in.paper) {
     const V2d x = (t * f.cross) / (f.w2 + t * f.wu);
     const V2d off = f.theta_off - x * atan_poly(x * x, f.series_terms);
-    expo -= in.gauss_coef * off * off;
+    if (in.gauss_coef > 0.0) {
+      expo -= in.gauss_coef * off * off;
+    } else {  // paper_one_way lane by lane
+      const V2d u = off / V2d{off[0] < 0.0 ? in.paper_upper_rad : in.paper_lower_rad,
+                              off[1] < 0.0 ? in.paper_upper_rad : in.paper_lower_rad};
+      const V2d au = {std::abs(u[0]), std::abs(u[1])};
+      V2d b = sin_series_half_pi(kHalfPi * (1.0 - au));
+      if (au[0] >= 1.0) b[0] = 0.0;
+      if (au[1] >= 1.0) b[1] = 0.0;
+      v *= b * b;
+    }
   }
   if (in.kappa_per_m > 0.0) expo -= in.kappa_per_m * r;
   if (in.gauss_coef > 0.0 || in.kappa_per_m > 0.0) v *= exp_table2(expo);
@@ -170,7 +190,8 @@ constexpr double kMaxPieceOverRange = 0.02;
   double sum = 0.0;
   int g = 0;
 #ifdef SONARSYNTH_GAUSS_PAIRS
-  if (in.beam == nullptr && (f.series_terms > 0 || !(in.gauss_coef > 0.0))) {
+  if ((in.beam == nullptr || in.paper) &&
+      (f.series_terms > 0 || !(in.gauss_coef > 0.0 || in.paper))) {
     if (rule.n == 2) {
       // The default rule: one pair, no loop (its loop-invariant set-up cost as much as the pair).
       // The same operations as the loop below: bit-identical sums.
@@ -213,6 +234,9 @@ constexpr double kMaxPieceOverRange = 0.02;
     if (in.gauss_coef > 0.0) {
       const double off = f.depression(t, py, dz) - in.axis_rad;
       expo -= in.gauss_coef * off * off;
+    } else if (in.paper) {
+      const double b = paper_one_way(in, f.depression(t, py, dz) - in.axis_rad);
+      v *= b * b;
     } else if (in.beam != nullptr) {
       v *= in.beam->two_way(f.depression(t, py, dz) - in.axis_rad);
     }

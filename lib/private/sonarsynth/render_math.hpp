@@ -32,13 +32,14 @@ inline double floor_fast(double x) {
 // double reference everywhere, the zero at |x| = 1 included; tests/render_side_test.cpp).
 // glibc's cos() reduces the argument and switches the rounding mode on every call: the vertical
 // beam pattern evaluates this at every Gauss point of the renderer.
-inline double cos_half_pi(double x) {
-  constexpr double kHalfPi = 1.57079632679489661923;
-  const double t = kHalfPi * (1.0 - std::abs(x));
-  const double t2 = t * t;
+constexpr double kHalfPi = 1.57079632679489661923;
+// sin(t) for |t| <= pi/2 by the series above; on doubles or on two lanes (the same operations
+// lane by lane).
+template <class T>
+inline T sin_series_half_pi(T t) {
+  const T t2 = t * t;
   // 1/(2k+1)! with alternating signs, k = 10 down to 1.
-  double p = 1.0 / 51090942171709440000.0;
-  p = p * t2 - 1.0 / 121645100408832000.0;
+  T p = t2 * (1.0 / 51090942171709440000.0) - 1.0 / 121645100408832000.0;
   p = p * t2 + 1.0 / 355687428096000.0;
   p = p * t2 - 1.0 / 1307674368000.0;
   p = p * t2 + 1.0 / 6227020800.0;
@@ -48,6 +49,9 @@ inline double cos_half_pi(double x) {
   p = p * t2 + 1.0 / 120.0;
   p = p * t2 - 1.0 / 6.0;
   return t + t * (t2 * p);
+}
+inline double cos_half_pi(double x) {
+  return sin_series_half_pi(kHalfPi * (1.0 - std::abs(x)));
 }
 
 // Gauss–Legendre rules mapped to [0, 1] (Abramowitz & Stegun, Table 25.4).
