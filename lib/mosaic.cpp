@@ -30,7 +30,7 @@ double swath_weight(double ground_m, double swath_m, double taper_fraction) {
   const double u = std::clamp(ground_m / swath_m, 0.0, 1.0);
   const double t = std::min(u, 1.0 - u) / taper_fraction;
   if (t >= 1.0) return 1.0;
-  const double s = std::sin(0.5 * kPi * t);
+  const double s = render_math::sin_series_half_pi(render_math::kHalfPi * t);  // sin(pi/2 t)
   return std::max(kMinMosaicWeight, s * s);
 }
 
