@@ -27,6 +27,17 @@ gdal::DatasetPtr wrap_mem(std::size_t cols, std::size_t rows, GDALDataType type,
                           const std::vector<const void*>& bands, const char* who,
                           const std::string& path);
 
+// BANDMAP_TYPE (GDAL >= 3.7) is int* unless GDAL_BANDMAP_TYPE_CONST_SAFE is defined.
+#ifdef BANDMAP_TYPE
+using BandMap = BANDMAP_TYPE;
+#else
+using BandMap = int*;
+#endif
+
+/// An IRasterIO call that is a plain read: no resampling, no fractional window.
+bool plain_read(GDALRWFlag flag, int x0, int y0, int nx, int ny, int buf_nx, int buf_ny,
+                const GDALRasterIOExtraArg* extra);
+
 /// The rows of an image, produced in order for stream_to_file().
 class RowSource {
  public:
@@ -52,6 +63,10 @@ struct RasterLabels {
   /// Colour table of band 1 (r, g, b, a of the values 0, 1, ...), GTiff only; empty = none.
   std::vector<std::array<short, 4>> color_table;
 };
+
+/// Sets everything `labels` says on `ds` (its `bands` bands): metadata, descriptions, band
+/// metadata, colour table, units, nodata.
+void describe_dataset(GDALDataset& ds, const RasterLabels& labels, int bands);
 
 /// Writes the `rows` rows of `source` to `temp_path` through driver `driver` (creation options as
 /// for copy_to_file(), labelled with `labels`) without holding the image:

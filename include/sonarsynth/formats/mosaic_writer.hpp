@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstdint>
+#include <functional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -64,6 +67,18 @@ struct MosaicWriteOptions {
 /// options.
 void write_mosaic(const std::string& path, const GeoFrame& frame, const MosaicImage& image,
                   const MosaicWriteOptions& options = {});
+
+/// write_mosaic() of the image `grid` gives (MosaicGrid::finish()), without building it: the grid
+/// is finalized (MosaicGrid::finalize(): nothing can be added afterwards) and every file is
+/// written window by window from its tiles, memory about a row of the files' blocks each (and
+/// GDAL's buffers), not the image. `label_map` (optional) maps the gridded labels of a window to
+/// what the truth mosaic stores, in place. The same full-resolution pixels, metadata and
+/// georeferencing as write_mosaic() of grid.finish(); the GeoTIFFs' overviews are built on the
+/// written file (stored after the full-resolution image, as gdaladdo adds them) instead of being
+/// copied from memory before it (the COG's are made by its driver either way).
+void write_mosaic(const std::string& path, const GeoFrame& frame, MosaicGrid& grid,
+                  const MosaicWriteOptions& options = {},
+                  const std::function<void(std::span<std::int32_t>)>& label_map = {});
 
 /// "<dir>/<stem>_rgb.tif" for "<dir>/<stem>.<ext>".
 std::string default_rgb_path(const std::string& mosaic_path);
