@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 #include "raster_util.hpp"
@@ -39,6 +40,8 @@ class GridDataset final : public GDALDataset {
     return CE_None;
   }
   const OGRSpatialReference* GetSpatialRef() const override { return srs_ ? &*srs_ : nullptr; }
+  /// Per band (from band 1), the bands shown as its overviews (borrowed; empty: none).
+  void set_overviews(std::vector<std::vector<GDALRasterBand*>> overviews);
   CPLErr SetSpatialRef(const OGRSpatialReference* srs) override {
     srs_.reset();
     if (srs) srs_ = *srs;
@@ -74,7 +77,8 @@ class GridDataset final : public GDALDataset {
   GDALDataType type_;
   std::size_t type_bytes_;
   WindowBands fill_;
-  MosaicImage window_;
+  MosaicImage window_;                      ///< one tile of the finished image
+  std::vector<unsigned char> tile_values_;  ///< its bands
   /// Two rows of tiles: a row of blocks twice the tiles' height is read without recomputing.
   std::array<Rows, 2> held_;
   std::size_t next_slot_ = 0;
@@ -118,6 +122,12 @@ class GridBand final : public GDALRasterBand {
     return CE_None;
   }
   GDALColorTable* GetColorTable() override { return table_.get(); }
+  int GetOverviewCount() override { return static_cast<int>(overviews_.size()); }
+  GDALRasterBand* GetOverview(int i) override {
+    return i >= 0 && i < GetOverviewCount() ? overviews_[static_cast<std::size_t>(i)] : nullptr;
+  }
+  /// Bands of another dataset shown as this band's overviews (borrowed; empty: none).
+  void set_overviews(std::vector<GDALRasterBand*> overviews) { overviews_ = std::move(overviews); }
   CPLErr SetColorTable(GDALColorTable* table) override {
     table_.reset(table ? table->Clone() : nullptr);
     return CE_None;
@@ -155,7 +165,17 @@ class GridBand final : public GDALRasterBand {
   std::string unit_;
   GDALColorInterp interp_ = GCI_Undefined;
   std::unique_ptr<GDALColorTable> table_;
+  std::vector<GDALRasterBand*> overviews_;
 };
+
+void GridDataset::set_overviews(std::vector<std::vector<GDALRasterBand*>> overviews) {
+  for (int b = 1; b <= nBands; ++b) {
+    auto* band = static_cast<GridBand*>(GetRasterBand(b));
+    const auto i = static_cast<std::size_t>(b - 1);
+    band->set_overviews(i < overviews.size() ? std::move(overviews[i])
+                                             : std::vector<GDALRasterBand*>());
+  }
+}
 
 GridDataset::GridDataset(const MosaicGrid& grid, int bands, GDALDataType type, WindowBands fill)
     : grid_(grid),
@@ -180,13 +200,27 @@ const GridDataset::Rows* GridDataset::rows_of(int tile_row) {
   next_slot_ = (next_slot_ + 1) % held_.size();
   r.tile_row = -1;
   try {
+    // Tile by tile: the window read and its bands are a tile's, copied into the row.
     const std::size_t tile = grid_.tile_px();
+    const auto cols = static_cast<std::size_t>(nRasterXSize);
     const std::size_t row0 = static_cast<std::size_t>(tile_row) * tile;
-    grid_.read_window(0, row0, static_cast<std::size_t>(nRasterXSize),
-                      std::min(tile, static_cast<std::size_t>(nRasterYSize) - row0), window_);
-    r.band_bytes = window_.intensity.size() * type_bytes_;
-    r.values.assign(r.band_bytes * static_cast<std::size_t>(bands_), 0);
-    fill_(window_, r.values.data(), r.band_bytes);
+    const std::size_t rows = std::min(tile, static_cast<std::size_t>(nRasterYSize) - row0);
+    r.band_bytes = cols * rows * type_bytes_;
+    r.values.resize(r.band_bytes * static_cast<std::size_t>(bands_));
+    for (std::size_t col0 = 0; col0 < cols; col0 += tile) {
+      const std::size_t n = std::min(tile, cols - col0);
+      grid_.read_window(col0, row0, n, rows, window_);
+      const std::size_t tile_band_bytes = n * rows * type_bytes_;
+      tile_values_.assign(tile_band_bytes * static_cast<std::size_t>(bands_), 0);
+      fill_(window_, tile_values_.data(), tile_band_bytes);
+      for (std::size_t b = 0; b < static_cast<std::size_t>(bands_); ++b) {
+        for (std::size_t j = 0; j < rows; ++j) {
+          std::memcpy(r.values.data() + b * r.band_bytes + (j * cols + col0) * type_bytes_,
+                      tile_values_.data() + b * tile_band_bytes + j * n * type_bytes_,
+                      n * type_bytes_);
+        }
+      }
+    }
     r.tile_row = tile_row;
     return &r;
   } catch (const std::exception& e) {
@@ -274,65 +308,77 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
     throw FormatError(std::string(who) + ": " + final_path + ": " + what +
                       (msg.empty() ? "" : ": " + msg));
   };
+  auto* grid_src = dynamic_cast<GridDataset*>(&src);
+  if (!grid_src) throw std::logic_error("copy_with_overviews: the source is not a grid_dataset");
   std::vector<int> factors = overview_factors(static_cast<std::size_t>(src.GetRasterXSize()),
                                               static_cast<std::size_t>(src.GetRasterYSize()));
   if (factors.empty()) {
     copy_to_file(src, "GTiff", temp_path, creation_options, who, final_path);
     return;
   }
-  // 1. The full resolution image, uncompressed, next to the output.
+  // 1. The overview levels in a temporary GeoTIFF next to the output: uncompressed, its full
+  // resolution image never written (sparse).
   TemporaryFile levels(temp_path + ".levels.tif");
-  std::vector<std::pair<std::string, std::string>> co;
-  for (const auto& [k, v] : creation_options) {
-    if (k != "COMPRESS" && k != "PREDICTOR" && k != "COPY_SRC_OVERVIEWS") co.emplace_back(k, v);
+  const int bands = src.GetRasterCount();
+  GDALRasterBand* first = src.GetRasterBand(1);
+  CPLStringList co;
+  co.SetNameValue("TILED", "YES");
+  co.SetNameValue("SPARSE_OK", "TRUE");
+  co.SetNameValue("INTERLEAVE", "BAND");
+  co.SetNameValue("BIGTIFF", "IF_SAFER");
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  if (!gtiff) fail("GDAL has no GTiff driver");
+  CPLErrorReset();
+  gdal::DatasetPtr ds(gtiff->Create(levels.path().c_str(), src.GetRasterXSize(),
+                                    src.GetRasterYSize(), bands, first->GetRasterDataType(),
+                                    co.List()));
+  if (!ds) fail("cannot create " + levels.path());
+  int has_nodata = 0;
+  const double nodata = first->GetNoDataValue(&has_nodata);
+  if (has_nodata) ds->GetRasterBand(1)->SetNoDataValue(nodata);
+  std::vector<int> band_list;
+  for (int b = 1; b <= bands; ++b) band_list.push_back(b);
+  if (ds->BuildOverviews("NONE", static_cast<int>(factors.size()), factors.data(), bands,
+                         band_list.data(), nullptr, nullptr) != CE_None) {
+    fail("cannot create overviews");
   }
-  co.emplace_back("COMPRESS", "NONE");
-  copy_to_file(src, "GTiff", levels.path(), co, who, final_path);
-  {
-    // 2. Its overview levels, computed from `src` as a MEM dataset computes them (the same GDAL
-    // routine on the same pixels: the same overviews as write_mosaic() of the whole image).
-    CPLErrorReset();
-    gdal::DatasetPtr ds(GDALDataset::Open(levels.path().c_str(), GDAL_OF_RASTER | GDAL_OF_UPDATE,
-                                          nullptr, nullptr, nullptr));
-    if (!ds) fail("cannot reopen " + levels.path());
-    std::vector<int> bands;
-    for (int b = 1; b <= ds->GetRasterCount(); ++b) bands.push_back(b);
-    if (ds->BuildOverviews("NONE", static_cast<int>(factors.size()), factors.data(),
-                           static_cast<int>(bands.size()), bands.data(), nullptr,
-                           nullptr) != CE_None) {
-      fail("cannot create overviews");
-    }
-    // MEMDataset::IBuildOverviews: averaging resamplings one level at a time from the full
-    // resolution, band by band; the others all levels at once.
-    const bool per_level = STARTS_WITH_CI(resampling, "AVER");
-    const int n_levels = static_cast<int>(factors.size());
-    for (int level = 0; level < (per_level ? n_levels : 1); ++level) {
-      for (int b = 1; b <= ds->GetRasterCount(); ++b) {
-        std::vector<GDALRasterBandH> targets;
-        GDALRasterBand* band = ds->GetRasterBand(b);
-        for (int o = per_level ? level : 0; o < (per_level ? level + 1 : n_levels); ++o) {
-          targets.push_back(GDALRasterBand::ToHandle(band->GetOverview(o)));
-        }
-        if (GDALRegenerateOverviews(GDALRasterBand::ToHandle(src.GetRasterBand(b)),
-                                    static_cast<int>(targets.size()), targets.data(), resampling,
-                                    flush_blocks, ds.get()) != CE_None) {
-          fail("cannot compute overviews");
-        }
+  // 2. Computed from `src` as MEMDataset::IBuildOverviews computes them (the same GDAL routine
+  // on the same pixels: the overviews of write_mosaic() of the whole image): averaging
+  // resamplings one level at a time from the full resolution, band by band; the others all
+  // levels at once.
+  const bool per_level = STARTS_WITH_CI(resampling, "AVER");
+  const int n_levels = static_cast<int>(factors.size());
+  for (int level = 0; level < (per_level ? n_levels : 1); ++level) {
+    for (int b = 1; b <= bands; ++b) {
+      std::vector<GDALRasterBandH> targets;
+      GDALRasterBand* band = ds->GetRasterBand(b);
+      for (int o = per_level ? level : 0; o < (per_level ? level + 1 : n_levels); ++o) {
+        targets.push_back(GDALRasterBand::ToHandle(band->GetOverview(o)));
+      }
+      if (GDALRegenerateOverviews(GDALRasterBand::ToHandle(src.GetRasterBand(b)),
+                                  static_cast<int>(targets.size()), targets.data(), resampling,
+                                  flush_blocks, ds.get()) != CE_None) {
+        fail("cannot compute overviews");
       }
     }
-    gdal::close_checked(std::move(ds), final_path, who);
   }
-  // 3. The output, its overviews copied before the full resolution image.
-  CPLErrorReset();
-  gdal::DatasetPtr levels_ds(GDALDataset::Open(
-      levels.path().c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr));
-  if (!levels_ds) fail("cannot reopen " + levels.path());
-  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  flush_blocks(1.0, nullptr, ds.get());
+  // 3. The output: the full resolution image from `src`, its overviews copied from the levels
+  // before it.
+  std::vector<std::vector<GDALRasterBand*>> overviews(static_cast<std::size_t>(bands));
+  for (int b = 1; b <= bands; ++b) {
+    for (int o = 0; o < n_levels; ++o) {
+      overviews[static_cast<std::size_t>(b - 1)].push_back(ds->GetRasterBand(b)->GetOverview(o));
+    }
+  }
+  grid_src->set_overviews(std::move(overviews));
   CPLStringList out_co;
   for (const auto& [k, v] : creation_options) out_co.SetNameValue(k.c_str(), v.c_str());
   out_co.SetNameValue("COPY_SRC_OVERVIEWS", "YES");
-  GDALDataset* out = gtiff->CreateCopy(temp_path.c_str(), levels_ds.get(), FALSE, out_co.List(),
-                                       flush_blocks, levels_ds.get());
+  CPLErrorReset();
+  GDALDataset* out =
+      gtiff->CreateCopy(temp_path.c_str(), &src, FALSE, out_co.List(), flush_blocks, ds.get());
+  grid_src->set_overviews({});
   if (!out) fail("cannot write GTiff");
   gdal::close_checked(gdal::DatasetPtr(out), final_path, who);
   std::error_code ec;
