@@ -113,10 +113,25 @@ void write_intensity(const std::string& path, const std::string& temp, const Geo
     copy_with_overviews(src, g, overviews, "AVERAGE", co, temp, path);
     return;
   }
-  // The COG driver computes the overviews from the source itself.
+  // The COG driver computes the overviews from the source itself, into a temporary file it
+  // compresses with ZSTD by default: 6 MB of compressor state per band (17 MB of the end phase's
+  // heap with three bands' buffers); LZW keeps a few kB, the same overviews (lossless either
+  // way). Set for this thread only, restored after.
   set_default(co, "BLOCKSIZE", "512");
   set_default(co, "OVERVIEW_RESAMPLING", "AVERAGE");
-  raster::copy_to_file(src, "COG", temp, co, kWho, path);
+  const char* before = CPLGetThreadLocalConfigOption("COG_TMP_COMPRESSION", nullptr);
+  const std::optional<std::string> saved =
+      before ? std::optional<std::string>(before) : std::nullopt;
+  if (!CPLGetConfigOption("COG_TMP_COMPRESSION", nullptr)) {
+    CPLSetThreadLocalConfigOption("COG_TMP_COMPRESSION", "LZW");
+  }
+  try {
+    raster::copy_to_file(src, "COG", temp, co, kWho, path);
+  } catch (...) {
+    CPLSetThreadLocalConfigOption("COG_TMP_COMPRESSION", saved ? saved->c_str() : nullptr);
+    throw;
+  }
+  CPLSetThreadLocalConfigOption("COG_TMP_COMPRESSION", saved ? saved->c_str() : nullptr);
 }
 
 /// The display colours of `intensity` (n values) for range `range`: bands r, g, b, alpha at
@@ -192,11 +207,13 @@ void write_labels(const std::string& path, const std::string& temp, const GeoFra
 }
 
 /// The three files at once, each on a thread of its own (`intensity`, `rgb`, `labels` write
-/// them to the temporary path given; `rgb` and `labels` may be empty: no such file); every
-/// thread is joined before the outputs are committed or discarded.
+/// them to the temporary path given; `rgb` and `labels` may be empty: no such file), or with
+/// `companions_in_turn` the display copy then the truth mosaic on one thread beside the mosaic
+/// (two threads: the memory of two writers at a time); every thread is joined before the
+/// outputs are committed or discarded.
 using Job = std::function<void(const std::string& temp)>;
 void write_files(const std::string& path, const MosaicWriteOptions& options, const Job& intensity,
-                 const Job& rgb, const Job& labels) {
+                 const Job& rgb, const Job& labels, bool companions_in_turn) {
   gdal::ensure_registered();
   // Claim every output first (existing files without overwrite fail before anything is written).
   AtomicOutput main_out(path, options.overwrite);
@@ -205,10 +222,15 @@ void write_files(const std::string& path, const MosaicWriteOptions& options, con
   if (rgb) rgb_out.emplace(options.rgb_path, options.overwrite);
   if (labels) labels_out.emplace(options.labels_path, options.overwrite);
   std::future<void> rgb_job, labels_job;
-  if (rgb_out) {
+  if (companions_in_turn && (rgb_out || labels_out)) {
+    rgb_job = std::async(std::launch::async, [&] {
+      if (rgb_out) rgb(rgb_out->temp_path().string());
+      if (labels_out) labels(labels_out->temp_path().string());
+    });
+  } else if (rgb_out) {
     rgb_job = std::async(std::launch::async, [&] { rgb(rgb_out->temp_path().string()); });
   }
-  if (labels_out) {
+  if (labels_out && !companions_in_turn) {
     labels_job = std::async(std::launch::async, [&] { labels(labels_out->temp_path().string()); });
   }
   std::exception_ptr error;
@@ -305,7 +327,7 @@ void write_mosaic(const std::string& path, const GeoFrame& frame, const MosaicIm
       write_labels(options.labels_path, temp, frame, *mem, g, options, Overviews::on_source);
     };
   }
-  write_files(path, options, intensity, rgb, labels);
+  write_files(path, options, intensity, rgb, labels, false);
 }
 
 void write_mosaic(const std::string& path, const GeoFrame& frame, MosaicGrid& grid,
@@ -365,7 +387,7 @@ void write_mosaic(const std::string& path, const GeoFrame& frame, MosaicGrid& gr
       write_labels(options.labels_path, temp, frame, *src, g, options, Overviews::on_file);
     };
   }
-  write_files(path, options, intensity, rgb, labels);
+  write_files(path, options, intensity, rgb, labels, true);
 }
 
 }  // namespace sonarsynth
