@@ -87,7 +87,7 @@ class GridDataset final : public GDALDataset {
   std::optional<OGRSpatialReference> srs_;
 };
 
-class GridBand final : public GDALRasterBand {
+class GridBand final : public DirectReadBand<GridDataset> {
  public:
   GridBand(GridDataset* ds, int band, GDALDataType type, int cols, int rows, int block) {
     poDS = ds;
@@ -148,18 +148,8 @@ class GridBand final : public GDALRasterBand {
     return dataset().read(x0, y0, nx, ny, 1, &nBand, data, eDataType, type_bytes,
                           static_cast<GSpacing>(nBlockXSize) * type_bytes, 0);
   }
-  CPLErr IRasterIO(GDALRWFlag flag, int x0, int y0, int nx, int ny, void* data, int buf_nx,
-                   int buf_ny, GDALDataType buf_type, GSpacing pixel_space, GSpacing line_space,
-                   GDALRasterIOExtraArg* extra) override {
-    if (plain_read(flag, x0, y0, nx, ny, buf_nx, buf_ny, extra)) {
-      return dataset().read(x0, y0, nx, ny, 1, &nBand, data, buf_type, pixel_space, line_space, 0);
-    }
-    return GDALRasterBand::IRasterIO(flag, x0, y0, nx, ny, data, buf_nx, buf_ny, buf_type,
-                                     pixel_space, line_space, extra);
-  }
 
  private:
-  GridDataset& dataset() { return *static_cast<GridDataset*>(poDS); }
   double nodata_ = 0.0;
   int has_nodata_ = FALSE;
   std::string unit_;

@@ -22,28 +22,27 @@ using WindowBands =
     std::function<void(const MosaicImage& window, unsigned char* out, std::size_t band_bytes)>;
 
 /// A read-only dataset of `bands` bands of `type` over a finalized grid (MosaicGrid::finalize();
-/// borrowed, it must outlive the dataset and stay unchanged): reads compute the pixels of a
-/// window of the grid (MosaicGrid::read_window) through `fill`. Plain reads bypass GDAL's block
-/// cache: a read within at most two rows of tiles is served from those rows (full width, all
-/// bands) kept until a read outside them, a taller read from its own window, so a CreateCopy
-/// holds about a row of its blocks, never the image. Georeferencing, metadata, band description,
-/// nodata, unit, colour interpretation and colour table are set as on a MEM dataset (for the
-/// copy to take). Reading in more than one thread at once is not supported (one dataset per
-/// thread: the grid's reads are).
+/// borrowed, it must outlive the dataset and stay unchanged): reads compute the pixels of the
+/// grid's tiles (MosaicGrid::read_window) through `fill`, a row of tiles (full width, all bands)
+/// at a time, the last two rows kept. Plain reads bypass GDAL's block cache, so that a
+/// CreateCopy holds about two rows of tiles, never the image. Georeferencing, metadata, band
+/// description, nodata, unit, colour interpretation and colour table are set as on a MEM
+/// dataset (for the copy to take). One thread at a time per dataset (the grid's reads may run
+/// in several at once).
 gdal::DatasetPtr grid_dataset(const MosaicGrid& grid, int bands, GDALDataType type,
                               WindowBands fill);
 
 /// Overview factors 2, 4, ... down to < 256 pixels on the longer side (none for a small image).
 std::vector<int> overview_factors(std::size_t cols, std::size_t rows);
 
-/// Copies `src` to the GeoTIFF `temp_path` (creation options `creation_options`) with overviews
-/// down to < 256 pixels (overview_factors()) computed from `src` with `resampling`, stored before
-/// the full resolution image (COPY_SRC_OVERVIEWS), as when a MEM dataset with overviews built by
-/// BuildOverviews is copied, the same pixels, without `src` in memory: the full resolution image
-/// goes to an uncompressed temporary GeoTIFF next to `temp_path` (removed whatever happens), its
-/// overviews are computed band by band as a MEM dataset computes them, then it is copied; the
-/// blocks read and written through GDAL's block cache are flushed as the work progresses, so
-/// that the cache does not fill with the image. Throws FormatError("<who>: <final_path>: ...").
+/// Copies `src` (a grid_dataset()) to the GeoTIFF `temp_path` (creation options
+/// `creation_options`) with overviews down to < 256 pixels (overview_factors()) computed from
+/// `src` with `resampling` and stored before the full resolution image (COPY_SRC_OVERVIEWS): the
+/// file a MEM dataset with BuildOverviews' overviews is copied to, without `src` in memory. The
+/// overview levels go to a sparse uncompressed temporary GeoTIFF next to `temp_path` (removed
+/// whatever happens), computed band by band with GDALRegenerateOverviews as a MEM dataset
+/// computes them, their blocks flushed from GDAL's cache as the work progresses. Throws
+/// FormatError("<who>: <final_path>: ...").
 void copy_with_overviews(GDALDataset& src, const char* resampling,
                          const std::vector<std::pair<std::string, std::string>>& creation_options,
                          const std::string& temp_path, const char* who,

@@ -65,7 +65,7 @@ class StreamingDataset final : public GDALDataset {
   int next_ = 0;   ///< row the source produces next
 };
 
-class StreamingBand final : public GDALRasterBand {
+class StreamingBand final : public DirectReadBand<StreamingDataset> {
  public:
   StreamingBand(StreamingDataset* ds, int band, GDALDataType type, int cols, int rows) {
     poDS = ds;
@@ -83,19 +83,6 @@ class StreamingBand final : public GDALRasterBand {
     return dataset().read(0, y_block, nRasterXSize, 1, 1, &nBand, data, eDataType,
                           GDALGetDataTypeSizeBytes(eDataType), 0, 0);
   }
-  CPLErr IRasterIO(GDALRWFlag flag, int x0, int y0, int nx, int ny, void* data, int buf_nx,
-                   int buf_ny, GDALDataType buf_type, GSpacing pixel_space, GSpacing line_space,
-                   GDALRasterIOExtraArg* extra) override {
-    if (plain_read(flag, x0, y0, nx, ny, buf_nx, buf_ny, extra)) {
-      return dataset().read(x0, y0, nx, ny, 1, &nBand, data, buf_type, pixel_space, line_space, 0);
-    }
-    // Resampled reads (overviews, thumbnails) go through the blocks; writes fail there.
-    return GDALRasterBand::IRasterIO(flag, x0, y0, nx, ny, data, buf_nx, buf_ny, buf_type,
-                                     pixel_space, line_space, extra);
-  }
-
- private:
-  StreamingDataset& dataset() { return *static_cast<StreamingDataset*>(poDS); }
 };
 
 StreamingDataset::StreamingDataset(int cols, int rows, int bands, GDALDataType type,

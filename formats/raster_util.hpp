@@ -38,6 +38,25 @@ using BandMap = int*;
 bool plain_read(GDALRWFlag flag, int x0, int y0, int nx, int ny, int buf_nx, int buf_ny,
                 const GDALRasterIOExtraArg* extra);
 
+/// A read-only band whose plain reads go straight to its dataset's `read(x0, y0, nx, ny,
+/// band_count, band_map, out, out_type, pixel_space, line_space, band_space)`, bypassing GDAL's
+/// block cache; resampled reads (overviews, thumbnails) go through the blocks (IReadBlock),
+/// writes fail there.
+template <typename Dataset>
+class DirectReadBand : public GDALRasterBand {
+ protected:
+  Dataset& dataset() { return *static_cast<Dataset*>(poDS); }
+  CPLErr IRasterIO(GDALRWFlag flag, int x0, int y0, int nx, int ny, void* data, int buf_nx,
+                   int buf_ny, GDALDataType buf_type, GSpacing pixel_space, GSpacing line_space,
+                   GDALRasterIOExtraArg* extra) override {
+    if (plain_read(flag, x0, y0, nx, ny, buf_nx, buf_ny, extra)) {
+      return dataset().read(x0, y0, nx, ny, 1, &nBand, data, buf_type, pixel_space, line_space, 0);
+    }
+    return GDALRasterBand::IRasterIO(flag, x0, y0, nx, ny, data, buf_nx, buf_ny, buf_type,
+                                     pixel_space, line_space, extra);
+  }
+};
+
 /// The rows of an image, produced in order for stream_to_file().
 class RowSource {
  public:
