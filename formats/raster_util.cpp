@@ -32,22 +32,6 @@ void check_size(std::size_t cols, std::size_t rows, const char* who, const std::
   }
 }
 
-// BANDMAP_TYPE (GDAL >= 3.7) is int* unless GDAL_BANDMAP_TYPE_CONST_SAFE is defined.
-#ifdef BANDMAP_TYPE
-using BandMap = BANDMAP_TYPE;
-#else
-using BandMap = int*;
-#endif
-
-/// A plain read: no resampling, no fractional window.
-bool plain_read(GDALRWFlag flag, int x0, int y0, int nx, int ny, int buf_nx, int buf_ny,
-                const GDALRasterIOExtraArg* extra) {
-  const bool integer_window =
-      !extra || !extra->bFloatingPointWindowValidity ||
-      (extra->dfXOff == x0 && extra->dfYOff == y0 && extra->dfXSize == nx && extra->dfYSize == ny);
-  return flag == GF_Read && buf_nx == nx && buf_ny == ny && integer_window;
-}
-
 /// A read-only dataset whose rows come from a RowSource when GDAL reads them: plain reads bypass
 /// GDAL's block cache (which would otherwise keep up to GDAL_CACHEMAX of the image) and only the
 /// current row of all bands is held. Rows are meant to be read top to bottom, as CreateCopy
@@ -81,7 +65,7 @@ class StreamingDataset final : public GDALDataset {
   int next_ = 0;   ///< row the source produces next
 };
 
-class StreamingBand final : public GDALRasterBand {
+class StreamingBand final : public DirectReadBand<StreamingDataset> {
  public:
   StreamingBand(StreamingDataset* ds, int band, GDALDataType type, int cols, int rows) {
     poDS = ds;
@@ -99,19 +83,6 @@ class StreamingBand final : public GDALRasterBand {
     return dataset().read(0, y_block, nRasterXSize, 1, 1, &nBand, data, eDataType,
                           GDALGetDataTypeSizeBytes(eDataType), 0, 0);
   }
-  CPLErr IRasterIO(GDALRWFlag flag, int x0, int y0, int nx, int ny, void* data, int buf_nx,
-                   int buf_ny, GDALDataType buf_type, GSpacing pixel_space, GSpacing line_space,
-                   GDALRasterIOExtraArg* extra) override {
-    if (plain_read(flag, x0, y0, nx, ny, buf_nx, buf_ny, extra)) {
-      return dataset().read(x0, y0, nx, ny, 1, &nBand, data, buf_type, pixel_space, line_space, 0);
-    }
-    // Resampled reads (overviews, thumbnails) go through the blocks; writes fail there.
-    return GDALRasterBand::IRasterIO(flag, x0, y0, nx, ny, data, buf_nx, buf_ny, buf_type,
-                                     pixel_space, line_space, extra);
-  }
-
- private:
-  StreamingDataset& dataset() { return *static_cast<StreamingDataset*>(poDS); }
 };
 
 StreamingDataset::StreamingDataset(int cols, int rows, int bands, GDALDataType type,
@@ -176,6 +147,14 @@ CPLErr StreamingDataset::IRasterIO(GDALRWFlag flag, int x0, int y0, int nx, int 
 }
 
 }  // namespace
+
+bool plain_read(GDALRWFlag flag, int x0, int y0, int nx, int ny, int buf_nx, int buf_ny,
+                const GDALRasterIOExtraArg* extra) {
+  const bool integer_window =
+      !extra || !extra->bFloatingPointWindowValidity ||
+      (extra->dfXOff == x0 && extra->dfYOff == y0 && extra->dfXSize == nx && extra->dfYSize == ny);
+  return flag == GF_Read && buf_nx == nx && buf_ny == ny && integer_window;
+}
 
 gdal::DatasetPtr create_mem(std::size_t cols, std::size_t rows, int bands, GDALDataType type,
                             const char* who, const std::string& path) {
@@ -279,6 +258,10 @@ void describe(GDALDataset& ds, const RasterLabels& labels, int bands, bool band_
 }
 
 }  // namespace
+
+void describe_dataset(GDALDataset& ds, const RasterLabels& labels, int bands) {
+  describe(ds, labels, bands, true);
+}
 
 void stream_to_file(RowSource& source, std::size_t cols, std::size_t rows, int bands,
                     GDALDataType type, const char* driver_name, const std::string& temp_path,

@@ -27,6 +27,36 @@ gdal::DatasetPtr wrap_mem(std::size_t cols, std::size_t rows, GDALDataType type,
                           const std::vector<const void*>& bands, const char* who,
                           const std::string& path);
 
+// BANDMAP_TYPE (GDAL >= 3.7) is int* unless GDAL_BANDMAP_TYPE_CONST_SAFE is defined.
+#ifdef BANDMAP_TYPE
+using BandMap = BANDMAP_TYPE;
+#else
+using BandMap = int*;
+#endif
+
+/// An IRasterIO call that is a plain read: no resampling, no fractional window.
+bool plain_read(GDALRWFlag flag, int x0, int y0, int nx, int ny, int buf_nx, int buf_ny,
+                const GDALRasterIOExtraArg* extra);
+
+/// A read-only band whose plain reads go straight to its dataset's `read(x0, y0, nx, ny,
+/// band_count, band_map, out, out_type, pixel_space, line_space, band_space)`, bypassing GDAL's
+/// block cache; resampled reads (overviews, thumbnails) go through the blocks (IReadBlock),
+/// writes fail there.
+template <typename Dataset>
+class DirectReadBand : public GDALRasterBand {
+ protected:
+  Dataset& dataset() { return *static_cast<Dataset*>(poDS); }
+  CPLErr IRasterIO(GDALRWFlag flag, int x0, int y0, int nx, int ny, void* data, int buf_nx,
+                   int buf_ny, GDALDataType buf_type, GSpacing pixel_space, GSpacing line_space,
+                   GDALRasterIOExtraArg* extra) override {
+    if (plain_read(flag, x0, y0, nx, ny, buf_nx, buf_ny, extra)) {
+      return dataset().read(x0, y0, nx, ny, 1, &nBand, data, buf_type, pixel_space, line_space, 0);
+    }
+    return GDALRasterBand::IRasterIO(flag, x0, y0, nx, ny, data, buf_nx, buf_ny, buf_type,
+                                     pixel_space, line_space, extra);
+  }
+};
+
 /// The rows of an image, produced in order for stream_to_file().
 class RowSource {
  public:
@@ -52,6 +82,10 @@ struct RasterLabels {
   /// Colour table of band 1 (r, g, b, a of the values 0, 1, ...), GTiff only; empty = none.
   std::vector<std::array<short, 4>> color_table;
 };
+
+/// Sets everything `labels` says on `ds` (its `bands` bands): metadata, descriptions, band
+/// metadata, colour table, units, nodata.
+void describe_dataset(GDALDataset& ds, const RasterLabels& labels, int bands);
 
 /// Writes the `rows` rows of `source` to `temp_path` through driver `driver` (creation options as
 /// for copy_to_file(), labelled with `labels`) without holding the image:

@@ -3,6 +3,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <span>
 #include <utility>
 
 #include "sink_threads.hpp"
@@ -87,24 +89,21 @@ class SurveyProducts::MosaicPart final : public PingSink {
     w.linear_full_scale = options_.display_linear_full_scale;
     if (options_.truth) w.labels_path = (dir_ / "truth_mosaic.tif").string();
     const auto path = dir_ / "mosaic.tif";
-    // The image replaces the accumulators: they are released before the files are written.
-    MosaicImage image = std::move(*grid_).finish();
-    grid_.reset();
+    // The files are written window by window from the tiles (no image in memory): the tiles
+    // in memory are reduced to their final values first, and released with the grid after.
+    grid_->finalize();
     detail::release_free_memory();
-    // The class and instance rasters first, their buffers released before the three mosaic
-    // files (each with its own display or overview buffers) are written at once.
     std::vector<std::filesystem::path> label_files;
-    if (codes_ && !image.labels.empty()) {
-      std::vector<std::uint8_t> cls;
-      std::vector<std::uint32_t> instance;
-      codes_->decode(image.labels, cls, instance);
+    if (codes_ && grid_->has_labels()) {
       label_files = {dir_ / "truth_mosaic_class.tif", dir_ / "truth_mosaic_instance.tif"};
       labels::write_mosaic_label_rasters(label_files[0].string(), label_files[1].string(),
-                                         scene_->frame, image.geometry, cls, instance, w.overwrite,
-                                         w.metadata);
+                                         scene_->frame, *grid_, *codes_, w.overwrite, w.metadata);
     }
+    std::function<void(std::span<std::int32_t>)> label_map;
+    if (codes_) label_map = [this](std::span<std::int32_t> c) { codes_->decode_labels(c); };
+    write_mosaic(path.string(), scene_->frame, *grid_, w, label_map);
+    grid_.reset();
     detail::release_free_memory();
-    write_mosaic(path.string(), scene_->frame, image, w);
     files_ = {path, w.rgb_path};
     if (options_.truth) files_.push_back(w.labels_path);
     files_.insert(files_.end(), label_files.begin(), label_files.end());

@@ -5,6 +5,7 @@
 #include <array>
 #include <limits>
 
+#include "mosaic_blocks.hpp"
 #include "raster_util.hpp"
 #include "row_spool.hpp"
 #include "sonarsynth/error.hpp"
@@ -151,11 +152,13 @@ constexpr const char* kWaterfallLayout =
     "line's waterfall)";
 }  // namespace
 
-raster::RasterLabels waterfall_class_labels(const MetadataItems& metadata) {
+namespace {
+
+/// What a class raster says it holds: `metadata` first, then the class items.
+raster::RasterLabels class_labels(const MetadataItems& metadata, const std::string& quantity,
+                                  const std::string& nodata) {
   raster::RasterLabels l;
-  l.metadata = class_items(metadata, "truth class of each sample (machine-learning label)",
-                           "255: no sample (a shorter side's padding)");
-  l.metadata.emplace_back("SONARSYNTH_WATERFALL_LAYOUT", kWaterfallLayout);
+  l.metadata = class_items(metadata, quantity, nodata);
   l.descriptions = {"class"};
   l.has_nodata = true;
   l.nodata = kClassNodata;
@@ -164,15 +167,31 @@ raster::RasterLabels waterfall_class_labels(const MetadataItems& metadata) {
   return l;
 }
 
-raster::RasterLabels waterfall_instance_labels(const MetadataItems& metadata) {
+raster::RasterLabels instance_labels(const MetadataItems& metadata, const std::string& quantity,
+                                     const std::string& nodata) {
   raster::RasterLabels l;
-  l.metadata =
-      instance_items(metadata, "truth instance (object id) of each sample (machine-learning label)",
-                     "4294967295: no sample (a shorter side's padding)");
-  l.metadata.emplace_back("SONARSYNTH_WATERFALL_LAYOUT", kWaterfallLayout);
+  l.metadata = instance_items(metadata, quantity, nodata);
   l.descriptions = {"instance"};
   l.has_nodata = true;
   l.nodata = kInstanceNodata;
+  return l;
+}
+
+}  // namespace
+
+raster::RasterLabels waterfall_class_labels(const MetadataItems& metadata) {
+  raster::RasterLabels l =
+      class_labels(metadata, "truth class of each sample (machine-learning label)",
+                   "255: no sample (a shorter side's padding)");
+  l.metadata.emplace_back("SONARSYNTH_WATERFALL_LAYOUT", kWaterfallLayout);
+  return l;
+}
+
+raster::RasterLabels waterfall_instance_labels(const MetadataItems& metadata) {
+  raster::RasterLabels l = instance_labels(
+      metadata, "truth instance (object id) of each sample (machine-learning label)",
+      "4294967295: no sample (a shorter side's padding)");
+  l.metadata.emplace_back("SONARSYNTH_WATERFALL_LAYOUT", kWaterfallLayout);
   return l;
 }
 
@@ -301,72 +320,74 @@ void MosaicLabelCodes::encode(std::span<const SampleClass> cls, std::span<const 
   }
 }
 
+MosaicLabelCodes::Decoded MosaicLabelCodes::decode(std::int32_t code) const {
+  if (code == MosaicImage::kNoLabel) return {MosaicImage::kNoLabel, kClassNodata, kInstanceNodata};
+  const auto c = static_cast<std::uint8_t>(code & 7);
+  const auto index = static_cast<std::size_t>(code >> 3);
+  const std::int32_t object = index > 0 ? ids_[index - 1] : 0;
+  const auto sc = static_cast<SampleClass>(c);
+  return {sc == SampleClass::object   ? object
+          : sc == SampleClass::seabed ? 0
+                                      : -1,
+          c, static_cast<std::uint32_t>(object)};
+}
+
 void MosaicLabelCodes::decode(std::vector<std::int32_t>& codes, std::vector<std::uint8_t>& cls,
                               std::vector<std::uint32_t>& instance) const {
-  cls.assign(codes.size(), kClassNodata);
-  instance.assign(codes.size(), kInstanceNodata);
+  cls.resize(codes.size());
+  instance.resize(codes.size());
   for (std::size_t i = 0; i < codes.size(); ++i) {
-    const std::int32_t code = codes[i];
-    if (code == MosaicImage::kNoLabel) continue;
-    const auto c = static_cast<std::uint8_t>(code & 7);
-    const auto index = static_cast<std::size_t>(code >> 3);
-    const std::int32_t object = index > 0 ? ids_[index - 1] : 0;
-    cls[i] = c;
-    instance[i] = static_cast<std::uint32_t>(object);
-    const auto sc = static_cast<SampleClass>(c);
-    codes[i] = sc == SampleClass::object ? object : sc == SampleClass::seabed ? 0 : -1;
+    const Decoded d = decode(codes[i]);
+    codes[i] = d.label;
+    cls[i] = d.cls;
+    instance[i] = d.instance;
   }
 }
 
+void MosaicLabelCodes::decode_labels(std::span<std::int32_t> codes) const {
+  for (std::int32_t& code : codes) code = decode(code).label;
+}
+
 void write_mosaic_label_rasters(const std::string& class_path, const std::string& instance_path,
-                                const GeoFrame& frame, const GridGeometry& g,
-                                const std::vector<std::uint8_t>& cls,
-                                const std::vector<std::uint32_t>& instance, bool overwrite,
+                                const GeoFrame& frame, const MosaicGrid& grid,
+                                const MosaicLabelCodes& codes, bool overwrite,
                                 const MetadataItems& metadata) {
   constexpr const char* kWho = "truth mosaic labels";
-  if (cls.size() != g.size() || instance.size() != g.size()) {
-    throw InputError(std::string(kWho) + ": " + class_path + ": buffers do not match the grid");
-  }
+  const GridGeometry& g = grid.geometry();
   gdal::ensure_registered();
   AtomicOutput class_out(class_path, overwrite);
   AtomicOutput instance_out(instance_path, overwrite);
   const std::string what = " of the sample nearest to nadir (machine-learning label)";
-  {
-    gdal::DatasetPtr mem =
-        raster::wrap_mem(g.cols, g.rows, GDT_Byte, {cls.data()}, kWho, class_path);
-    raster::set_georeferencing(*mem, frame, g, kWho, class_path);
-    for (const auto& [k, v] :
-         class_items(metadata, "truth class" + what, "255: no sample in the pixel")) {
-      mem->SetMetadataItem(k.c_str(), v.c_str());
-    }
-    GDALRasterBand* b = mem->GetRasterBand(1);
-    b->SetNoDataValue(kClassNodata);
-    b->SetDescription("class");
-    for (const auto& [k, v] : class_band_items()) b->SetMetadataItem(k.c_str(), v.c_str());
-    GDALColorTable table;
-    const auto colours = class_colour_table();
-    for (std::size_t i = 0; i < colours.size(); ++i) {
-      const GDALColorEntry e{colours[i][0], colours[i][1], colours[i][2], colours[i][3]};
-      table.SetColorEntry(static_cast<int>(i), &e);
-    }
-    b->SetColorTable(&table);
-    raster::copy_to_file(*mem, "GTiff", class_out.temp_path().string(), kTiffOptions, kWho,
-                         class_path);
-  }
-  {
-    gdal::DatasetPtr mem =
-        raster::wrap_mem(g.cols, g.rows, GDT_UInt32, {instance.data()}, kWho, instance_path);
-    raster::set_georeferencing(*mem, frame, g, kWho, instance_path);
-    for (const auto& [k, v] : instance_items(metadata, "truth instance (object id)" + what,
-                                             "4294967295: no sample in the pixel")) {
-      mem->SetMetadataItem(k.c_str(), v.c_str());
-    }
-    GDALRasterBand* b = mem->GetRasterBand(1);
-    b->SetNoDataValue(kInstanceNodata);
-    b->SetDescription("instance");
-    raster::copy_to_file(*mem, "GTiff", instance_out.temp_path().string(), kTiffOptions, kWho,
-                         instance_path);
-  }
+  // Each raster read from the grid window by window (formats/mosaic_blocks.hpp), the codes
+  // decoded as they are read.
+  auto write = [&](bool instance) {
+    const std::string& path = instance ? instance_path : class_path;
+    gdal::DatasetPtr src = raster::grid_dataset(
+        grid, 1, instance ? GDT_UInt32 : GDT_Byte,
+        [&codes, instance](const MosaicImage& w, unsigned char* out, std::size_t) {
+          const std::size_t n = w.intensity.size();
+          auto* ids = reinterpret_cast<std::uint32_t*>(out);
+          for (std::size_t i = 0; i < n; ++i) {
+            const MosaicLabelCodes::Decoded d =
+                codes.decode(w.labels.empty() ? MosaicImage::kNoLabel : w.labels[i]);
+            if (instance) {
+              ids[i] = d.instance;
+            } else {
+              out[i] = d.cls;
+            }
+          }
+        });
+    raster::set_georeferencing(*src, frame, g, kWho, path);
+    raster::RasterLabels l =
+        instance ? instance_labels(metadata, "truth instance (object id)" + what,
+                                   "4294967295: no sample in the pixel")
+                 : class_labels(metadata, "truth class" + what, "255: no sample in the pixel");
+    raster::describe_dataset(*src, l, 1);
+    raster::copy_to_file(*src, "GTiff", (instance ? instance_out : class_out).temp_path().string(),
+                         kTiffOptions, kWho, path);
+  };
+  write(false);
+  write(true);
   class_out.commit();
   instance_out.commit();
 }

@@ -17,6 +17,7 @@
 #include "raster_util.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/height_grid.hpp"
+#include "sonarsynth/mosaic.hpp"
 #include "sonarsynth/rendered_ping.hpp"
 
 namespace sonarsynth {
@@ -101,21 +102,31 @@ class MosaicLabelCodes {
   /// The codes of one side (NEAR -> FAR). Throws FormatError for an id not in the scene.
   void encode(std::span<const SampleClass> cls, std::span<const std::int32_t> id,
               std::vector<std::int32_t>& out) const;
+  /// One gridded code decoded: the plain truth label (object id, 0 seabed, -1 none), the class
+  /// and the instance; MosaicImage::kNoLabel gives kNoLabel and the nodata class and instance.
+  struct Decoded {
+    std::int32_t label;
+    std::uint8_t cls;
+    std::uint32_t instance;
+  };
+  Decoded decode(std::int32_t code) const;
   /// Decodes gridded codes: `codes` becomes the plain truth label again (object id, 0 seabed,
   /// -1 none; MosaicImage::kNoLabel stays), `cls` and `instance` the label rasters.
   void decode(std::vector<std::int32_t>& codes, std::vector<std::uint8_t>& cls,
               std::vector<std::uint32_t>& instance) const;
+  /// The plain truth labels of gridded codes, in place (as decode() makes `codes`).
+  void decode_labels(std::span<std::int32_t> codes) const;
 
  private:
   std::vector<std::int32_t> ids_;  ///< sorted, unique
 };
 
 /// Writes the mosaic's class (Byte) and instance (UInt32) GeoTIFFs on its grid (the frame's UTM
-/// CRS, like write_mosaic), each atomically.
+/// CRS, like write_mosaic), each atomically, decoding the grid's codes window by window as they
+/// are written (no image in memory; a finalized grid, MosaicGrid::finalize(), is read fastest).
 void write_mosaic_label_rasters(const std::string& class_path, const std::string& instance_path,
-                                const GeoFrame& frame, const GridGeometry& geometry,
-                                const std::vector<std::uint8_t>& cls,
-                                const std::vector<std::uint32_t>& instance, bool overwrite,
+                                const GeoFrame& frame, const MosaicGrid& grid,
+                                const MosaicLabelCodes& codes, bool overwrite,
                                 const MetadataItems& metadata);
 
 }  // namespace labels

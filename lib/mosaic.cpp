@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "sonarsynth/error.hpp"
@@ -111,6 +112,7 @@ double MosaicGrid::flat_ground_range_m(double slant_range_m, double altitude_m) 
 }
 
 MosaicAddStats MosaicGrid::add(const MosaicPing& ping) {
+  if (finalized_) throw std::logic_error("mosaic: add() after finalize()");
   if (!ping.sensor_xy_m.allFinite()) bad("sensor_xy_m.x", ping.sensor_xy_m.x(), "finite");
   if (!std::isfinite(ping.heading_grid_rad))
     bad("heading_grid_rad", ping.heading_grid_rad, "finite");

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 
 #include "sonarsynth/error.hpp"
@@ -157,6 +159,8 @@ std::size_t MosaicGrid::accumulator_bytes() const {
 }
 
 void MosaicGrid::finalize_tile(Tile& t) const {
+  if (t.final) return;
+  t.final = true;
   std::vector<float>& image = options_.rule == MosaicRule::weighted_mean ? t.sum_wi : t.best;
   for (std::size_t i = 0; i < t.count.size(); ++i) {
     if (t.count[i] == 0) {
@@ -186,20 +190,74 @@ void MosaicGrid::copy_tile(std::size_t index, const std::vector<T>& from,
 
 MosaicImage MosaicGrid::finish() const& {
   MosaicImage out;
+  read_window(0, 0, geometry_.cols, geometry_.rows, out);
+  return out;
+}
+
+void MosaicGrid::finalize() {
+  for (auto& t : tiles_) {
+    if (t) finalize_tile(*t);
+  }
+  resident_bytes_ = 0;
+  for (const auto& t : tiles_) {
+    if (t) resident_bytes_ += tile_bytes(*t);
+  }
+  cached_index_ = kNoTile;
+  finalized_ = true;
+}
+
+void MosaicGrid::read_window(std::size_t col0, std::size_t row0, std::size_t cols, std::size_t rows,
+                             MosaicImage& out) const {
+  if (cols == 0 || rows == 0 || col0 > geometry_.cols || cols > geometry_.cols - col0 ||
+      row0 > geometry_.rows || rows > geometry_.rows - row0) {
+    throw std::out_of_range("mosaic: window of " + std::to_string(cols) + " x " +
+                            std::to_string(rows) + " pixels at (" + std::to_string(col0) + ", " +
+                            std::to_string(row0) + ") is not inside the grid");
+  }
   out.geometry = geometry_;
-  const std::size_t n = geometry_.size();
+  out.geometry.x0_m = geometry_.x0_m + static_cast<double>(col0) * geometry_.dx_m;
+  out.geometry.y0_m = geometry_.y0_m + static_cast<double>(row0) * geometry_.dy_m;
+  out.geometry.cols = cols;
+  out.geometry.rows = rows;
+  const std::size_t n = cols * rows;
   out.intensity.assign(n, std::numeric_limits<float>::quiet_NaN());
   out.count.assign(n, 0);
-  if (has_labels_) out.labels.assign(n, MosaicImage::kNoLabel);
-  for (std::size_t i = 0; i < tiles_.size(); ++i) {
-    if (!tiles_[i] && !spilled_[i]) continue;
-    Tile t = tiles_[i] ? *tiles_[i] : load(i);
-    finalize_tile(t);
-    copy_tile(i, options_.rule == MosaicRule::weighted_mean ? t.sum_wi : t.best, out.intensity);
-    copy_tile(i, t.count, out.count);
-    copy_tile(i, t.labels, out.labels);
+  if (has_labels_) {
+    out.labels.assign(n, MosaicImage::kNoLabel);
+  } else {
+    out.labels.clear();
   }
-  return out;
+  const bool mean = options_.rule == MosaicRule::weighted_mean;
+  Tile loaded;
+  for (std::size_t ty = row0 / tile_px_; ty * tile_px_ < row0 + rows; ++ty) {
+    for (std::size_t tx = col0 / tile_px_; tx * tile_px_ < col0 + cols; ++tx) {
+      const std::size_t index = ty * tiles_x_ + tx;
+      const Tile* t = tiles_[index].get();
+      if (!t && !spilled_[index]) continue;
+      if (!t || !t->final) {
+        loaded = t ? *t : load(index);
+        finalize_tile(loaded);
+        t = &loaded;
+      }
+      // The part of the tile inside the window, in tile and in window coordinates.
+      const std::size_t c_begin = std::max(col0, tx * tile_px_);
+      const std::size_t c_end = std::min(col0 + cols, (tx + 1) * tile_px_);
+      const std::size_t r_begin = std::max(row0, ty * tile_px_);
+      const std::size_t r_end = std::min(row0 + rows, (ty + 1) * tile_px_);
+      auto copy = [&](const auto& from, auto& to) {
+        if (from.empty()) return;
+        for (std::size_t r = r_begin; r < r_end; ++r) {
+          const std::size_t src = (r - ty * tile_px_) * tile_px_ + (c_begin - tx * tile_px_);
+          const std::size_t dst = (r - row0) * cols + (c_begin - col0);
+          std::copy_n(from.begin() + static_cast<std::ptrdiff_t>(src), c_end - c_begin,
+                      to.begin() + static_cast<std::ptrdiff_t>(dst));
+        }
+      };
+      copy(mean ? t->sum_wi : t->best, out.intensity);
+      copy(t->count, out.count);
+      copy(t->labels, out.labels);
+    }
+  }
 }
 
 MosaicImage MosaicGrid::finish() && {

@@ -16,11 +16,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/mosaic.hpp"
 
 namespace sonarsynth::test {
 
@@ -145,6 +147,41 @@ inline std::pair<double, double> utm(LatLon p, int zone) {
   double e = 0, n = 0;
   GeographicLib::UTMUPS::Forward(p.lat_deg, p.lon_deg, z, northp, e, n, zone);
   return {e, n};
+}
+
+/// Three lines over a 100 m x 80 m box (the second crosses the first and the third re-crosses
+/// ground the first left long before), speckled values and labels.
+template <typename Grid>
+inline void survey(Grid& grid) {
+  std::mt19937_64 rng(5);
+  std::exponential_distribution<float> speckle(0.01f);
+  std::vector<float> port(400), stbd(400);
+  std::vector<std::int32_t> labels(400);
+  const Eigen::Vector2d starts[3] = {{-40, -30}, {-35, 35}, {30, -35}};
+  const double headings[3] = {1.2, 2.6, -0.6};
+  for (int line = 0; line < 3; ++line) {
+    grid.break_line();
+    for (int i = 0; i < 150; ++i) {
+      for (auto* side : {&port, &stbd}) {
+        for (float& v : *side) v = speckle(rng);
+      }
+      for (std::size_t k = 0; k < labels.size(); ++k) {
+        labels[k] = static_cast<std::int32_t>((k / 40 + static_cast<std::size_t>(line)) % 4);
+      }
+      MosaicPing p;
+      p.heading_grid_rad = headings[line];
+      p.sensor_xy_m =
+          starts[line] +
+          0.5 * i * Eigen::Vector2d(std::sin(p.heading_grid_rad), std::cos(p.heading_grid_rad));
+      p.altitude_m = 3.0;
+      p.slant_range_m = 20.0;
+      p.port = port;
+      p.starboard = stbd;
+      p.port_labels = labels;
+      p.starboard_labels = labels;
+      grid.add(p);
+    }
+  }
 }
 
 }  // namespace sonarsynth::test

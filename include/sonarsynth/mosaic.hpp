@@ -154,6 +154,24 @@ class MosaicGrid {
   /// the larger of the accumulators and the image (plus the tiles not yet copied).
   MosaicImage finish() &&;
 
+  /// Ends the gridding without building the image: the tiles in memory are converted to their
+  /// final values in place (the weights and ranges released); spilled ones are converted as they
+  /// are read back by read_window(). add() must not be called afterwards (std::logic_error).
+  /// finish() still works after it. Idempotent.
+  void finalize();
+  bool finalized() const { return finalized_; }
+  /// True if some sample had a label (the image's labels are not empty).
+  bool has_labels() const { return has_labels_; }
+  /// Pixels a side of the accumulator tiles.
+  std::size_t tile_px() const { return tile_px_; }
+  /// Columns [col0, col0 + cols) x rows [row0, row0 + rows) of the finished image (inside the
+  /// grid; std::out_of_range otherwise), as finish() would give them: `out` gets the window's
+  /// geometry and buffers (labels empty if !has_labels()), reusing its capacity. Reads each tile
+  /// the window touches once (a spilled one from the file); memory is the window and one tile.
+  /// A window aligned to tiles reads each tile of the grid once when the windows tile the image.
+  void read_window(std::size_t col0, std::size_t row0, std::size_t cols, std::size_t rows,
+                   MosaicImage& out) const;
+
  private:
   void add_side(const MosaicPing& ping, int side, std::span<const float> values,
                 std::span<const std::int32_t> labels, const Eigen::Vector2d& start,
@@ -176,6 +194,7 @@ class MosaicGrid {
     std::vector<float> best_range;  ///< ground range of the nearest value
     std::vector<std::int32_t> labels;
     std::vector<float> label_range;  ///< ground range of the label
+    bool final = false;              ///< finalize_tile() done: intensity in sum_wi or best
   };
   /// Tile (tx, ty) of the grid, allocated (with the accumulators' initial values) if needed.
   Tile& tile(std::size_t tx, std::size_t ty);
@@ -207,6 +226,7 @@ class MosaicGrid {
   std::size_t tiles_y_ = 0;
   std::vector<std::unique_ptr<Tile>> tiles_;  ///< row-major, null = never touched
   bool has_labels_ = false;                   ///< some sample had a label
+  bool finalized_ = false;                    ///< finalize() was called
   /// A side of the last ping resampled at equal ground ranges (j + 0.5) * step (NaN = none).
   struct GroundLine {
     bool valid = false;

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstdint>
+#include <functional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -64,6 +67,19 @@ struct MosaicWriteOptions {
 /// options.
 void write_mosaic(const std::string& path, const GeoFrame& frame, const MosaicImage& image,
                   const MosaicWriteOptions& options = {});
+
+/// write_mosaic() of the image `grid` gives (MosaicGrid::finish()), without building it: the grid
+/// is finalized (MosaicGrid::finalize(): nothing can be added afterwards) and every file is
+/// written window by window from its tiles, memory about two rows of tiles per file (and GDAL's
+/// chunk buffers), not the image; the display copy and the truth mosaic are written one after
+/// the other beside the mosaic. `label_map` (optional) maps the gridded labels of a window to
+/// what the truth mosaic stores, in place. The files are those of write_mosaic(path, frame,
+/// grid.finish(), options) with the labels mapped: the same pixels at full resolution and in the
+/// overviews, metadata, georeferencing and layout. A temporary GeoTIFF of overview levels is
+/// written next to each GeoTIFF with overviews and removed whatever happens.
+void write_mosaic(const std::string& path, const GeoFrame& frame, MosaicGrid& grid,
+                  const MosaicWriteOptions& options = {},
+                  const std::function<void(std::span<std::int32_t>)>& label_map = {});
 
 /// "<dir>/<stem>_rgb.tif" for "<dir>/<stem>.<ext>".
 std::string default_rgb_path(const std::string& mosaic_path);
