@@ -306,8 +306,7 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
     copy_to_file(src, "GTiff", temp_path, creation_options, who, final_path);
     return;
   }
-  // 1. The overview levels in a temporary GeoTIFF next to the output: uncompressed, its full
-  // resolution image never written (sparse).
+  // 1. The overview levels in a temporary uncompressed GeoTIFF next to the output.
   TemporaryFile levels(temp_path + ".levels.tif");
   const int bands = src.GetRasterCount();
   GDALRasterBand* first = src.GetRasterBand(1);
@@ -332,8 +331,35 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
                          band_list.data(), nullptr, nullptr) != CE_None) {
     fail("cannot create overviews");
   }
-  // 2. Computed from `src` as MEMDataset::IBuildOverviews computes them (the same GDAL routine
-  // on the same pixels: the overviews of write_mosaic() of the whole image): averaging
+  // 2. The full resolution copied in once, a row of blocks at a time: the regeneration below
+  // reads it once per band and level (16 times for the display copy's four bands), and `src`
+  // computes its pixels afresh at every read (the display colours, or spilled tiles read back).
+  // Band by band: colour interpretations (an alpha band is the others' mask) as in `src`.
+  for (int b = 1; b <= bands; ++b) {
+    ds->GetRasterBand(b)->SetColorInterpretation(src.GetRasterBand(b)->GetColorInterpretation());
+  }
+  {
+    int block_cols = 0, block_rows = 0;
+    ds->GetRasterBand(1)->GetBlockSize(&block_cols, &block_rows);
+    const int cols = src.GetRasterXSize(), rows = src.GetRasterYSize();
+    const GDALDataType type = first->GetRasterDataType();
+    const auto type_bytes = static_cast<std::size_t>(GDALGetDataTypeSizeBytes(type));
+    std::vector<unsigned char> buffer(static_cast<std::size_t>(cols) *
+                                      static_cast<std::size_t>(block_rows) * type_bytes *
+                                      static_cast<std::size_t>(bands));
+    for (int y = 0; y < rows; y += block_rows) {
+      const int n = std::min(block_rows, rows - y);
+      if (src.RasterIO(GF_Read, 0, y, cols, n, buffer.data(), cols, n, type, bands, nullptr, 0, 0,
+                       0, nullptr) != CE_None ||
+          ds->RasterIO(GF_Write, 0, y, cols, n, buffer.data(), cols, n, type, bands, nullptr, 0, 0,
+                       0, nullptr) != CE_None) {
+        fail("cannot copy rows " + std::to_string(y) + " to the overview levels' file");
+      }
+      flush_blocks(0.0, nullptr, ds.get());
+    }
+  }
+  // 3. Computed from that copy as MEMDataset::IBuildOverviews computes them (the same GDAL
+  // routine on the same pixels: the overviews of write_mosaic() of the whole image): averaging
   // resamplings one level at a time from the full resolution, band by band; the others all
   // levels at once.
   const bool per_level = STARTS_WITH_CI(resampling, "AVER");
@@ -345,15 +371,14 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
       for (int o = per_level ? level : 0; o < (per_level ? level + 1 : n_levels); ++o) {
         targets.push_back(GDALRasterBand::ToHandle(band->GetOverview(o)));
       }
-      if (GDALRegenerateOverviews(GDALRasterBand::ToHandle(src.GetRasterBand(b)),
-                                  static_cast<int>(targets.size()), targets.data(), resampling,
-                                  flush_blocks, ds.get()) != CE_None) {
+      if (GDALRegenerateOverviews(GDALRasterBand::ToHandle(band), static_cast<int>(targets.size()),
+                                  targets.data(), resampling, flush_blocks, ds.get()) != CE_None) {
         fail("cannot compute overviews");
       }
     }
   }
   flush_blocks(1.0, nullptr, ds.get());
-  // 3. The output: the full resolution image from `src`, its overviews copied from the levels
+  // 4. The output: the full resolution image from `src`, its overviews copied from the levels
   // before it.
   std::vector<std::vector<GDALRasterBand*>> overviews(static_cast<std::size_t>(bands));
   for (int b = 1; b <= bands; ++b) {
