@@ -312,7 +312,6 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
   GDALRasterBand* first = src.GetRasterBand(1);
   CPLStringList co;
   co.SetNameValue("TILED", "YES");
-  co.SetNameValue("SPARSE_OK", "TRUE");
   co.SetNameValue("INTERLEAVE", "BAND");
   co.SetNameValue("BIGTIFF", "IF_SAFER");
   GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");

@@ -39,10 +39,10 @@ std::vector<int> overview_factors(std::size_t cols, std::size_t rows);
 /// `creation_options`) with overviews down to < 256 pixels (overview_factors()) computed from
 /// `src` with `resampling` and stored before the full resolution image (COPY_SRC_OVERVIEWS): the
 /// file a MEM dataset with BuildOverviews' overviews is copied to, without `src` in memory. The
-/// overview levels go to a sparse uncompressed temporary GeoTIFF next to `temp_path` (removed
-/// whatever happens), computed band by band with GDALRegenerateOverviews as a MEM dataset
-/// computes them, their blocks flushed from GDAL's cache as the work progresses. Throws
-/// FormatError("<who>: <final_path>: ...").
+/// overview levels go to an uncompressed temporary GeoTIFF next to `temp_path` (removed
+/// whatever happens) that first receives the full resolution once, and are computed from it band
+/// by band with GDALRegenerateOverviews as a MEM dataset computes them, their blocks flushed from
+/// GDAL's cache as the work progresses. Throws FormatError("<who>: <final_path>: ...").
 void copy_with_overviews(GDALDataset& src, const char* resampling,
                          const std::vector<std::pair<std::string, std::string>>& creation_options,
                          const std::string& temp_path, const char* who,

@@ -338,7 +338,7 @@ void write_mosaic(const std::string& path, const GeoFrame& frame, MosaicGrid& gr
   const GridGeometry& g = grid.geometry();
   gdal::ensure_registered();
   // Every file is read from the grid's tiles window by window (formats/mosaic_blocks.hpp); the
-  // GeoTIFFs' overviews are built on the written files.
+  // GeoTIFFs' overview levels are computed in a temporary file (raster::copy_with_overviews).
   const Job intensity = [&](const std::string& temp) {
     const bool count_band = options.count_band;
     gdal::DatasetPtr src = raster::grid_dataset(
