@@ -243,6 +243,8 @@ LoadedGrid read_height_grid(const std::string& path, const GridReadOptions& opti
          "unknown CRS '" + crs_label + "' (neither geographic nor projected on a known datum)");
   }
 
+  gdal::require_consistent_geographic_id(srs, path, kReader);
+
   GDALRasterBand* band = src->GetRasterBand(options.band);
   const int epsg = rotated || gt[1] < 0.0 ? 0 : wgs84_utmups_epsg(srs);
   if (epsg != 0) {

@@ -6,6 +6,8 @@
 #include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
 
+#include <algorithm>
+#include <cctype>
 #include <mutex>
 
 #include "sonarsynth/error.hpp"
@@ -88,6 +90,38 @@ DatasetPtr open_vector(const std::string& path, const char* what) {
   return DatasetPtr(ds);
 }
 
+void require_consistent_geographic_id(const OGRSpatialReference& srs, const std::string& path,
+                                      const char* what) {
+  // "GEOGCS" is the CRS itself when it is geographic, else a projected CRS's base.
+  const char* auth_raw = srs.GetAuthorityName("GEOGCS");
+  const char* code_raw = srs.GetAuthorityCode("GEOGCS");
+  if (!auth_raw || !code_raw) return;
+  const std::string auth = auth_raw;
+  const std::string code = code_raw;
+  // Only plain identifiers are looked up (the database, never a file or the network); any other
+  // text names no code PROJ can find, so PROJ keeps the definition and nothing needs checking.
+  const auto plain = [](const std::string& s) {
+    return !s.empty() && s.size() <= 64 && std::all_of(s.begin(), s.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+    });
+  };
+  if (!plain(auth) || !plain(code)) return;
+  OGRSpatialReference resolved;
+  const char* const options[] = {"ALLOW_NETWORK_ACCESS=NO", "ALLOW_FILE_ACCESS=NO", nullptr};
+  CPLPushErrorHandler(CPLQuietErrorHandler);
+  const OGRErr err = resolved.SetFromUserInput((auth + ":" + code).c_str(), options);
+  CPLPopErrorHandler();
+  CPLErrorReset();
+  if (err != OGRERR_NONE || resolved.IsGeographic()) return;
+  const char* kind = resolved.IsGeocentric()  ? "a geocentric CRS"
+                     : resolved.IsProjected() ? "a projected CRS"
+                                              : "not a geographic CRS";
+  throw FormatError(std::string(what) + ": " + path + ": the CRS's geographic CRS has identifier " +
+                    auth + ":" + code + ", which is " + kind +
+                    ": the identifier contradicts the definition (correct or remove the " +
+                    "identifier in the file's CRS)");
+}
+
 VectorLayer open_vector_layer(const std::string& path, const std::string& layer_name,
                               int target_epsg, bool assume_wgs84, const char* what) {
   VectorLayer v;
@@ -104,6 +138,7 @@ VectorLayer open_vector_layer(const std::string& path, const std::string& layer_
     if (assume_wgs84) return v;
     throw FormatError(std::string(what) + ": " + path + ": the layer has no CRS");
   }
+  require_consistent_geographic_id(*src, path, what);
   OGRSpatialReference target;
   target.importFromEPSG(target_epsg);
   target.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);

@@ -4,6 +4,7 @@
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 #include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -347,6 +348,80 @@ TEST_F(GdalGridTest, UnknownCrs) {
   const std::string msg = error_of<FormatError>([&] { read_height_grid(path("local.tif")); });
   EXPECT_NE(msg.find("local.tif"), std::string::npos) << msg;
   EXPECT_NE(msg.find("unknown CRS"), std::string::npos) << msg;
+}
+
+// A geographic CRS whose identifier is EPSG:4978, the geocentric WGS 84: the definition and the
+// identifier contradict each other, and PROJ 9.1 crashes looking for an operation from it
+// (docs/architecture.md, "Input CRSs"). The reader refuses such a file, naming the identifier.
+const std::string kGeogWithGeocentricId =
+    "GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],"
+    "PRIMEM[\"Greenwich\",0],UNIT[\"degree\",0.0174532925199433],AUTHORITY[\"EPSG\",\"4978\"]]";
+
+TEST_F(GdalGridTest, ProjectedCrsWhoseBaseIdIsGeocentricIsRefused) {
+  const std::string wkt =
+      "PROJCS[\"custom TM\"," + kGeogWithGeocentricId +
+      ",PROJECTION[\"Transverse_Mercator\"],PARAMETER[\"latitude_of_origin\",0],"
+      "PARAMETER[\"central_meridian\",3],PARAMETER[\"scale_factor\",1],"
+      "PARAMETER[\"false_easting\",0],PARAMETER[\"false_northing\",0],"
+      "UNIT[\"metre\",1]]";
+  const double gt[6] = {1000.0, 2.0, 0.0, 5500000.0, 0.0, -2.0};
+  make_tiff(path("tm.tif"), 4, 4, std::vector<float>(16, -10.0f), gt, wkt);
+  const std::string msg = error_of<FormatError>([&] { read_height_grid(path("tm.tif")); });
+  EXPECT_NE(msg.find("tm.tif"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("EPSG:4978, which is a geocentric CRS"), std::string::npos) << msg;
+}
+
+TEST_F(GdalGridTest, GeographicCrsWithGeocentricIdIsRefused) {
+  // An ASCII grid and its .prj (GDAL's GeoTIFF writer does not keep this identifier).
+  {
+    std::ofstream asc(path("geog.asc"));
+    asc << "ncols 4\nnrows 4\nxllcorner 3.0\nyllcorner 49.996\ncellsize 0.001\n";
+    for (int r = 0; r < 4; ++r) asc << "-10 -10 -10 -10\n";
+  }
+  { std::ofstream(path("geog.prj")) << kGeogWithGeocentricId; }
+  const std::string msg = error_of<FormatError>([&] { read_height_grid(path("geog.asc")); });
+  EXPECT_NE(msg.find("geog.asc"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("EPSG:4978, which is a geocentric CRS"), std::string::npos) << msg;
+}
+
+TEST_F(GdalGridTest, GeographicCrsWithItsOwnIdIsRead) {
+  // The check refuses only contradictions: the same definition identified as EPSG:4326 is read.
+  std::string wkt = kGeogWithGeocentricId;
+  wkt.replace(wkt.find("4978"), 4, "4326");
+  {
+    std::ofstream asc(path("geog.asc"));
+    asc << "ncols 4\nnrows 4\nxllcorner 3.0\nyllcorner 49.996\ncellsize 0.001\n";
+    for (int r = 0; r < 4; ++r) asc << "-10 -10 -10 -10\n";
+  }
+  { std::ofstream(path("geog.prj")) << wkt; }
+  const LoadedGrid g = read_height_grid(path("geog.asc"));
+  EXPECT_TRUE(g.warped);
+  EXPECT_EQ(g.frame.epsg(), 32631);
+}
+
+TEST_F(GdalGridTest, VectorLayerWithGeocentricIdOnItsGeographicCrsIsRefused) {
+  // The same contradiction in a vector layer's CRS (scene objects, survey lines): GeoPackage keeps
+  // the identifier. Written with GDAL directly.
+  const std::string file = path("lines.gpkg");
+  {
+    GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("GPKG");
+    ASSERT_NE(drv, nullptr);
+    GDALDataset* ds = drv->Create(file.c_str(), 0, 0, 0, GDT_Unknown, nullptr);
+    ASSERT_NE(ds, nullptr);
+    OGRSpatialReference srs;
+    ASSERT_EQ(srs.importFromWkt(kGeogWithGeocentricId.c_str()), OGRERR_NONE);
+    OGRLayer* layer = ds->CreateLayer("lines", &srs, wkbPoint, nullptr);
+    ASSERT_NE(layer, nullptr);
+    OGRFeature feature(layer->GetLayerDefn());
+    OGRPoint point(3.0, 50.0);
+    feature.SetGeometry(&point);
+    ASSERT_EQ(layer->CreateFeature(&feature), OGRERR_NONE);
+    GDALClose(ds);
+  }
+  const std::string msg = error_of<FormatError>(
+      [&] { (void)gdal::open_vector_layer(file, "", 32631, false, "survey"); });
+  EXPECT_NE(msg.find("lines.gpkg"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("EPSG:4978, which is a geocentric CRS"), std::string::npos) << msg;
 }
 
 TEST_F(GdalGridTest, AllNodata) {

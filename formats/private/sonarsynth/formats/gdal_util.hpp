@@ -9,6 +9,7 @@
 class GDALDataset;
 class OGRLayer;
 class OGRCoordinateTransformation;
+class OGRSpatialReference;
 
 namespace sonarsynth::gdal {
 
@@ -40,6 +41,15 @@ struct VectorLayer {
 /// a missing file or layer, or a CRS that cannot be transformed (or none, unless assume_wgs84).
 VectorLayer open_vector_layer(const std::string& path, const std::string& layer_name,
                               int target_epsg, bool assume_wgs84, const char* what);
+/// Throws FormatError("<what>: <path>: ...") when the identifier of the CRS's geographic CRS (the
+/// CRS itself, or a projected CRS's base) names an authority code that is a different kind of CRS,
+/// e.g. GEOGCS[...,AUTHORITY["EPSG","4978"]] where EPSG:4978 is geocentric. The definition and
+/// its identifier then contradict each other, and PROJ 9.1 (the version Debian 12 ships)
+/// dereferences a null pointer when it looks for a coordinate operation from such a CRS
+/// (docs/architecture.md, "Input CRSs"). Call it before OGRCreateCoordinateTransformation on a
+/// CRS read from a user's file.
+void require_consistent_geographic_id(const OGRSpatialReference& srs, const std::string& path,
+                                      const char* what);
 /// Closes a dataset that was written, turning a failed close (e.g. a full disk while flushing)
 /// into a FormatError naming the path.
 void close_checked(DatasetPtr ds, const std::string& path, const char* what);
