@@ -66,7 +66,7 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
 
   // The setup owns the scene; the Simulator and the products share it (aliasing pointer).
   const auto setup =
-      std::make_shared<const SimulationSetup>(load_simulation(scene_path, options.overrides));
+      std::make_shared<SimulationSetup>(load_simulation(scene_path, options.overrides));
   const std::shared_ptr<const Scene> scene(setup, &setup->scene);
   SurveyProductOptions po = options.products;
   po.truth = po.truth && setup->config.truth;
@@ -98,6 +98,10 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   // products are then written on the rendering thread, in the same order (the same bytes).
   const bool one_core = setup->config.threads == 1;
   if (one_core) po.background_images = false;
+  // The bathymetry grid (31 MB on the paper scene) is read by the renderer and by the mosaic's
+  // gridding only: when the mosaic has gridded the last ping every ping has been rendered, and
+  // the grid is freed before the mosaic files are written (nothing below reads it).
+  po.after_last_bathymetry_use = [&setup] { setup->scene.bathymetry.release_heights(); };
   SurveyProducts products(out.file(""), scene, setup->config.sonar, setup->lines, po);
   RunStatistics stats;
   // JSF sink (output.jsf): formats/jsf_survey_writer.cpp.

@@ -84,6 +84,8 @@ class SurveyProducts::MosaicPart final : public PingSink {
   void finish() override {
     if (!grid_) return;
     const auto t0 = std::chrono::steady_clock::now();
+    // The grid has gridded every ping: it does not read the bathymetry again.
+    if (options_.after_last_bathymetry_use) options_.after_last_bathymetry_use();
     MosaicWriteOptions w = options_.write_options;
     w.rgb_path = (dir_ / "mosaic_rgb.tif").string();
     w.linear_full_scale = options_.display_linear_full_scale;

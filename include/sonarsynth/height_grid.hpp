@@ -73,6 +73,10 @@ class HeightGrid {
     return heights_[row * geometry_.cols + col];
   }
   bool empty() const { return heights_.empty(); }
+  /// Frees the heights: the grid is empty() after (its geometry stays). For the owner of a grid
+  /// that nothing reads any more (run_simulation frees the scene's once the products are done
+  /// with it: SurveyProductOptions::after_last_bathymetry_use).
+  void release_heights() { std::vector<float>().swap(heights_); }
 
   Interpolation interpolation() const { return interpolation_; }
   void set_interpolation(Interpolation i) { interpolation_ = i; }

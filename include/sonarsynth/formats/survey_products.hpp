@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -34,6 +35,12 @@ struct SurveyProductOptions {
   /// true: a finished line's images are written on a thread of their own while the next line
   /// accumulates; false: on the calling thread (a one-thread run: one core). Same files.
   bool background_images = true;
+  /// Called once, on the mosaic's thread, when the mosaic has gridded the last ping (the start
+  /// of its finish()): from then on no product reads the scene's bathymetry. run_simulation,
+  /// which owns the scene and has rendered every ping by then, frees the bathymetry grid there,
+  /// so that the mosaic files are written without it (the run's peak memory). Not called
+  /// without a mosaic, or when the run is aborted.
+  std::function<void()> after_last_bathymetry_use;
   void validate() const;
 };
 
