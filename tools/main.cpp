@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 // sonarsynth: synthetic side-scan sonar survey data. `sonarsynth --help` lists the subcommands.
 #include <boost/program_options/errors.hpp>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -57,6 +61,18 @@ int run_version(const std::vector<std::string>& /*args*/) {
 }  // namespace sonarsynth::cli
 
 int main(int argc, char** argv) {
+#if defined(__GLIBC__)
+  // glibc gives a block above its mmap threshold a mapping of its own, unmapped when freed; but
+  // the threshold follows the largest such block freed (up to 32 MiB, and the heap's trim
+  // threshold twice that), after which the multi-megabyte buffers of GDAL's overview
+  // computations at the end of `simulate` come from the heap and stay resident once freed
+  // (~15 MB on the paper scene). Fixed thresholds instead: every block of 1 MiB or more is
+  // unmapped when freed (a few hundred a run, none per ping), and a heap keeps at most 8 MiB
+  // free at its top (the 128 KiB default would return and fault in again the per-ping
+  // buffers). docs/benchmarks.md, "Memory at the end of the run".
+  ::mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  ::mallopt(M_TRIM_THRESHOLD, 8 << 20);
+#endif
   sc::install_interrupt_cleanup();
   if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
     print_usage(argc < 2 ? std::cerr : std::cout);
