@@ -5,18 +5,16 @@
 #include "sonarsynth/formats/survey_products.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstddef>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "cli_test_util.hpp"
 #include "simulator_test_util.hpp"
 #include "sonarsynth/simulator.hpp"
 #include "sonarsynth/survey.hpp"
@@ -46,17 +44,8 @@ struct CountingSink final : PingSink {
   std::size_t pings = 0;
 };
 
-class SurveyProductsTest : public ::testing::Test {
+class SurveyProductsTest : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_products_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   // A sloping seabed with a bump, so that the gridding's ground ranges depend on the grid.
   static std::shared_ptr<Scene> scene() {
     return std::make_shared<Scene>(
@@ -81,12 +70,6 @@ class SurveyProductsTest : public ::testing::Test {
     o.write_options.overwrite = true;
     return o;
   }
-  static std::string bytes(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-  }
-
-  fs::path dir_;
 };
 
 TEST_F(SurveyProductsTest, BathymetryHookComesOnceAfterTheLastPingAndTheFilesDoNotNeedTheGrid) {
@@ -126,9 +109,9 @@ TEST_F(SurveyProductsTest, BathymetryHookComesOnceAfterTheLastPingAndTheFilesDoN
   }
 
   for (const char* name : {"mosaic.tif", "mosaic_rgb.tif"}) {
-    const std::string kept = bytes(dir_ / "kept" / name);
+    const std::string kept = test::read_text(dir_ / "kept" / name);
     ASSERT_GT(kept.size(), 1000u) << name;
-    EXPECT_TRUE(kept == bytes(dir_ / "freed" / name)) << name << " differs";
+    EXPECT_TRUE(kept == test::read_text(dir_ / "freed" / name)) << name << " differs";
   }
 }
 
