@@ -119,8 +119,9 @@ void stream_to_files(std::vector<StreamTarget>& targets, std::size_t cols, std::
 
 /// Writes the `rows` rows of `source` (1 band: grey, or 3: red, green, blue; 8 bits) to
 /// `temp_path` as a PNG through libpng, row by row, with `metadata` in tEXt chunks as GDAL's PNG
-/// driver writes them (WRITE_METADATA_AS_TEXT), no row filter and zlib level 1 (GDAL's driver
-/// always applies libpng's adaptive filters: twice the CPU for a larger file here). Throws
+/// driver writes them (WRITE_METADATA_AS_TEXT), no row filter (GDAL's driver always applies
+/// libpng's adaptive filters: twice the CPU for a larger file here) and the image data
+/// compressed by ISA-L's igzip (level 3). Throws
 /// FormatError("<who>: <final_path>: ...") on failure; an exception of `source` propagates.
 void stream_to_png(RowSource& source, std::size_t cols, std::size_t rows, int bands,
                    const std::vector<std::pair<std::string, std::string>>& metadata,

@@ -7,12 +7,15 @@
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <string>
@@ -302,6 +305,72 @@ TEST(Waterfall, PercentileScalingEqualsRobustDbRangeOfTheWholeImage) {
   const std::vector<std::uint8_t> got = read_bytes(path, &c, &r, &driver);
   const std::vector<std::uint8_t> want =
       colourise(img, robust_db_range(img, 1.0, 99.0, o.range_samples), Colormap::grey);
+  ASSERT_EQ(got.size(), want.size());
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < want.size(); ++i) bad += got[i] != want[i];
+  EXPECT_EQ(bad, 0u);
+  fs::remove_all(dir);
+}
+
+/// The chunk types of the PNG file at `path`, in order (read from its bytes: 8-byte signature,
+/// then per chunk a big-endian length, the type, the data and a CRC checked against zlib's).
+std::vector<std::string> png_chunks(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::uint8_t> f((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
+  const std::uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (f.size() < 8 || !std::equal(signature, signature + 8, f.begin())) return {"no signature"};
+  std::vector<std::string> types;
+  std::size_t at = 8;
+  while (at + 12 <= f.size()) {
+    const std::uint32_t len = (std::uint32_t{f[at]} << 24) | (std::uint32_t{f[at + 1]} << 16) |
+                              (std::uint32_t{f[at + 2]} << 8) | std::uint32_t{f[at + 3]};
+    if (at + 12 + len > f.size()) return {"truncated chunk"};
+    const std::uint8_t* p = f.data() + at + 4;
+    const std::uint32_t crc_stored = (std::uint32_t{p[4 + len]} << 24) |
+                                     (std::uint32_t{p[5 + len]} << 16) |
+                                     (std::uint32_t{p[6 + len]} << 8) | std::uint32_t{p[7 + len]};
+    if (crc32(0L, p, 4 + len) != crc_stored) return {"bad CRC"};
+    types.emplace_back(reinterpret_cast<const char*>(p), 4);
+    at += 12 + len;
+  }
+  if (at != f.size()) types.emplace_back("trailing bytes");
+  return types;
+}
+
+// A colour waterfall whose compressed image data fills several IDAT chunks: the chunks are a
+// valid sequence (IHDR first, tEXt before the image data, the IDATs together, IEND last, every
+// CRC right) and every pixel reads back as the colours of the image.
+TEST(Waterfall, LargeColourPngSplitsItsImageDataIntoValidChunks) {
+  const auto dir = test::mosaic_temp_dir("wf_chunks");
+  const std::vector<Ping> pings = random_pings(1500, 600, 5);
+  std::size_t cols = 0;
+  const std::vector<float> img = expected_image(pings, &cols, kNaN);
+  WaterfallOptions o;
+  o.colormap = Colormap::black_brown_yellow;
+  o.spool_dir = dir;
+  Waterfall wf(o);
+  for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
+  const std::string path = (dir / "colour.png").string();
+  wf.write(path);
+  const std::vector<std::string> chunks = png_chunks(path);
+  ASSERT_GE(chunks.size(), 4u);
+  EXPECT_EQ(chunks.front(), "IHDR");
+  EXPECT_EQ(chunks.back(), "IEND");
+  const auto first_idat = std::find(chunks.begin(), chunks.end(), "IDAT");
+  const auto idats = std::count(chunks.begin(), chunks.end(), "IDAT");
+  EXPECT_GE(idats, 3);  // 5.4 MB of pixels, chunks of at most 256 KiB
+  EXPECT_TRUE(std::all_of(first_idat, first_idat + idats,
+                          [](const std::string& t) { return t == "IDAT"; }));
+  EXPECT_GE(std::count(chunks.begin(), first_idat, "tEXt"), 1);
+  int c = 0, r = 0;
+  std::string driver;
+  const std::vector<std::uint8_t> got = read_bytes(path, &c, &r, &driver);
+  const std::vector<std::uint8_t> want =
+      colourise(img, robust_db_range(img, o.lo_percentile, o.hi_percentile, o.range_samples),
+                Colormap::black_brown_yellow);
+  EXPECT_EQ(static_cast<std::size_t>(c), cols);
+  EXPECT_EQ(static_cast<std::size_t>(r), pings.size());
   ASSERT_EQ(got.size(), want.size());
   std::size_t bad = 0;
   for (std::size_t i = 0; i < want.size(); ++i) bad += got[i] != want[i];
