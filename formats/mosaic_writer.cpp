@@ -180,11 +180,16 @@ void write_rgb(const std::string& path, const std::string& temp, const GeoFrame&
     raster::copy_to_file(src, "PNG", temp, {}, kWho, path);
     return;
   }
-  // Overviews like the float mosaic's (averaged colours; the alpha band is the mask).
-  copy_with_overviews(
-      src, g, overviews, "AVERAGE",
-      {{"TILED", "YES"}, {"COMPRESS", "DEFLATE"}, {"PHOTOMETRIC", "RGB"}, {"ALPHA", "YES"}}, temp,
-      path);
+  // Overviews like the float mosaic's (averaged colours; the alpha band is the mask). DEFLATE
+  // level 1: on the paper scene's display copy a third of level 6's time for a file 3.7 %
+  // larger (docs/benchmarks.md, "The waterfall's deflate stream and the display copy's level").
+  copy_with_overviews(src, g, overviews, "AVERAGE",
+                      {{"TILED", "YES"},
+                       {"COMPRESS", "DEFLATE"},
+                       {"ZLEVEL", "1"},
+                       {"PHOTOMETRIC", "RGB"},
+                       {"ALPHA", "YES"}},
+                      temp, path);
 }
 
 /// truth_mosaic.tif from `src` (int32 truth labels).
