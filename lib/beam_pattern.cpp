@@ -72,11 +72,8 @@ double VerticalBeamPattern::one_way(double off) const {
   switch (shape) {
     case VerticalBeamShape::uniform:
       return 1.0;
-    case VerticalBeamShape::paper_sine_pair: {
-      const double w = off < 0.0 ? upper_half_width_rad : lower_half_width_rad;
-      const double x = off / w;
-      return std::abs(x) >= 1.0 ? 0.0 : render_math::cos_half_pi(x);
-    }
+    case VerticalBeamShape::paper_sine_pair:
+      return render_math::paper_sine_pair(off, upper_half_width_rad, lower_half_width_rad);
     case VerticalBeamShape::gaussian: {
       const double x = off / width_3db_rad;
       return std::exp(-kFourLn2 * x * x);

@@ -67,10 +67,9 @@ struct Integrand {
   double paper_upper_rad, paper_lower_rad;
 };
 
-// VerticalBeamPattern::one_way of the paper sine pair, the same operations.
+// VerticalBeamPattern::one_way of the paper sine pair.
 inline double paper_one_way(const Integrand& in, double off) {
-  const double x = off / (off < 0.0 ? in.paper_upper_rad : in.paper_lower_rad);
-  return std::abs(x) >= 1.0 ? 0.0 : cos_half_pi(x);
+  return paper_sine_pair(off, in.paper_upper_rad, in.paper_lower_rad);
 }
 
 // The kinks of a beam (Integrand::kinks), in `storage` (3 entries) or the table itself.

@@ -57,6 +57,14 @@ template <class T>
 inline double cos_half_pi(double x) {
   return sin_series_half_pi(kHalfPi * (1.0 - std::abs(x)));
 }
+// The founding paper's vertical beam, one way: cos(pi/2 off / w), w the half-width above
+// (off < 0) or below the axis, 0 beyond it (VerticalBeamShape::paper_sine_pair; the renderer's
+// two-lane gauss_pair evaluates the same operations lane by lane).
+inline double paper_sine_pair(double off_rad, double upper_half_width_rad,
+                              double lower_half_width_rad) {
+  const double x = off_rad / (off_rad < 0.0 ? upper_half_width_rad : lower_half_width_rad);
+  return std::abs(x) >= 1.0 ? 0.0 : cos_half_pi(x);
+}
 
 // Gauss–Legendre rules mapped to [0, 1] (Abramowitz & Stegun, Table 25.4).
 struct GaussRule {
