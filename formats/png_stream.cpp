@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Streamed 8-bit PNG: the waterfall images (docs/benchmarks.md, "End to end with every product"
-// and "The waterfall's deflate stream"). libpng writes the chunks; the image data's zlib stream
-// comes from ISA-L's igzip, about four times as fast as zlib's level 1 on these images.
+// and "The waterfall's deflate stream and the display copy's level"). libpng writes the chunks;
+// the image data's zlib stream comes from ISA-L's igzip, about four times as fast as zlib's
+// level 1 on these images.
 #include <isa-l/igzip_lib.h>
 #include <png.h>
 
