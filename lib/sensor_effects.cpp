@@ -184,9 +184,6 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
     // (two-way b^2 = exp(-gc off^2), docs/physics.md §1.3), max(b^2, floor) as
     // exp(max(-gc off^2, ln floor)) share one exponent.
     const bool gaussian = side.vertical_beam.shape == VerticalBeamShape::gaussian;
-    const bool paper = side.vertical_beam.shape == VerticalBeamShape::paper_sine_pair;
-    const double upper_rad = side.vertical_beam.upper_half_width_rad;
-    const double lower_rad = side.vertical_beam.lower_half_width_rad;
     const double w3 = side.vertical_beam.width_3db_rad;
     const double gc = gaussian ? 8.0 * std::log(2.0) / (w3 * w3) : 0.0;
     const double ln_floor = std::log(m.side_lobe_two_way);  // -inf without a floor
@@ -232,9 +229,6 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
           double v = sec2 * sec2 * (side.spreading ? 1.0 / (r2 * r) : r);
           if (gaussian) {
             expo += std::max(-gc * off * off, ln_floor);
-          } else if (paper) {  // two_way() inline: the same value
-            const double one_way = render_math::paper_sine_pair(off, upper_rad, lower_rad);
-            v *= std::max(one_way * one_way, m.side_lobe_two_way);
           } else {
             v *= std::max(side.vertical_beam.two_way(off), m.side_lobe_two_way);
           }

@@ -130,6 +130,15 @@ std::vector<std::uint8_t> read_bytes(const std::string& path, int* cols, int* ro
   return out;
 }
 
+/// The number of positions where two equally long byte images differ (a count, not a dump of
+/// millions of pixels, when they do).
+std::size_t mismatched_bytes(const std::vector<std::uint8_t>& got,
+                             const std::vector<std::uint8_t>& want) {
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < want.size(); ++i) bad += got[i] != want[i];
+  return bad;
+}
+
 /// Open descriptors of this process on files in `dir` (as /proc/self/fd shows them; a spool
 /// file reads "<dir>/<name> (deleted)").
 std::vector<std::string> open_files_in(const fs::path& dir) {
@@ -306,9 +315,7 @@ TEST(Waterfall, PercentileScalingEqualsRobustDbRangeOfTheWholeImage) {
   const std::vector<std::uint8_t> want =
       colourise(img, robust_db_range(img, 1.0, 99.0, o.range_samples), Colormap::grey);
   ASSERT_EQ(got.size(), want.size());
-  std::size_t bad = 0;
-  for (std::size_t i = 0; i < want.size(); ++i) bad += got[i] != want[i];
-  EXPECT_EQ(bad, 0u);
+  EXPECT_EQ(mismatched_bytes(got, want), 0u);
   fs::remove_all(dir);
 }
 
@@ -372,9 +379,7 @@ TEST(Waterfall, LargeColourPngSplitsItsImageDataIntoValidChunks) {
   EXPECT_EQ(static_cast<std::size_t>(c), cols);
   EXPECT_EQ(static_cast<std::size_t>(r), pings.size());
   ASSERT_EQ(got.size(), want.size());
-  std::size_t bad = 0;
-  for (std::size_t i = 0; i < want.size(); ++i) bad += got[i] != want[i];
-  EXPECT_EQ(bad, 0u);
+  EXPECT_EQ(mismatched_bytes(got, want), 0u);
   fs::remove_all(dir);
 }
 
