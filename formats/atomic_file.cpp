@@ -37,7 +37,20 @@ bool all_digits(const std::string& s) {
   return true;
 }
 
-// Removes ".<stem>.part-<pid>-<n><ext>" files next to `final_path` whose process is gone.
+// The owner of a temporary ".<stem>.part-<pid>-<n><ext>" or of one of its helper files,
+// "<temporary>.<suffix>" (AtomicOutput); -1 if `name` is neither.
+long owner_of_temporary_or_helper(const std::string& name, const std::string& prefix,
+                                  const std::string& ext) {
+  const long pid = temporary_owner_pid(name, prefix, ext);
+  if (pid > 0 || ext.empty()) return pid;
+  // The first "<ext>." after the prefix ends the temporary's own name: <pid>-<n> has no dot.
+  const std::size_t end = name.find(ext + ".", prefix.size());
+  if (end == std::string::npos || end + ext.size() + 1 >= name.size()) return -1;
+  return temporary_owner_pid(name.substr(0, end + ext.size()), prefix, ext);
+}
+
+// Removes ".<stem>.part-<pid>-<n><ext>" files next to `final_path` whose process is gone, and
+// their helper files.
 void remove_stale_files(const fs::path& dir, const fs::path& final_path) {
   std::string prefix = ".";  // built by appending: GCC 12 warns (-Wrestrict) on "." + string
   prefix += final_path.stem().string();
@@ -46,7 +59,7 @@ void remove_stale_files(const fs::path& dir, const fs::path& final_path) {
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    const long pid = temporary_owner_pid(name, prefix, ext);
+    const long pid = owner_of_temporary_or_helper(name, prefix, ext);
     if (pid <= 0 || process_is_running(pid)) continue;
     std::error_code rm;
     if (it->is_regular_file(rm)) fs::remove(it->path(), rm);

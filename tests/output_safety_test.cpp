@@ -176,6 +176,17 @@ TEST_F(OutputSafety, StaleTemporariesOfDeadProcessesAreCleaned) {
   const fs::path live_file = root_ / (".grid.part-" + std::to_string(alive) + "-0.tif");
   write_text(stale_file, "partial");
   write_text(live_file, "partial");
+  // Their helper files (the mosaic's overview levels are written beside its temporary).
+  const fs::path stale_helper = stale_file.string() + ".levels.tif";
+  const fs::path live_helper = live_file.string() + ".levels.tif";
+  write_text(stale_helper, "partial");
+  write_text(live_helper, "partial");
+  // Not helpers: another stem's, and a name with text between the temporary's and the dot.
+  const fs::path other_helper =
+      root_ / (".grids.part-" + std::to_string(dead) + "-3.tif.levels.tif");
+  const fs::path not_helper = root_ / (".grid.part-" + std::to_string(dead) + "-3x.tif.levels.tif");
+  write_text(other_helper, "not ours");
+  write_text(not_helper, "not ours");
 
   {
     OutputDirectory out(root_ / "other", false);
@@ -193,6 +204,10 @@ TEST_F(OutputSafety, StaleTemporariesOfDeadProcessesAreCleaned) {
     AtomicOutput grid(root_ / "grid.tif");
     EXPECT_FALSE(fs::exists(stale_file));
     EXPECT_TRUE(fs::exists(live_file));
+    EXPECT_FALSE(fs::exists(stale_helper));
+    EXPECT_TRUE(fs::exists(live_helper));
+    EXPECT_TRUE(fs::exists(other_helper));
+    EXPECT_TRUE(fs::exists(not_helper));
   }
 }
 

@@ -12,7 +12,9 @@ namespace sonarsynth {
 /// the temporary file is removed and nothing is left that looks like a complete output. While it
 /// exists the temporary file is listed for remove_pending_temporaries() (the CLI calls that on
 /// SIGINT/SIGTERM), and temporaries of the same name left by processes that no longer run (kill
-/// -9, power loss) are removed when the next AtomicOutput for that name is created.
+/// -9, power loss) are removed when the next AtomicOutput for that name is created, with their
+/// helper files: a writer that needs a scratch file beside the temporary names it
+/// temp_path() + ".<suffix>" (the mosaic's overview levels: ".levels.tif").
 class AtomicOutput {
  public:
   /// Throws FormatError if `final_path` exists and `overwrite` is false, if it is a directory,
