@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Realism figures of a side-scan XTF file (issue 13; definitions in docs/realism.md): seabed
-// contrast, water column, shadows, first return, full scale and clipping, along-track correlation.
+// contrast, water column, shadows, first return, full scale and clipping, along-track correlation
+// (measures 1-6, 8); across-track texture, shadow fill and edges, water column statistics,
+// first-return profile, far vs near range, near-range clipping, level percentiles, altitude
+// (7, 9-16).
 // Usage: realism FILE.xtf [--json] [--pings FIRST:END] [--horizontal-beam-deg B]
 //   --pings: measure sonar pings FIRST .. END-1 only (0-based, in file order).
 #include <algorithm>
@@ -269,6 +272,92 @@ std::vector<Row> rows(const rs::Report& r) {
     add("lag1_band_" + std::to_string(b), band_label(b, "all seabed"), "",
         [b](auto& x) { return x.texture.bands[b].correlation(); });
   }
+  // 7. across-track correlation and spectrum
+  const char* places[3] = {"near", "mid", "far"};
+  for (std::size_t p = 0; p < 3; ++p)
+    add(std::string("across_lag1_") + places[p],
+        std::string("7 across-track lag-1, ") + places[p] + " tile, median tile", "",
+        [p](auto& x) { return x.texture.median_tile_across_lag1(p); });
+  for (std::size_t p = 0; p < 3; ++p)
+    add(std::string("across_lag1_all_") + places[p],
+        std::string("7 across-track lag-1, ") + places[p] + " tile, all pairs", "",
+        [p](auto& x) { return x.texture.across[p].correlation(); });
+  for (std::size_t p = 0; p < 3; ++p)
+    add(std::string("across_tiles_") + places[p],
+        std::string("7 across-track tiles measured, ") + places[p], "",
+        [p](auto& x) { return static_cast<double>(x.texture.tile_across_lag1(p).size()); });
+  for (std::size_t q = 0; q < 4; ++q)
+    add("across_spectrum_q" + std::to_string(q + 1),
+        "7 across-track spectrum, quarter " + std::to_string(q + 1) + " / mean", "",
+        [q](auto& x) { return x.texture.spectrum_quarter(q); });
+  for (std::size_t q = 0; q < 4; ++q)
+    add("across_spectrum_tile_q" + std::to_string(q + 1),
+        "7 across-track spectrum, quarter " + std::to_string(q + 1) + ", median tile", "",
+        [q](auto& x) { return x.texture.median_tile_spectrum_quarter(q); });
+  add("across_spectrum_rows", "7 across-track spectrum rows", "",
+      [](auto& x) { return static_cast<double>(x.texture.spectrum_rows()); });
+  // 9. shadow fill
+  add("shadow_cv", "9 shadow samples std/mean (values)", "",
+      [](auto& x) { return x.shadows.cv_shadow(); });
+  add("shadow_region_cv_p50", "9 shadow std/mean, median region", "",
+      [](auto& x) { return rs::quantile(x.shadows.region_cv, 0.5); });
+  for (const auto& [q, name] : {std::pair{0.25, "p25"}, {0.75, "p75"}})
+    add(std::string("shadow_region_cv_") + name, std::string("9 shadow std/mean, region ") + name,
+        "", [q](auto& x) { return rs::quantile(x.shadows.region_cv, q); });
+  add("shadow_regions", "9 shadow regions (>= 50 samples)", "",
+      [](auto& x) { return static_cast<double>(x.shadows.region_cv.size()); });
+  add("lit_cv", "9 lit seabed std/mean (values)", "", [](auto& x) { return x.shadows.cv_lit(); });
+  // 10. shadow edge
+  add("shadow_edge_width_m", "10 shadow -> lit edge, 10-90 % width", "m",
+      [](auto& x) { return x.shadows.edge_width_m(); });
+  add("shadow_edge_transitions", "10 shadow -> lit edges averaged", "",
+      [](auto& x) { return static_cast<double>(x.shadows.edge_count()); });
+  add("shadow_edge_in_15_25m", "10 edges from 15-25 m only (1) or all ranges (0)", "",
+      [](auto& x) { return x.shadows.edge_in_window() ? 1.0 : 0.0; });
+  // 11. water column statistics
+  add("water_block_cv_p50", "11 water std/mean, 64-ping blocks, median", "",
+      [](auto& x) { return rs::quantile(x.levels.water_block_cv, 0.5); });
+  for (const auto& [q, name] : {std::pair{0.25, "p25"}, {0.5, "p50"}, {0.75, "p75"}})
+    add(std::string("water_ping_cv_") + name,
+        std::string("11 water std/mean, single ping, ") + name, "",
+        [q](auto& x) { return rs::quantile(x.levels.water_ping_cv, q); });
+  add("water_skewness", "11 water skewness, pooled", "",
+      [](auto& x) { return x.levels.water_stats.skewness(); });
+  add("water_block_skewness_p50", "11 water skewness, 64-ping blocks, median", "",
+      [](auto& x) { return rs::quantile(x.levels.water_block_skewness, 0.5); });
+  add("water_min", "11 water lowest value", "count", [](auto& x) { return x.levels.water_min; });
+  add("water_trend_db", "11 water median level, last - first third", "dB",
+      [](auto& x) { return x.levels.water_trend_db(); });
+  // 12. first return profile
+  const std::vector<double>& offsets = r.pooled.first.profile_offsets_m;
+  for (bool from_altitude : {false, true})
+    for (std::size_t j = 0; j < offsets.size(); ++j) {
+      char key[64], label[96];
+      std::snprintf(key, sizeof key, "first_profile_%s_%03.0fcm_db",
+                    from_altitude ? "altitude" : "r0", 100.0 * offsets[j]);
+      std::snprintf(label, sizeof label, "12 level at %s + %.2f m - near seabed",
+                    from_altitude ? "altitude" : "r0", offsets[j]);
+      add(key, label, "dB",
+          [j, from_altitude](auto& x) { return x.first.profile_db(j, from_altitude); });
+    }
+  add("first_profile_max_drop_db", "12 median profile r0..+0.5 m, largest drop", "dB",
+      [](auto& x) { return x.first.profile_max_drop_db(); });
+  add("first_profile_monotone", "12 ... monotone within 1 dB (1 yes, 0 no)", "", [](auto& x) {
+    const double d = x.first.profile_max_drop_db();
+    return std::isnan(d) ? rs::kNaN : d <= x.first.monotone_tol_db ? 1.0 : 0.0;
+  });
+  // 13. far range vs near range
+  add("far_minus_near_db", "13 level [0.9, 0.97) R - [1.4, 1.6) r0", "dB",
+      [](auto& x) { return rs::quantile(x.levels.far_minus_near_db, 0.5); });
+  add("altitude_over_range", "13 altitude / R (median)", "",
+      [](auto& x) { return rs::quantile(x.levels.altitude_over_range, 0.5); });
+  // 14. near-range clipping
+  add("first_2m_clipped_pct", "14 samples [r0, r0 + 2 m) at full scale", "%",
+      [](auto& x) { return pct(x.levels.first_metres_clipped, x.levels.first_metres); });
+  // 15. levels of all samples
+  for (const auto& [q, name] : {std::pair{0.01, "p01"}, {0.5, "p50"}, {0.99, "p99"}})
+    add(std::string("level_") + name + "_db", std::string("15 level of all samples, ") + name, "dB",
+        [q](auto& x) { return x.levels.all.quantile_db(q); });
   return out;
 }
 
@@ -318,12 +407,24 @@ int main(int argc, char** argv) {
       j["ping_spacing_m"] = num(r.ping_spacing_m);
       j["median_altitude_m"] = num(altitude_m);
       j["horizontal_beam_deg"] = rec.beam_deg;
+      j["altitude_min_m"] = num(r.altitude_min_m);
+      j["altitude_median_m"] = num(r.altitude_median_m);
+      j["altitude_max_m"] = num(r.altitude_max_m);
       for (const Row& row : table)
         j["figures"][row.key] = {{"port", num(row.v[0])},
                                  {"starboard", num(row.v[1])},
                                  {"pooled", num(row.v[2])},
                                  {"unit", row.unit}};
       for (std::size_t b = 0; b < bands; ++b) j["lag1_predicted"].push_back(num(predicted(b)));
+      // Measure 8: the along-track lag-1 of measure 6, median tile, one entry per band.
+      for (std::size_t b = 0; b < bands; ++b) {
+        const double lo = static_cast<double>(b) * r.pooled.texture.band_m;
+        j["lag1_along_track_median_tile"].push_back(
+            {{"band_m", {lo, lo + r.pooled.texture.band_m}},
+             {"port", num(r.port.texture.median_tile_lag1(b))},
+             {"starboard", num(r.starboard.texture.median_tile_lag1(b))},
+             {"pooled", num(r.pooled.texture.median_tile_lag1(b))}});
+      }
       std::printf("%s\n", j.dump(2).c_str());
       return 0;
     }
@@ -344,6 +445,19 @@ int main(int argc, char** argv) {
     std::printf("\nlag-1 prediction 1 - (spacing / (range x beam))^2 at band centres:");
     for (std::size_t b = 0; b < bands; ++b) std::printf(" %s", fmt(predicted(b)).c_str());
     std::printf("\n");
+    std::printf("\n8 along-track lag-1 (measure 6), median tile, per band:\n");
+    std::printf("%-12s %10s %10s %10s\n", "band (m)", "port", "starboard", "pooled");
+    for (std::size_t b = 0; b < bands; ++b) {
+      const double lo = static_cast<double>(b) * r.pooled.texture.band_m;
+      char band[32];
+      std::snprintf(band, sizeof band, "%.1f-%.1f", lo, lo + r.pooled.texture.band_m);
+      std::printf("%-12s %10s %10s %10s\n", band, fmt(r.port.texture.median_tile_lag1(b)).c_str(),
+                  fmt(r.starboard.texture.median_tile_lag1(b)).c_str(),
+                  fmt(r.pooled.texture.median_tile_lag1(b)).c_str());
+    }
+    std::printf("\n16 header altitude (H > 0): min %s m, median %s m, max %s m\n",
+                fmt(r.altitude_min_m).c_str(), fmt(r.altitude_median_m).c_str(),
+                fmt(r.altitude_max_m).c_str());
     return 0;
   } catch (const sonarsynth::Error& e) {
     std::fprintf(stderr, "%s\n", e.what());

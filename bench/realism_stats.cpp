@@ -212,7 +212,13 @@ void FirstReturnStats::merge(const FirstReturnStats& o) {
                                 o.range_minus_altitude_m.end());
   range_over_altitude.insert(range_over_altitude.end(), o.range_over_altitude.begin(),
                              o.range_over_altitude.end());
-  for (auto [to, from] : {std::pair{&aligned, &o.aligned}, {&aligned_r0, &o.aligned_r0}}) {
+  if (profile_offsets_m.empty()) profile_offsets_m = o.profile_offsets_m;
+  if (std::isnan(monotone_until_m)) monotone_until_m = o.monotone_until_m;
+  if (std::isnan(monotone_tol_db)) monotone_tol_db = o.monotone_tol_db;
+  for (auto [to, from] : {std::pair{&aligned, &o.aligned},
+                          {&aligned_r0, &o.aligned_r0},
+                          {&profile_r0, &o.profile_r0},
+                          {&profile_altitude, &o.profile_altitude}}) {
     if (to->size() < from->size()) to->resize(from->size());
     for (std::size_t j = 0; j < from->size(); ++j)
       (*to)[j].insert((*to)[j].end(), (*from)[j].begin(), (*from)[j].end());
@@ -242,6 +248,27 @@ double FirstReturnStats::rise_r0(double below_db) const {
   return first_reaching(aligned_r0, below_db, step_r0);
 }
 
+double FirstReturnStats::profile_db(std::size_t j, bool altitude) const {
+  const auto& p = altitude ? profile_altitude : profile_r0;
+  if (j >= p.size()) return kNaN;
+  return quantile(std::vector<double>(p[j].begin(), p[j].end()), 0.5);
+}
+
+double FirstReturnStats::profile_max_drop_db() const {
+  double peak = -kInf, drop = kNaN;
+  for (std::size_t j = 0; j < aligned.size(); ++j) {
+    if (static_cast<double>(j) * sample_m > monotone_until_m + 1e-9) break;
+    if (aligned[j].empty()) continue;
+    std::vector<double> v(aligned[j].begin(), aligned[j].end());
+    const double m = median_of(v);
+    if (std::isnan(m)) continue;
+    peak = std::max(peak, m);
+    const double d = std::isfinite(peak) ? peak - m : 0.0;
+    drop = std::isnan(drop) ? std::max(0.0, d) : std::max(drop, d);
+  }
+  return drop;
+}
+
 FirstReturnStats first_return_stats(std::span<const Ping> pings, Side side,
                                     std::span<const FirstReturn> returns, const Options& o) {
   const Layout l = check_layout(pings, returns);
@@ -250,6 +277,11 @@ FirstReturnStats first_return_stats(std::span<const Ping> pings, Side side,
   s.step_r0 = o.rise_step_r0;
   s.aligned.resize(static_cast<std::size_t>(std::ceil(o.rise_span_m / l.dr)));
   s.aligned_r0.resize(static_cast<std::size_t>(std::ceil(o.rise_span_r0 / o.rise_step_r0)));
+  s.profile_offsets_m = o.profile_offsets_m;
+  s.monotone_until_m = o.monotone_until_m;
+  s.monotone_tol_db = o.monotone_tol_db;
+  s.profile_r0.resize(o.profile_offsets_m.size());
+  s.profile_altitude.resize(o.profile_offsets_m.size());
   for (std::size_t k = 0; k < pings.size(); ++k) {
     ++s.pings;
     const FirstReturn& fr = returns[k];
@@ -270,6 +302,20 @@ FirstReturnStats first_return_stats(std::span<const Ping> pings, Side side,
                  : index_at(fr.range_m * (1.0 + static_cast<double>(j) * o.rise_step_r0), l);
       if (i >= l.n) break;
       s.aligned_r0[j].push_back(static_cast<float>(level_db(v[i]) - fr.seabed_db));
+    }
+    // The sample nearest r0 + d is the one whose span [i, i + 1) dr holds it: for r0 at the
+    // centre of sample `index`, index + round(d / dr).
+    const double altitude = pings[k].altitude_m;
+    for (std::size_t j = 0; j < o.profile_offsets_m.size(); ++j) {
+      const double d = o.profile_offsets_m[j];
+      const double i = static_cast<double>(fr.index) + std::floor(d / l.dr + 0.5);
+      if (i < static_cast<double>(l.n))
+        s.profile_r0[j].push_back(
+            static_cast<float>(level_db(v[static_cast<std::size_t>(i)]) - fr.seabed_db));
+      const double ih = std::floor((altitude + d) / l.dr);
+      if (altitude > 0.0 && ih < static_cast<double>(l.n))
+        s.profile_altitude[j].push_back(
+            static_cast<float>(level_db(v[static_cast<std::size_t>(ih)]) - fr.seabed_db));
     }
   }
   return s;
@@ -294,6 +340,78 @@ void Texture::merge(const Texture& o) {
   if (tile_lag1.size() < o.tile_lag1.size()) tile_lag1.resize(o.tile_lag1.size());
   for (std::size_t b = 0; b < o.tile_lag1.size(); ++b)
     tile_lag1[b].insert(tile_lag1[b].end(), o.tile_lag1[b].begin(), o.tile_lag1[b].end());
+  if (std::isnan(across_min_pairs)) across_min_pairs = o.across_min_pairs;
+  for (std::size_t p = 0; p < across.size(); ++p) {
+    across[p].merge(o.across[p]);
+    if (across_tiles[p].size() < o.across_tiles[p].size())
+      across_tiles[p].resize(o.across_tiles[p].size());
+    for (std::size_t b = 0; b < o.across_tiles[p].size(); ++b)
+      across_tiles[p][b].merge(o.across_tiles[p][b]);
+  }
+}
+
+void Texture::AcrossTile::merge(const AcrossTile& o) {
+  lag1.merge(o.lag1);
+  if (spectrum.size() < o.spectrum.size()) spectrum.resize(o.spectrum.size(), 0.0);
+  for (std::size_t f = 0; f < o.spectrum.size(); ++f) spectrum[f] += o.spectrum[f];
+  rows += o.rows;
+  sides += o.sides;
+}
+
+std::vector<double> Texture::tile_across_lag1(std::size_t place) const {
+  std::vector<double> out;
+  for (const AcrossTile& t : across_tiles[place]) {
+    if (!(t.sides > 0.0) || !(t.lag1.n >= across_min_pairs * t.sides)) continue;
+    const double c = t.lag1.correlation();
+    if (std::isfinite(c)) out.push_back(c);
+  }
+  return out;
+}
+
+namespace {
+
+/// Quarter q (0..3) of the bins 1 .. N/2 of a summed periodogram, mean over the quarter / mean
+/// over all those bins.
+double quarter_of(const std::vector<double>& spectrum, std::size_t q) {
+  if (spectrum.size() < 9 || q > 3) return kNaN;
+  const std::size_t half = spectrum.size() - 1, quarter = half / 4;
+  double all = 0.0, part = 0.0;
+  for (std::size_t f = 1; f <= half; ++f) {
+    all += spectrum[f];
+    if (f > q * quarter && f <= (q + 1) * quarter) part += spectrum[f];
+  }
+  if (!(all > 0.0)) return kNaN;
+  return (part / static_cast<double>(quarter)) / (all / static_cast<double>(half));
+}
+
+}  // namespace
+
+double Texture::spectrum_quarter(std::size_t q) const {
+  std::vector<double> sum;
+  for (const auto& tiles : across_tiles)
+    for (const AcrossTile& t : tiles) {
+      if (sum.size() < t.spectrum.size()) sum.resize(t.spectrum.size(), 0.0);
+      for (std::size_t f = 0; f < t.spectrum.size(); ++f) sum[f] += t.spectrum[f];
+    }
+  return quarter_of(sum, q);
+}
+
+double Texture::median_tile_spectrum_quarter(std::size_t q) const {
+  std::vector<double> v;
+  for (const auto& tiles : across_tiles)
+    for (const AcrossTile& t : tiles)
+      if (t.sides > 0.0 && t.lag1.n >= across_min_pairs * t.sides) {
+        const double x = quarter_of(t.spectrum, q);
+        if (std::isfinite(x)) v.push_back(x);
+      }
+  return quantile(std::move(v), 0.5);
+}
+
+std::size_t Texture::spectrum_rows() const {
+  double rows = 0.0;
+  for (const auto& tiles : across_tiles)
+    for (const AcrossTile& t : tiles) rows += t.rows;
+  return static_cast<std::size_t>(rows);
 }
 
 Texture seabed_texture(std::span<const Ping> pings, Side side, std::span<const FirstReturn> returns,
@@ -354,6 +472,73 @@ Texture seabed_texture(std::span<const Ping> pings, Side side, std::span<const F
       }
     }
   };
+  // Measure 7: across-track tiles (near, mid, far), one per block of across_tile_pings pings.
+  const std::size_t an = o.across_tile_samples;
+  const std::size_t nblocks = (pings.size() + o.across_tile_pings - 1) / o.across_tile_pings;
+  t.across_min_pairs = o.tile_min_fill * static_cast<double>(o.across_tile_pings * (an - 1));
+  for (auto& place : t.across_tiles) {
+    place.resize(nblocks);
+    for (Texture::AcrossTile& tile : place) {
+      tile.spectrum.assign(an / 2 + 1, 0.0);
+      tile.sides = 1.0;
+    }
+  }
+  std::vector<double> cos_table(an), sin_table(an), row(an);
+  for (std::size_t m = 0; m < an; ++m) {
+    const double a = 2.0 * std::numbers::pi * static_cast<double>(m) / static_cast<double>(an);
+    cos_table[m] = std::cos(a);
+    sin_table[m] = std::sin(a);
+  }
+  const std::size_t far_end = index_at(o.across_far_range * l.range_m, l);
+  // First sample of each place's tile row in ping k (n if the row does not fit).
+  auto across_starts = [&](std::size_t k) {
+    std::array<std::size_t, 3> start{l.n, l.n, l.n};
+    if (!returns[k].found) return start;
+    const double r0 = returns[k].range_m;
+    start[0] = index_at(o.across_near_r0 * r0, l);
+    const std::size_t centre =
+        index_at(0.5 * (o.across_near_r0 * r0 + o.across_far_range * l.range_m), l);
+    start[1] = centre >= an / 2 ? centre - an / 2 : l.n;
+    start[2] = far_end >= an ? far_end - an : l.n;
+    for (std::size_t& s0 : start)
+      if (s0 + an > l.n) s0 = l.n;
+    return start;
+  };
+  auto add_across = [&](std::size_t k, const std::vector<double>& ratio) {
+    const std::array<std::size_t, 3> start = across_starts(k);
+    for (std::size_t p = 0; p < 3; ++p) {
+      const std::size_t s0 = start[p];
+      if (s0 >= l.n) continue;
+      Texture::AcrossTile& tile = t.across_tiles[p][k / o.across_tile_pings];
+      bool complete = true;
+      for (std::size_t i = s0; i < s0 + an; ++i) {
+        if (!std::isfinite(ratio[i])) {
+          complete = false;
+          continue;
+        }
+        if (i + 1 < s0 + an && std::isfinite(ratio[i + 1])) {
+          t.across[p].add(ratio[i], ratio[i + 1]);
+          tile.lag1.add(ratio[i], ratio[i + 1]);
+        }
+      }
+      if (!complete) continue;
+      // Periodogram of the mean-removed row, bins 0 .. an / 2.
+      double mean = 0.0;
+      for (std::size_t m = 0; m < an; ++m) mean += ratio[s0 + m];
+      mean /= static_cast<double>(an);
+      for (std::size_t m = 0; m < an; ++m) row[m] = ratio[s0 + m] - mean;
+      for (std::size_t f = 0; f <= an / 2; ++f) {
+        double re = 0.0, im = 0.0;
+        for (std::size_t m = 0; m < an; ++m) {
+          const std::size_t w = (f * m) % an;
+          re += row[m] * cos_table[w];
+          im -= row[m] * sin_table[w];
+        }
+        tile.spectrum[f] += re * re + im * im;
+      }
+      tile.rows += 1.0;
+    }
+  };
   std::vector<double> prev(l.n, kNaN), cur(l.n, kNaN);
   auto visit = [&](std::size_t k, const Cols& box) {
     if (k % o.tile_pings == 0) flush();
@@ -380,6 +565,7 @@ Texture seabed_texture(std::span<const Ping> pings, Side side, std::span<const F
         tile.lag1.add(prev[i], cur[i]);
       }
     }
+    add_across(k, cur);
     std::swap(prev, cur);
   };
   for_each_box(pings.size(), l.n, o.box_pings / 2, o.box_samples / 2, add_row, visit);
@@ -405,6 +591,19 @@ void Levels::merge(const Levels& o) {
   ping_water_minus_near_db.insert(ping_water_minus_near_db.end(),
                                   o.ping_water_minus_near_db.begin(),
                                   o.ping_water_minus_near_db.end());
+  water_stats.merge(o.water_stats);
+  for (auto [to, from] : {std::pair{&water_block_cv, &o.water_block_cv},
+                          {&water_block_skewness, &o.water_block_skewness},
+                          {&water_ping_cv, &o.water_ping_cv},
+                          {&far_minus_near_db, &o.far_minus_near_db},
+                          {&altitude_over_range, &o.altitude_over_range}})
+    to->insert(to->end(), from->begin(), from->end());
+  if (std::isnan(water_min) || o.water_min < water_min) water_min = o.water_min;
+  water_first_third.merge(o.water_first_third);
+  water_last_third.merge(o.water_last_third);
+  first_metres += o.first_metres;
+  first_metres_clipped += o.first_metres_clipped;
+  all.merge(o.all);
 }
 
 Levels levels(std::span<const Ping> pings, Side side, std::span<const FirstReturn> returns,
@@ -413,11 +612,24 @@ Levels levels(std::span<const Ping> pings, Side side, std::span<const FirstRetur
   const Layout l = check_layout(pings, returns);
   Levels s;
   std::vector<double> water_levels;
+  // Measure 11: the water column statistics of the current block of pings.
+  Moments3 block;
+  auto flush_block = [&]() {
+    if (block.n >= static_cast<double>(o.water_block_min_samples)) {
+      s.water_block_cv.push_back(block.cv());
+      s.water_block_skewness.push_back(block.skewness());
+    }
+    block = Moments3{};
+  };
+  const Span far{index_at(o.far_begin_range * l.range_m, l),
+                 index_at(o.far_end_range * l.range_m, l)};
   for (std::size_t k = 0; k < pings.size(); ++k) {
+    if (k % o.water_block_pings == 0) flush_block();
     const std::vector<float>& v = pings[k].samples(side);
     for (std::size_t i = 0; i < l.n; ++i) {
       ++s.samples;
       if (v[i] == 0.0f) ++s.zeros;
+      s.all.add_value(v[i]);
     }
     for (std::size_t i = 0; i < std::min(o.lead_samples, l.n); ++i) {
       s.lead.add_value(v[i]);
@@ -443,7 +655,40 @@ Levels levels(std::span<const Ping> pings, Side side, std::span<const FirstRetur
       if (v[i] < o.dark_value) ++s.seabed_dark;
       if (v[i] >= clip_value) ++s.seabed_clipped;
     }
+    const double r0 = returns[k].range_m;
+    // Measure 11: water column statistics over [water_stats_begin, 0.85 r0).
+    const std::size_t wb = o.water_stats_begin, we = index_at(o.water_stats_end_r0 * r0, l);
+    if (we > wb) {
+      const std::size_t third = (we - wb) / 3;
+      Moments3 ping;
+      for (std::size_t i = wb; i < we; ++i) {
+        ping.add(v[i]);
+        if (std::isnan(s.water_min) || v[i] < s.water_min) s.water_min = v[i];
+        if (i < wb + third) s.water_first_third.add_value(v[i]);
+        if (i >= we - third) s.water_last_third.add_value(v[i]);
+      }
+      s.water_stats.merge(ping);
+      block.merge(ping);
+      if (we - wb >= o.water_ping_min_samples) s.water_ping_cv.push_back(ping.cv());
+    }
+    // Measure 13: far range [0.9 R, 0.97 R) against [1.4 r0, 1.6 r0).
+    const Span near_ref{index_at(o.near_ref_begin_r0 * r0, l), index_at(o.near_ref_end_r0 * r0, l)};
+    if (far.end > far.begin && near_ref.end > near_ref.begin && near_ref.end <= l.n) {
+      const std::vector<double> level = levels_of(v);
+      const double d = median_between(level, far) - median_between(level, near_ref);
+      if (!std::isnan(d)) {
+        s.far_minus_near_db.push_back(d);
+        if (pings[k].altitude_m > 0.0)
+          s.altitude_over_range.push_back(pings[k].altitude_m / l.range_m);
+      }
+    }
+    // Measure 14: samples [r0, r0 + clip_near_m) at full scale.
+    for (std::size_t i = returns[k].index; i < index_at(r0 + o.clip_near_m, l); ++i) {
+      ++s.first_metres;
+      if (v[i] >= clip_value) ++s.first_metres_clipped;
+    }
   }
+  flush_block();
   return s;
 }
 
@@ -454,6 +699,44 @@ void Shadows::merge(const Shadows& o) {
   shadow += o.shadow;
   level.merge(o.level);
   below_lit.merge(o.below_lit);
+  shadow_values.merge(o.shadow_values);
+  lit_values.merge(o.lit_values);
+  region_cv.insert(region_cv.end(), o.region_cv.begin(), o.region_cv.end());
+  if (std::isnan(sample_m)) {
+    sample_m = o.sample_m;
+    edge_before = o.edge_before;
+    edge_window_min = o.edge_window_min;
+  }
+  for (auto [to, from] :
+       {std::pair{&edge_window_sum, &o.edge_window_sum}, {&edge_all_sum, &o.edge_all_sum}}) {
+    if (to->size() < from->size()) to->resize(from->size(), 0.0);
+    for (std::size_t j = 0; j < from->size(); ++j) (*to)[j] += (*from)[j];
+  }
+  edge_window_count += o.edge_window_count;
+  edge_all_count += o.edge_all_count;
+}
+
+std::vector<double> Shadows::edge_profile() const {
+  const std::size_t count = edge_count();
+  const std::vector<double>& sum = edge_in_window() ? edge_window_sum : edge_all_sum;
+  std::vector<double> p;
+  if (count == 0) return p;
+  for (double x : sum) p.push_back(x / static_cast<double>(count));
+  return p;
+}
+
+double Shadows::edge_width_m() const {
+  const std::vector<double> p = edge_profile();
+  if (p.size() <= edge_before + 1) return kNaN;
+  const std::size_t shadow_n = edge_before + 1, lit_n = p.size() - shadow_n;
+  const std::size_t shadow_use = std::max<std::size_t>(1, shadow_n / 2),
+                    lit_use = std::max<std::size_t>(1, lit_n / 4);
+  double low = 0.0, high = 0.0;
+  for (std::size_t j = 0; j < shadow_use; ++j) low += p[j];
+  for (std::size_t j = p.size() - lit_use; j < p.size(); ++j) high += p[j];
+  low /= static_cast<double>(shadow_use);
+  high /= static_cast<double>(lit_use);
+  return rise_width_10_90(p, low, high) * sample_m;
 }
 
 Shadows shadows(std::span<const Ping> pings, Side side, std::span<const FirstReturn> returns,
@@ -495,6 +778,9 @@ Shadows shadows(std::span<const Ping> pings, Side side, std::span<const FirstRet
     }
 
   Shadows s;
+  // Per sample: 0 not examined, 1 lit, 2 shadow.
+  enum : std::uint8_t { kNone = 0, kLit = 1, kShadow = 2 };
+  std::vector<std::uint8_t> state(np * l.n, kNone);
   const double min_count = static_cast<double>(o.shadow_box_pings * o.shadow_box_samples) / 2.0;
   auto add_row = [&](std::size_t k, double sign, Cols& c) {
     const std::vector<float>& v = pings[k].samples(side);
@@ -509,13 +795,83 @@ Shadows shadows(std::span<const Ping> pings, Side side, std::span<const FirstRet
       const double ref = reference[k * nbands + band_of(i)];
       if (!(box.na[i] >= min_count) || !std::isfinite(ref)) continue;
       ++s.seabed;
-      if (level_db(box.a[i] / box.na[i]) >= ref - o.shadow_below_db) continue;
+      if (level_db(box.a[i] / box.na[i]) >= ref - o.shadow_below_db) {
+        state[k * l.n + i] = kLit;
+        s.lit_values.add(v[i]);
+        continue;
+      }
+      state[k * l.n + i] = kShadow;
       ++s.shadow;
       s.level.add_value(v[i]);
       s.below_lit.add_db(level_db(v[i]) - ref);
+      s.shadow_values.add(v[i]);
     }
   };
   for_each_box(np, l.n, o.shadow_box_pings / 2, o.shadow_box_samples / 2, add_row, visit);
+
+  // Measure 9: CV of each contiguous shadow region (4-connected), by flood fill.
+  {
+    std::vector<std::uint8_t> seen(state.size(), 0);
+    std::vector<std::size_t> stack;
+    for (std::size_t start = 0; start < state.size(); ++start) {
+      if (state[start] != kShadow || seen[start]) continue;
+      Moments m;
+      seen[start] = 1;
+      stack.assign(1, start);
+      while (!stack.empty()) {
+        const std::size_t at = stack.back();
+        stack.pop_back();
+        const std::size_t k = at / l.n, i = at % l.n;
+        m.add(pings[k].samples(side)[i]);
+        auto visit_at = [&](std::size_t next) {
+          if (state[next] == kShadow && !seen[next]) {
+            seen[next] = 1;
+            stack.push_back(next);
+          }
+        };
+        if (i > 0) visit_at(at - 1);
+        if (i + 1 < l.n) visit_at(at + 1);
+        if (k > 0) visit_at(at - l.n);
+        if (k + 1 < np) visit_at(at + l.n);
+      }
+      if (m.n >= static_cast<double>(o.shadow_region_min_samples))
+        s.region_cv.push_back(m.stddev() / m.mean());
+    }
+  }
+
+  // Measure 10: far edges of shadow runs, profiles aligned on the last shadow sample.
+  const auto need_shadow = static_cast<std::size_t>(std::ceil(o.edge_shadow_m / l.dr - 1e-9));
+  const auto need_lit = static_cast<std::size_t>(std::ceil(o.edge_lit_m / l.dr - 1e-9));
+  s.sample_m = l.dr;
+  s.edge_before = need_shadow - 1;
+  s.edge_window_min = o.edge_window_min;
+  s.edge_window_sum.assign(need_shadow + need_lit, 0.0);
+  s.edge_all_sum.assign(need_shadow + need_lit, 0.0);
+  for (std::size_t k = 0; k < np; ++k) {
+    const std::uint8_t* st = &state[k * l.n];
+    const std::vector<float>& v = pings[k].samples(side);
+    std::size_t run = 0;
+    for (std::size_t i = 0; i < l.n; ++i) {
+      if (st[i] != kShadow) {
+        run = 0;
+        continue;
+      }
+      ++run;
+      if (run < need_shadow || i + need_lit >= l.n || st[i + 1] == kShadow) continue;
+      bool lit = true;
+      for (std::size_t j = i + 1; j <= i + need_lit && lit; ++j) lit = st[j] == kLit;
+      if (!lit) continue;
+      const double range = (static_cast<double>(i) + 0.5) * l.dr;
+      const bool in_window = range >= o.edge_window_begin_m && range < o.edge_window_end_m;
+      for (std::size_t j = 0; j < need_shadow + need_lit; ++j) {
+        const double x = v[i + 1 + j - need_shadow];
+        s.edge_all_sum[j] += x;
+        if (in_window) s.edge_window_sum[j] += x;
+      }
+      ++s.edge_all_count;
+      if (in_window) ++s.edge_window_count;
+    }
+  }
   return s;
 }
 
@@ -557,6 +913,14 @@ Report measure(std::span<const Ping> pings, const Options& o) {
   r.slant_range_m = l.range_m;
   r.max_value = max_sample(pings);
   r.ping_spacing_m = median_ping_spacing_m(pings, o.spacing_lag);
+  std::vector<double> altitude;
+  for (const Ping& p : pings)
+    if (p.altitude_m > 0.0) altitude.push_back(p.altitude_m);
+  if (!altitude.empty()) {
+    r.altitude_min_m = *std::min_element(altitude.begin(), altitude.end());
+    r.altitude_max_m = *std::max_element(altitude.begin(), altitude.end());
+    r.altitude_median_m = quantile(std::move(altitude), 0.5);
+  }
   for (Side side : {Side::kPort, Side::kStarboard}) {
     const std::vector<FirstReturn> fr = first_returns(pings, side, o);
     SideReport& s = side == Side::kPort ? r.port : r.starboard;

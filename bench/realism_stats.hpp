@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: MIT
 // Statistics that say whether a side-scan record behaves like a real one (issue 13): seabed
 // contrast, water column, shadows, first bottom return, full scale and clipping, along-track
-// correlation. Each figure is defined in docs/realism.md; the constants below are the choices
-// documented there. Bench support only: not part of the installed API.
+// correlation (measures 1-6); across-track correlation and spectrum, shadow fill and edges, water
+// column statistics, first-return profile, far vs near range, near-range clipping, level
+// percentiles and altitude (measures 7-16). Each figure is defined in docs/realism.md; the
+// constants below are the choices documented there. Bench support only: not part of the installed
+// API.
 //
 // Levels are 20 log10 of stored sample values (dB re one count); "x dB below" compares levels.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -73,6 +77,34 @@ struct Options {
   /// Grazing-angle classes of measure 1 (flat seabed: asin(r0 / r)), edges in radians.
   std::vector<double> grazing_edges_rad = {0.0,       5 * kDeg,  10 * kDeg, 15 * kDeg,
                                            20 * kDeg, 30 * kDeg, 45 * kDeg, 90 * kDeg};
+  // Across-track texture (measure 7): tiles of pings x samples at three places per ping side.
+  std::size_t across_tile_pings = 64;
+  std::size_t across_tile_samples = 128;  ///< also the periodogram length (even)
+  double across_near_r0 = 1.5;            ///< "near" tile starts at 1.5 r0
+  double across_far_range = 0.8;          ///< "far" tile ends at 0.8 R; "mid" centred between
+  // Shadow fill and edges (measures 9 and 10).
+  std::size_t shadow_region_min_samples = 50;  ///< regions counted for the median region CV
+  double edge_shadow_m = 0.5;                  ///< shadow run at least this long ...
+  double edge_lit_m = 1.0;                     ///< ... followed by this much lit seabed
+  double edge_window_begin_m = 15.0;           ///< preferred transitions: slant range in
+  double edge_window_end_m = 25.0;             ///<   [begin, end) ...
+  std::size_t edge_window_min = 20;            ///< ... if there are at least this many
+  // Water column statistics (measure 11): samples [water_stats_begin, 0.85 r0).
+  std::size_t water_stats_begin = 20;
+  double water_stats_end_r0 = 0.85;
+  std::size_t water_block_pings = 64;
+  std::size_t water_ping_min_samples = 10;  ///< ping sides with fewer are not summarised
+  std::size_t water_block_min_samples = 100;
+  // First return profile (measure 12): offsets from r0 (and from the header altitude).
+  std::vector<double> profile_offsets_m = {0.0, 0.03, 0.06, 0.09, 0.2, 0.5, 0.9};
+  double monotone_until_m = 0.5;  ///< monotone check of the median profile over [0, this]
+  double monotone_tol_db = 1.0;   ///< ... allowing drops below an earlier maximum up to this
+  // Far range vs near range (measure 13) and near-range clipping (measure 14).
+  double far_begin_range = 0.9;  ///< far: [0.9 R, 0.97 R)
+  double far_end_range = 0.97;
+  double near_ref_begin_r0 = 1.4;  ///< near: [1.4 r0, 1.6 r0)
+  double near_ref_end_r0 = 1.6;
+  double clip_near_m = 2.0;  ///< near-range clipping: samples [r0, r0 + 2 m)
   void validate() const;
 };
 
@@ -113,6 +145,28 @@ struct Moments {
   }
   double mean() const { return n > 0.0 ? sum / n : kNaN; }
   double stddev() const;
+};
+
+/// Count and the first three power sums: mean, population CV and skewness.
+struct Moments3 {
+  double n = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  void add(double x) {
+    n += 1.0;
+    s1 += x;
+    s2 += x * x;
+    s3 += x * x * x;
+  }
+  void merge(const Moments3& o) {
+    n += o.n;
+    s1 += o.s1;
+    s2 += o.s2;
+    s3 += o.s3;
+  }
+  double mean() const { return n > 0.0 ? s1 / n : kNaN; }
+  /// Population standard deviation / mean.
+  double cv() const;
+  /// Population skewness m3 / m2^1.5.
+  double skewness() const;
 };
 
 /// Pearson correlation of pairs (a, b).
@@ -157,7 +211,18 @@ struct FirstReturnStats {
   std::vector<std::vector<float>> aligned;
   /// aligned_r0[j][p]: the same at range r0 (1 + j step_r0).
   std::vector<std::vector<float>> aligned_r0;
+  /// Measure 12: profile_offsets_m (Options) and, per offset, the level of the sample nearest
+  /// r0 + d (profile_r0) and H + d (profile_altitude, pings with H > 0) minus seabed_db.
+  std::vector<double> profile_offsets_m;
+  std::vector<std::vector<float>> profile_r0, profile_altitude;
+  double monotone_until_m = kNaN;
+  double monotone_tol_db = kNaN;
   void merge(const FirstReturnStats& o);
+  /// Median over pings of profile_r0[j] (profile_altitude[j] if `altitude`).
+  double profile_db(std::size_t j, bool altitude = false) const;
+  /// Largest drop of the per-sample median of `aligned` below its running maximum over offsets
+  /// [0, monotone_until_m]; the profile counts as monotone if this is <= monotone_tol_db.
+  double profile_max_drop_db() const;
   /// Distance from the first return to where the per-offset median of `aligned` first reaches
   /// -below_db; NaN if it never does within the profile.
   double rise_m(double below_db) const;
@@ -182,11 +247,38 @@ struct Texture {
   /// Per grazing-angle class (Options::grazing_edges_rad): ratio and dB differences.
   std::vector<double> grazing_edges_rad;
   std::vector<Moments> grazing_ratio, grazing_db;
+  /// Measure 7, one tile: lag-1 pairs of ratios (i, i + 1) of the same ping; the summed
+  /// periodogram (bins 0 .. samples / 2) of the mean-removed ratios of its complete rows, and
+  /// their count; how many sides it pools.
+  struct AcrossTile {
+    PearsonSums lag1;
+    std::vector<double> spectrum;
+    double rows = 0.0;
+    double sides = 0.0;
+    void merge(const AcrossTile& o);
+  };
+  /// Per place (near, mid, far): all pairs, and the tiles by block of pings (pooled: the block's
+  /// tiles of both sides merged). A tile counts if it has tile_min_fill x its pairs per side.
+  std::array<PearsonSums, 3> across;
+  std::array<std::vector<AcrossTile>, 3> across_tiles;
+  double across_min_pairs = kNaN;  ///< per side and tile
   void merge(const Texture& o);
   double contrast() const { return ratio.stddev() / ratio.mean(); }
   double median_tile_contrast() const { return quantile(tile_contrast, 0.5); }
   double median_tile_db_std() const { return quantile(tile_db_std, 0.5); }
   double median_tile_lag1(std::size_t band) const { return quantile(tile_lag1[band], 0.5); }
+  /// The lag-1 correlations of the tiles of a place that count.
+  std::vector<double> tile_across_lag1(std::size_t place) const;
+  double median_tile_across_lag1(std::size_t place) const {
+    return quantile(tile_across_lag1(place), 0.5);
+  }
+  /// Mean periodogram over quarter q (0..3) of the bins 1 .. N/2 (DC excluded: it is zero after
+  /// the mean is removed), divided by the mean over all of them: 1 1 1 1 for white noise. Over
+  /// every row of every tile of the three places.
+  double spectrum_quarter(std::size_t q) const;
+  /// The same per tile (every place, tiles that count), then the median over tiles.
+  double median_tile_spectrum_quarter(std::size_t q) const;
+  std::size_t spectrum_rows() const;
 };
 
 Texture seabed_texture(std::span<const Ping> pings, Side side, std::span<const FirstReturn> returns,
@@ -200,7 +292,24 @@ struct Levels {
   std::uint64_t water_zeros = 0, seabed_zeros = 0, seabed_dark = 0;
   std::uint64_t seabed_clipped = 0, near_clipped = 0, lead_clipped = 0;
   std::vector<double> ping_water_minus_near_db;  ///< per ping with a first return
+  // Measure 11: water column samples [water_stats_begin, water_stats_end_r0 x r0).
+  Moments3 water_stats;                ///< every such sample
+  std::vector<double> water_block_cv;  ///< per block of water_block_pings pings
+  std::vector<double> water_block_skewness;
+  std::vector<double> water_ping_cv;  ///< per ping side
+  double water_min = kNaN;            ///< lowest value
+  LevelHistogram water_first_third, water_last_third;
+  // Measure 13: per ping side, median level over [0.9 R, 0.97 R) minus over [1.4 r0, 1.6 r0);
+  // and altitude / R over the same ping sides (those with H > 0).
+  std::vector<double> far_minus_near_db, altitude_over_range;
+  // Measure 14: samples [r0, r0 + clip_near_m) and those of them at full scale.
+  std::uint64_t first_metres = 0, first_metres_clipped = 0;
+  // Measure 15: every sample.
+  LevelHistogram all;
   void merge(const Levels& o);
+  double water_trend_db() const {
+    return water_last_third.median_db() - water_first_third.median_db();
+  }
 };
 
 /// `clip_value`: a sample >= this counts as clipped (the largest value of the file).
@@ -214,8 +323,36 @@ struct Shadows {
   std::uint64_t shadow = 0;
   LevelHistogram level;      ///< levels of the shadow samples
   LevelHistogram below_lit;  ///< level minus the lit reference at the same range, per sample
+  // Measure 9: values of shadow and lit (examined, not shadow) seabed samples; per contiguous
+  // shadow region (4-connected over pings x samples) of at least shadow_region_min_samples, CV.
+  Moments shadow_values, lit_values;
+  std::vector<double> region_cv;
+  // Measure 10: far edges of shadow runs (shadow -> lit going out in range). Profile offsets
+  // -(a - 1) .. b samples from the last shadow sample (a, b: edge_shadow_m, edge_lit_m in
+  // samples); summed values per offset, for the transitions in the range window and for all.
+  double sample_m = kNaN;
+  std::size_t edge_before = 0;  ///< a - 1: profile index of offset 0
+  std::vector<double> edge_window_sum, edge_all_sum;
+  std::size_t edge_window_count = 0, edge_all_count = 0;
+  std::size_t edge_window_min = 0;
   void merge(const Shadows& o);
+  double cv_shadow() const { return shadow_values.stddev() / shadow_values.mean(); }
+  double cv_lit() const { return lit_values.stddev() / lit_values.mean(); }
+  /// True if the range window has edge_window_min transitions (the edge figures use it).
+  bool edge_in_window() const { return edge_window_count >= edge_window_min; }
+  std::size_t edge_count() const { return edge_in_window() ? edge_window_count : edge_all_count; }
+  /// 10-90 % width (m) of the mean edge profile, from the shadow level (mean over the first
+  /// half of the shadow offsets) to the lit level (mean over the last quarter of the lit ones).
+  double edge_width_m() const;
+  /// The mean edge profile (values per offset, offset 0 at edge_before); empty if no edge.
+  std::vector<double> edge_profile() const;
 };
+
+/// 10-90 % rise width, in samples, of a profile going from a low to a high level: `low` and
+/// `high` are the levels, and the positions (linear interpolation between samples) are the
+/// first upward crossing of low + 0.1 (high - low) and the first crossing of low + 0.9 (high -
+/// low) after it. NaN if either is missing or high <= low.
+double rise_width_10_90(const std::vector<double>& profile, double low, double high);
 
 Shadows shadows(std::span<const Ping> pings, Side side, std::span<const FirstReturn> returns,
                 const Options& options);
@@ -236,6 +373,8 @@ struct Report {
   double slant_range_m = kNaN;
   double max_value = kNaN;       ///< the largest sample of the record (clip level, full scale)
   double ping_spacing_m = kNaN;  ///< median distance between consecutive valid positions
+  /// Measure 16: header altitude over the pings with H > 0 (NaN if none).
+  double altitude_min_m = kNaN, altitude_median_m = kNaN, altitude_max_m = kNaN;
   SideReport port, starboard, pooled;
 };
 

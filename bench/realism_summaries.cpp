@@ -57,6 +57,29 @@ void Options::validate() const {
   if (!(tile_min_fill > 0.0 && tile_min_fill <= 1.0))
     throw InputError("realism: option tile_min_fill = " + std::to_string(tile_min_fill) +
                      " (need 0 < fill <= 1)");
+  if (across_tile_pings == 0 || across_tile_samples < 8 || across_tile_samples % 8 != 0)
+    throw InputError("realism: options across_tile_pings >= 1 and across_tile_samples = " +
+                     std::to_string(across_tile_samples) + " (need a multiple of 8)");
+  positive(across_near_r0, "across_near_r0");
+  positive(across_far_range, "across_far_range");
+  positive(edge_shadow_m, "edge_shadow_m");
+  positive(edge_lit_m, "edge_lit_m");
+  positive(water_stats_end_r0, "water_stats_end_r0");
+  positive(clip_near_m, "clip_near_m");
+  positive(monotone_until_m, "monotone_until_m");
+  if (!(monotone_tol_db >= 0.0)) throw InputError("realism: option monotone_tol_db < 0");
+  if (water_block_pings == 0) throw InputError("realism: option water_block_pings = 0");
+  if (!(edge_window_begin_m < edge_window_end_m))
+    throw InputError("realism: options edge_window_begin_m/end_m out of order");
+  if (!(far_begin_range < far_end_range && far_end_range <= 1.0) ||
+      !(near_ref_begin_r0 < near_ref_end_r0))
+    throw InputError(
+        "realism: options far_begin/end_range or near_ref_begin/end_r0 out of order (need "
+        "begin < end, far_end_range <= 1)");
+  for (double d : profile_offsets_m)
+    if (!(d >= 0.0) || !std::isfinite(d))
+      throw InputError("realism: option profile_offsets_m has " + std::to_string(d) +
+                       " (need offsets >= 0)");
 }
 
 void LevelHistogram::add_value(double value) {
@@ -112,6 +135,20 @@ double Moments::stddev() const {
   return std::sqrt(std::max(0.0, sum_sq / n - m * m));
 }
 
+double Moments3::cv() const {
+  if (n <= 0.0) return kNaN;
+  const double m = s1 / n;
+  return std::sqrt(std::max(0.0, s2 / n - m * m)) / m;
+}
+
+double Moments3::skewness() const {
+  if (n <= 0.0) return kNaN;
+  const double m = s1 / n;
+  const double m2 = s2 / n - m * m;
+  const double m3 = s3 / n - 3.0 * m * (s2 / n) + 2.0 * m * m * m;
+  return m2 > 0.0 ? m3 / std::pow(m2, 1.5) : kNaN;
+}
+
 void PearsonSums::add(double x, double y) {
   n += 1.0;
   a += x;
@@ -148,6 +185,26 @@ double quantile(std::vector<double> v, double q) {
   if (v[lo] == v[hi] || f == 0.0) return v[lo];
   if (!std::isfinite(v[lo]) || !std::isfinite(v[hi])) return f < 0.5 ? v[lo] : v[hi];
   return v[lo] + f * (v[hi] - v[lo]);
+}
+
+double rise_width_10_90(const std::vector<double>& p, double low, double high) {
+  if (!(high > low) || p.size() < 2) return kNaN;
+  // First upward crossing of `level` at or after position `from`, interpolated linearly.
+  auto crossing = [&](double level, double from) {
+    for (auto j = static_cast<std::size_t>(std::max(0.0, std::floor(from))); j + 1 < p.size();
+         ++j) {
+      if (p[j] >= level && static_cast<double>(j) >= from) return static_cast<double>(j);
+      if (p[j] < level && p[j + 1] >= level) {
+        const double x = static_cast<double>(j) + (level - p[j]) / (p[j + 1] - p[j]);
+        if (x >= from) return x;
+      }
+    }
+    return kNaN;
+  };
+  const double x10 = crossing(low + 0.1 * (high - low), 0.0);
+  if (std::isnan(x10)) return kNaN;
+  const double x90 = crossing(low + 0.9 * (high - low), x10);
+  return x90 - x10;
 }
 
 }  // namespace bench::realism

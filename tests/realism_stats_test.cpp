@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -333,4 +334,276 @@ TEST(RealismStats, LayoutAndOptionErrorsAreNamed) {
   } catch (const sonarsynth::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("box_samples = 30"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+
+/// Expected periodogram of N samples of a stationary sequence with autocovariance gamma(m), at
+/// bin f (f = 1 .. N/2): sum over |m| < N of (N - |m|) gamma(m) cos(2 pi f m / N). The mean
+/// removed from each row does not change these bins.
+std::vector<double> expected_periodogram(std::size_t n,
+                                         const std::function<double(double)>& gamma) {
+  std::vector<double> p(n / 2 + 1, 0.0);
+  const auto nd = static_cast<double>(n);
+  for (std::size_t f = 1; f <= n / 2; ++f) {
+    double s = nd * gamma(0.0);
+    for (std::size_t m = 1; m < n; ++m) {
+      const auto md = static_cast<double>(m);
+      s += 2.0 * (nd - md) * gamma(md) * std::cos(2.0 * kPi * static_cast<double>(f) * md / nd);
+    }
+    p[f] = s;
+  }
+  return p;
+}
+
+/// Mean of bins of quarter q over the mean of bins 1 .. N/2.
+double expected_quarter(const std::vector<double>& p, std::size_t q) {
+  const std::size_t half = p.size() - 1, quarter = half / 4;
+  double all = 0.0, part = 0.0;
+  for (std::size_t f = 1; f <= half; ++f) {
+    all += p[f];
+    if (f > q * quarter && f <= (q + 1) * quarter) part += p[f];
+  }
+  return (part / static_cast<double>(quarter)) / (all / static_cast<double>(half));
+}
+
+}  // namespace
+
+TEST(RealismStats, AcrossTrackLagOneAndSpectrumOfWhiteSpeckle) {
+  // iid Rayleigh speckle: no correlation between neighbouring samples and a flat spectrum.
+  const auto pings = rayleigh_record(300, 1000.0, 21);
+  const rs::Options o;
+  for (Side side : {Side::kPort, Side::kStarboard}) {
+    const auto fr = rs::first_returns(pings, side, o);
+    const rs::Texture t = rs::seabed_texture(pings, side, fr, o);
+    for (std::size_t p = 0; p < 3; ++p) {
+      // Five tiles of 64 pings (the last of 44) at each place.
+      EXPECT_EQ(t.tile_across_lag1(p).size(), 5u) << p;
+      // The shared 31-sample local mean biases it by about -1/31.
+      EXPECT_NEAR(t.median_tile_across_lag1(p), 0.0, 0.04) << p;
+    }
+    EXPECT_EQ(t.spectrum_rows(), 3u * 300u);
+    for (std::size_t q = 0; q < 4; ++q) {
+      EXPECT_NEAR(t.spectrum_quarter(q), 1.0, 0.05) << q;
+      EXPECT_NEAR(t.median_tile_spectrum_quarter(q), 1.0, 0.08) << q;
+    }
+  }
+}
+
+TEST(RealismStats, AcrossTrackLagOneAndSpectrumOfMa1AndAr1Sequences) {
+  // Along each ping's seabed a moving average x_i = e_i + e_(i-1) (lag-1 correlation 1/2,
+  // autocovariance 2, 1, 0 ...) or an AR(1) sequence x_i = rho x_(i-1) + sqrt(1 - rho^2) e_i
+  // (lag-1 rho, autocovariance rho^|m|); values 1000 + 100 x.
+  constexpr double kRho = 0.6;
+  for (bool ar : {false, true}) {
+    Draw d(22);
+    double prev_e[2] = {0.0, 0.0}, x[2] = {0.0, 0.0};  // per side: samples come interleaved
+    const auto pings = make_pings(300, [&](std::size_t, std::size_t i, Side side) {
+      if (i < kBottom) return kWater;
+      const std::size_t c = side == Side::kPort ? 0 : 1;
+      const double e = d.normal();
+      if (ar) {
+        x[c] = i == kBottom ? e : kRho * x[c] + std::sqrt(1.0 - kRho * kRho) * e;
+      } else {
+        x[c] = (i == kBottom ? d.normal() : prev_e[c]) + e;
+        prev_e[c] = e;
+      }
+      return static_cast<float>(1000.0 + 100.0 * x[c]);
+    });
+    rs::Options wide;  // a local mean over most of the ping's seabed: a plain rescaling
+    wide.box_pings = 1;
+    wide.box_samples = 801;
+    const double lag1 = ar ? kRho : 0.5;
+    const std::vector<double> truth = expected_periodogram(wide.across_tile_samples, [&](double m) {
+      if (ar) return std::pow(kRho, m);
+      return m == 0.0 ? 2.0 : m == 1.0 ? 1.0 : 0.0;
+    });
+    for (Side side : {Side::kPort, Side::kStarboard}) {
+      const auto fr = rs::first_returns(pings, side, wide);
+      const rs::Texture t = rs::seabed_texture(pings, side, fr, wide);
+      for (std::size_t p = 0; p < 3; ++p) {
+        EXPECT_NEAR(t.median_tile_across_lag1(p), lag1, 0.03) << ar << " place " << p;
+        EXPECT_NEAR(t.across[p].correlation(), lag1, 0.015) << ar << " place " << p;
+      }
+      for (std::size_t q = 0; q < 4; ++q)
+        EXPECT_NEAR(t.spectrum_quarter(q), expected_quarter(truth, q), 0.04) << ar << " q " << q;
+    }
+    // Low-pass: the quarters fall. MA(1) (continuous form): 1 + (sin b - sin a) / (b - a).
+    if (!ar) {
+      const double a[5] = {0.0, kPi / 4, kPi / 2, 3 * kPi / 4, kPi};
+      for (std::size_t q = 0; q < 4; ++q)
+        EXPECT_NEAR(expected_quarter(truth, q),
+                    1.0 + (std::sin(a[q + 1]) - std::sin(a[q])) / (kPi / 4), 0.03)
+            << q;
+    }
+    // Pooled: each block's tiles of both sides merged, one tile per block and place.
+    const rs::Report r = rs::measure(pings, wide);
+    EXPECT_EQ(r.pooled.texture.tile_across_lag1(0).size(), 5u);
+    EXPECT_NEAR(r.pooled.texture.median_tile_across_lag1(1), lag1, 0.03);
+  }
+}
+
+TEST(RealismStats, ShadowFillCoefficientOfVariation) {
+  // Rayleigh lit seabed (CV sqrt(4/pi - 1)) with two shadows on starboard whose values are
+  // exponential (CV 1), 30 dB below the seabed.
+  constexpr double kSigma = 1000.0;
+  const double shadow_mean = kSigma * std::sqrt(kPi / 2.0) * std::pow(10.0, -30.0 / 20.0);
+  auto in_shadow = [](std::size_t k, std::size_t i) {
+    return (k >= 80 && k <= 120 && i >= 500 && i <= 600) ||
+           (k >= 200 && k <= 240 && i >= 300 && i <= 400);
+  };
+  Draw d(23);
+  const auto pings = make_pings(300, [&](std::size_t k, std::size_t i, Side side) {
+    if (i < kBottom) return kWater;
+    if (side == Side::kStarboard && in_shadow(k, i))
+      return static_cast<float>(d.exponential(shadow_mean));
+    return static_cast<float>(d.rayleigh(kSigma));
+  });
+  const rs::Options o;
+  const auto fr = rs::first_returns(pings, Side::kStarboard, o);
+  const rs::Shadows s = rs::shadows(pings, Side::kStarboard, fr, o);
+  EXPECT_NEAR(s.cv_shadow(), 1.0, 0.05);
+  EXPECT_NEAR(s.cv_lit(), kRayleighContrast, 0.01);
+  ASSERT_EQ(s.region_cv.size(), 2u);
+  for (double cv : s.region_cv) EXPECT_NEAR(cv, 1.0, 0.08);
+}
+
+TEST(RealismStats, ShadowEdgeWidthOfAKnownRamp) {
+  // Every third ping has a shadow (value 10) from 15 m to t0, then a ramp linear in value over
+  // 5 samples to the seabed's 1000: 10 + 990 u / 5 at t0 + u. Its 10-90 % width is 0.8 x 5
+  // samples = 0.4 m wherever the edge is. The detection (one ping x 9 samples) ends at t0.
+  for (std::size_t base : {180u, 500u}) {
+    auto t0 = [&](std::size_t k) { return base + 5 * (k % 4); };
+    const auto pings = make_pings(200, [&](std::size_t k, std::size_t i, Side) {
+      if (i < kBottom) return kWater;
+      if (k % 3 != 0 || i < 150) return 1000.0f;
+      if (i <= t0(k)) return 10.0f;
+      return static_cast<float>(10.0 + 990.0 * std::min(1.0, static_cast<double>(i - t0(k)) / 5.0));
+    });
+    rs::Options o;
+    o.shadow_box_pings = 1;
+    for (Side side : {Side::kPort, Side::kStarboard}) {
+      const auto fr = rs::first_returns(pings, side, o);
+      const rs::Shadows s = rs::shadows(pings, side, fr, o);
+      // Edges at 18-19.5 m fall in the 15-25 m window; at 50-51.5 m all ranges are used.
+      EXPECT_EQ(s.edge_in_window(), base == 180u) << base;
+      EXPECT_EQ(s.edge_count(), 67u) << base;
+      EXPECT_NEAR(s.edge_width_m(), 0.4, 1e-6) << base;
+      const std::vector<double> p = s.edge_profile();
+      ASSERT_EQ(p.size(), 15u);  // 0.5 m of shadow (5 samples) and 1 m of lit seabed (10)
+      EXPECT_NEAR(p[s.edge_before], 10.0, 1e-3);
+      EXPECT_NEAR(p[s.edge_before + 1], 208.0, 1e-3);
+    }
+  }
+}
+
+TEST(RealismStats, RiseWidthOfLinearRamps) {
+  // A ramp from 0 to 1 over samples 10 .. 30: 10 % at 12, 90 % at 28.
+  std::vector<double> p(50);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    p[i] = std::clamp((static_cast<double>(i) - 10.0) / 20.0, 0.0, 1.0);
+  EXPECT_NEAR(rs::rise_width_10_90(p, 0.0, 1.0), 16.0, 1e-12);
+  EXPECT_TRUE(std::isnan(rs::rise_width_10_90(p, 1.0, 0.0)));
+}
+
+TEST(RealismStats, WaterColumnGammaStatistics) {
+  // Water column 10 + Gamma(2, 25) (sum of two exponentials): mean 60, std 25 sqrt 2, CV
+  // 0.589, skewness sqrt 2. First return at sample 400 (r0 = 40.05 m): the window is samples
+  // 20 .. 339 (centres below 0.85 r0 = 34.04 m). On starboard the water doubles from sample
+  // 200 on: its last third is 6.02 dB above its first. One port sample is 3 (the lowest).
+  constexpr std::size_t kBottomFar = 400;
+  Draw d(24);
+  const auto pings = make_pings(320, [&](std::size_t k, std::size_t i, Side side) {
+    if (i >= kBottomFar) return static_cast<float>(d.rayleigh(8000.0));
+    if (side == Side::kPort && k == 10 && i == 100) return 3.0f;
+    const double w = 10.0 + d.exponential(25.0) + d.exponential(25.0);
+    return static_cast<float>(side == Side::kStarboard && i >= 200 ? 2.0 * w : w);
+  });
+  const rs::Options o;
+  const double cv = 25.0 * std::sqrt(2.0) / 60.0, skew = std::sqrt(2.0);
+  const auto fp = rs::first_returns(pings, Side::kPort, o);
+  const rs::Levels l = rs::levels(pings, Side::kPort, fp, rs::max_sample(pings), o);
+  EXPECT_EQ(l.water_block_cv.size(), 5u);
+  EXPECT_NEAR(rs::quantile(l.water_block_cv, 0.5), cv, 0.01);
+  EXPECT_NEAR(rs::quantile(l.water_ping_cv, 0.5), cv, 0.015);
+  EXPECT_LT(rs::quantile(l.water_ping_cv, 0.25), cv);
+  EXPECT_GT(rs::quantile(l.water_ping_cv, 0.75), cv);
+  EXPECT_NEAR(l.water_stats.n, 320.0 * 320.0, 320.0 * 3.0);  // a few pings may miss r0
+  EXPECT_NEAR(l.water_stats.cv(), cv, 0.005);
+  EXPECT_NEAR(l.water_stats.skewness(), skew, 0.06);
+  EXPECT_NEAR(rs::quantile(l.water_block_skewness, 0.5), skew, 0.12);
+  EXPECT_EQ(l.water_min, 3.0);
+  EXPECT_NEAR(l.water_trend_db(), 0.0, 0.15);
+  const auto fs = rs::first_returns(pings, Side::kStarboard, o);
+  const rs::Levels ls = rs::levels(pings, Side::kStarboard, fs, rs::max_sample(pings), o);
+  EXPECT_NEAR(ls.water_trend_db(), 20.0 * std::log10(2.0), 0.15);
+}
+
+TEST(RealismStats, FirstReturnProfileFromR0AndFromAltitude) {
+  // From sample 400 (r0 = 40.05 m) the level ramps from -17.9 dB by 0.3 dB a sample. The
+  // sample nearest r0 + d is 400 + round(d / 0.1 m): offsets 0 0 1 1 2 5 9 for d = 0, 0.03,
+  // 0.06, 0.09, 0.2, 0.5, 0.9 m. The header altitude 40.23 m is in sample 402; H + d falls in
+  // samples 402 402 402 403 404 407 411.
+  constexpr std::size_t kRise = 400;
+  constexpr double kSeabed = 5000.0;
+  const auto ramp = make_pings(
+      50,
+      [&](std::size_t, std::size_t i, Side) {
+        if (i < kRise) return static_cast<float>(kSeabed * 0.01);
+        const double db = std::min(0.0, -17.9 + 0.3 * static_cast<double>(i - kRise));
+        return static_cast<float>(kSeabed * std::pow(10.0, db / 20.0));
+      },
+      [](std::size_t) { return 402.3 * kDr; });
+  const rs::Options o;
+  const auto fr = rs::first_returns(ramp, Side::kPort, o);
+  const rs::FirstReturnStats s = rs::first_return_stats(ramp, Side::kPort, fr, o);
+  const int from_r0[7] = {0, 0, 1, 1, 2, 5, 9}, from_h[7] = {2, 2, 2, 3, 4, 7, 11};
+  ASSERT_EQ(s.profile_offsets_m.size(), 7u);
+  for (std::size_t j = 0; j < 7; ++j) {
+    EXPECT_NEAR(s.profile_db(j), -17.9 + 0.3 * from_r0[j], 1e-3) << j;
+    EXPECT_NEAR(s.profile_db(j, true), -17.9 + 0.3 * from_h[j], 1e-3) << j;
+  }
+  EXPECT_NEAR(s.profile_max_drop_db(), 0.0, 1e-9);
+  // A bright first return (3 samples), 8 dB lower for 5 samples, then the seabed: not monotone.
+  const auto dip = make_pings(50, [&](std::size_t, std::size_t i, Side) {
+    if (i < kRise) return static_cast<float>(kSeabed * 0.01);
+    const bool low = i >= kRise + 3 && i < kRise + 8;
+    return static_cast<float>(low ? kSeabed * std::pow(10.0, -8.0 / 20.0) : kSeabed);
+  });
+  const auto fd = rs::first_returns(dip, Side::kPort, o);
+  const rs::FirstReturnStats sd = rs::first_return_stats(dip, Side::kPort, fd, o);
+  EXPECT_NEAR(sd.profile_max_drop_db(), 8.0, 1e-3);
+  EXPECT_TRUE(std::isnan(sd.profile_db(0, true)));  // no header altitude
+}
+
+TEST(RealismStats, FarRangeNearRangeClippingPercentilesAndAltitude) {
+  // Water 20 (samples 0-99), seabed 1000 to 80 m and 100 beyond (-20 dB at [0.9, 0.97) R
+  // against [1.4, 1.6) r0); in [r0, r0 + 2 m) = samples 100-119 every fourth sample is at full
+  // scale (25 %). Levels of all samples: 10 % at 26.02 dB, 20 % at 40, 69.5 % at 60, 0.5 % at
+  // 90.31. Header altitude 1 + 0.01 k m, none on ping 0.
+  constexpr float kFullScale = 32767.0f;
+  const auto pings = make_pings(
+      201,
+      [&](std::size_t, std::size_t i, Side) {
+        if (i < kBottom) return kWater;
+        if (i < 120 && i % 4 == 0) return kFullScale;
+        return i < 800 ? 1000.0f : 100.0f;
+      },
+      [](std::size_t k) { return k == 0 ? 0.0 : 1.0 + 0.01 * static_cast<double>(k); });
+  const rs::Report r = rs::measure(pings);
+  for (const rs::SideReport* s : {&r.port, &r.starboard, &r.pooled}) {
+    const rs::Levels& l = s->levels;
+    EXPECT_NEAR(rs::quantile(l.far_minus_near_db, 0.5), -20.0, 1e-9);
+    EXPECT_NEAR(rs::quantile(l.altitude_over_range, 0.5), 2.005 / kRangeM, 1e-12);
+    EXPECT_EQ(l.first_metres * 5, l.first_metres_clipped * 20);
+    EXPECT_NEAR(l.all.quantile_db(0.01), 20.0 * std::log10(kWater), 0.01);
+    EXPECT_NEAR(l.all.quantile_db(0.2), 40.0, 0.01);
+    EXPECT_NEAR(l.all.quantile_db(0.5), 60.0, 0.01);
+    EXPECT_NEAR(l.all.quantile_db(0.99), 60.0, 0.01);
+    EXPECT_NEAR(l.all.quantile_db(0.999), 20.0 * std::log10(kFullScale), 0.01);
+  }
+  EXPECT_EQ(r.pooled.levels.first_metres, 2u * 201u * 20u);
+  EXPECT_NEAR(r.altitude_min_m, 1.01, 1e-12);
+  EXPECT_NEAR(r.altitude_median_m, 2.005, 1e-12);
+  EXPECT_NEAR(r.altitude_max_m, 3.0, 1e-12);
 }
