@@ -183,13 +183,19 @@ std::vector<Option> make_table() {
   t.push_back(boolean("noise", "texture", BOOL(config.noise.texture)));
   t.push_back(
       boolean("noise", "along_track_correlation", BOOL(config.noise.along_track_correlation)));
+  t.push_back(boolean("noise", "aperture_translation", BOOL(config.noise.aperture_translation)));
+  t.push_back(boolean("noise", "range_correlation", BOOL(config.noise.range_correlation)));
   t.push_back(
       real("noise", "freeze_cell_m", "m", 0, 1e3, false, PLAIN(config.noise.freeze_cell_m)));
   // output
   t.push_back(choice(
-      "output", "tvg", {"spherical", "none"}, "spherical (30 log R + 2 alpha R) or none",
+      "output", "tvg", {"spherical", "none"}, "spherical (k log R + 2 a alpha R) or none",
       [](const S& s) { return s.config.output.tvg == TvgLaw::none ? 1.0 : 0.0; },
       [](S& s, double v) { s.config.output.tvg = v != 0.0 ? TvgLaw::none : TvgLaw::spherical; }));
+  t.push_back(real("output", "tvg_spreading_db_per_decade", "dB", 0, 60, false,
+                   PLAIN(config.output.tvg_spreading_db_per_decade)));
+  t.push_back(real("output", "tvg_absorption_share", "", 0, 1, false,
+                   PLAIN(config.output.tvg_absorption_share)));
   Option gain = real("output", "gain_db", "dB", -150, 150, false, PLAIN(config.output.gain_db));
   gain.word = "auto";
   t.push_back(gain);
@@ -199,10 +205,11 @@ std::vector<Option> make_table() {
         return s.sample_format == "u8" ? 1.0 : s.sample_format == "f32" ? 2.0 : 0.0;
       },
       [](S& s, double v) {
-        // The sample range of each XTF sample format (docs/xtf.md).
+        // The sample range of each XTF sample format (docs/xtf.md). f32 holds the counts of the
+        // u16 profile (full scale 32767, clipped there), unrounded: the same image as u16.
         static constexpr const char* names[] = {"u16", "u8", "f32"};
         s.sample_format = names[static_cast<std::size_t>(v)];
-        s.config.output.max_value = v == 0.0 ? 32767.0 : v == 1.0 ? 255.0 : 3.0e38;
+        s.config.output.max_value = v == 1.0 ? 255.0 : 32767.0;
         s.config.output.round_to_integer = v != 2.0;
       }));
   t.push_back(choice(
@@ -257,6 +264,14 @@ std::vector<Option> make_table() {
   t.push_back(
       real("sensor", "side_lobe_db", "dB", -300, 0, false, PLAIN(config.sensor.side_lobe_db)));
   t.push_back(sensor_level("ring_down_m", "m", 0, 1e4, PLAIN(config.sensor.ring_down_m)));
+  t.push_back(sensor_level("volume_texture_shape", "", 0.01, 1000,
+                           PLAIN(config.sensor.volume_texture_shape)));
+  t.push_back(sensor_level("shadow_fill_texture_shape", "", 0.01, 1000,
+                           PLAIN(config.sensor.shadow_fill_texture_shape)));
+  t.push_back(real("sensor", "patch_along_track_m", "m", 0, 1e6, true,
+                   PLAIN(config.sensor.patch_along_track_m)));
+  t.push_back(
+      real("sensor", "patch_range_m", "m", 0, 1e6, true, PLAIN(config.sensor.patch_range_m)));
   // limits
   t.push_back(integer("limits", "max_pings", 0, 1e15, true, PLAIN(limits.max_pings)));
   t.push_back(real("limits", "max_output_gb", "GB", 0, 1e6, true, PLAIN(limits.max_output_gb)));

@@ -75,8 +75,11 @@ MetadataItems run_metadata(const std::string& scene_name, const SimulationConfig
        metadata_number(deg_from_rad(s.horizontal_beam_width_rad))},
       {"SONARSYNTH_SONAR_VERTICAL_BEAM", vertical_beam(s.vertical_beam)},
       {"SONARSYNTH_SONAR_PULSE", pulse(s)},
-      {"SONARSYNTH_TVG",
-       config.output.tvg == TvgLaw::spherical ? "30 log10(R) + 2 alpha R" : "none"},
+      {"SONARSYNTH_TVG", config.output.tvg == TvgLaw::spherical
+                             ? metadata_number(config.output.tvg_spreading_db_per_decade) +
+                                   " log10(R) + 2 x " +
+                                   metadata_number(config.output.tvg_absorption_share) + " alpha R"
+                             : "none"},
       {"SONARSYNTH_GAIN_DB", metadata_number(gain_db)},
       {"SONARSYNTH_SAMPLE_QUANTITY",
        config.output.quantity == SampleQuantity::amplitude ? "amplitude" : "intensity"},

@@ -302,8 +302,6 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     f.only(keys_of("output", {"labels"}));
     options::read_all(f, "output", setup);
     if (f.has("labels")) read_labels(f.child("labels"), setup);
-    // f32 samples are written unscaled unless a gain (not auto) is given.
-    if (setup.sample_format == "f32" && std::isnan(cfg.output.gain_db)) cfg.output.gain_db = 0.0;
   }
   // Common XTF readers take at most 8192 samples per channel: more only on request.
   if (const auto v = sample_count_violation(setup)) {

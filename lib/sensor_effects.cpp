@@ -78,6 +78,19 @@ void SensorConfig::validate() const {
   if (!(side_lobe_db <= 0.0)) {
     bad("side_lobe_db = " + num(side_lobe_db) + ". Violated constraint: side_lobe_db <= 0");
   }
+  for (const auto& [name, v] :
+       {std::pair{"volume_texture_shape", volume_texture_shape},
+        std::pair{"shadow_fill_texture_shape", shadow_fill_texture_shape}}) {
+    if (on(v) && !(v >= 0.01 && v <= 1000.0)) {
+      bad(std::string(name) + " = " + num(v) + ". Violated constraint: 0.01 <= shape <= 1000");
+    }
+  }
+  for (const auto& [name, v] : {std::pair{"patch_along_track_m", patch_along_track_m},
+                                std::pair{"patch_range_m", patch_range_m}}) {
+    if (!(v > 0.0 && v < 1e6)) {
+      bad(std::string(name) + " = " + num(v) + ". Violated constraint: 0 < " + name + " < 1e6");
+    }
+  }
   if (on(ring_down_m) && !(ring_down_m >= 0.0)) {
     bad("ring_down_m = " + num(ring_down_m) + ". Violated constraint: ring_down_m >= 0");
   }
@@ -103,7 +116,41 @@ SensorConfig SensorConfig::none() {
   c.shadow_fill_db = kOff;
   c.first_return_reflection_db = kOff;
   c.ring_down_m = kOff;
+  c.volume_texture_shape = kOff;
+  c.shadow_fill_texture_shape = kOff;
   return c;
+}
+
+std::vector<double> range_filter_taps(const SonarConfig& sonar) {
+  const double dr = sonar.sample_spacing_m();
+  const double w = sonar.pulse_window_m();
+  if (!(w > 0.0) || !(dr > 0.0) || !std::isfinite(w / dr)) return {};
+  const bool chirp = sonar.pulse == SonarConfig::Pulse::kChirp;
+  // Complex impulse response h(x), x in metres of range: the pulse through its matched filter.
+  const auto h = [&](double x) {
+    const double u = std::abs(x) / w;
+    if (!chirp) return u < 1.0 ? 1.0 - u : 0.0;
+    if (u < 1e-12) return 1.0;
+    const double a = 3.14159265358979323846 * u;
+    return u < 3.0 ? std::sin(a) / a : 0.0;
+  };
+  const double support_m = chirp ? 3.0 * w : w;
+  // Taps k = -K .. K: h integrated over [k - 1/2, k + 1/2] dr (16-point midpoint rule).
+  const auto half = static_cast<std::size_t>(std::min(64.0, std::ceil(support_m / dr - 0.5)));
+  std::vector<double> taps(2 * half + 1, 0.0);
+  double power = 0.0;
+  for (std::size_t t = 0; t < taps.size(); ++t) {
+    const double k = static_cast<double>(t) - static_cast<double>(half);
+    double sum = 0.0;
+    for (int q = 0; q < 16; ++q) sum += h((k - 0.5 + (q + 0.5) / 16.0) * dr);
+    taps[t] = sum / 16.0;
+    power += taps[t] * taps[t];
+  }
+  if (!(power > 0.0)) return {};
+  for (double& v : taps) v /= std::sqrt(power);
+  // A single tap (the pulse shorter than a sample spacing): no correlation to model.
+  if (taps.size() == 1 || taps[half] > 1.0 - 1e-6) return {};
+  return taps;
 }
 
 SensorModel SensorModel::make(const SimulationConfig& config, double seabed_power,
@@ -131,6 +178,23 @@ SensorModel SensorModel::make(const SimulationConfig& config, double seabed_powe
   }
   // At most a tenth of the range: a ring-down marks the record's start, it does not fill it.
   if (on(c.ring_down_m)) m.ring_down_m = std::min(c.ring_down_m, 0.1 * config.sonar.max_range_m);
+  if (o.tvg == TvgLaw::spherical) {
+    const double alpha =
+        config.physics.absorption
+            ? francois_garrison_db_per_m(config.sonar.frequency_hz, config.physics.water)
+            : 0.0;
+    m.tvg_deficit_exponent = (30.0 - o.tvg_spreading_db_per_decade) / 10.0;
+    m.tvg_deficit_per_m = 2.0 * (1.0 - o.tvg_absorption_share) * alpha * std::log(10.0) / 10.0;
+  }
+  m.mid_range_m = 0.5 * config.sonar.max_range_m;
+  m.volume_texture_nu = on(c.volume_texture_shape) ? c.volume_texture_shape : 0.0;
+  m.fill_texture_nu = on(c.shadow_fill_texture_shape) ? c.shadow_fill_texture_shape : 0.0;
+  m.patch_along_m = c.patch_along_track_m;
+  m.patch_range_m = c.patch_range_m;
+  m.patch_seed = config.seed;
+  if (config.noise.range_correlation && config.noise.model == NoiseConfig::Model::kSpeckle) {
+    m.range_taps = range_filter_taps(config.sonar);
+  }
   return m;
 }
 
@@ -138,17 +202,26 @@ SensorMeanTables::SensorMeanTables(const SensorModel& m, const SideParams& side,
                                    std::span<const double> out_gain) {
   const std::size_t n = out_gain.size();
   const double dr = side.sample_spacing_m;
+  // Volume reverberation falls as r^-2 before the TVG: after 30 log R + 2 alpha R it grows as
+  // r, after 20 log R + 2 alpha R it is flat; in general r times what the TVG leaves of the
+  // seabed's fall (SensorModel::tvg_deficit), referred to the reference altitude.
   if (m.volume_power > 0.0) {
-    // After the spherical TVG, volume reverberation (r^-2 before it) grows as r.
-    const double per_m = m.volume_power / m.reference_altitude_m;
+    const double h = m.reference_altitude_m;
+    const double per_m = m.volume_power / (h * m.tvg_deficit(h));
     volume.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      volume[i] = per_m * (static_cast<double>(i) + 0.5) * dr / out_gain[i];
+      const double r = (static_cast<double>(i) + 0.5) * dr;
+      volume[i] = per_m * r * m.tvg_deficit(r) / out_gain[i];
     }
   }
+  // The shadow fill follows the seabed it comes from: flat after the compensating TVG.
   if (m.fill_power > 0.0) {
     fill.resize(n);
-    for (std::size_t i = 0; i < n; ++i) fill[i] = m.fill_power / out_gain[i];
+    const double ref = m.tvg_deficit(m.mid_range_m);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double r = (static_cast<double>(i) + 0.5) * dr;
+      fill[i] = m.fill_power * m.tvg_deficit(r) / ref / out_gain[i];
+    }
   }
 }
 
@@ -161,16 +234,56 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double 
 
 void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
                            const SensorMeanTables& tables, double altitude_m,
-                           double axis_depression_rad, std::span<double> mean) {
+                           double axis_depression_rad, std::span<double> mean,
+                           const PatchKey* patch) {
   const std::size_t n = mean.size();
   const double dr = side.sample_spacing_m;
   const bool have_altitude = std::isfinite(altitude_m) && altitude_m > 0.0;
   const std::size_t nv = std::min(n, tables.volume.size());
-  for (std::size_t i = 0; i < nv; ++i) mean[i] += tables.volume[i];
-  if (!have_altitude) return;
-  const auto first = static_cast<std::size_t>(std::floor(altitude_m / dr));
+  const auto first = have_altitude ? static_cast<std::size_t>(std::floor(altitude_m / dr)) : n;
   const std::size_t nf = std::min(n, tables.fill.size());
-  for (std::size_t i = first; i < nf; ++i) mean[i] += tables.fill[i];
+  const bool patchy = patch != nullptr && std::isfinite(patch->along_track_m) &&
+                      (m.volume_texture_nu > 0.0 || m.fill_texture_nu > 0.0);
+  if (!patchy) {
+    for (std::size_t i = 0; i < nv; ++i) mean[i] += tables.volume[i];
+    for (std::size_t i = first; i < nf; ++i) mean[i] += tables.fill[i];
+  } else {
+    // Unit-mean Gamma textures per patch (keyed by line and side, along-track and range
+    // patch): volume scatterers (fish, bubbles) and the multipath reaching shadows are sparse
+    // and blotchy. Patches interpolate linearly along the track between their centres, so that
+    // a patch fades over consecutive pings instead of switching.
+    const UnitGammaTable* tv =
+        m.volume_texture_nu > 0.0 ? &UnitGammaTable::get(m.volume_texture_nu) : nullptr;
+    const UnitGammaTable* tf =
+        m.fill_texture_nu > 0.0 ? &UnitGammaTable::get(m.fill_texture_nu) : nullptr;
+    const double ua = patch->along_track_m / m.patch_along_m;
+    const double fa = std::floor(ua);
+    const double wa = ua - fa;
+    const auto a0 = static_cast<std::uint64_t>(static_cast<std::int64_t>(fa));
+    const std::uint64_t base =
+        hash_combine(splitmix64(m.patch_seed ^ 0x9a7c4e5fULL), patch->line_side);
+    const std::uint64_t row0 = splitmix_stream(base, a0), row1 = splitmix_stream(base, a0 + 1);
+    const auto texture = [&](const UnitGammaTable& t, std::uint64_t salt, std::uint64_t cell) {
+      const double t0 = t(high32_midpoint(splitmix_stream(row0 ^ salt, cell) << 32));
+      const double t1 = t(high32_midpoint(splitmix_stream(row1 ^ salt, cell) << 32));
+      return (1.0 - wa) * t0 + wa * t1;
+    };
+    const double inv_patch = dr / m.patch_range_m;
+    std::uint64_t last_cell = ~std::uint64_t{0};
+    double v_t = 1.0, f_t = 1.0;
+    const std::size_t end = std::max(nv, nf);
+    for (std::size_t i = 0; i < end; ++i) {
+      const auto cell = static_cast<std::uint64_t>((static_cast<double>(i) + 0.5) * inv_patch);
+      if (cell != last_cell) {
+        if (tv != nullptr) v_t = texture(*tv, 0x51, cell);
+        if (tf != nullptr) f_t = texture(*tf, 0xf1, cell);
+        last_cell = cell;
+      }
+      if (i < nv) mean[i] += tables.volume[i] * v_t;
+      if (i >= first && i < nf) mean[i] += tables.fill[i] * f_t;
+    }
+  }
+  if (!have_altitude) return;
   if (m.first_return_rho > 0.0) {
     const double h = altitude_m, h2 = h * h;
     const double kappa = 2.0 * side.absorption_db_per_m * std::log(10.0) / 10.0;
@@ -240,16 +353,27 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
   }
 }
 
-void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t samples) {
-  if (spacing_m == sample_spacing_m && beam_rad == beam_3db_rad && sw.size() == samples) return;
+void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t samples,
+                              double array_m) {
+  if (spacing_m == sample_spacing_m && beam_rad == beam_3db_rad && array_m == array_length_m &&
+      sw.size() == samples) {
+    return;
+  }
   sample_spacing_m = spacing_m;
   beam_3db_rad = beam_rad;
+  array_length_m = array_m;
   sw.resize(samples);
   inv_step.resize(samples);
   const double inv_sqrt_8ln2 = 1.0 / std::sqrt(8.0 * std::log(2.0));
+  // Translated aperture (docs/physics.md §1.6): the co-array of a transmitter and a receiver of
+  // length D has width D / sqrt(24) (the variance of the mean of two uniform positions).
+  const bool aperture = array_m > 0.0 && std::isfinite(array_m);
+  const double inv_sc2 = aperture ? 24.0 / (array_m * array_m) : 0.0;
+  const double d2 = aperture ? array_m * array_m : 0.0;
   for (std::size_t i = 0; i < samples; ++i) {
     const double r = (static_cast<double>(i) + 0.5) * spacing_m;
-    sw[i] = r * beam_rad * inv_sqrt_8ln2;
+    const double far = r * beam_rad * inv_sqrt_8ln2;
+    sw[i] = aperture ? 1.0 / std::sqrt(inv_sc2 + 1.0 / (far * far + d2)) : far;
     inv_step[i] = 1.0 / (lattice::kStep * sw[i]);
   }
 }
@@ -275,7 +399,7 @@ void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, in
   }
   const auto nl = static_cast<std::size_t>(looks);
   out.resize(samples * nl);
-  table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples);
+  table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples, f.array_length_m);
   const NormalTable& normal = NormalTable::get();
   const lattice::Weights& weights = lattice::Weights::get();
   const std::uint64_t line = lattice::line_word(f);
@@ -440,6 +564,123 @@ void detector_look(const DetectorLoop& d, const double* f, std::uint64_t seed_s,
   }
 }
 
+// Salt of the seeds of the range-filtered echo's frozen complex speckle.
+constexpr std::uint64_t kFilterSalt = 0xf117e2ed5ec4a1e5ULL;
+
+// detect_speckle with the range filter (docs/physics.md §1.6): per look, the complex echo of
+// every sample — sqrt(textured mean) times a unit circular Gaussian (the along-track lattice's
+// field, or a frozen one keyed by the seabed cell), plus the thermal noise — is filtered by
+// m.range_taps, then detected (|y|^2), scaled by out_gain and given the receiver noise floor
+// (after the filter: the converter's noise) like the unfiltered path. `s.base` holds the
+// textured mean.
+void detect_filtered(const SensorModel& m, const SpeckleNoise& speckle,
+                     std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
+                     std::span<const double> out_gain, const AlongTrackField* field,
+                     DetectorScratch& s, std::span<double> io) {
+  const std::size_t n = io.size();
+  const int looks = std::max(1, m.sub_samples);
+  const auto nl = static_cast<std::size_t>(looks);
+  const NormalTable& normal = NormalTable::get();
+  const double half_n = 0.5 * speckle.thermal_noise_power, sqrt_half_n = std::sqrt(half_n);
+  const bool thermal = half_n > 0.0, floor = m.floor_power > 0.0;
+  const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
+  constexpr double kInvSqrt2 = 0.70710678118654752440;
+  // The lattice's complex field of every look (NaN where it does not apply).
+  if (field != nullptr) {
+    s.field.resize(2 * n * nl);
+    s.along_track.prepare(field->sample_spacing_m, field->beam_3db_rad, n, field->array_length_m);
+    const lattice::Weights& weights = lattice::Weights::get();
+    const std::uint64_t line = lattice::line_word(*field);
+    for (std::size_t i = 0; i < n; ++i) {
+      lattice::Sample ls{};
+      const bool have =
+          s.base[i] > 0.0 && lattice::sample_at(*field, s.along_track, line, weights, i, ls);
+      for (std::size_t j = 0; j < nl; ++j) {
+        double* z = s.field.data() + 2 * (j * n + i);
+        if (have) {
+          lattice::look_field(ls, j, normal, z[0], z[1]);
+        } else {
+          z[0] = kNaN;
+        }
+      }
+    }
+  }
+  const std::vector<double>& taps = m.range_taps;
+  const std::size_t half = taps.size() / 2;
+  s.re.resize(n);
+  s.im.resize(n);
+  for (std::size_t j = 0; j < nl; ++j) {
+    const int jl = static_cast<int>(j);
+    const std::uint64_t seed_s =
+        look_seed(splitmix64(speckle_seed(speckle.seed) ^ kFilterSalt), jl);
+    const std::uint64_t seed_n = look_seed(thermal_seed(speckle.seed), jl);
+    std::uint64_t last_key = 0;
+    double last_re = 0.0, last_im = 0.0;
+    bool have_last = false;
+    for (std::size_t i = 0; i < n; ++i) {
+      double zr = 0.0, zi = 0.0;
+      const double b = s.base[i];
+      if (b > 0.0) {
+        const double* f = field != nullptr ? s.field.data() + 2 * (j * n + i) : nullptr;
+        if (f != nullptr && !std::isnan(f[0])) {
+          zr = f[0];
+          zi = f[1];
+        } else {
+          if (!have_last || keys[i] != last_key) {
+            const auto h = static_cast<std::uint32_t>(wyrand_stream(seed_s, keys[i]) >> 32);
+            last_re = kInvSqrt2 * normal(h);
+            last_im = kInvSqrt2 * normal(h >> 16);
+            last_key = keys[i];
+            have_last = true;
+          }
+          zr = last_re;
+          zi = last_im;
+        }
+        const double a = std::sqrt(b);
+        zr *= a;
+        zi *= a;
+      }
+      if (thermal) {
+        const auto hi = static_cast<std::uint32_t>(wyrand_stream(seed_n, noise_keys[i]) >> 32);
+        zr += sqrt_half_n * normal(hi);
+        zi += sqrt_half_n * normal(hi >> 16);
+      }
+      s.re[i] = zr;
+      s.im[i] = zi;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t lo = i >= half ? i - half : 0;
+      const std::size_t hi = std::min(n - 1, i + half);
+      double yr = 0.0, yi = 0.0;
+      for (std::size_t t = lo; t <= hi; ++t) {
+        const double h = taps[t + half - i];
+        yr += h * s.re[t];
+        yi += h * s.im[t];
+      }
+      double gain_i = out_gain[i];
+      if (lo + half > i || hi < i + half) {  // near the ends: the taps inside, unit power gain
+        double w2 = 0.0;
+        for (std::size_t t = lo; t <= hi; ++t) w2 += taps[t + half - i] * taps[t + half - i];
+        gain_i /= w2;
+      }
+      double p = (yr * yr + yi * yi) * gain_i;
+      if (floor)
+        p += m.floor_power * exp1_from_low_half(wyrand_stream(seed_n, noise_keys[i]), normal);
+      if (j == 0) {
+        io[i] = max_detector ? p : std::sqrt(p);
+      } else if (max_detector) {
+        io[i] = std::max(io[i], p);
+      } else {
+        io[i] += std::sqrt(p);
+      }
+    }
+  }
+  if (!max_detector) {
+    const double inv = 1.0 / static_cast<double>(looks);
+    for (std::size_t i = 0; i < n; ++i) io[i] = (io[i] * inv) * (io[i] * inv);
+  }
+}
+
 }  // namespace
 
 void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
@@ -467,6 +708,10 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
   const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
   s.base.resize(n);
   textured_mean(speckle, keys, texture_nu, io, s.base);
+  if (!m.range_taps.empty()) {
+    detect_filtered(m, speckle, keys, noise_keys, out_gain, field, s, io);
+    return;
+  }
   // io is read once (into base) and then holds the detector's running combination.
   double* out = io.data();
   if (field != nullptr) along_track_speckle_looks(*field, n, 0, looks, s.along_track, s.field);

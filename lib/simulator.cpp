@@ -124,6 +124,8 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
 
   cal_->tvg.law = config_.output.tvg;
   cal_->tvg.absorption_db_per_m = alpha_db_per_m_;
+  cal_->tvg.spreading_db_per_decade = config_.output.tvg_spreading_db_per_decade;
+  cal_->tvg.absorption_share = config_.output.tvg_absorption_share;
   cal_->tvg.validate();
 
   // Global calibration from a flat seabed of the default material at the reference altitude:
@@ -249,11 +251,11 @@ void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& o
   const bool amplitude = cal_->sensor.amplitude;
   saturated = 0;
   invalid = 0;
-  // The transmit ring-down saturates the first samples of the integer formats (not counted as
-  // saturation: it is no echo the gain could keep in range; f32 output has no full scale).
+  // The transmit ring-down saturates the first samples (not counted as saturation: it is no
+  // echo the gain could keep in range).
   const double ring = cal_->sensor.ring_down_m / cal_->side.sample_spacing_m - 0.5;
   const std::size_t ring_samples =
-      ring > 0.0 && round ? std::min(n, static_cast<std::size_t>(std::ceil(ring))) : 0;
+      ring > 0.0 ? std::min(n, static_cast<std::size_t>(std::ceil(ring))) : 0;
   std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(ring_samples),
             static_cast<float>(maxv));
   for (std::size_t i = ring_samples; i < n; ++i) {
@@ -303,8 +305,15 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
 
   const NoiseConfig& nc = config_.noise;
   const std::uint64_t ping = noise_key;
+  PatchKey patch;
+  patch.line_side = hash_combine(static_cast<std::uint64_t>(pose.line), starboard ? 1 : 0);
+  {
+    const Eigen::Vector2d fwd(std::sin(pose.heading_rad), std::cos(pose.heading_rad));
+    patch.along_track_m =
+        std::isfinite(pose.along_track_m) ? pose.along_track_m : pose.sensor_xy_m.dot(fwd);
+  }
   add_sensor_mean_terms(cal_->sensor, cal_->side, ws.sensor_mean, pose.altitude_m,
-                        ws.params.beam_axis_depression_rad, ws.accum);
+                        ws.params.beam_axis_depression_rad, ws.accum, &patch);
   if (config_.clean_samples) {
     std::uint32_t unused_saturated = 0, unused_invalid = 0;
     quantise(ws, false, out.clean_samples, unused_saturated, unused_invalid);
@@ -388,6 +397,7 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
               ? static_cast<std::size_t>(pose.altitude_m / cal_->side.sample_spacing_m)
               : 0;
       field.ping_spacing_m = pose.speed_m_s * config_.sonar.effective_ping_period_s();
+      if (nc.aperture_translation) field.array_length_m = config_.sonar.array_length_m();
     }
     detect_speckle(cal_->sensor, sn, ws.keys, ws.noise_keys, ws.nu, ws.tvg_gain,
                    nc.along_track_correlation ? &field : nullptr, ws.detector, ws.accum);

@@ -64,6 +64,10 @@ double SonarConfig::beta_eff_rad() const {
   return horizontal_beam_width_rad * std::sqrt(kPi / (8.0 * std::log(2.0)));
 }
 
+double SonarConfig::array_length_m() const {
+  return 0.886 * (sound_speed_m_s / frequency_hz) / horizontal_beam_width_rad;
+}
+
 double SonarConfig::horizontal_two_way(double psi_rad) const {
   const double x = psi_rad / horizontal_beam_width_rad;
   return std::exp(-8.0 * std::log(2.0) * x * x);

@@ -38,9 +38,9 @@ constexpr auto kCw = SonarConfig::Pulse::kCw;
 constexpr auto kChirp = SonarConfig::Pulse::kChirp;
 
 std::vector<SonarPreset> make_presets() {
-  // The Sea Scan pulse: one sample interval of the real file, 2 R / (N c) = 2 * 30 / (1024 *
-  // 1500) s = 39.0625 us (docs/sonar-presets.md).
-  const double seascan_pulse_us = 2.0 * 30.0 / (1024.0 * 1500.0) * 1e6;
+  // The Sea Scan pulse: 50 us, the CW pulse whose matched-filter response correlates
+  // neighbouring samples as the real file's seabed does (docs/sonar-presets.md).
+  const double seascan_pulse_us = 50.0;
   return {
       {"seascan-hds-600", "Marine Sonic Sea Scan HDS, 600 kHz, on an Iver2 AUV",
        make({600, 30, 1024, 15, 0.4, 60, kCw, seascan_pulse_us, 0})},

@@ -14,6 +14,14 @@ void Tvg::validate() const {
     throw InputError("tvg: absorption_db_per_m = " + std::to_string(absorption_db_per_m) +
                      ". Violated constraint: absorption_db_per_m >= 0");
   }
+  if (!(spreading_db_per_decade >= 0.0 && spreading_db_per_decade <= 60.0)) {
+    throw InputError("tvg: spreading_db_per_decade = " + std::to_string(spreading_db_per_decade) +
+                     ". Violated constraint: 0 <= spreading_db_per_decade <= 60");
+  }
+  if (!(absorption_share >= 0.0 && absorption_share <= 1.0)) {
+    throw InputError("tvg: absorption_share = " + std::to_string(absorption_share) +
+                     ". Violated constraint: 0 <= absorption_share <= 1");
+  }
   if (!std::isfinite(constant_db)) {
     throw InputError("tvg: constant_db = " + std::to_string(constant_db) +
                      ". Violated constraint: constant_db finite");
@@ -26,9 +34,11 @@ void Tvg::validate() const {
 
 double Tvg::gain_db(double slant_range_m) const {
   if (law == TvgLaw::none) return constant_db;
-  // 30 log10 R + 2 alpha R: seabed reverberation (area grows as r), docs/physics.md §1.2.
+  // k log10 R + 2 a alpha R; k = 30, a = 1 compensates seabed reverberation (area grows as r),
+  // docs/physics.md §1.2.
   const double r = std::max(slant_range_m, min_range_m);
-  return 30.0 * std::log10(r) + 2.0 * absorption_db_per_m * r + constant_db;
+  return spreading_db_per_decade * std::log10(r) +
+         2.0 * absorption_share * absorption_db_per_m * r + constant_db;
 }
 
 namespace {

@@ -272,6 +272,7 @@ TEST(SensorEffects, SpeckleCorrelatesAlongTrackAsTheFootprintsOverlap) {
   c.output.detector_sub_samples = 1;
   c.output.round_to_integer = false;
   c.clean_samples = true;
+  c.noise.aperture_translation = false;  // the far-field footprint alone
   const Simulator sim(scene, c, kAltitude);
   const double spacing = 0.25, dr = c.sonar.sample_spacing_m();
   // The speckle field of `pings` pings along the track: noisy over noise-free samples.

@@ -289,7 +289,7 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
       "solid_resting_objects: false, gauss_points: 3, "
       "along_track_tolerance_db: 0.5 PLANES}}\n"
       "noise: {model: paper, NOISEU, snr_db: 15, texture: false, "
-      "along_track_correlation: false, "
+      "along_track_correlation: false, aperture_translation: false, range_correlation: false, "
       "freeze_cell_m: 0.5}\n"
       "limits: {max_pings: 5000, max_output_gb: 2, max_memory_gb: 3}\n";
   struct Variant {
@@ -306,10 +306,12 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
   const std::vector<Variant> variants = {
       {"vertical_beam: {shape: gaussian, width_deg: 40}", "pulse: {type: cw, length_us: 50}", "",
        "output: {tvg: none, gain_db: 55, sample_format: u8, truth: false, quantity: intensity, "
-       "detector: mean, detector_sub_samples: 2, seabed_median_dbfs: -20}\n"
+       "detector: mean, detector_sub_samples: 2, seabed_median_dbfs: -20, "
+       "tvg_spreading_db_per_decade: 20, tvg_absorption_share: 0.5}\n"
        "sensor: {noise_floor_dbfs: off, volume_reverberation_db: -30, shadow_fill_db: off, "
        "first_return_reflection_db: -5, first_return_rms_slope: 0.3, side_lobe_db: -25, "
-       "ring_down_m: off}",
+       "ring_down_m: off, volume_texture_shape: 0.5, shadow_fill_texture_shape: off, "
+       "patch_along_track_m: 1.5, patch_range_m: 0.1}",
        "survey:\n  start_time: \"2013-09-10T21:13:08.25Z\"\n  speed_m_s: 1.5\n  altitude_m: 8\n"
        "  layback_m: 20\n  turn_time_s: 40\n  turn_radius_m: 30\n"
        "  disturbance: {roll_deg: 2, pitch_deg: 1, yaw_deg: 3, heave_m: 0.2, period_s: 6}\n",
@@ -389,6 +391,8 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
     EXPECT_EQ(x.output.round_to_integer, y.output.round_to_integer);
     EXPECT_EQ(x.output.quantity, y.output.quantity);
     EXPECT_EQ(x.noise.along_track_correlation, y.noise.along_track_correlation);
+    EXPECT_EQ(x.noise.aperture_translation, y.noise.aperture_translation);
+    EXPECT_EQ(x.noise.range_correlation, y.noise.range_correlation);
     EXPECT_EQ(x.output.detector, y.output.detector);
     EXPECT_EQ(x.output.detector_sub_samples, y.output.detector_sub_samples);
     EXPECT_TRUE(same(x.output.seabed_median_dbfs, y.output.seabed_median_dbfs));
@@ -399,7 +403,13 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
           std::pair{x.sensor.first_return_reflection_db, y.sensor.first_return_reflection_db},
           std::pair{x.sensor.first_return_rms_slope, y.sensor.first_return_rms_slope},
           std::pair{x.sensor.side_lobe_db, y.sensor.side_lobe_db},
-          std::pair{x.sensor.ring_down_m, y.sensor.ring_down_m}}) {
+          std::pair{x.sensor.ring_down_m, y.sensor.ring_down_m},
+          std::pair{x.sensor.volume_texture_shape, y.sensor.volume_texture_shape},
+          std::pair{x.sensor.shadow_fill_texture_shape, y.sensor.shadow_fill_texture_shape},
+          std::pair{x.sensor.patch_along_track_m, y.sensor.patch_along_track_m},
+          std::pair{x.sensor.patch_range_m, y.sensor.patch_range_m},
+          std::pair{x.output.tvg_spreading_db_per_decade, y.output.tvg_spreading_db_per_decade},
+          std::pair{x.output.tvg_absorption_share, y.output.tvg_absorption_share}}) {
       EXPECT_TRUE(same(u, w)) << u << " vs " << w;
     }
     EXPECT_EQ(x.truth, y.truth);
@@ -502,6 +512,37 @@ TEST_F(SimulationFile, SensorAndCountValuesOutOfRangeAreNamedErrors) {
 
 // A pulse type switched away from the preset's needs its own length or bandwidth: a chirp preset
 // switched to CW would otherwise be silently one sample long.
+// f32 samples hold the counts of the u16 profile, unrounded, with the automatic gain: the same
+// image as u16 (docs/xtf.md), not values near the float maximum.
+TEST_F(SimulationFile, Float32SamplesHoldTheU16CountsUnrounded) {
+  const std::string body = std::string(kBathy) + "survey:\n" + kLine;
+  const SimulationSetup u16 = load_simulation(write("u16.yaml", body));
+  const SimulationSetup f32 =
+      load_simulation(write("f32.yaml", "output: {sample_format: f32}\n" + body));
+  EXPECT_EQ(f32.config.output.max_value, 32767.0);
+  EXPECT_EQ(u16.config.output.max_value, 32767.0);
+  EXPECT_FALSE(f32.config.output.round_to_integer);
+  EXPECT_TRUE(std::isnan(f32.config.output.gain_db));  // automatic, as for u16
+  // One ping of each: the f32 samples round to the u16 samples.
+  const Simulator a(u16.scene, u16.config, u16.reference_altitude_m);
+  const Simulator b(f32.scene, f32.config, f32.reference_altitude_m);
+  EXPECT_DOUBLE_EQ(a.gain_db(), b.gain_db());
+  const PingPose pose =
+      sensor_pose(Eigen::Vector3d(0.0, 0.0, -5.0), 0.0, 0.0, 0.0, u16.scene.bathymetry, 7);
+  auto wa = a.make_workspace();
+  auto wb = b.make_workspace();
+  RenderedPing pa, pb;
+  a.render_ping(pose, *wa, pa);
+  b.render_ping(pose, *wb, pb);
+  ASSERT_EQ(pa.starboard.samples.size(), pb.starboard.samples.size());
+  std::size_t positive = 0;
+  for (std::size_t i = 0; i < pa.starboard.samples.size(); ++i) {
+    EXPECT_NEAR(pb.starboard.samples[i], pa.starboard.samples[i], 0.5 + 1e-3) << i;
+    positive += pb.starboard.samples[i] > 1.0f ? 1u : 0u;
+  }
+  EXPECT_GT(positive, pa.starboard.samples.size() / 2);
+}
+
 TEST_F(SimulationFile, APulseTypeOtherThanThePresetsNeedsItsOwnKey) {
   const std::string head = std::string(kBathy) + "survey:\n" + kLine;
   for (const auto& [sonar, fragment] :

@@ -91,6 +91,13 @@ struct NoiseConfig {
   /// horizontal beam (docs/physics.md §1.6): consecutive pings correlate as their footprints
   /// overlap. false = speckle frozen per seabed cell of freeze_cell_m.
   bool along_track_correlation = true;
+  /// With along_track_correlation: the footprint of the array's near field and the decorrelation
+  /// of a translated aperture (docs/physics.md §1.6): pings d apart correlate as the overlap of
+  /// the array's co-array, at every range (false: the far-field footprint r theta alone).
+  bool aperture_translation = true;
+  /// Speckle correlated in range by the system's resolution: the complex echo filtered by the
+  /// pulse through its matched filter (docs/physics.md §1.6). false: independent samples.
+  bool range_correlation = true;
   /// Size of the seabed cells whose speckle is frozen (the same for every ping that sees them),
   /// metres, >= 0; 0 = the sonar's range resolution.
   double freeze_cell_m = 0.0;
@@ -103,7 +110,7 @@ struct NoiseConfig {
 /// Time-varied gain law (docs/physics.md §1.2).
 enum class TvgLaw {
   none,       ///< G = constant_db only
-  spherical,  ///< G(r) = 30 log10(r) + 2 alpha r + constant_db (seabed reverberation TVG)
+  spherical,  ///< G(r) = k log10(r) + 2 a alpha r + constant_db (OutputScaling::tvg_*)
 };
 
 /// What a stored sample holds (docs/physics.md §1.10).
@@ -120,7 +127,12 @@ enum class DetectorMode {
 
 /// TVG, detection and quantisation into the output sample range.
 struct OutputScaling {
-  TvgLaw tvg = TvgLaw::spherical;  ///< 30 log R + 2 alpha R (alpha = the simulation's)
+  TvgLaw tvg = TvgLaw::spherical;  ///< k log R + 2 a alpha R (alpha = the simulation's)
+  /// k, dB per decade of range, [0, 60]. 30 holds a flat seabed's Lambert level flat in range;
+  /// real side-scans apply less, so that the far range falls (docs/physics.md §1.2).
+  double tvg_spreading_db_per_decade = 30.0;
+  /// a, the share of the two-way absorption the TVG compensates, [0, 1].
+  double tvg_absorption_share = 1.0;
   /// Stored quantity; amplitude by default, as real side-scan sonars store the envelope.
   SampleQuantity quantity = SampleQuantity::amplitude;
   /// Envelope sub-samples per stored sample, [1, 16]: a real sonar digitises faster than it
@@ -173,6 +185,16 @@ struct SensorConfig {
   /// Transmit pulse and ring-down: samples nearer than this slant range (at most a tenth of
   /// the range) saturate, metres, >= 0; NaN or 0 = off.
   double ring_down_m = 0.15;
+  /// Patchiness (docs/physics.md §1.10): the volume reverberation and the shadow fill are
+  /// multiplied by unit-mean Gamma textures of these shapes, frozen on patches of
+  /// patch_along_track_m x patch_range_m: sparse scatterers in the water column (fish,
+  /// bubbles, particles) and blotchy multipath in shadows. NaN = uniform. The volume texture is
+  /// off by default: a bright patch just above the seabed moves the project's bottom tracker
+  /// by a few tenths of a metre (docs/realism.md).
+  double volume_texture_shape = std::numeric_limits<double>::quiet_NaN();
+  double shadow_fill_texture_shape = 1.0;
+  double patch_along_track_m = 0.5;  ///< > 0
+  double patch_range_m = 0.2;        ///< > 0
   void validate() const;
   /// Every effect off: the bare seabed echo (what the closed forms of docs/physics.md §3 hold
   /// for).

@@ -42,6 +42,9 @@ struct SonarConfig {
   /// beta_eff = integral of the two-way horizontal pattern b^2(psi) d psi for the Gaussian
   /// one-way pattern exp(-4 ln2 psi^2 / W^2): W sqrt(pi / (8 ln 2)), radians.
   double beta_eff_rad() const;
+  /// Along-track length of the array whose one-way -3 dB width is horizontal_beam_width_rad,
+  /// 0.886 lambda / theta (a uniform line array), metres.
+  double array_length_m() const;
   /// Two-way horizontal pattern b^2(psi) of the Gaussian one-way pattern.
   double horizontal_two_way(double psi_rad) const;
 };

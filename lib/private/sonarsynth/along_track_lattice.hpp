@@ -107,11 +107,12 @@ inline bool sample_at(const AlongTrackField& f, const AlongTrackTable& table, st
   return true;
 }
 
-// The unit-mean speckle power of `look` at the sample. Scatterer m (lattice index m0 - 1 + k):
+// The unnormalised complex sum of `look` at the sample. Scatterer m (lattice index m0 - 1 + k):
 // g1 from the low 16 bits of one half of the word of the pair m >> 1, g2 from its high 16 bits
 // (NormalTable): two words per sample, three when m0 - 1 is odd. The four scatterers' halves
 // are the 128 bits of the words from bit `shift` on.
-inline double look_power(const Sample& s, std::uint64_t look, const NormalTable& normal) {
+inline void look_sum(const Sample& s, std::uint64_t look, const NormalTable& normal, float& re,
+                     float& im) {
   const std::uint64_t p0 = s.pair0 + look * kLookStride;
   const std::uint64_t h0 = wyrand_stream(s.cell, p0);
   const std::uint64_t h1 = wyrand_stream(s.cell, p0 + 1);
@@ -122,14 +123,32 @@ inline double look_power(const Sample& s, std::uint64_t look, const NormalTable&
   const auto half = [&](int k) {
     return static_cast<std::uint32_t>((k < 2 ? lo : hi) >> (32 * (k & 1)));
   };
-  float re = 0.0f, im = 0.0f;
+  re = 0.0f;
+  im = 0.0f;
   for (int k = 0; k < 4; ++k) {
     const std::uint32_t b = half(k);
     re += s.wf[k] * normal(b);
     im += s.wf[k] * normal(b >> 16);
   }
+}
+
+// The unit-mean speckle power of `look` at the sample.
+inline double look_power(const Sample& s, std::uint64_t look, const NormalTable& normal) {
+  float re, im;
+  look_sum(s, look, normal, re, im);
   const auto dre = static_cast<double>(re), dim = static_cast<double>(im);
   return (dre * dre + dim * dim) * s.inv_2w2;
+}
+
+// The same look as a complex field of unit mean power (re^2 + im^2 = look_power), for the range
+// filter of the sensor stage, which needs the phase too.
+inline void look_field(const Sample& s, std::uint64_t look, const NormalTable& normal, double& re,
+                       double& im) {
+  float fre, fim;
+  look_sum(s, look, normal, fre, fim);
+  const double g = std::sqrt(s.inv_2w2);
+  re = static_cast<double>(fre) * g;
+  im = static_cast<double>(fim) * g;
 }
 
 }  // namespace sonarsynth::lattice

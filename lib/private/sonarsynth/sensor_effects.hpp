@@ -4,6 +4,7 @@
 // detector; the transmit ring-down. Internal.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -29,12 +30,34 @@ struct SensorModel {
   double first_return_s2 = 0.0;    ///< RMS slope squared
   double side_lobe_two_way = 0.0;  ///< two-way side-lobe floor of the vertical beam
   double ring_down_m = 0.0;        ///< 0 = off
+  /// What the TVG leaves of the seabed's fall with range, f(r) = r^-e exp(-b r) (1 for the
+  /// compensating 30 log R + 2 alpha R): e = (30 - k) / 10, b = 2 (1 - a) alpha ln 10 / 10.
+  double tvg_deficit_exponent = 0.0, tvg_deficit_per_m = 0.0;
+  double mid_range_m = 1.0;  ///< where the "re seabed" reference seabed is (half the range)
+  /// Patchiness of the volume reverberation and the shadow fill (docs/physics.md §1.10): each
+  /// is multiplied by a unit-mean Gamma(nu) texture frozen on patches of patch_along_m x
+  /// patch_range_m (along-track position x slant range); nu = 0: uniform.
+  double volume_texture_nu = 0.0, fill_texture_nu = 0.0;
+  double patch_along_m = 0.5, patch_range_m = 0.2;
+  std::uint64_t patch_seed = 0;
+  double tvg_deficit(double r) const {
+    return std::pow(r, -tvg_deficit_exponent) * std::exp(-tvg_deficit_per_m * r);
+  }
+  /// Range filter of the complex echo (docs/physics.md §1.6): taps h_k, k = -K .. K, sum
+  /// h_k^2 = 1, sample spacing apart; empty = off (each sample's speckle independent in range).
+  std::vector<double> range_taps;
 
   /// From the configuration: `seabed_power` is the mean output power of the calibration seabed
   /// (the reference of the "re seabed" levels).
   static SensorModel make(const SimulationConfig& config, double seabed_power,
                           double reference_altitude_m);
 };
+
+/// The range filter's taps of a sonar (empty when the filter would be a single tap): the
+/// complex impulse response of the transmitted pulse through its matched filter, integrated
+/// over each sample's range cell and normalised to unit power gain. CW pulse of range window
+/// W = c tau / 2: a triangle of half-width W; chirp, W = c / (2 B): sinc(x / W), cut at 3 W.
+std::vector<double> range_filter_taps(const SonarConfig& sonar);
 
 /// Adds the mean terms of the sensor model to `mean` (linear intensity before TVG, sample i
 /// covering slant ranges [i dr, (i + 1) dr)): volume reverberation everywhere, shadow fill from
@@ -55,10 +78,18 @@ struct SensorMeanTables {
   SensorMeanTables() = default;
   SensorMeanTables(const SensorModel& m, const SideParams& side, std::span<const double> out_gain);
 };
-/// The same with the tables (identical values): no division per sample and ping.
+/// Where a ping side is, for the patch textures: the survey line and side, and the along-track
+/// position (metres).
+struct PatchKey {
+  std::uint64_t line_side = 0;
+  double along_track_m = 0.0;
+};
+/// The same with the tables (identical values): no division per sample and ping. With `patch`
+/// and a texture shape, the volume and fill terms take their patch textures.
 void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
                            const SensorMeanTables& tables, double altitude_m,
-                           double axis_depression_rad, std::span<double> mean);
+                           double axis_depression_rad, std::span<double> mean,
+                           const PatchKey* patch = nullptr);
 
 /// The speckle field of one side of one ping from scatterers frozen per range cell along the
 /// track (docs/physics.md §1.6): sample i (range r = (i + 1/2) dr) sums the complex scatterers
@@ -73,14 +104,21 @@ struct AlongTrackField {
   std::uint64_t seed = 0;
   std::size_t first_sample = 0;  ///< the first bottom return's sample
   double ping_spacing_m = 0.0;   ///< distance between consecutive pings; 0 = unknown
+  /// Length D of the receiving array along the track, metres; 0 = the far-field footprint alone
+  /// (sw as above). With D > 0 the lattice width is the correlation width of a translated
+  /// aperture (docs/physics.md §1.6): 1 / sw^2 = 1 / sc^2 + 1 / (sw_far^2 + D^2), sc = D /
+  /// sqrt(24) the co-array's width, so that pings d apart correlate as exp(-d^2 / (4 sw^2))
+  /// (complex field) whatever the range, as in the array's near field.
+  double array_length_m = 0.0;
 };
 /// Per-run factors of along_track_speckle that depend on the sample index only (the lattice
 /// step and footprint per range), rebuilt when the spacing, beam or sample count change.
 struct AlongTrackTable {
-  double sample_spacing_m = 0.0, beam_3db_rad = 0.0;
-  std::vector<double> sw;        ///< r theta / sqrt(8 ln 2) per sample
+  double sample_spacing_m = 0.0, beam_3db_rad = 0.0, array_length_m = 0.0;
+  std::vector<double> sw;        ///< lattice width per sample (AlongTrackField::array_length_m)
   std::vector<double> inv_step;  ///< 1 / (lattice step) per sample
-  void prepare(double sample_spacing_m, double beam_3db_rad, std::size_t samples);
+  void prepare(double sample_spacing_m, double beam_3db_rad, std::size_t samples,
+               double array_length_m = 0.0);
 };
 
 /// Unit-mean speckle power per sample of look `look` into `out` (resized to `samples`).
@@ -96,7 +134,7 @@ void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, in
 
 /// Reusable buffers of detect_speckle (one per thread).
 struct DetectorScratch {
-  std::vector<double> sub, combined, field, base;
+  std::vector<double> sub, combined, field, base, re, im;
   std::vector<std::uint64_t> keys, noise_keys;
   AlongTrackTable along_track;
 };

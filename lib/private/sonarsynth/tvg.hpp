@@ -12,8 +12,13 @@ namespace sonarsynth {
 struct Tvg {
   TvgLaw law = TvgLaw::spherical;
   double absorption_db_per_m = 0.0;  ///< one-way alpha, dB/m, >= 0 (use the simulator's alpha)
-  double constant_db = 0.0;          ///< added gain, dB, finite
-  double min_range_m = 0.1;          ///< r is clamped to >= this (log r -> -inf), metres, > 0
+  /// k of the spherical law k log10 R, dB per decade of range, [0, 60]: 30 compensates seabed
+  /// reverberation exactly (r^-4 spreading over an area growing as r).
+  double spreading_db_per_decade = 30.0;
+  /// Share of the two-way absorption the TVG compensates, [0, 1].
+  double absorption_share = 1.0;
+  double constant_db = 0.0;  ///< added gain, dB, finite
+  double min_range_m = 0.1;  ///< r is clamped to >= this (log r -> -inf), metres, > 0
 
   /// Throws InputError naming the violated constraint.
   void validate() const;
