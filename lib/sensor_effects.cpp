@@ -85,11 +85,17 @@ void SensorConfig::validate() const {
       bad(std::string(name) + " = " + num(v) + ". Violated constraint: 0.01 <= shape <= 1000");
     }
   }
-  for (const auto& [name, v] : {std::pair{"patch_along_track_m", patch_along_track_m},
-                                std::pair{"patch_range_m", patch_range_m}}) {
+  for (const auto& [name, v] :
+       {std::pair{"volume_patch_along_track_m", volume_patch_along_track_m},
+        std::pair{"shadow_fill_patch_along_track_m", shadow_fill_patch_along_track_m},
+        std::pair{"shadow_fill_patch_range_m", shadow_fill_patch_range_m}}) {
     if (!(v > 0.0 && v < 1e6)) {
       bad(std::string(name) + " = " + num(v) + ". Violated constraint: 0 < " + name + " < 1e6");
     }
+  }
+  if (!(volume_patch_range_m >= 0.0 && volume_patch_range_m < 1e6)) {
+    bad("volume_patch_range_m = " + num(volume_patch_range_m) +
+        ". Violated constraint: 0 <= volume_patch_range_m < 1e6 (0 = the range resolution)");
   }
   if (on(ring_down_m) && !(ring_down_m >= 0.0)) {
     bad("ring_down_m = " + num(ring_down_m) + ". Violated constraint: ring_down_m >= 0");
@@ -189,8 +195,11 @@ SensorModel SensorModel::make(const SimulationConfig& config, double seabed_powe
   m.mid_range_m = 0.5 * config.sonar.max_range_m;
   m.volume_texture_nu = on(c.volume_texture_shape) ? c.volume_texture_shape : 0.0;
   m.fill_texture_nu = on(c.shadow_fill_texture_shape) ? c.shadow_fill_texture_shape : 0.0;
-  m.patch_along_m = c.patch_along_track_m;
-  m.patch_range_m = c.patch_range_m;
+  m.volume_patch_along_m = c.volume_patch_along_track_m;
+  m.volume_patch_range_m =
+      c.volume_patch_range_m > 0.0 ? c.volume_patch_range_m : config.sonar.range_resolution_m();
+  m.fill_patch_along_m = c.shadow_fill_patch_along_track_m;
+  m.fill_patch_range_m = c.shadow_fill_patch_range_m;
   m.patch_seed = config.seed;
   if (config.noise.range_correlation && config.noise.model == NoiseConfig::Model::kSpeckle) {
     m.range_taps = range_filter_taps(config.sonar);
@@ -249,38 +258,44 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
     for (std::size_t i = first; i < nf; ++i) mean[i] += tables.fill[i];
   } else {
     // Unit-mean Gamma textures per patch (keyed by line and side, along-track and range
-    // patch): volume scatterers (fish, bubbles) and the multipath reaching shadows are sparse
-    // and blotchy. Patches interpolate linearly along the track between their centres, so that
-    // a patch fades over consecutive pings instead of switching.
-    const UnitGammaTable* tv =
-        m.volume_texture_nu > 0.0 ? &UnitGammaTable::get(m.volume_texture_nu) : nullptr;
-    const UnitGammaTable* tf =
-        m.fill_texture_nu > 0.0 ? &UnitGammaTable::get(m.fill_texture_nu) : nullptr;
-    const double ua = patch->along_track_m / m.patch_along_m;
-    const double fa = std::floor(ua);
-    const double wa = ua - fa;
-    const auto a0 = static_cast<std::uint64_t>(static_cast<std::int64_t>(fa));
+    // patch): volume scatterers (fish, bubbles) are sparse and the multipath reaching shadows
+    // blotchy. A patch's texture is interpolated linearly along the track between patch
+    // centres, so that it fades over consecutive pings instead of switching.
     const std::uint64_t base =
         hash_combine(splitmix64(m.patch_seed ^ 0x9a7c4e5fULL), patch->line_side);
-    const std::uint64_t row0 = splitmix_stream(base, a0), row1 = splitmix_stream(base, a0 + 1);
-    const auto texture = [&](const UnitGammaTable& t, std::uint64_t salt, std::uint64_t cell) {
-      const double t0 = t(high32_midpoint(splitmix_stream(row0 ^ salt, cell) << 32));
-      const double t1 = t(high32_midpoint(splitmix_stream(row1 ^ salt, cell) << 32));
-      return (1.0 - wa) * t0 + wa * t1;
-    };
-    const double inv_patch = dr / m.patch_range_m;
-    std::uint64_t last_cell = ~std::uint64_t{0};
-    double v_t = 1.0, f_t = 1.0;
-    const std::size_t end = std::max(nv, nf);
-    for (std::size_t i = 0; i < end; ++i) {
-      const auto cell = static_cast<std::uint64_t>((static_cast<double>(i) + 0.5) * inv_patch);
-      if (cell != last_cell) {
-        if (tv != nullptr) v_t = texture(*tv, 0x51, cell);
-        if (tf != nullptr) f_t = texture(*tf, 0xf1, cell);
-        last_cell = cell;
+    const auto add_textured = [&](const std::vector<double>& level, std::size_t from,
+                                  std::size_t to, double nu, double along_m, double range_m,
+                                  std::uint64_t salt) {
+      if (!(nu > 0.0)) {
+        for (std::size_t i = from; i < to; ++i) mean[i] += level[i];
+        return;
       }
-      if (i < nv) mean[i] += tables.volume[i] * v_t;
-      if (i >= first && i < nf) mean[i] += tables.fill[i] * f_t;
+      const UnitGammaTable& t = UnitGammaTable::get(nu);
+      const double ua = patch->along_track_m / along_m;
+      const double fa = std::floor(ua);
+      const double wa = ua - fa;
+      const auto a0 = static_cast<std::uint64_t>(static_cast<std::int64_t>(fa));
+      const std::uint64_t row0 = splitmix_stream(base ^ salt, a0);
+      const std::uint64_t row1 = splitmix_stream(base ^ salt, a0 + 1);
+      const double inv_patch = dr / range_m;
+      std::uint64_t last_cell = ~std::uint64_t{0};
+      double tex = 1.0;
+      for (std::size_t i = from; i < to; ++i) {
+        const auto cell = static_cast<std::uint64_t>((static_cast<double>(i) + 0.5) * inv_patch);
+        if (cell != last_cell) {
+          const double t0 = t(high32_midpoint(splitmix_stream(row0, cell) << 32));
+          const double t1 = t(high32_midpoint(splitmix_stream(row1, cell) << 32));
+          tex = (1.0 - wa) * t0 + wa * t1;
+          last_cell = cell;
+        }
+        mean[i] += level[i] * tex;
+      }
+    };
+    add_textured(tables.volume, 0, nv, m.volume_texture_nu, m.volume_patch_along_m,
+                 m.volume_patch_range_m, 0x51);
+    if (first < nf) {
+      add_textured(tables.fill, first, nf, m.fill_texture_nu, m.fill_patch_along_m,
+                   m.fill_patch_range_m, 0xf1);
     }
   }
   if (!have_altitude) return;

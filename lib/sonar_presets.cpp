@@ -43,7 +43,7 @@ std::vector<SonarPreset> make_presets() {
   const double seascan_pulse_us = 50.0;
   return {
       {"seascan-hds-600", "Marine Sonic Sea Scan HDS, 600 kHz, on an Iver2 AUV",
-       make({600, 30, 1024, 15, 0.4, 60, kCw, seascan_pulse_us, 0})},
+       make({600, 30, 1024, 15, 0.4, 50, kCw, seascan_pulse_us, 0})},
       {"edgetech-4200-300", "EdgeTech 4200 class towfish, 300 kHz channel (300/600 kHz set)",
        make({300, 230, 8192, 20, 0.54, 50, kChirp, 0, 25})},
       {"edgetech-4200-600", "EdgeTech 4200 class towfish, 600 kHz channel (300/600 kHz set)",

@@ -230,8 +230,8 @@ TEST(SensorCorrelation, PatchTexturesAreUnitMeanGammaOnPatches) {
   c.clean_samples = false;
   c.sensor.volume_reverberation_db = -40.0;
   c.sensor.volume_texture_shape = 0.5;
-  c.sensor.patch_along_track_m = 0.5;
-  c.sensor.patch_range_m = 0.2;
+  c.sensor.volume_patch_along_track_m = 0.5;
+  c.sensor.volume_patch_range_m = 0.2;
   c.output.tvg_spreading_db_per_decade = 20.0;
   const Simulator sim(scene, c, kAltitude);
   auto ws = sim.make_workspace();

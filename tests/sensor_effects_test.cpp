@@ -183,6 +183,7 @@ TEST(SensorEffects, VolumeReverberationAndShadowFillHaveTheirLevels) {
   c.output.round_to_integer = false;
   c.sensor.volume_reverberation_db = -40.0;
   c.sensor.shadow_fill_db = -24.0;
+  c.output.tvg_spreading_db_per_decade = 30.0;  // the compensating TVG (20: the TVG law test)
   const Simulator sim(scene, c, kAltitude);
   const RenderedPing p = render(sim, pose_at(*scene, 0.0, 1));
   // Without noise and speckle, the automatic gain puts the mid-range seabed mean (the levels'

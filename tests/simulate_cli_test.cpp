@@ -199,7 +199,7 @@ TEST_F(SimulateCli, ProductsCarryTheRunsMetadataAndSayWhatTheyHold) {
     EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_SONAR_SAMPLES_PER_SIDE"), 600.0);
     EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_SONAR_TILT_DEG"), 15.0);
     EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_SONAR_HORIZONTAL_BEAM_DEG"), 0.3);
-    EXPECT_EQ(item(*ds, "SONARSYNTH_TVG"), "30 log10(R) + 2 x 1 alpha R");  // the default TVG
+    EXPECT_EQ(item(*ds, "SONARSYNTH_TVG"), "20 log10(R) + 2 x 1 alpha R");  // the default TVG
     EXPECT_TRUE(std::isfinite(number(*ds, "SONARSYNTH_GAIN_DB")));
     EXPECT_DOUBLE_EQ(number(*ds, "SONARSYNTH_FULL_SCALE"), 32767.0);  // u16 samples
     EXPECT_NE(item(*ds, "SONARSYNTH_QUANTITY"), "(missing)");

@@ -307,11 +307,12 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
       {"vertical_beam: {shape: gaussian, width_deg: 40}", "pulse: {type: cw, length_us: 50}", "",
        "output: {tvg: none, gain_db: 55, sample_format: u8, truth: false, quantity: intensity, "
        "detector: mean, detector_sub_samples: 2, seabed_median_dbfs: -20, "
-       "tvg_spreading_db_per_decade: 20, tvg_absorption_share: 0.5}\n"
+       "tvg_spreading_db_per_decade: 25, tvg_absorption_share: 0.5}\n"
        "sensor: {noise_floor_dbfs: off, volume_reverberation_db: -30, shadow_fill_db: off, "
-       "first_return_reflection_db: -5, first_return_rms_slope: 0.3, side_lobe_db: -25, "
+       "first_return_reflection_db: -5, first_return_rms_slope: 0.4, side_lobe_db: -25, "
        "ring_down_m: off, volume_texture_shape: 0.5, shadow_fill_texture_shape: off, "
-       "patch_along_track_m: 1.5, patch_range_m: 0.1}",
+       "volume_patch_along_track_m: 1.5, volume_patch_range_m: 0.1, "
+       "shadow_fill_patch_along_track_m: 2, shadow_fill_patch_range_m: 0.7}",
        "survey:\n  start_time: \"2013-09-10T21:13:08.25Z\"\n  speed_m_s: 1.5\n  altitude_m: 8\n"
        "  layback_m: 20\n  turn_time_s: 40\n  turn_radius_m: 30\n"
        "  disturbance: {roll_deg: 2, pitch_deg: 1, yaw_deg: 3, heave_m: 0.2, period_s: 6}\n",
@@ -406,8 +407,11 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
           std::pair{x.sensor.ring_down_m, y.sensor.ring_down_m},
           std::pair{x.sensor.volume_texture_shape, y.sensor.volume_texture_shape},
           std::pair{x.sensor.shadow_fill_texture_shape, y.sensor.shadow_fill_texture_shape},
-          std::pair{x.sensor.patch_along_track_m, y.sensor.patch_along_track_m},
-          std::pair{x.sensor.patch_range_m, y.sensor.patch_range_m},
+          std::pair{x.sensor.volume_patch_along_track_m, y.sensor.volume_patch_along_track_m},
+          std::pair{x.sensor.volume_patch_range_m, y.sensor.volume_patch_range_m},
+          std::pair{x.sensor.shadow_fill_patch_along_track_m,
+                    y.sensor.shadow_fill_patch_along_track_m},
+          std::pair{x.sensor.shadow_fill_patch_range_m, y.sensor.shadow_fill_patch_range_m},
           std::pair{x.output.tvg_spreading_db_per_decade, y.output.tvg_spreading_db_per_decade},
           std::pair{x.output.tvg_absorption_share, y.output.tvg_absorption_share}}) {
       EXPECT_TRUE(same(u, w)) << u << " vs " << w;

@@ -130,7 +130,7 @@ struct OutputScaling {
   TvgLaw tvg = TvgLaw::spherical;  ///< k log R + 2 a alpha R (alpha = the simulation's)
   /// k, dB per decade of range, [0, 60]. 30 holds a flat seabed's Lambert level flat in range;
   /// real side-scans apply less, so that the far range falls (docs/physics.md §1.2).
-  double tvg_spreading_db_per_decade = 30.0;
+  double tvg_spreading_db_per_decade = 20.0;
   /// a, the share of the two-way absorption the TVG compensates, [0, 1].
   double tvg_absorption_share = 1.0;
   /// Stored quantity; amplitude by default, as real side-scan sonars store the envelope.
@@ -149,7 +149,7 @@ struct OutputScaling {
   /// Target of the automatic gain, dB re max_value: 20 log10(median / max_value) for amplitude,
   /// 10 log10 for intensity. < 0. The default puts the median over a real swath (beam pattern and
   /// grazing angles included) about 12 dB below full scale, as real side-scan sonars do.
-  double seabed_median_dbfs = -11.0;
+  double seabed_median_dbfs = -8.0;
   /// The founding paper's K = 1/Imax (docs/paper-model.md). none (default): the global
   /// calibration above. per_ping_max: every ping is scaled so that its largest noise-free sample
   /// after TVG (over both sides) is max_value, before the noise; gain_db then cancels out. This
@@ -166,35 +166,35 @@ struct OutputScaling {
 struct SensorConfig {
   /// Receiver noise after TVG and gain (electronics, ADC): RMS level of the stored quantity,
   /// dB re max_value (20 log10 for amplitude). Keeps the water column and shadows off zero.
-  double noise_floor_dbfs = -50.0;
+  double noise_floor_dbfs = -62.0;
   /// Volume reverberation (water-column scatterers), dB re seabed, at the reference altitude;
   /// after the spherical TVG it grows in proportion to the range (volume r^-2 against r^-3).
-  double volume_reverberation_db = -29.0;
+  double volume_reverberation_db = -33.0;
   /// Shadow fill (multipath and side-lobe energy reaching occluded ranges), dB re seabed,
   /// incoherent, everywhere beyond the first bottom return.
-  double shadow_fill_db = -36.0;
+  double shadow_fill_db = -25.0;
   /// First bottom return: near-normal (Kirchhoff) backscatter of the seabed below the sensor,
   ///   sigma(theta) = rho / (8 s^2 cos^4 theta) exp(-tan^2 theta / (2 s^2)),
   /// theta the incidence from the vertical, rho the energy reflection coefficient, s the RMS
   /// slope, seen through the vertical beam with side lobes no lower than side_lobe_db.
   /// NaN rho = off.
-  double first_return_reflection_db = -6.0;  ///< 10 log10(rho), <= 0
-  double first_return_rms_slope = 0.15;      ///< s, (0, 1]
+  double first_return_reflection_db = -20.0;  ///< 10 log10(rho), <= 0
+  double first_return_rms_slope = 0.3;        ///< s, (0, 1]
   /// One-way side-lobe level of the vertical beam towards nadir, dB re the main lobe, <= 0.
   double side_lobe_db = -16.0;
   /// Transmit pulse and ring-down: samples nearer than this slant range (at most a tenth of
   /// the range) saturate, metres, >= 0; NaN or 0 = off.
   double ring_down_m = 0.15;
   /// Patchiness (docs/physics.md §1.10): the volume reverberation and the shadow fill are
-  /// multiplied by unit-mean Gamma textures of these shapes, frozen on patches of
-  /// patch_along_track_m x patch_range_m: sparse scatterers in the water column (fish,
-  /// bubbles, particles) and blotchy multipath in shadows. NaN = uniform. The volume texture is
-  /// off by default: a bright patch just above the seabed moves the project's bottom tracker
-  /// by a few tenths of a metre (docs/realism.md).
-  double volume_texture_shape = std::numeric_limits<double>::quiet_NaN();
-  double shadow_fill_texture_shape = 1.0;
-  double patch_along_track_m = 0.5;  ///< > 0
-  double patch_range_m = 0.2;        ///< > 0
+  /// multiplied by unit-mean Gamma textures of these shapes, frozen on patches of their own
+  /// (along track x slant range): sparse scatterers in the water column (fish,
+  /// bubbles, particles) and blotchy multipath in shadows. NaN = uniform.
+  double volume_texture_shape = 0.3;
+  double shadow_fill_texture_shape = 0.3;
+  double volume_patch_along_track_m = 0.3;       ///< > 0 (about the array's footprint)
+  double volume_patch_range_m = 0.0;             ///< >= 0; 0 = the sonar's range resolution
+  double shadow_fill_patch_along_track_m = 0.5;  ///< > 0
+  double shadow_fill_patch_range_m = 0.3;        ///< > 0
   void validate() const;
   /// Every effect off: the bare seabed echo (what the closed forms of docs/physics.md §3 hold
   /// for).

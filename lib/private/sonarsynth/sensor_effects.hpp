@@ -35,10 +35,11 @@ struct SensorModel {
   double tvg_deficit_exponent = 0.0, tvg_deficit_per_m = 0.0;
   double mid_range_m = 1.0;  ///< where the "re seabed" reference seabed is (half the range)
   /// Patchiness of the volume reverberation and the shadow fill (docs/physics.md §1.10): each
-  /// is multiplied by a unit-mean Gamma(nu) texture frozen on patches of patch_along_m x
-  /// patch_range_m (along-track position x slant range); nu = 0: uniform.
+  /// is multiplied by a unit-mean Gamma(nu) texture frozen on patches of its own (along-track
+  /// position x slant range, metres); nu = 0: uniform.
   double volume_texture_nu = 0.0, fill_texture_nu = 0.0;
-  double patch_along_m = 0.5, patch_range_m = 0.2;
+  double volume_patch_along_m = 0.3, volume_patch_range_m = 0.05;
+  double fill_patch_along_m = 0.5, fill_patch_range_m = 0.3;
   std::uint64_t patch_seed = 0;
   double tvg_deficit(double r) const {
     return std::pow(r, -tvg_deficit_exponent) * std::exp(-tvg_deficit_per_m * r);
