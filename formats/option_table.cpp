@@ -268,13 +268,13 @@ std::vector<Option> make_table() {
                            PLAIN(config.sensor.volume_texture_shape)));
   t.push_back(sensor_level("shadow_fill_texture_shape", "", 0.01, 1000,
                            PLAIN(config.sensor.shadow_fill_texture_shape)));
-  t.push_back(real("sensor", "volume_patch_along_track_m", "m", 0, 1e6, true,
+  t.push_back(real("sensor", "volume_patch_along_track_m", "m", 1e-3, 1e6, false,
                    PLAIN(config.sensor.volume_patch_along_track_m)));
   t.push_back(real("sensor", "volume_patch_range_m", "m", 0, 1e6, false,
                    PLAIN(config.sensor.volume_patch_range_m)));
-  t.push_back(real("sensor", "shadow_fill_patch_along_track_m", "m", 0, 1e6, true,
+  t.push_back(real("sensor", "shadow_fill_patch_along_track_m", "m", 1e-3, 1e6, false,
                    PLAIN(config.sensor.shadow_fill_patch_along_track_m)));
-  t.push_back(real("sensor", "shadow_fill_patch_range_m", "m", 0, 1e6, true,
+  t.push_back(real("sensor", "shadow_fill_patch_range_m", "m", 1e-3, 1e6, false,
                    PLAIN(config.sensor.shadow_fill_patch_range_m)));
   // limits
   t.push_back(integer("limits", "max_pings", 0, 1e15, true, PLAIN(limits.max_pings)));

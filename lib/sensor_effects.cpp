@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -66,7 +67,11 @@ double side_lobe_crossing_y(const VerticalBeamPattern& beam, double floor, doubl
 
 void SensorConfig::validate() const {
   auto bad = [](const std::string& what) { throw InputError("sensor: " + what); };
-  auto num = [](double v) { return std::to_string(v); };
+  auto num = [](double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  };
   if (on(first_return_reflection_db) && !(first_return_reflection_db <= 0.0)) {
     bad("first_return_reflection_db = " + num(first_return_reflection_db) +
         ". Violated constraint: <= 0 (a reflection coefficient is at most 1)");
@@ -89,13 +94,15 @@ void SensorConfig::validate() const {
        {std::pair{"volume_patch_along_track_m", volume_patch_along_track_m},
         std::pair{"shadow_fill_patch_along_track_m", shadow_fill_patch_along_track_m},
         std::pair{"shadow_fill_patch_range_m", shadow_fill_patch_range_m}}) {
-    if (!(v > 0.0 && v < 1e6)) {
-      bad(std::string(name) + " = " + num(v) + ". Violated constraint: 0 < " + name + " < 1e6");
+    if (!(v >= 1e-3 && v <= 1e6)) {
+      bad(std::string(name) + " = " + num(v) + ". Violated constraint: 0.001 <= " + name +
+          " <= 1e6");
     }
   }
-  if (!(volume_patch_range_m >= 0.0 && volume_patch_range_m < 1e6)) {
+  if (!(volume_patch_range_m == 0.0 ||
+        (volume_patch_range_m >= 1e-3 && volume_patch_range_m <= 1e6))) {
     bad("volume_patch_range_m = " + num(volume_patch_range_m) +
-        ". Violated constraint: 0 <= volume_patch_range_m < 1e6 (0 = the range resolution)");
+        ". Violated constraint: 0 (the range resolution) or 0.001 <= volume_patch_range_m <= 1e6");
   }
   if (on(ring_down_m) && !(ring_down_m >= 0.0)) {
     bad("ring_down_m = " + num(ring_down_m) + ". Violated constraint: ring_down_m >= 0");
@@ -270,14 +277,20 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
         for (std::size_t i = from; i < to; ++i) mean[i] += level[i];
         return;
       }
-      const UnitGammaTable& t = UnitGammaTable::get(nu);
       const double ua = patch->along_track_m / along_m;
+      const double inv_patch = dr / range_m;
+      // Patch indices must fit an integer (validate() keeps patches >= 1 mm; a survey far beyond
+      // 1e12 m of line is not textured).
+      if (!(std::abs(ua) < 1e15) || !(inv_patch * static_cast<double>(to) < 1e15)) {
+        for (std::size_t i = from; i < to; ++i) mean[i] += level[i];
+        return;
+      }
+      const UnitGammaTable& t = UnitGammaTable::get(nu);
       const double fa = std::floor(ua);
       const double wa = ua - fa;
       const auto a0 = static_cast<std::uint64_t>(static_cast<std::int64_t>(fa));
       const std::uint64_t row0 = splitmix_stream(base ^ salt, a0);
       const std::uint64_t row1 = splitmix_stream(base ^ salt, a0 + 1);
-      const double inv_patch = dr / range_m;
       std::uint64_t last_cell = ~std::uint64_t{0};
       double tex = 1.0;
       for (std::size_t i = from; i < to; ++i) {
