@@ -37,7 +37,7 @@ bathy_spec::ComponentInput read_component(const Fields& c) {
     keys.insert(key);
     in.values.push_back(c.given(key) ? std::optional<double>(c.number(key)) : std::nullopt);
   }
-  if (type == "fbm") {
+  if (type == "fbm" || type == "ripples") {
     keys.insert("seed_offset");
     if (c.given("seed_offset")) in.seed_offset = c.seed("seed_offset", 0);
   }

@@ -107,6 +107,7 @@ TEST(TerrainRender, AutomaticPlaneCountSeesComponentsAddedToAFileDem) {
   r.amplitude_m = 0.25;
   r.crest_azimuth_rad = 0.5 * kPi;
   r.ref_y_m = 0.3;  // a crest at y = 0.3: z = 0.25 cos(2 pi (y - 0.3) / 1.2)
+  r.bandwidth = 0.0;
   spec.components = {r};
   add_bathymetry_components(spec, rough.bathymetry);
   // The pilot as pilot_poses() places it: the sensor 10 m above the (refined) seabed.
