@@ -25,7 +25,9 @@ const std::vector<ComponentDecl> kComponents = {
      {{"wavelength_m", "WAVELENGTH", 0.0, 1e6, true},
       {"amplitude_m", "AMPLITUDE", 0.0, 1e3},
       any("crest_azimuth_deg", "AZ"),
-      {"asymmetry", "ASYM", 0.0, 1.0, false, true}},
+      {"asymmetry", "ASYM", 0.0, 1.0, false, true},
+      {"bandwidth", "BANDWIDTH", 0.0, 0.5},
+      {"amplitude_variation", "VARIATION", 0.0, 1.0}},
      2},
     {"fbm",
      "fbm",
@@ -135,6 +137,7 @@ std::vector<bathy::Component> build_components(const std::vector<ComponentInput>
                                                const Eigen::Vector2d& c, const Reporter& fail) {
   std::vector<bathy::Component> out;
   std::uint64_t fbm_index = 0;
+  std::uint64_t ripples_index = 0;
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     const ComponentInput& ci = inputs[i];
     const ComponentDecl& d = *ci.decl;
@@ -155,6 +158,10 @@ std::vector<bathy::Component> build_components(const std::vector<ComponentInput>
       r.amplitude_m = value(1, r.amplitude_m);
       r.crest_azimuth_rad = rad_from_deg(value(2, deg_from_rad(r.crest_azimuth_rad)));
       r.asymmetry = value(3, r.asymmetry);
+      r.bandwidth = value(4, r.bandwidth);
+      r.amplitude_variation = value(5, r.amplitude_variation);
+      r.seed_offset = ci.seed_offset.value_or(ripples_index);
+      ++ripples_index;
       r.ref_x_m = c.x();  // a crest through the grid centre
       r.ref_y_m = c.y();
       out.push_back(r);

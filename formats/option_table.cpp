@@ -289,6 +289,8 @@ std::vector<Option> make_table() {
         s.vehicle.depth_m = v;
         s.vehicle.depth_mode = VehicleConfig::DepthMode::kDepth;
       }));
+  t.push_back(real("survey", "altitude_time_constant_s", "s", 0, 1e4, false,
+                   PLAIN(vehicle.altitude_time_constant_s)));
   t.push_back(real("survey", "layback_m", "m", 0, 1e4, false, PLAIN(vehicle.layback_m)));
   t.push_back(real("survey", "turn_time_s", "s", -kInf, kInf, false, PLAIN(vehicle.turn_time_s)));
   t.push_back(real("survey", "turn_radius_m", "m", 0, 1e5, false, PLAIN(vehicle.turn_radius_m)));
@@ -302,6 +304,12 @@ std::vector<Option> make_table() {
                    PLAIN(vehicle.disturbance.heave_amplitude_m)));
   t.push_back(real("survey.disturbance", "period_s", "s", 0, 1e4, true,
                    PLAIN(vehicle.disturbance.period_s)));
+  t.push_back(real("survey.disturbance", "altitude_m", "m", 0, 1000, false,
+                   PLAIN(vehicle.disturbance.altitude_wander_m)));
+  t.push_back(real("survey.disturbance", "heading_wander_deg", "deg", 0, 45, false,
+                   DEG(vehicle.disturbance.heading_wander_rad)));
+  t.push_back(real("survey.disturbance", "wander_period_s", "s", 0, 1e5, true,
+                   PLAIN(vehicle.disturbance.wander_period_s)));
   return t;
 }
 

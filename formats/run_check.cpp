@@ -265,9 +265,11 @@ RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& s
                        "(altitude smaller than the water depth)");
     }
     if (below_seabed > 0) {
-      const std::string key = v.depth_mode == VehicleConfig::DepthMode::kDepth
-                                  ? "survey.depth_m = " + num(v.depth_m)
-                                  : "survey.lever_arm_m / disturbance.heave_m";
+      const std::string key =
+          v.depth_mode == VehicleConfig::DepthMode::kDepth
+              ? "survey.depth_m = " + num(v.depth_m)
+              : "survey.lever_arm_m / altitude_time_constant_s / disturbance.heave_m / "
+                "disturbance.altitude_m";
       throw InputError(where + ": " + key + " puts the sensor below the seabed (altitude down to " +
                        num(min_altitude, 4) + " m) on " + frac(below_seabed) +
                        " of its pings over seabed. Violated constraint: sensor above the seabed");

@@ -37,7 +37,7 @@ bathy_spec::ComponentInput read_component(const Fields& c) {
     keys.insert(key);
     in.values.push_back(c.given(key) ? std::optional<double>(c.number(key)) : std::nullopt);
   }
-  if (type == "fbm") {
+  if (type == "fbm" || type == "ripples") {
     keys.insert("seed_offset");
     if (c.given("seed_offset")) in.seed_offset = c.seed("seed_offset", 0);
   }
@@ -59,8 +59,12 @@ std::vector<bathy::Component> read_components(const Fields& list_owner,
       });
 }
 
+// A file's grid defaults to bicubic: a surveyed DEM rendered bilinearly is a mosaic of facets
+// whose slope jumps at every cell edge, and a sonar at a low grazing angle shows each as a step
+// of brightness (docs/physics.md §2.1 "Seabed interpolation"). A generated grid, fine enough
+// for its components, defaults to bilinear.
 Interpolation read_interpolation(const Fields& b) {
-  const std::string name = b.text("interpolation", "bilinear");
+  const std::string name = b.text("interpolation", b.has("file") ? "bicubic" : "bilinear");
   if (name == "bilinear") return Interpolation::kBilinear;
   if (name == "bicubic") return Interpolation::kBicubic;
   b.fail_value("interpolation", "interpolation one of bilinear, bicubic");

@@ -135,6 +135,28 @@ struct FbmOctaves {
   }
 };
 
+// The plane waves of a ripple field (bathy::Ripples, bandwidth > 0): wavevectors
+// k0 n + q_j with q_j ~ N(0, (bandwidth k0)^2 I), phases psi_j ~ U(0, 2 pi), from splitmix64 of
+// (seed + seed_offset) only, so every row and every grid sharing nodes sees the same field.
+struct RippleModes {
+  std::vector<double> kx, ky, psi;
+  double scale = 1.0 / std::sqrt(static_cast<double>(bathy::kRippleModes));
+  RippleModes(const bathy::Ripples& r, std::uint64_t seed) {
+    const double k0 = 2.0 * kPi / r.wavelength_m;
+    const double nx = std::cos(r.crest_azimuth_rad);
+    const double ny = -std::sin(r.crest_azimuth_rad);
+    const double sigma = r.bandwidth * k0;
+    const std::uint64_t key = splitmix64((seed + r.seed_offset) ^ 0x726970706c657300ULL);
+    for (int j = 0; j < bathy::kRippleModes; ++j) {
+      const auto uj = static_cast<std::uint64_t>(j);
+      const NormalPair q = keyed_normal_pair(key, uj, 0);
+      kx.push_back(k0 * nx + sigma * q.n1);
+      ky.push_back(k0 * ny + sigma * q.n2);
+      psi.push_back(2.0 * kPi * uniform_from_bits(keyed_hash(key, uj, 2)));
+    }
+  }
+};
+
 void require(bool ok, const std::string& what) {
   if (!ok) throw InputError("bathymetry generator: " + what);
 }
@@ -160,6 +182,10 @@ struct RowAdder {
     }
   }
   void operator()(const bathy::Ripples& r) const {
+    if (r.bandwidth > 0.0) {
+      add_ripple_field(r);
+      return;
+    }
     // Across-crest unit vector: the crest direction (sin a, cos a) turned 90 deg clockwise.
     const double nx = std::cos(r.crest_azimuth_rad);
     const double ny = -std::sin(r.crest_azimuth_rad);
@@ -168,6 +194,51 @@ struct RowAdder {
       const double x = x0 + static_cast<double>(c) * dx;
       const double t = k * (nx * (x - r.ref_x_m) + ny * (y - r.ref_y_m));
       acc[c] += r.amplitude_m * std::cos(t + r.asymmetry * std::sin(t));
+    }
+  }
+  // The narrow-band field of bathy::Ripples (bandwidth > 0): the modes' phasors advance along
+  // the row by one complex multiplication per node, re-anchored (sin, cos) every kAnchor nodes
+  // so that rounding never accumulates over more than kAnchor steps (~1e-14 rad).
+  void add_ripple_field(const bathy::Ripples& r) const {
+    const RippleModes modes(r, seed);
+    constexpr std::size_t kAnchor = 64;
+    const std::size_t n = modes.kx.size();
+    std::vector<double> re(n), im(n), step_re(n), step_im(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      step_re[j] = std::cos(modes.kx[j] * dx);
+      step_im[j] = std::sin(modes.kx[j] * dx);
+    }
+    const double norm = 1.0 / std::sqrt(std::tgamma(1.0 + r.amplitude_variation));
+    const double v = r.amplitude_variation;
+    for (std::size_t c = 0; c < acc.size(); ++c) {
+      if (c % kAnchor == 0) {
+        const double x = x0 + static_cast<double>(c) * dx;
+        for (std::size_t j = 0; j < n; ++j) {
+          const double ph =
+              modes.kx[j] * (x - r.ref_x_m) + modes.ky[j] * (y - r.ref_y_m) + modes.psi[j];
+          re[j] = std::cos(ph);
+          im[j] = std::sin(ph);
+        }
+      }
+      double wr = 0.0, wi = 0.0;
+      for (std::size_t j = 0; j < n; ++j) {
+        wr += re[j];
+        wi += im[j];
+        const double a = re[j] * step_re[j] - im[j] * step_im[j];
+        im[j] = re[j] * step_im[j] + im[j] * step_re[j];
+        re[j] = a;
+      }
+      wr *= modes.scale;
+      wi *= modes.scale;
+      const double m = std::sqrt(wr * wr + wi * wi);
+      if (!(m > 0.0)) continue;
+      const double envelope = (v == 1.0 ? m : std::pow(m, v)) * norm;
+      double shape = wr / m;  // cos t
+      if (r.asymmetry > 0.0) {
+        const double t = std::atan2(wi, wr);
+        shape = std::cos(t + r.asymmetry * std::sin(t));
+      }
+      acc[c] += r.amplitude_m * envelope * shape;
     }
   }
   void operator()(const bathy::Fbm& f) const {
@@ -224,6 +295,12 @@ struct Validator {
             at() + "ripples asymmetry = " + num(r.asymmetry) +
                 ". Violated constraint: 0 <= asymmetry < 1");
     require(std::isfinite(r.crest_azimuth_rad), at() + "ripples crest azimuth is not finite");
+    require(r.bandwidth >= 0.0 && r.bandwidth <= 0.5,
+            at() + "ripples bandwidth = " + num(r.bandwidth) +
+                ". Violated constraint: 0 <= bandwidth <= 0.5");
+    require(r.amplitude_variation >= 0.0 && r.amplitude_variation <= 1.0,
+            at() + "ripples amplitude_variation = " + num(r.amplitude_variation) +
+                ". Violated constraint: 0 <= amplitude_variation <= 1");
   }
   void operator()(const bathy::Fbm& f) const {
     require(std::isfinite(f.rms_m) && f.rms_m >= 0.0 && f.rms_m <= kMaxReliefM,

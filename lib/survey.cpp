@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
@@ -30,6 +31,24 @@ double disturbance(double amplitude, double period_s, double t_s, std::uint64_t 
     v += kWeights[k] * std::sin(2.0 * kPi * t_s / (period_s * kPeriods[k]) + phase);
   }
   return amplitude * v;
+}
+
+// Slow wander: five sinusoids of equal amplitude sqrt(2/5) rms (so the long-time RMS is `rms`)
+// at angular frequencies w_k = c 2 pi / (period_s r_k), c chosen so that mean(w_k^2) =
+// (2 pi / period_s)^2, with hashed phases.
+double wander(double rms, double period_s, double t_s, std::uint64_t seed, std::uint64_t channel) {
+  if (rms <= 0.0) return 0.0;
+  static constexpr double kRatios[5] = {0.55, 0.75, 1.0, 1.35, 1.9};
+  double mean_inv2 = 0.0;
+  for (const double r : kRatios) mean_inv2 += 1.0 / (r * r) / 5.0;
+  const double c = 1.0 / std::sqrt(mean_inv2);
+  double v = 0.0;
+  for (std::uint64_t k = 0; k < 5; ++k) {
+    const double phase = 2.0 * kPi * uniform_from_bits(keyed_hash(seed, channel, 2000 + k));
+    const double w = c * 2.0 * kPi / (period_s * kRatios[k]);
+    v += std::sin(w * t_s + phase);
+  }
+  return rms * std::sqrt(2.0 / 5.0) * v;
 }
 
 // Off the grid: the height at the nearest grid point (the position clamped into the grid),
@@ -67,6 +86,14 @@ void VehicleConfig::validate() const {
   require(depth_m >= 0.0 && std::isfinite(depth_m), "depth_m", depth_m, "depth_m >= 0");
   require(layback_m >= 0.0 && std::isfinite(layback_m), "layback_m", layback_m, "layback_m >= 0");
   require(turn_radius_m >= 0.0, "turn_radius_m", turn_radius_m, "turn_radius_m >= 0");
+  require(altitude_time_constant_s >= 0.0 && std::isfinite(altitude_time_constant_s),
+          "altitude_time_constant_s", altitude_time_constant_s, "altitude_time_constant_s >= 0");
+  require(disturbance.altitude_wander_m >= 0.0 && std::isfinite(disturbance.altitude_wander_m),
+          "disturbance.altitude_m", disturbance.altitude_wander_m, "altitude_m >= 0");
+  require(disturbance.heading_wander_rad >= 0.0 && disturbance.heading_wander_rad <= kPi / 4,
+          "disturbance.heading_wander", disturbance.heading_wander_rad, "heading wander <= 45 deg");
+  require(disturbance.wander_period_s > 0.0 && std::isfinite(disturbance.wander_period_s),
+          "disturbance.wander_period_s", disturbance.wander_period_s, "wander_period_s > 0");
   require(disturbance.period_s > 0.0, "disturbance.period_s", disturbance.period_s, "period_s > 0");
   for (double a : {disturbance.roll_amplitude_rad, disturbance.pitch_amplitude_rad,
                    disturbance.yaw_amplitude_rad, disturbance.heave_amplitude_m}) {
@@ -146,6 +173,34 @@ void Survey::along_line(std::size_t line, double s_m, Eigen::Vector2d& xy,
   azimuth_rad = std::atan2(u.x(), u.y());
 }
 
+double Survey::followed_height_m(std::size_t line, double s_m, const HeightGrid& seabed) const {
+  Eigen::Vector2d xy;
+  double az = 0.0;
+  along_line(line, s_m, xy, az);
+  const double tau = vehicle_.altitude_time_constant_s;
+  if (!(tau > 0.0)) return seabed.height_m(xy.x(), xy.y());
+  // Trapezoid rule over u in [0, 8 tau] (the weight beyond is e^-8 = 3e-4 of the total) at
+  // steps of tau / 32 and at most half a grid cell of track, at most 4096 steps; holes and
+  // off-grid points leave their weight out (the mean is over the valid heights).
+  const GridGeometry& g = seabed.geometry();
+  const double cell = std::min(std::abs(g.dx_m), std::abs(g.dy_m));
+  const double v = vehicle_.speed_m_s;
+  const double span = 8.0 * tau;
+  const double du = std::max({std::min(tau / 32.0, 0.5 * cell / v), span / 4096.0});
+  const auto steps = static_cast<int>(std::ceil(span / du));
+  double sum = 0.0, weight = 0.0;
+  for (int i = 0; i <= steps; ++i) {
+    const double u = span * static_cast<double>(i) / static_cast<double>(steps);
+    along_line(line, s_m - v * u, xy, az);
+    const double h = seabed.height_m(xy.x(), xy.y());
+    if (std::isnan(h)) continue;
+    const double w = std::exp(-u / tau) * (i == 0 || i == steps ? 0.5 : 1.0);
+    sum += w * h;
+    weight += w;
+  }
+  return weight > 0.0 ? sum / weight : std::numeric_limits<double>::quiet_NaN();
+}
+
 PingPose Survey::pose(std::uint64_t index, const HeightGrid& seabed) const {
   if (index >= total_pings()) throw InputError("survey: ping index out of range");
   const auto it = std::upper_bound(first_ping_.begin(), first_ping_.end(), index);
@@ -171,6 +226,8 @@ PingPose Survey::pose(std::uint64_t index, const HeightGrid& seabed) const {
   p.pitch_rad = disturbance(d.pitch_amplitude_rad, d.period_s, t_s, seed_, 2);
   p.roll_rad = disturbance(d.roll_amplitude_rad, d.period_s, t_s, seed_, 3);
   p.heave_m = disturbance(d.heave_amplitude_m, d.period_s, t_s, seed_, 4);
+  p.heading_rad += wander(d.heading_wander_rad, d.wander_period_s, t_s, seed_, 5);
+  const double z_wander = wander(d.altitude_wander_m, d.wander_period_s, t_s, seed_, 6);
 
   // Lever arm: body (forward, starboard) rotated by the heading; down subtracts from z.
   const Eigen::Vector2d fwd(std::sin(p.heading_rad), std::cos(p.heading_rad));
@@ -181,15 +238,17 @@ PingPose Survey::pose(std::uint64_t index, const HeightGrid& seabed) const {
   if (vehicle_.depth_mode == VehicleConfig::DepthMode::kAltitude) {
     // Terrain following; over a hole or off the grid, keep the altitude over the seabed's
     // nearest valid height behind the sensor (searched along the track, deterministic).
-    double z = seabed_z;
+    double z = vehicle_.altitude_time_constant_s > 0.0
+                   ? followed_height_m(line, p.along_track_m, seabed)
+                   : seabed_z;
     for (int k = 1; std::isnan(z) && k <= 200; ++k) {
       const Eigen::Vector2d q = p.sensor_xy_m - 0.5 * k * fwd;
       z = seabed.height_m(q.x(), q.y());
     }
     if (std::isnan(z)) z = nearest_edge_height(seabed, p.sensor_xy_m);
-    p.sensor_z_m = z + vehicle_.altitude_m + p.heave_m - vehicle_.lever_arm_m.z();
+    p.sensor_z_m = z + vehicle_.altitude_m + z_wander + p.heave_m - vehicle_.lever_arm_m.z();
   } else {
-    p.sensor_z_m = -vehicle_.depth_m + p.heave_m - vehicle_.lever_arm_m.z();
+    p.sensor_z_m = -vehicle_.depth_m + z_wander + p.heave_m - vehicle_.lever_arm_m.z();
   }
   p.altitude_m = p.sensor_z_m - seabed_z;
   return p;

@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <cstring>
+#include <iostream>
 #include <string>
+#include <vector>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
@@ -102,6 +105,7 @@ TEST(BathyGen, RippleWavelengthFromZeroCrossings) {
     r.amplitude_m = 0.1;
     r.crest_azimuth_rad = 0.0;  // crests run grid north: the profile varies along x
     r.asymmetry = asymmetry;
+    r.bandwidth = 0.0;  // the pure sinusoid
     s.components.push_back(r);
     const HeightGrid g = generate_bathymetry(s);
     int n = 0;
@@ -126,6 +130,7 @@ TEST(BathyGen, RippleCrestAzimuthRotatesThePattern) {
   r.wavelength_m = 3.0;
   r.amplitude_m = 0.2;
   r.crest_azimuth_rad = rad_from_deg(90.0);  // crests run east: heights vary along y only
+  r.bandwidth = 0.0;
   s.components.push_back(r);
   const HeightGrid g = generate_bathymetry(s);
   float col_lo = 1e9f, col_hi = -1e9f;
@@ -135,6 +140,185 @@ TEST(BathyGen, RippleCrestAzimuthRotatesThePattern) {
     col_hi = std::max(col_hi, g.node(3, row));
   }
   EXPECT_NEAR(col_hi - col_lo, 0.4, 0.02);  // crest sampled within 1/24 wavelength
+}
+
+TEST(BathyGen, PureRipplesReproduceTheSinusoidExactly) {
+  // bandwidth = 0: z = -depth + amplitude cos(t + asymmetry sin t), the float32 of the double sum,
+  // bit for bit (the ripples' formula before ripple fields had a spectral width).
+  BathyGenSpec s = base_spec(30.0, 20.0, 0.25);
+  bathy::Ripples r;
+  r.wavelength_m = 1.7;
+  r.amplitude_m = 0.08;
+  r.crest_azimuth_rad = 0.4;
+  r.asymmetry = 0.35;
+  r.ref_x_m = 1.5;
+  r.ref_y_m = -2.0;
+  r.bandwidth = 0.0;
+  s.components.push_back(r);
+  const HeightGrid g = generate_bathymetry(s);
+  const GridGeometry& geo = g.geometry();
+  const double nx = std::cos(r.crest_azimuth_rad), ny = -std::sin(r.crest_azimuth_rad);
+  const double k = 2.0 * kPi / r.wavelength_m;
+  for (std::size_t row = 0; row < geo.rows; ++row) {
+    const double y = geo.y_of_row(static_cast<double>(row));
+    for (std::size_t c = 0; c < geo.cols; ++c) {
+      const double x = geo.x0_m + static_cast<double>(c) * geo.dx_m;
+      const double t = k * (nx * (x - r.ref_x_m) + ny * (y - r.ref_y_m));
+      const double z = -20.0 + r.amplitude_m * std::cos(t + r.asymmetry * std::sin(t));
+      ASSERT_EQ(g.node(c, row), static_cast<float>(z)) << c << "," << row;
+    }
+  }
+}
+
+// In-place radix-2 FFT (n a power of two), independent of the generator's code.
+void fft(std::vector<std::complex<double>>& a) {
+  const std::size_t n = a.size();
+  for (std::size_t i = 1, j = 0; i < n; ++i) {
+    std::size_t bit = n >> 1;
+    for (; j & bit; bit >>= 1) j ^= bit;
+    j ^= bit;
+    if (i < j) std::swap(a[i], a[j]);
+  }
+  for (std::size_t len = 2; len <= n; len <<= 1) {
+    const double ang = -2.0 * kPi / static_cast<double>(len);
+    const std::complex<double> wl(std::cos(ang), std::sin(ang));
+    for (std::size_t i = 0; i < n; i += len) {
+      std::complex<double> w(1.0, 0.0);
+      for (std::size_t j = 0; j < len / 2; ++j) {
+        const std::complex<double> u = a[i + j], v = a[i + j + len / 2] * w;
+        a[i + j] = u + v;
+        a[i + j + len / 2] = u - v;
+        w *= wl;
+      }
+    }
+  }
+}
+
+struct RippleSpectrum {
+  double peak_k;        // |centroid| of the power over the half-plane k . n > 0, rad/m
+  double peak_azimuth;  // grid azimuth of the crests the centroid implies, rad
+  double across_rel;    // rms width along n (across the crests) / peak_k
+  double along_rel;     // rms width along the crests / peak_k
+};
+
+// The 2-D power spectrum of the heights (Hann-windowed, mean removed) and its first and second
+// moments over the half-plane towards n within |k| < 1.6 k0 (leaving out the harmonics), with
+// the Hann window's own spectral variance (1/3 bin^2 per axis) subtracted.
+RippleSpectrum ripple_spectrum(const HeightGrid& g, double k0, double crest_azimuth_rad) {
+  const GridGeometry& geo = g.geometry();
+  const std::size_t n = geo.cols;  // square, a power of two
+  double mean = 0.0;
+  for (float h : g.heights()) mean += h;
+  mean /= static_cast<double>(g.heights().size());
+  std::vector<std::complex<double>> a(n * n);
+  const auto hann = [n](std::size_t i) {
+    const double s = std::sin(kPi * static_cast<double>(i) / static_cast<double>(n));
+    return s * s;
+  };
+  for (std::size_t r = 0; r < n; ++r) {
+    for (std::size_t c = 0; c < n; ++c) a[r * n + c] = (g.node(c, r) - mean) * hann(r) * hann(c);
+  }
+  std::vector<std::complex<double>> line(n);
+  for (std::size_t r = 0; r < n; ++r) {
+    for (std::size_t c = 0; c < n; ++c) line[c] = a[r * n + c];
+    fft(line);
+    for (std::size_t c = 0; c < n; ++c) a[r * n + c] = line[c];
+  }
+  for (std::size_t c = 0; c < n; ++c) {
+    for (std::size_t r = 0; r < n; ++r) line[r] = a[r * n + c];
+    fft(line);
+    for (std::size_t r = 0; r < n; ++r) a[r * n + c] = line[r];
+  }
+  const double dk = 2.0 * kPi / (static_cast<double>(n) * geo.dx_m);
+  const double nx = std::cos(crest_azimuth_rad), ny = -std::sin(crest_azimuth_rad);
+  double p0 = 0.0, px = 0.0, py = 0.0, pxx = 0.0, pyy = 0.0, pxy = 0.0;
+  const auto freq = [n](std::size_t i) {
+    return i < n / 2 ? static_cast<double>(i) : static_cast<double>(i) - static_cast<double>(n);
+  };
+  for (std::size_t r = 0; r < n; ++r) {
+    // Row index runs south (dy < 0): the wavenumber along +y is minus the row frequency.
+    const double ky = -freq(r) * dk;
+    for (std::size_t c = 0; c < n; ++c) {
+      const double kx = freq(c) * dk;
+      if (kx * nx + ky * ny <= 0.0 || std::hypot(kx, ky) > 1.6 * k0) continue;
+      const double p = std::norm(a[r * n + c]);
+      p0 += p;
+      px += p * kx;
+      py += p * ky;
+      pxx += p * kx * kx;
+      pyy += p * ky * ky;
+      pxy += p * kx * ky;
+    }
+  }
+  const double cx = px / p0, cy = py / p0;
+  const double vxx = pxx / p0 - cx * cx, vyy = pyy / p0 - cy * cy, vxy = pxy / p0 - cx * cy;
+  const double k = std::hypot(cx, cy);
+  const double ux = cx / k, uy = cy / k;  // across the crests
+  const double window = dk * dk / 3.0;
+  const double across = ux * ux * vxx + 2.0 * ux * uy * vxy + uy * uy * vyy - window;
+  const double along = uy * uy * vxx - 2.0 * ux * uy * vxy + ux * ux * vyy - window;
+  // n = (cos a, -sin a): a = atan2(-uy, ux).
+  return {k, std::atan2(-uy, ux), std::sqrt(across) / k, std::sqrt(along) / k};
+}
+
+TEST(BathyGen, RippleFieldSpectrumHasTheConfiguredPeakAndWidth) {
+  // 512 x 512 nodes at 0.25 m: k0 = 2 pi / 2 m, a bin 0.049 rad/m, sigma_k = 0.1 k0 = 6.4 bins.
+  // A Gaussian field (amplitude_variation 1) has the Gaussian spectrum of rms width bandwidth k0
+  // per axis in expectation; one realisation of 96 modes is within ~1/sqrt(2 x 96) = 7 % of it.
+  // The default envelope (v = 0.5) widens it a little (the envelope is a nonlinear function).
+  for (const double v : {1.0, 0.5}) {
+    for (const double bandwidth : {0.1, 0.2}) {
+      BathyGenSpec s = base_spec(128.0, 128.0, 0.25);
+      bathy::Ripples r;
+      r.wavelength_m = 2.0;
+      r.amplitude_m = 0.05;
+      r.crest_azimuth_rad = rad_from_deg(25.0);
+      r.bandwidth = bandwidth;
+      r.amplitude_variation = v;
+      s.components.push_back(r);
+      const HeightGrid g = generate_bathymetry(s);
+      ASSERT_EQ(g.geometry().cols, 512u);
+      const double k0 = kPi;
+      const RippleSpectrum sp = ripple_spectrum(g, k0, r.crest_azimuth_rad);
+      std::cout << "v " << v << " bandwidth " << bandwidth << ": peak k / k0 " << sp.peak_k / k0
+                << ", crest azimuth " << deg_from_rad(sp.peak_azimuth) << " deg, width across "
+                << sp.across_rel << ", along " << sp.along_rel << "\n";
+      EXPECT_NEAR(sp.peak_k / k0, 1.0, 0.03);
+      // The centroid of 96 modes: within 3 standard errors, 3 bandwidth / sqrt(96) radians.
+      EXPECT_NEAR(deg_from_rad(sp.peak_azimuth), 25.0, 0.5 + deg_from_rad(0.31 * bandwidth));
+      const double tol = v == 1.0 ? 0.2 : 0.35;
+      EXPECT_NEAR(sp.across_rel / bandwidth, 1.0, tol);
+      EXPECT_NEAR(sp.along_rel / bandwidth, 1.0, tol);
+      // The mean square height is amplitude^2 / 2, as for the sinusoid.
+      double sum2 = 0.0;
+      for (float h : g.heights()) sum2 += (h + 20.0) * (h + 20.0);
+      const double rms = std::sqrt(sum2 / static_cast<double>(g.heights().size()));
+      EXPECT_NEAR(rms / (0.05 / std::sqrt(2.0)), 1.0, 0.15);
+    }
+  }
+  // The pure sinusoid: a single line (widths within the window's leakage).
+  BathyGenSpec s = base_spec(128.0, 128.0, 0.25);
+  bathy::Ripples r;
+  r.wavelength_m = 2.0;
+  r.crest_azimuth_rad = rad_from_deg(25.0);
+  r.bandwidth = 0.0;
+  s.components.push_back(r);
+  const RippleSpectrum sp = ripple_spectrum(generate_bathymetry(s), kPi, r.crest_azimuth_rad);
+  EXPECT_NEAR(sp.peak_k / kPi, 1.0, 0.01);
+  EXPECT_LT(sp.across_rel, 0.02);
+  EXPECT_LT(sp.along_rel, 0.02);
+}
+
+TEST(BathyGen, RippleFieldDependsOnSeedAndOffset) {
+  BathyGenSpec s = base_spec(20.0, 20.0, 0.25);
+  s.components.push_back(bathy::Ripples{});
+  const HeightGrid a = generate_bathymetry(s);
+  EXPECT_TRUE(bit_identical(a, generate_bathymetry(s)));
+  std::get<bathy::Ripples>(s.components[0]).seed_offset = 1;
+  EXPECT_FALSE(bit_identical(a, generate_bathymetry(s)));
+  s.seed = 43;
+  std::get<bathy::Ripples>(s.components[0]).seed_offset = 0;
+  EXPECT_FALSE(bit_identical(a, generate_bathymetry(s)));
 }
 
 bathy::Fbm test_fbm() {

@@ -84,11 +84,17 @@ bathymetry:
 )";
 
 TEST_F(SceneBathymetry, InterpolationIsSelectable) {
-  const Scene bilinear = load("bathymetry: {file: dem.tif}\n");
+  // A file's grid is bicubic unless the file says bilinear.
+  const Scene bilinear = load("bathymetry: {file: dem.tif, interpolation: bilinear}\n");
   EXPECT_EQ(bilinear.bathymetry.interpolation(), Interpolation::kBilinear);
-  const Scene bicubic = load("bathymetry: {file: dem.tif, interpolation: bicubic}\n");
+  const Scene bicubic = load("bathymetry: {file: dem.tif}\n");
   EXPECT_EQ(bicubic.bathymetry.interpolation(), Interpolation::kBicubic);
   EXPECT_TRUE(same_bytes(bicubic.bathymetry.heights(), bilinear.bathymetry.heights()));
+  const Scene generated_default = load(R"(
+bathymetry:
+  generate: {centre: {lat_deg: -33.9, lon_deg: 151.3}, size_m: [40, 40], cell_m: 1, depth_m: 20}
+)");
+  EXPECT_EQ(generated_default.bathymetry.interpolation(), Interpolation::kBilinear);
   const Scene generated = load(R"(
 bathymetry:
   interpolation: bicubic

@@ -315,7 +315,9 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
        "shadow_fill_patch_along_track_m: 2, shadow_fill_patch_range_m: 0.7}",
        "survey:\n  start_time: \"2013-09-10T21:13:08.25Z\"\n  speed_m_s: 1.5\n  altitude_m: 8\n"
        "  layback_m: 20\n  turn_time_s: 40\n  turn_radius_m: 30\n"
-       "  disturbance: {roll_deg: 2, pitch_deg: 1, yaw_deg: 3, heave_m: 0.2, period_s: 6}\n",
+       "  altitude_time_constant_s: 4\n"
+       "  disturbance: {roll_deg: 2, pitch_deg: 1, yaw_deg: 3, heave_m: 0.2, period_s: 6, "
+       "altitude_m: 0.5, heading_wander_deg: 1.5, wander_period_s: 90}\n",
        cli},
       {"vertical_beam: {shape: paper, upper_half_width_deg: 20, lower_half_width_deg: 30}",
        "pulse: {type: chirp, bandwidth_khz: 50}", ", along_track_planes: 3",

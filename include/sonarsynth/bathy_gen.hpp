@@ -30,18 +30,38 @@ struct Plane {
                         double ref_y_m = 0.0);
 };
 
-/// Sand ripples: parallel crests, z += amplitude_m * cos(t + asymmetry * sin t), where
-/// t = 2 pi (distance across the crests from the reference point) / wavelength_m.
+/// Sand ripples. With bandwidth = 0 parallel crests, z += amplitude_m * cos(t + asymmetry * sin t),
+/// where t = 2 pi (distance across the crests from the reference point) / wavelength_m.
 /// asymmetry = 0 gives a sinusoid; 0 < asymmetry < 1 steepens one flank (lee side) while keeping
 /// two zero crossings per wavelength.
+///
+/// With bandwidth > 0 (docs/physics.md §2.1 "Ripple fields"): a narrow-band random field around
+/// the peak wavevector k0 n (k0 = 2 pi / wavelength_m, n across the crests),
+///   w(x) = sum_j exp(i psi_j) exp(i (k0 n + q_j) . (x - ref)) / sqrt(kRippleModes),
+/// with q_j ~ N(0, (bandwidth k0)^2 I) and psi_j uniform, seeded from (seed + seed_offset); then
+/// z += amplitude_m |w|^v / sqrt(Gamma(1 + v)) cos(t + asymmetry sin t), t = arg w,
+/// v = amplitude_variation. The wavelength and the crest azimuth wander over a distance of about
+/// 1 / (bandwidth k0), crests end and fork where w = 0 (about 2 pi bandwidth^2 such defects per
+/// wavelength squared), and the expected mean square height is amplitude_m^2 / 2 as for the
+/// sinusoid. For v = 1 and asymmetry = 0 the expected power spectrum is a 2-D Gaussian of rms
+/// width bandwidth k0 per axis about +-k0 n.
 struct Ripples {
-  double wavelength_m = 1.0;  ///< crest spacing, metres, > 0
+  double wavelength_m = 1.0;  ///< crest spacing (peak wavelength), metres, > 0
   double amplitude_m = 0.05;  ///< crest height above the mean (half the crest-to-trough), m, >= 0
   double crest_azimuth_rad = 0.0;  ///< direction along which the crests run, grid azimuth, radians
   double asymmetry = 0.0;          ///< flank asymmetry, [0, 1)
-  double ref_x_m = 0.0;            ///< local x of a crest, metres
-  double ref_y_m = 0.0;            ///< local y of a crest, metres
+  double ref_x_m = 0.0;            ///< local x of a crest (bandwidth 0), metres
+  double ref_y_m = 0.0;            ///< local y of a crest (bandwidth 0), metres
+  /// Relative rms spectral width sigma_k / k0 per axis, [0, 0.5]; 0 = the pure sinusoid.
+  double bandwidth = 0.1;
+  /// Envelope exponent v, [0, 1]: 0 = every crest the same height (only the phase wanders),
+  /// 1 = the Gaussian field's Rayleigh envelope (crests fade in and out).
+  double amplitude_variation = 0.5;
+  std::uint64_t seed_offset = 0;  ///< added to the spec's seed (decorrelates two ripple fields)
 };
+
+/// Number of plane waves of a ripple field with bandwidth > 0.
+inline constexpr int kRippleModes = 96;
 
 /// Fractal roughness: fractional Brownian motion, the sum over octaves k = 0..octaves-1 of
 /// gradient (Perlin) noise of wavelength base_wavelength_m / 2^k and amplitude persistence^k,

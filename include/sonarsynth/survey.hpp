@@ -25,9 +25,19 @@ struct Disturbance {
   double yaw_amplitude_rad = 0.0;    ///< >= 0
   double heave_amplitude_m = 0.0;    ///< >= 0
   double period_s = 8.0;             ///< dominant period, seconds, > 0
+  /// Slow wander of the altitude (or the depth, DepthMode::kDepth), RMS metres, >= 0: an
+  /// altitude controller's hold error and the pilot's changes. Added to the height of the
+  /// sensor like the heave. Each wander channel is a sum of five sinusoids of equal amplitude
+  /// and hashed phases whose angular frequencies are spread over a factor 3.5 around
+  /// 2 pi / wander_period_s with mean square exactly (2 pi / wander_period_s)^2, so over a long
+  /// line its RMS is the value given and RMS(d/dt) / RMS = 2 pi / wander_period_s.
+  double altitude_wander_m = 0.0;
+  /// Slow wander of the heading about the track (crab angle), RMS radians, [0, pi/4].
+  double heading_wander_rad = 0.0;
+  double wander_period_s = 120.0;  ///< rms-frequency period of the wanders, seconds, > 0
   bool any() const {
     return roll_amplitude_rad > 0 || pitch_amplitude_rad > 0 || yaw_amplitude_rad > 0 ||
-           heave_amplitude_m > 0;
+           heave_amplitude_m > 0 || altitude_wander_m > 0 || heading_wander_rad > 0;
   }
 };
 
@@ -42,8 +52,14 @@ struct VehicleConfig {
   double speed_m_s = 2.0;  ///< speed along the lines, m/s, > 0
   DepthMode depth_mode = DepthMode::kAltitude;
   double altitude_m = 10.0;  ///< kAltitude: height above the seabed, metres, > 0
-  double depth_m = 10.0;     ///< kDepth: depth below the surface, metres, >= 0
-  double layback_m = 0.0;    ///< towfish distance behind the navigation reference, metres, >= 0
+  /// kAltitude: time constant of the altitude controller, seconds, >= 0. The sensor follows the
+  /// seabed under its track through a first-order lag, z(t) = altitude_m + integral over u >= 0
+  /// of exp(-u / tau) / tau h(t - u) du (h: seabed height under the track at time t - u, the
+  /// line extended straight before its start), so it lags over slopes and rounds steps off with
+  /// 1 - exp(-t / tau). 0 = exact terrain following.
+  double altitude_time_constant_s = 0.0;
+  double depth_m = 10.0;   ///< kDepth: depth below the surface, metres, >= 0
+  double layback_m = 0.0;  ///< towfish distance behind the navigation reference, metres, >= 0
   /// Transducer offset from the towpoint/reference in the body frame: (forward, starboard,
   /// down), metres.
   Eigen::Vector3d lever_arm_m = Eigen::Vector3d::Zero();
@@ -126,6 +142,10 @@ class Survey {
   PingPose pose(std::uint64_t index, const HeightGrid& seabed) const;
 
  private:
+  // The seabed height the altitude controller follows at distance s_m along the line (the
+  // sensor's track, lever arm left out): the height itself, or with a time constant the
+  // exponentially weighted mean of the heights behind (docs/physics.md §1.4 "Survey motion").
+  double followed_height_m(std::size_t line, double s_m, const HeightGrid& seabed) const;
   // Position and grid azimuth at distance s along a line (clamped to the line).
   void along_line(std::size_t line, double s_m, Eigen::Vector2d& xy, double& azimuth_rad) const;
 

@@ -56,7 +56,7 @@ const Param& cell_param();
 const Param& depth_param();
 
 /// One component as read: values by parameter index (nullopt: not given, the generator
-/// struct's default), and for fbm an optional seed offset.
+/// struct's default), and for fbm and ripples an optional seed offset.
 struct ComponentInput {
   const ComponentDecl* decl = nullptr;
   std::vector<std::optional<double>> values;
@@ -90,7 +90,7 @@ struct Generated {
 /// The components as the generator takes them, every number checked against its declaration
 /// (through `fail`): positions are metres from `centre` (local frame) along the grid axes,
 /// azimuths clockwise from grid north, the plane's and the ripples' reference point is `centre`,
-/// the n-th fbm layer's seed offset defaults to n.
+/// the n-th fbm layer's (and the n-th ripple field's) seed offset defaults to n.
 std::vector<bathy::Component> build_components(const std::vector<ComponentInput>& inputs,
                                                const Eigen::Vector2d& centre, const Reporter& fail);
 
