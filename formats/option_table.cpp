@@ -132,6 +132,7 @@ std::vector<Option> make_table() {
   t.push_back(boolean("render", "spreading", BOOL(config.physics.spreading)));
   t.push_back(boolean("render", "beam_pattern", BOOL(config.physics.beam_pattern)));
   t.push_back(boolean("render", "absorption", BOOL(config.physics.absorption)));
+  t.push_back(boolean("render", "object_glints", BOOL(config.physics.object_glints)));
   t.push_back(
       real("render", "calibration_k", "", 0, 1e30, true, PLAIN(config.physics.calibration_k)));
   t.push_back(real("render.water", "temperature_c", "degC", -2, 40, false,

@@ -535,7 +535,7 @@ Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path
   // Materials: the built-in table, overridden or extended.
   for (const Fields& m : top.sequence("materials")) {
     m.only({"name", "lambert_mu_db", "reflectivity", "texture_shape", "roughness_rms_m",
-            "roughness_length_m"});
+            "roughness_length_m", "specular_reflection_db", "specular_rms_slope"});
     const std::string name = m.text("name");
     Material mat = scene.materials.contains(name) ? scene.materials[scene.materials.index_of(name)]
                                                   : Material{.name = name};
@@ -545,6 +545,15 @@ Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path
     mat.texture_shape_nu = m.number_in("texture_shape", mat.texture_shape_nu, 0.0, 1e6);
     mat.roughness_rms_m = m.number_in("roughness_rms_m", mat.roughness_rms_m, 0.0, 10.0);
     mat.roughness_length_m = m.number_in("roughness_length_m", mat.roughness_length_m, 1e-4, 1e3);
+    // The glint lobe (docs/physics.md §1.11): 10 log10(rho), or off.
+    if (m.given("specular_reflection_db")) {
+      mat.specular_rho =
+          m.text("specular_reflection_db") == "off"
+              ? 0.0
+              : std::pow(10.0, m.number_in("specular_reflection_db", 0, -100, 0) / 10.0);
+    }
+    mat.specular_rms_slope =
+        m.number_in("specular_rms_slope", mat.specular_rms_slope, 0.0, 1.0, true);
     scene.materials.set(mat);
   }
 

@@ -37,6 +37,14 @@ void Material::validate() const {
     throw InputError(where() + "roughness_length_m = " + std::to_string(roughness_length_m) +
                      ". Violated constraint: 1e-4 <= roughness_length_m <= 1000");
   }
+  if (!(specular_rho >= 0.0 && specular_rho <= 1.0)) {
+    throw InputError(where() + "specular_rho = " + std::to_string(specular_rho) +
+                     ". Violated constraint: 0 <= specular_rho <= 1 (0 = no glint)");
+  }
+  if (!(specular_rms_slope > 0.0 && specular_rms_slope <= 1.0)) {
+    throw InputError(where() + "specular_rms_slope = " + std::to_string(specular_rms_slope) +
+                     ". Violated constraint: 0 < specular_rms_slope <= 1");
+  }
 }
 
 MaterialTable MaterialTable::defaults() {
@@ -59,14 +67,28 @@ MaterialTable MaterialTable::defaults() {
          .lambert_mu = from_db(-11.0),
          .paper_reflectivity = 0.85,
          .texture_shape_nu = 2.0});
+  // Objects (docs/physics.md §1.11): a K texture of few scatterers per cell (welds, rivets,
+  // pits, fouling on steel; aggregate and spalls on concrete, more uneven), resolved roughness
+  // of dents and plate waviness (1 cm over 0.3 m on steel, 1 cm over 0.2 m on concrete: facets
+  // tilt by ~ sigma / L = 2-3 deg) and a glint lobe: rho = |R|^2 / pi with the plane-wave
+  // reflection coefficient R = (Z - Zw) / (Z + Zw) (steel Z = 46 MRayl: -5.5 dB; concrete
+  // 8.5 MRayl: -8 dB) and unresolved slopes of 0.1 (steel) and 0.15 rad (concrete).
   t.set({.name = "steel",
          .lambert_mu = from_db(-8.0),
          .paper_reflectivity = 1.0,
-         .texture_shape_nu = 0.0});
+         .texture_shape_nu = 10.0,
+         .roughness_rms_m = 0.01,
+         .roughness_length_m = 0.3,
+         .specular_rho = from_db(-5.5),
+         .specular_rms_slope = 0.1});
   t.set({.name = "concrete",
          .lambert_mu = from_db(-10.0),
          .paper_reflectivity = 0.9,
-         .texture_shape_nu = 0.0});
+         .texture_shape_nu = 5.0,
+         .roughness_rms_m = 0.01,
+         .roughness_length_m = 0.2,
+         .specular_rho = from_db(-8.0),
+         .specular_rms_slope = 0.15});
   return t;
 }
 

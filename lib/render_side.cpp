@@ -60,13 +60,13 @@ void render_sections(const BeamProfile& prof, const SideParams& par, const Grid&
   const auto& pieces = w.seabed_pieces;
   for (const Segment& s : w.occluders) {
     Facet f{};
-    const double c0 = setup_facet(
-        f, in, hs, s.y0, s.z0 + hs, s.y1, s.z1 + hs, s.facet,
-        kb * backscatter_coefficient(
-                 par.backscatter,
-                 par.materials[prof.section_facet_mat(
-                     s.section, static_cast<std::size_t>(s.facet) - prof.seabed_facets())]));
+    const Material& mat = par.materials[prof.section_facet_mat(
+        s.section, static_cast<std::size_t>(s.facet) - prof.seabed_facets())];
+    const double c0 = setup_facet(f, in, hs, s.y0, s.z0 + hs, s.y1, s.z1 + hs, s.facet,
+                                  kb * backscatter_coefficient(par.backscatter, mat));
     if (!(f.a > 0.0) || !(c0 > 0.0)) continue;
+    if (par.object_glints && mat.specular_rho > 0.0)
+      add_glint(f, c0, kb, specular_lobe(par.backscatter, mat));
     auto& vis = w.visible;
     vis.assign({0.0, 1.0});
     if (par.shadows) {

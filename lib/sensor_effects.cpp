@@ -9,6 +9,7 @@
 #include <string>
 
 #include "sonarsynth/along_track_lattice.hpp"
+#include "sonarsynth/backscatter.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/noise.hpp"
@@ -186,7 +187,7 @@ SensorModel SensorModel::make(const SimulationConfig& config, double seabed_powe
   if (on(c.shadow_fill_db)) m.fill_power = seabed_power * db_to_power(c.shadow_fill_db);
   if (on(c.first_return_reflection_db)) {
     m.first_return_rho = db_to_power(c.first_return_reflection_db);
-    m.first_return_s2 = c.first_return_rms_slope * c.first_return_rms_slope;
+    m.first_return_rms_slope = c.first_return_rms_slope;
     m.side_lobe_two_way = db_to_power(2.0 * c.side_lobe_db);
   }
   // At most a tenth of the range: a ring-down marks the record's start, it does not fill it.
@@ -315,10 +316,11 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
   if (m.first_return_rho > 0.0) {
     const double h = altitude_m, h2 = h * h;
     const double kappa = 2.0 * side.absorption_db_per_m * std::log(10.0) / 10.0;
-    const double coef =
-        side.calibration_k * side.beta_eff_rad * m.first_return_rho / (8.0 * m.first_return_s2);
+    // sigma = lobe.peak sec^4 exp(-lobe.exponent(tan^2)) (backscatter.hpp).
+    const KirchhoffLobe lobe = KirchhoffLobe::make(m.first_return_rho, m.first_return_rms_slope);
+    const double coef = side.calibration_k * side.beta_eff_rad * lobe.peak;
     // sigma < e^-40 of its peak beyond tan^2 theta = 80 s^2: stop there.
-    const double tan2_max = 80.0 * m.first_return_s2;
+    const double tan2_max = KirchhoffLobe::kCutExponent / lobe.inv_2s2;
     const double y_kink =
         side_lobe_crossing_y(side.vertical_beam, m.side_lobe_two_way, h, axis_depression_rad);
     // One exp() per point: sigma's exp(-tan^2 / 2 s^2), the absorption and, for a Gaussian beam
@@ -328,7 +330,6 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
     const double w3 = side.vertical_beam.width_3db_rad;
     const double gc = gaussian ? 8.0 * std::log(2.0) / (w3 * w3) : 0.0;
     const double ln_floor = std::log(m.side_lobe_two_way);  // -inf without a floor
-    const double inv_2s2 = 1.0 / (2.0 * m.first_return_s2);
     const double inv_h2 = 1.0 / h2;
     for (std::size_t i = first; i < n; ++i) {
       const double r0 = static_cast<double>(i) * dr, r1 = r0 + dr;
@@ -366,7 +367,7 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
             theta = std::atan2(h, y);
           }
           const double off = theta - axis_depression_rad;
-          double expo = -y2 * inv_h2 * inv_2s2 - kappa * r;
+          double expo = -lobe.exponent(y2 * inv_h2) - kappa * r;
           double v = sec2 * sec2 * (side.spreading ? 1.0 / (r2 * r) : r);
           if (gaussian) {
             expo += std::max(-gc * off * off, ln_floor);

@@ -111,6 +111,7 @@ Simulator::Simulator(std::shared_ptr<const Scene> shared_scene, const Simulation
   cal_->side.vertical_beam = ph.beam_pattern ? s.vertical_beam : VerticalBeamPattern{};
   cal_->side.beam_axis_depression_rad = s.tilt_rad;
   cal_->side.backscatter = ph.backscatter;
+  cal_->side.object_glints = ph.object_glints;
   cal_->side.materials = scene.materials.all();
   cal_->side.spreading = ph.spreading;
   cal_->side.absorption_db_per_m = alpha_db_per_m_;

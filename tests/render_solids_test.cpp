@@ -240,6 +240,8 @@ TEST(RenderSolids, MooredSphereEchoesInTheWaterColumnAndShadowsTheSeabed) {
   const Scene scene = load_scene_from_string(R"(
 bathymetry:
   generate: {centre: {lat_deg: -33.9, lon_deg: 151.3}, size_m: [100, 80], cell_m: 0.5, depth_m: 25}
+materials:
+  - {name: steel, roughness_rms_m: 0}  # smooth: the closed form is a sphere's
 objects:
   - {type: moored, id: 4, shape: sphere, position: {east_m: 0, north_m: 0}, diameter_m: 1.0,
      height_m: 8.0}

@@ -118,10 +118,44 @@ materials:
   EXPECT_DOUBLE_EQ(rust.roughness_length_m, 0.07);
   const Material& steel = s.materials[s.materials.index_of("steel")];
   EXPECT_DOUBLE_EQ(steel.texture_shape_nu, 8.0);
-  EXPECT_DOUBLE_EQ(steel.roughness_rms_m, 0.0);  // smooth unless asked
+  // The other keys keep the built-in steel's values (docs/physics.md §1.11).
+  EXPECT_DOUBLE_EQ(
+      steel.roughness_rms_m,
+      MaterialTable::defaults()[MaterialTable::defaults().index_of("steel")].roughness_rms_m);
   EXPECT_DOUBLE_EQ(
       steel.lambert_mu,
       MaterialTable::defaults()[MaterialTable::defaults().index_of("steel")].lambert_mu);
+}
+
+TEST(SceneFromString, MaterialSpecularKeysAreRead) {
+  const std::string flat = R"(bathymetry:
+  generate:
+    centre: {lat_deg: -33.9, lon_deg: 151.3}
+    size_m: [100, 80]
+    cell_m: 0.5
+)";
+  const Scene s = load_scene_from_string(flat + R"(materials:
+  - {name: rust, specular_reflection_db: -10, specular_rms_slope: 0.25}
+  - {name: steel, specular_reflection_db: off}
+)",
+                                         "inline.yaml", ".");
+  const Material& rust = s.materials[s.materials.index_of("rust")];
+  EXPECT_DOUBLE_EQ(rust.specular_rho, 0.1);
+  EXPECT_DOUBLE_EQ(rust.specular_rms_slope, 0.25);
+  EXPECT_EQ(s.materials[s.materials.index_of("steel")].specular_rho, 0.0);
+  EXPECT_EQ(s.materials[s.materials.index_of("sand")].specular_rho, 0.0);
+  const auto expect_input_error = [](const std::string& yaml, const std::string& part) {
+    try {
+      load_scene_from_string(yaml, "inline.yaml", ".");
+      ADD_FAILURE() << "no error for:\n" << yaml;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+  };
+  expect_input_error(flat + "materials:\n  - {name: rust, specular_reflection_db: 3}\n",
+                     "specular_reflection_db");
+  expect_input_error(flat + "materials:\n  - {name: rust, specular_rms_slope: 0}\n",
+                     "specular_rms_slope");
 }
 
 }  // namespace

@@ -103,10 +103,13 @@ TEST(Simulator, MirroringTheSceneSwapsPortAndStarboard) {
   Scene a = make_scene(-50, -50, 100, 0.5, f);
   Scene b = make_scene(-50, -50, 100, 0.5, g);
   for (Scene* s : {&a, &b}) {
+    // Smooth steel: the built-in roughness is frozen in the local frame, not mirrored.
+    Material smooth = s->materials[s->materials.index_of("steel")];
+    smooth.roughness_rms_m = 0.0;
     ObjectPrimitive box;
     box.shape = ObjectShape::kBox;
     box.id = 5;
-    box.material = s->materials.index_of("steel");
+    box.material = s->materials.set(smooth);
     box.centre_xy_m = {0.0, s == &a ? -18.0 : 18.0};  // starboard of an eastward track is -y
     box.half_extent_m = {2.0, 1.0, 0.8};
     box.heading_rad = 0.3 * (s == &a ? 1 : -1);

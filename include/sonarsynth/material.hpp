@@ -26,6 +26,14 @@ struct Material {
   double roughness_rms_m = 0.0;
   /// Correlation length L of that roughness, metres, > 0: autocorrelation exp(-d^2 / (2 L^2)).
   double roughness_length_m = 0.05;
+  /// Kirchhoff (near-normal, specular) reflection coefficient rho of objects of this material,
+  /// linear, [0, 1]; 0 = no glint (the default). Object facets then backscatter the Lambert term
+  /// plus rho / (8 s^2 cos^4 theta) exp(-tan^2 theta / (2 s^2)), theta the incidence from the
+  /// facet's normal (KirchhoffLobe, docs/physics.md §1.11). Not applied to the seabed (its
+  /// near-normal return is the sensor stage's first return, §1.10).
+  double specular_rho = 0.0;
+  /// RMS slope s of the unresolved (sub-facet) roughness of that lobe, (0, 1].
+  double specular_rms_slope = 0.1;
 
   /// Throws InputError naming the violated constraint.
   void validate() const;

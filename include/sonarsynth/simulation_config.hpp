@@ -24,6 +24,9 @@ struct PhysicsConfig {
   bool spreading = true;     ///< two-way r^-4
   bool beam_pattern = true;  ///< vertical beam pattern (off: uniform)
   bool absorption = true;    ///< Francois-Garrison from sonar frequency and `water`
+  /// Object glints: facets of objects whose material has a specular_rho add its Kirchhoff lobe
+  /// (docs/physics.md §1.11). Off: the backscatter law alone (the closed forms of §3).
+  bool object_glints = true;
   Seawater water;
   double calibration_k = 1.0;  ///< global constant K, > 0 (never per ping)
 };

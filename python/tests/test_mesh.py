@@ -36,8 +36,9 @@ def flat(name):
 @pytest.mark.parametrize("heading_rad,clearance_m", [(0.0, 0.0), (0.5, 0.0), (1.2, 0.7)])
 def test_mesh_cube_renders_as_the_analytic_box(heading_rad, clearance_m):
     box, mesh = flat("box"), flat("mesh")
-    steel = box.material_index("steel")
-    assert steel == mesh.material_index("steel")
+    # A smooth material: the built-in steel's roughness subdivides the two sections differently.
+    steel = box.material_index("rock")
+    assert steel == mesh.material_index("rock")
     box.add_object("box", 4, 12.0, 1.0, (2.5, 1.0, 0.75), heading_rad=heading_rad,
                    material=steel, clearance_m=clearance_m)
     v, t = cube(2.5, 1.0, 0.75)
@@ -63,7 +64,9 @@ def test_mesh_cube_renders_as_the_analytic_box(heading_rad, clearance_m):
 
 def test_face_materials_and_scale():
     one, two = flat("one"), flat("two")
-    steel, concrete = one.material_index("steel"), one.material_index("concrete")
+    # Smooth materials: the built-in steel and concrete are rough, which moves the cube's outline
+    # and so its shadow on the seabed.
+    steel, concrete = one.material_index("gravel"), one.material_index("rock")
     v, t = cube(0.5, 0.5, 0.5)
     # Scaled (5, 2, 1.5) it is the 2.5 x 1 x 0.75 box; every face of another material.
     one.add_mesh(4, v, t, x_m=12.0, y_m=1.0, scale=(5.0, 2.0, 1.5), material=steel)
@@ -73,7 +76,7 @@ def test_face_materials_and_scale():
     b = two.render_ping(0.0, 1.0, -12.0, 0.0, noise_key=3)["starboard"]
     on = a["object_id"] == 4
     assert on.sum() > 5 and np.array_equal(on, b["object_id"] == 4)
-    # Steel and concrete differ in backscatter: the cube's samples change, the seabed's do not
+    # Gravel and rock differ in backscatter: the cube's samples change, the seabed's do not
     # (outside its shadow both renders see the same sand).
     assert not np.array_equal(a["samples"][on], b["samples"][on])
     seabed = a["truth_class"] == sonarsynth.SAMPLE_CLASSES.index("seabed")

@@ -12,6 +12,7 @@
 #include <span>
 #include <vector>
 
+#include "sonarsynth/backscatter.hpp"
 #include "sonarsynth/render_math.hpp"
 #include "sonarsynth/render_side.hpp"
 
@@ -102,6 +103,15 @@ struct Facet {
   // everywhere on it (then the per-point test below decides).
   int series_terms;
   std::int32_t index;  // facet index in the profile
+  // Object glint (docs/physics.md §1.11), 0 = none: K beta_eff c0^2, so that a point's
+  // specular energy is glint_coef sigma_s(sec^2) sec^2 times the Lambert integrand's point
+  // factor (sigma_s r / r^4 = sigma_s sec^2 c0^2 / r^5, sec^2 = r^2 / c0^2); 1 / c0^2; the lobe.
+  double glint_coef;
+  double inv_c02;
+  KirchhoffLobe lobe;
+  // Longest sub-piece of one Gauss rule relative to its range (kMaxPieceOverRange, or less for a
+  // narrow glint lobe).
+  double max_piece_over_range;
   double range(double t) const {
     const double d = t - tm0;
     return std::sqrt(std::max(0.0, a * d * d + p2));
@@ -182,14 +192,17 @@ constexpr double kMaxPieceOverRange = 0.02;
 }
 #endif
 
-// Gauss–Legendre sum over [q0, q1] (in t) of the integrand without the arc-length factor.
+// Gauss–Legendre sum over [q0, q1] (in t) of the integrand without the arc-length factor and
+// without f.coef; kGlint: with f.coef and the facet's glint, coef + glint_coef sigma_s sec^2 per
+// point (scalar loop only).
+template <bool kGlint = false>
 [[gnu::always_inline]] inline double gauss_sum(const Facet& f, const Integrand& in, double q0,
                                                double dq) {
   const GaussRule& rule = *in.rule;
   double sum = 0.0;
   int g = 0;
 #ifdef SONARSYNTH_GAUSS_PAIRS
-  if ((in.beam == nullptr || in.paper) &&
+  if (!kGlint && (in.beam == nullptr || in.paper) &&
       (f.series_terms > 0 || !(in.gauss_coef > 0.0 || in.paper))) {
     if (rule.n == 2) {
       // The default rule: one pair, no loop (its loop-invariant set-up cost as much as the pair).
@@ -241,9 +254,26 @@ constexpr double kMaxPieceOverRange = 0.02;
     }
     if (in.kappa_per_m > 0.0) expo -= in.kappa_per_m * r;
     if (expo != 0.0) v *= exp_table(expo);
+    if constexpr (kGlint) {
+      const double sec2 = r2 * f.inv_c02;
+      v *= f.coef + f.glint_coef * f.lobe.sigma_of_sec2(sec2) * sec2;
+    }
     sum += v;
   }
   return sum;
+}
+
+template <bool kGlint>
+inline double piece_sum(const Facet& f, const Integrand& in, double q0, double dq, double dl,
+                        double rmid2) {
+  const double lim = f.max_piece_over_range;
+  if (dl * dl <= lim * lim * rmid2) return gauss_sum<kGlint>(f, in, q0, dq);
+  const double parts = std::ceil(dl / (lim * std::sqrt(rmid2)));
+  const int n = static_cast<int>(std::min(parts, 4096.0));
+  const double h = dq / static_cast<double>(n);
+  double sum = 0.0;
+  for (int k = 0; k < n; ++k) sum += gauss_sum<kGlint>(f, in, q0 + static_cast<double>(k) * h, h);
+  return sum / static_cast<double>(n);
 }
 
 // Integrates the sub-piece [q0, q1] of facet f into fine bin j.
@@ -256,18 +286,8 @@ inline void integrate(const Facet& f, const Integrand& in, double q0, double q1,
   const double tmid = 0.5 * (q0 + q1);
   const double my = f.ay + tmid * f.uy, mz = f.az + tmid * f.uz - in.sensor_z_m;
   const double rmid2 = my * my + mz * mz;
-  double sum;
-  if (dl * dl <= kMaxPieceOverRange * kMaxPieceOverRange * rmid2) {
-    sum = gauss_sum(f, in, q0, dq);
-  } else {
-    const double parts = std::ceil(dl / (kMaxPieceOverRange * std::sqrt(rmid2)));
-    const int n = static_cast<int>(std::min(parts, 4096.0));
-    const double h = dq / static_cast<double>(n);
-    sum = 0.0;
-    for (int k = 0; k < n; ++k) sum += gauss_sum(f, in, q0 + static_cast<double>(k) * h, h);
-    sum /= static_cast<double>(n);
-  }
-  const double e = sum * dl * f.coef;
+  const double e = f.glint_coef > 0.0 ? piece_sum<true>(f, in, q0, dq, dl, rmid2) * dl
+                                      : piece_sum<false>(f, in, q0, dq, dl, rmid2) * dl * f.coef;
   ws.energy[j] += e;
   if constexpr (kTruth) {
     if (e > ws.best[j]) {
@@ -420,7 +440,21 @@ inline double setup_facet(Facet& f, const Integrand& in, double hs, double ya, d
   f.set_series_terms();
   f.index = index;
   f.coef = coef_per_c0sq * c0 * c0;
+  f.glint_coef = 0.0;
+  f.max_piece_over_range = kMaxPieceOverRange;
   return c0;
+}
+
+// Adds the glint `lobe` of the facet's material to a facet set up by setup_facet (c0 its return
+// value, kb = K beta_eff): its pieces are then at most s / 4 of their range long, so that the
+// Gauss rule resolves the lobe (width s in tan theta).
+inline void add_glint(Facet& f, double c0, double kb, const KirchhoffLobe& lobe) {
+  if (!(lobe.peak > 0.0) || !(c0 > 0.0)) return;
+  f.lobe = lobe;
+  f.glint_coef = kb * c0 * c0;
+  f.inv_c02 = 1.0 / (c0 * c0);
+  const double quarter_s = 0.25 / std::sqrt(2.0 * lobe.inv_2s2);
+  f.max_piece_over_range = std::min(kMaxPieceOverRange, quarter_s);
 }
 
 }  // namespace sonarsynth::render_facet

@@ -29,6 +29,10 @@ struct SideParams {
   /// [-pi, pi] (tilt; the caller adds the roll towards this side).
   double beam_axis_depression_rad = 0.349065850398866;  // 20 deg
   BackscatterModel backscatter = BackscatterModel::lambert;
+  /// Object glints (docs/physics.md §1.11): the facets of closed sections whose material has a
+  /// specular_rho > 0 add its Kirchhoff lobe (KirchhoffLobe) to the material's backscatter law.
+  /// Off (the default here; the Simulator takes PhysicsConfig::object_glints): the law alone.
+  bool object_glints = false;
   /// Material table indexed by BeamProfile::material; non-empty.
   std::vector<Material> materials = {Material{.name = "default"}};
   bool spreading = true;             ///< two-way spherical spreading r^-4 (off: factor 1)

@@ -25,11 +25,11 @@ struct SensorModel {
   double floor_power = 0.0;       ///< mean receiver-noise power; 0 = off
   double volume_power = 0.0;      ///< volume reverberation at reference_altitude_m; 0 = off
   double reference_altitude_m = 1.0;
-  double fill_power = 0.0;         ///< shadow fill beyond the first return; 0 = off
-  double first_return_rho = 0.0;   ///< Kirchhoff reflection coefficient; 0 = off
-  double first_return_s2 = 0.0;    ///< RMS slope squared
-  double side_lobe_two_way = 0.0;  ///< two-way side-lobe floor of the vertical beam
-  double ring_down_m = 0.0;        ///< 0 = off
+  double fill_power = 0.0;              ///< shadow fill beyond the first return; 0 = off
+  double first_return_rho = 0.0;        ///< Kirchhoff reflection coefficient; 0 = off
+  double first_return_rms_slope = 0.0;  ///< s
+  double side_lobe_two_way = 0.0;       ///< two-way side-lobe floor of the vertical beam
+  double ring_down_m = 0.0;             ///< 0 = off
   /// What the TVG leaves of the seabed's fall with range, f(r) = r^-e exp(-b r) (1 for the
   /// compensating 30 log R + 2 alpha R): e = (30 - k) / 10, b = 2 (1 - a) alpha ln 10 / 10.
   double tvg_deficit_exponent = 0.0, tvg_deficit_per_m = 0.0;
