@@ -267,8 +267,8 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
   } else {
     // Unit-mean Gamma textures per patch (keyed by line and side, along-track and range
     // patch): volume scatterers (fish, bubbles) are sparse and the multipath reaching shadows
-    // blotchy. A patch's texture is interpolated linearly along the track between patch
-    // centres, so that it fades over consecutive pings instead of switching.
+    // blotchy. The texture is interpolated bilinearly between patch nodes, so that it fades
+    // over consecutive pings and samples instead of switching at patch edges.
     const std::uint64_t base =
         hash_combine(splitmix64(m.patch_seed ^ 0x9a7c4e5fULL), patch->line_side);
     const auto add_textured = [&](const std::vector<double>& level, std::size_t from,
@@ -292,16 +292,26 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
       const auto a0 = static_cast<std::uint64_t>(static_cast<std::int64_t>(fa));
       const std::uint64_t row0 = splitmix_stream(base ^ salt, a0);
       const std::uint64_t row1 = splitmix_stream(base ^ salt, a0 + 1);
+      // Patch values at the nodes (a, c) x (along_m, range_m), bilinear between them: no
+      // patch edges in the image.
+      const auto node = [&](std::uint64_t c) {
+        const double t0 = t(high32_midpoint(splitmix_stream(row0, c) << 32));
+        const double t1 = t(high32_midpoint(splitmix_stream(row1, c) << 32));
+        return (1.0 - wa) * t0 + wa * t1;
+      };
       std::uint64_t last_cell = ~std::uint64_t{0};
-      double tex = 1.0;
+      double lo = 1.0, hi = 1.0;
       for (std::size_t i = from; i < to; ++i) {
-        const auto cell = static_cast<std::uint64_t>((static_cast<double>(i) + 0.5) * inv_patch);
+        const double ur = (static_cast<double>(i) + 0.5) * inv_patch;
+        const double fr = std::floor(ur);
+        const auto cell = static_cast<std::uint64_t>(fr);
         if (cell != last_cell) {
-          const double t0 = t(high32_midpoint(splitmix_stream(row0, cell) << 32));
-          const double t1 = t(high32_midpoint(splitmix_stream(row1, cell) << 32));
-          tex = (1.0 - wa) * t0 + wa * t1;
+          lo = cell == last_cell + 1 ? hi : node(cell);
+          hi = node(cell + 1);
           last_cell = cell;
         }
+        const double wr = ur - fr;
+        const double tex = (1.0 - wr) * lo + wr * hi;
         mean[i] += level[i] * tex;
       }
     };

@@ -192,8 +192,8 @@ struct SensorConfig {
   /// multiplied by unit-mean Gamma textures of these shapes, frozen on patches of their own
   /// (along track x slant range): sparse scatterers in the water column (fish,
   /// bubbles, particles) and blotchy multipath in shadows. NaN = uniform.
-  double volume_texture_shape = 0.3;
-  double shadow_fill_texture_shape = 0.3;
+  double volume_texture_shape = 0.2;
+  double shadow_fill_texture_shape = 0.2;
   double volume_patch_along_track_m = 0.3;       ///< > 0 (about the array's footprint)
   double volume_patch_range_m = 0.0;             ///< >= 0; 0 = the sonar's range resolution
   double shadow_fill_patch_along_track_m = 0.5;  ///< > 0
