@@ -34,6 +34,10 @@ constexpr double kGx[4] = {
     0.5 * (1.0 + 0.33998104358485626480), 0.5 * (1.0 + 0.86113631159405257522)};
 constexpr double kGw[4] = {0.5 * 0.34785484513745385737, 0.5 * 0.65214515486254614263,
                            0.5 * 0.65214515486254614263, 0.5 * 0.34785484513745385737};
+// 2-point Gauss–Legendre on [0, 1].
+constexpr double kG2x[2] = {0.5 * (1.0 - 0.57735026918962576451),
+                            0.5 * (1.0 + 0.57735026918962576451)};
+constexpr double kG2w[2] = {0.5, 0.5};
 
 // Stream of the receiver noise of look j (distinct from the speckle and thermal streams).
 constexpr std::uint64_t kFloorStream = 0x5e15e0f1001ULL;
@@ -299,16 +303,24 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
         const double t1 = t(high32_midpoint(splitmix_stream(row1, c) << 32));
         return (1.0 - wa) * t0 + wa * t1;
       };
-      std::uint64_t last_cell = ~std::uint64_t{0};
+      std::uint64_t last_cell = 0;
+      bool have = false;
       double lo = 1.0, hi = 1.0;
       for (std::size_t i = from; i < to; ++i) {
+        // Where the echo is 30 dB or more above the term, its texture cannot show (a node of
+        // T = 10, 1 % of them for nu = 0.2, adds 1 %): the term at its mean, without the look-ups.
+        if (mean[i] > 1000.0 * level[i]) {
+          mean[i] += level[i];
+          continue;
+        }
         const double ur = (static_cast<double>(i) + 0.5) * inv_patch;
         const double fr = std::floor(ur);
         const auto cell = static_cast<std::uint64_t>(fr);
-        if (cell != last_cell) {
-          lo = cell == last_cell + 1 ? hi : node(cell);
+        if (!have || cell != last_cell) {
+          lo = have && cell == last_cell + 1 ? hi : node(cell);
           hi = node(cell + 1);
           last_cell = cell;
+          have = true;
         }
         const double wr = ur - fr;
         const double tex = (1.0 - wr) * lo + wr * hi;
@@ -341,6 +353,7 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
     const double gc = gaussian ? 8.0 * std::log(2.0) / (w3 * w3) : 0.0;
     const double ln_floor = std::log(m.side_lobe_two_way);  // -inf without a floor
     const double inv_h2 = 1.0 / h2;
+    const double slope_h = m.first_return_rms_slope * h;
     for (std::size_t i = first; i < n; ++i) {
       const double r0 = static_cast<double>(i) * dr, r1 = r0 + dr;
       const double y0 = r0 > h ? std::sqrt(r0 * r0 - h2) : 0.0;
@@ -361,11 +374,18 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
       // split point of the rule.
       double sum = 0.0;
       const double cut = y_kink > y0 && y_kink < y1 ? y_kink : y1;
+      // Bins narrow against their distance from nadir and the lobe's width s h (far from the
+      // sensor): the integrand is smooth on them, and 2-point Gauss–Legendre (error ~ (dy /
+      // scale)^4 / 4320 relative, below 1e-9 here) does what 4 points do at half the cost.
+      const bool smooth = cut == y1 && dy < 0.02 * y0 && dy < 0.02 * slope_h;
+      const double* gx = smooth ? kG2x : kGx;
+      const double* gw = smooth ? kG2w : kGw;
+      const int points = smooth ? 2 : 4;
       for (const auto& [a, b] : {std::pair{y0, cut}, std::pair{cut, y1}}) {
         const double w = b - a;
         if (!(w > 0.0)) continue;
-        for (int g = 0; g < 4; ++g) {
-          const double y = a + kGx[g] * w;
+        for (int g = 0; g < points; ++g) {
+          const double y = a + gx[g] * w;
           const double y2 = y * y;
           const double r2 = y2 + h2, r = std::sqrt(r2);
           const double sec2 = r2 * inv_h2;  // 1 / cos^2
@@ -384,7 +404,7 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
           } else {
             v *= std::max(side.vertical_beam.two_way(off), m.side_lobe_two_way);
           }
-          sum += kGw[g] * w * v * render_math::exp_table(expo);
+          sum += gw[g] * w * v * render_math::exp_table(expo);
         }
       }
       mean[i] += coef * sum;
