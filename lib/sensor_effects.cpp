@@ -341,8 +341,10 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
     // sigma = lobe.peak sec^4 exp(-lobe.exponent(tan^2)) (backscatter.hpp).
     const KirchhoffLobe lobe = KirchhoffLobe::make(m.first_return_rho, m.first_return_rms_slope);
     const double coef = side.calibration_k * side.beta_eff_rad * lobe.peak;
-    // sigma < e^-40 of its peak beyond tan^2 theta = 80 s^2: stop there.
-    const double tan2_max = KirchhoffLobe::kCutExponent / lobe.inv_2s2;
+    // sigma < e^-20 (2e-9) of its peak beyond tan^2 theta = 40 s^2, orders of magnitude below
+    // the diffuse seabed of the same bins: stop there.
+    constexpr double kFirstReturnCutExponent = 20.0;
+    const double tan2_max = kFirstReturnCutExponent / lobe.inv_2s2;
     const double y_kink =
         side_lobe_crossing_y(side.vertical_beam, m.side_lobe_two_way, h, axis_depression_rad);
     // One exp() per point: sigma's exp(-tan^2 / 2 s^2), the absorption and, for a Gaussian beam
