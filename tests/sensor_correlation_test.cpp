@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "simulator_test_util.hpp"
 #include "sonarsynth/simulator.hpp"
 
 namespace sonarsynth {
@@ -19,23 +20,11 @@ constexpr double kSeabedZ = -30.0;
 constexpr double kAltitude = 10.0;
 constexpr std::size_t kSamples = 600;
 
-// A flat sand seabed; with `wall`, a 6 m high ridge 8-10 m east of x = 0 (north-south).
+// A flat sand seabed 30 m deep; with `wall`, a 6 m high ridge 8-10 m east of x = 0.
 std::shared_ptr<const Scene> flat_scene(bool wall = false) {
-  auto scene = std::make_shared<Scene>(GeoFrame(31, true, 500000.0, 5000000.0));
-  const std::size_t n = 241;
-  GridGeometry g{-60.0, 60.0, 0.5, -0.5, n, n};
-  std::vector<float> z(g.size(), static_cast<float>(kSeabedZ));
-  if (wall) {
-    for (std::size_t r = 0; r < n; ++r) {
-      for (std::size_t c = 0; c < n; ++c) {
-        const double x = -60.0 + 0.5 * static_cast<double>(c);
-        if (x >= 8.0 && x <= 10.0) z[r * n + c] = static_cast<float>(kSeabedZ + 6.0);
-      }
-    }
-  }
-  scene->bathymetry = HeightGrid(g, z);
-  scene->material_map = MaterialMap(scene->materials.index_of("sand"));
-  return scene;
+  return std::make_shared<Scene>(test::make_scene(-60.0, -60.0, 120.0, 0.5, [&](double x, double) {
+    return wall && x >= 8.0 && x <= 10.0 ? kSeabedZ + 6.0 : kSeabedZ;
+  }));
 }
 
 // Intensity, one look, no thermal noise, no sensor terms: noisy over clean samples is the
