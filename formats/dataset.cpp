@@ -76,6 +76,10 @@ json record_json(const DatasetItemResult& r) {
     j["files"] = r.files;
     j["objects"] = r.object_counts;
     j["pings"] = r.pings;
+    json drawn = json::object();
+    for (const auto& [k, v] : r.drawn_numbers) drawn[k] = v;
+    for (const auto& [k, v] : r.drawn_names) drawn[k] = v;
+    j["drawn"] = drawn;
   }
   return j;
 }
@@ -89,6 +93,12 @@ DatasetItemResult result_from_json(const json& j) {
   if (j.contains("files")) r.files = j["files"].get<std::vector<std::string>>();
   if (j.contains("objects")) r.object_counts = j["objects"].get<std::map<std::string, int>>();
   if (j.contains("pings")) r.pings = j["pings"].get<std::uint64_t>();
+  if (j.contains("drawn")) {
+    for (const auto& [k, v] : j["drawn"].items()) {
+      if (v.is_number()) r.drawn_numbers[k] = v.get<double>();
+      if (v.is_string()) r.drawn_names[k] = v.get<std::string>();
+    }
+  }
   return r;
 }
 
@@ -153,6 +163,8 @@ DatasetItemResult run_dataset_item(const DatasetSpec& spec, const fs::path& dir,
   try {
     const DatasetItemScene scene = dataset_item_scene(spec, index);
     r.object_counts = scene.object_counts;
+    r.drawn_numbers = scene.drawn_numbers;
+    r.drawn_names = scene.drawn_names;
     char stage_name[128];
     std::snprintf(stage_name, sizeof stage_name, "%06zu.%s.%ld", index, host_name().c_str(),
                   static_cast<long>(::getpid()));

@@ -96,6 +96,10 @@ struct DatasetItemScene {
   std::uint64_t seed = 0;
   std::string yaml;
   std::map<std::string, int> object_counts;  ///< by type
+  /// The values drawn for this item by spec key ("survey.altitude_m", "sonar.preset", ...), so
+  /// that results can be sliced by them: numbers in the units of the key, names as text.
+  std::map<std::string, double> drawn_numbers;
+  std::map<std::string, std::string> drawn_names;
 };
 /// Draws item `index` (< spec.count); a pure function of (spec, index).
 DatasetItemScene dataset_item_scene(const DatasetSpec& spec, std::size_t index);
@@ -108,6 +112,8 @@ struct DatasetItemResult {
   std::string error;               ///< when failed
   std::vector<std::string> files;  ///< relative to the dataset directory
   std::map<std::string, int> object_counts;
+  std::map<std::string, double> drawn_numbers;     ///< DatasetItemScene::drawn_numbers
+  std::map<std::string, std::string> drawn_names;  ///< DatasetItemScene::drawn_names
   std::uint64_t pings = 0;
   double seconds = 0.0;  ///< wall time of this call
 };
