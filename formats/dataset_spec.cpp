@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Dataset specs (docs/dataset.md): reading and validating the spec file, and drawing item k's
 // scene file from it with counter-based random numbers keyed by the item's seed.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -238,19 +240,45 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
   }
   if (top.has("run")) {
     const Fields r = top.child("run");
-    r.only({"quality", "products"});
+    r.only({"quality", "products", "split"});
     s.quality = r.text("quality", s.quality);
     if (s.quality != "fast" && s.quality != "default" && s.quality != "high") {
       r.fail_value("quality", "one of fast, default, high");
     }
     if (r.has("products")) {
       const Fields p = r.child("products");
-      p.only({"mosaic", "waterfalls", "truth"});
+      p.only({"mosaic", "waterfalls", "truth", "labels"});
       s.mosaic = p.boolean("mosaic", s.mosaic);
       s.waterfalls = p.boolean("waterfalls", s.waterfalls);
       s.truth = p.boolean("truth", s.truth);
+      if (p.has("labels")) {
+        s.labels = yaml::read_label_output(p.child("labels"), s.truth);
+        YAML::Emitter e;
+        e.SetMapFormat(YAML::Flow);
+        e.SetSeqFormat(YAML::Flow);
+        e << p.node()["labels"];
+        s.labels_yaml = e.c_str();
+      }
+    }
+    if (r.has("split")) {
+      const Fields p = r.child("split");
+      p.only({"train", "val", "test"});
+      s.split = true;
+      s.split_train = p.number_in("train", 0.0, 0.0, 1.0);
+      s.split_val = p.number_in("val", 0.0, 0.0, 1.0);
+      s.split_test = p.number_in("test", 0.0, 0.0, 1.0);
+      if (std::abs(s.split_train + s.split_val + s.split_test - 1.0) > 1e-9) {
+        r.fail("split",
+               "train + val + test = " + number_text(s.split_train + s.split_val + s.split_test) +
+                   ". Violated constraint: the fractions sum to 1");
+      }
     }
   }
+  YAML::Node without_count = YAML::Clone(root);
+  without_count.remove("count");
+  YAML::Emitter e;
+  e << without_count;
+  s.identity = e.c_str();
   return s;
 }
 
@@ -330,16 +358,52 @@ double max_object_extent_m(const DatasetSpec& s) {
 }  // namespace
 
 DatasetSpec load_dataset_spec(const std::string& path) {
+  std::error_code ec;
+  if (path.empty())
+    throw InputError("dataset spec: '' (an empty path). Violated constraint: a file");
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw InputError(path + ": " +
+                     (std::filesystem::exists(path, ec) ? "not a regular file" : "no such file") +
+                     " (the dataset spec must be a YAML file)");
+  }
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes > kMaxDatasetSpecBytes) {
+    throw InputError(path + ": " +
+                     (ec ? std::string("cannot read its size") : std::to_string(bytes) + " bytes") +
+                     ". Violated constraint: a dataset spec of at most " +
+                     std::to_string(kMaxDatasetSpecBytes) + " bytes");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot read the dataset spec");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return load_dataset_spec_from_string(text.str(), path);
+  std::string text(static_cast<std::size_t>(bytes), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(bytes));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  return load_dataset_spec_from_string(text, path);
 }
 
 DatasetSpec load_dataset_spec_from_string(const std::string& yaml_text, const std::string& name) {
+  if (yaml_text.size() > kMaxDatasetSpecBytes) {
+    throw InputError(name + ": " + std::to_string(yaml_text.size()) +
+                     " bytes. Violated constraint: a dataset spec of at most " +
+                     std::to_string(kMaxDatasetSpecBytes) + " bytes");
+  }
   const YAML::Node root = yaml::load_string(yaml_text, name);
   return yaml::with_file_errors(name, [&] { return parse_spec(root, name, yaml_text); });
+}
+
+std::string dataset_item_split(const DatasetSpec& spec, std::size_t index) {
+  if (!spec.split) return "";
+  // Test first, then val among the rest: count_test(n) = round(n f_test) and count_val(n) =
+  // round(m g) over the m items not in test with g = f_val / (1 - f_test). Both round-offs are
+  // within 1/2, so every split holds n f +- 1 of any first n items.
+  const auto rounded = [](double n, double f) { return std::floor(n * f + 0.5); };
+  const auto i = static_cast<double>(index);
+  const double ft = spec.split_test;
+  if (rounded(i + 1.0, ft) > rounded(i, ft)) return "test";
+  const double g = ft < 1.0 ? std::min(1.0, spec.split_val / (1.0 - ft)) : 0.0;
+  const double j = i - rounded(i, ft);  // items before this one not in test
+  if (rounded(j + 1.0, g) > rounded(j, g)) return "val";
+  return "train";
 }
 
 std::uint64_t dataset_item_seed(const DatasetSpec& spec, std::size_t index) {
@@ -446,6 +510,7 @@ DatasetItemScene dataset_item_scene(const DatasetSpec& s, std::size_t index) {
   if (s.samples) y << "  samples: " << *s.samples << "\n";
   y << "noise:\n  model: " << s.noise_model.names[d.pick(s.noise_model.weights, kNoiseModel)]
     << "\n  snr_db: " << fx(d.in(s.snr_db, kSnr), 2) << "\n";
+  if (!s.labels_yaml.empty()) y << "output:\n  labels: " << s.labels_yaml << "\n";
   item.yaml = y.str();
   return item;
 }

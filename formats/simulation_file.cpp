@@ -114,9 +114,8 @@ void read_beam(const Fields& b, SimulationSetup& setup) {
 }
 
 // output.labels (docs/labels.md): coco, yolo, chips (a boolean, or a map of its settings).
-void read_labels(const Fields& f, SimulationSetup& setup) {
+void read_labels(const Fields& f, LabelOutput& l, bool truth) {
   f.only({"coco", "yolo", "chips"});
-  LabelOutput& l = setup.labels;
   l.coco = f.boolean("coco", l.coco);
   l.yolo = f.boolean("yolo", l.yolo);
   if (f.has("chips") && f.node()["chips"].IsMap()) {
@@ -136,7 +135,7 @@ void read_labels(const Fields& f, SimulationSetup& setup) {
   } else {
     l.chips = f.boolean("chips", l.chips);
   }
-  if (l.any() && !setup.config.truth) {
+  if (l.any() && !truth) {
     f.fail("", "labels need the truth (output.truth: true)");
   }
 }
@@ -193,6 +192,14 @@ std::string format_utc(UtcTime t) {
                 static_cast<double>(us % 60000000LL) / 1e6);
   return buf;
 }
+
+namespace yaml {
+LabelOutput read_label_output(const Fields& f, bool truth) {
+  LabelOutput l;
+  read_labels(f, l, truth);
+  return l;
+}
+}  // namespace yaml
 
 Survey SimulationSetup::make_survey() const {
   return Survey(lines, vehicle, config.sonar.effective_ping_period_s(), start_time, config.seed);
@@ -301,7 +308,7 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     const Fields f = top.child("output");
     f.only(keys_of("output", {"labels"}));
     options::read_all(f, "output", setup);
-    if (f.has("labels")) read_labels(f.child("labels"), setup);
+    if (f.has("labels")) read_labels(f.child("labels"), setup.labels, setup.config.truth);
   }
   // Common XTF readers take at most 8192 samples per channel: more only on request.
   if (const auto v = sample_count_violation(setup)) {

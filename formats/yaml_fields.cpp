@@ -197,36 +197,42 @@ std::uint64_t expanded_nodes(const YAML::Node& n, std::map<std::size_t, std::uin
 }
 }  // namespace
 
+namespace {
+// Aliases nested in aliases multiply: a few lines can stand for 10^9 nodes, which every
+// traversal of the document would then visit.
+void check_expansion(const YAML::Node& root, const std::string& name) {
+  constexpr std::uint64_t kMaxNodes = 1'000'000;
+  std::map<std::size_t, std::uint64_t> memo;
+  if (expanded_nodes(root, memo, kMaxNodes) > kMaxNodes) {
+    throw FormatError(name + ": the document expands to more than " + std::to_string(kMaxNodes) +
+                      " nodes through aliases (*name). Violated constraint: at most " +
+                      std::to_string(kMaxNodes) + " nodes once aliases are expanded");
+  }
+}
+
+template <class F>
+YAML::Node parse(const std::string& name, F&& load) {
+  try {
+    YAML::Node root = load();
+    check_expansion(root, name);
+    return root;
+  } catch (const YAML::Exception& e) {
+    throw FormatError(name + ": malformed YAML at line " + std::to_string(e.mark.line + 1) +
+                      ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg);
+  }
+}
+}  // namespace
+
 YAML::Node load_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw FormatError(path + ": no such file");
   }
-  try {
-    YAML::Node root = YAML::LoadFile(path);
-    // Aliases nested in aliases multiply: a few lines can stand for 10^9 nodes, which every
-    // traversal of the document would then visit.
-    constexpr std::uint64_t kMaxNodes = 1'000'000;
-    std::map<std::size_t, std::uint64_t> memo;
-    if (expanded_nodes(root, memo, kMaxNodes) > kMaxNodes) {
-      throw FormatError(path + ": the document expands to more than " + std::to_string(kMaxNodes) +
-                        " nodes through aliases (*name). Violated constraint: at most " +
-                        std::to_string(kMaxNodes) + " nodes once aliases are expanded");
-    }
-    return root;
-  } catch (const YAML::Exception& e) {
-    throw FormatError(path + ": malformed YAML at line " + std::to_string(e.mark.line + 1) +
-                      ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg);
-  }
+  return parse(path, [&] { return YAML::LoadFile(path); });
 }
 
 YAML::Node load_string(const std::string& text, const std::string& name) {
-  try {
-    return YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw FormatError(name + ": malformed YAML at line " + std::to_string(e.mark.line + 1) +
-                      ", column " + std::to_string(e.mark.column + 1) + ": " + e.msg);
-  }
+  return parse(name, [&] { return YAML::Load(text); });
 }
 
 }  // namespace sonarsynth::yaml

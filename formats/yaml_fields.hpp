@@ -14,6 +14,10 @@
 
 #include "sonarsynth/error.hpp"
 
+namespace sonarsynth {
+struct LabelOutput;  // include/sonarsynth/formats/simulation_file.hpp
+}
+
 namespace sonarsynth::yaml {
 
 class Fields {
@@ -72,6 +76,12 @@ class Fields {
   std::string file_;
   std::string path_;
 };
+
+/// An `output.labels` block (docs/labels.md) read as the scene reader reads it (the same keys,
+/// bounds and messages), wherever it appears: a scene file's output.labels, a dataset spec's
+/// run.products.labels. `truth`: whether the run writes truth (labels need it). Defined in
+/// formats/simulation_file.cpp.
+LabelOutput read_label_output(const Fields& f, bool truth);
 
 /// `file` relative to `base_dir` unless absolute, normalised.
 std::string resolve_path(const std::filesystem::path& base_dir, const std::string& file);

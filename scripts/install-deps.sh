@@ -8,7 +8,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libgdal-dev libpng-dev libisal-dev gdal-bin libgeographiclib-dev libboost-program-options-dev
-  libyaml-cpp-dev libassimp-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libyaml-cpp-dev libassimp-dev nlohmann-json3-dev libssl-dev libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox python3-dev python3-numpy python3-pytest python3-distributed pybind11-dev
 )
 if [[ "${1:-}" == "--dev" ]]; then

@@ -5,14 +5,23 @@
 #include "sonarsynth/formats/dataset.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/simulation_file.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -212,8 +221,13 @@ TEST_F(DatasetRun, ItemAloneEqualsItemInAFullRunAndRepeats) {
     EXPECT_EQ(j["index"].get<std::size_t>(), i);
     EXPECT_EQ(j["seed"].get<std::uint64_t>(), dataset_item_seed(s, i));
     EXPECT_EQ(j["status"], "done");
-    EXPECT_EQ(j,
-              nlohmann::json::parse(read_text(dir_ / "full" / dataset_item_dir(i) / "item.json")));
+    auto record =
+        nlohmann::json::parse(read_text(dir_ / "full" / dataset_item_dir(i) / "item.json"));
+    // The file records (sizes and SHA-256) stay in item.json; the rest is the manifest line.
+    ASSERT_TRUE(record.contains("file_records"));
+    record.erase("file_records");
+    EXPECT_EQ(j, record);
+    EXPECT_EQ(j["seed_text"], std::to_string(dataset_item_seed(s, i)));
     for (const auto& f : j["files"]) EXPECT_TRUE(fs::exists(dir_ / "full" / f.get<std::string>()));
     EXPECT_GT(j["pings"].get<int>(), 0);
   }
@@ -268,7 +282,9 @@ TEST_F(DatasetRun, ShardsPartitionTheItemsAndARerunResumes) {
 TEST_F(DatasetRun, AnotherSpecInTheSameDirectoryIsRefused) {
   prepare_dataset_dir(tiny(2), dir_ / "d");
   try {
-    prepare_dataset_dir(tiny(3), dir_ / "d");
+    prepare_dataset_dir(
+        load_dataset_spec_from_string(replaced(tiny_spec(2), "seed: 99", "seed: 98"), "b.yaml"),
+        dir_ / "d");
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("another spec"), std::string::npos) << e.what();
@@ -324,6 +340,244 @@ TEST_F(DatasetRun, CommandLine) {
       "dataset " + spec.string() + " -o " + (dir_ / "d").string() + " --shard 2/2", dir_);
   EXPECT_NE(s.exit_code, 0);
   EXPECT_NE(s.err.find("--shard = '2/2'"), std::string::npos) << s.err;
+}
+
+TEST(DatasetSpec, SplitHoldsItsFractionsInEveryPrefixOfTheItems) {
+  // Independent count: for every n <= 2000 the items 0..n-1 of each split number n f +- 1.
+  const std::vector<std::array<double, 3>> fractions = {
+      {0.8, 0.1, 0.1}, {0.7, 0.2, 0.1}, {1.0 / 3, 1.0 / 3, 1.0 / 3}, {0.5, 0.5, 0.0},
+      {0.0, 0.0, 1.0}, {0.9, 0.0, 0.1}, {0.05, 0.9, 0.05},           {0.61, 0.27, 0.12}};
+  for (const auto& f : fractions) {
+    std::ostringstream extra;
+    extra << "run: {quality: fast, split: {train: " << std::setprecision(17) << f[0]
+          << ", val: " << f[1] << ", test: " << 1.0 - f[0] - f[1] << "}}\n";
+    const DatasetSpec s = load_dataset_spec_from_string(
+        replaced(tiny_spec(2000), "run: {quality: fast}\n", extra.str()), "split.yaml");
+    ASSERT_TRUE(s.split);
+    std::array<double, 3> count = {0, 0, 0};
+    for (std::size_t i = 0; i < 2000; ++i) {
+      const std::string sp = dataset_item_split(s, i);
+      const int k = sp == "train" ? 0 : sp == "val" ? 1 : sp == "test" ? 2 : -1;
+      ASSERT_GE(k, 0) << sp;
+      count[static_cast<std::size_t>(k)] += 1;
+      const double n = static_cast<double>(i + 1);
+      for (std::size_t c = 0; c < 3; ++c) {
+        ASSERT_LE(std::abs(count[c] - n * f[c]), 1.0 + 1e-9)
+            << "fractions " << f[0] << "/" << f[1] << "/" << f[2] << ", n " << n << ", split " << c;
+      }
+    }
+  }
+  EXPECT_EQ(dataset_item_split(tiny(3), 0), "");  // no run.split: no split
+  EXPECT_NE(spec_error(replaced(tiny_spec(3), "run: {quality: fast}",
+                                "run: {split: {train: 0.8, val: 0.1, test: 0.2}}"))
+                .find("bad.yaml: run.split: train + val + test = 1.1"),
+            std::string::npos);
+  EXPECT_NE(spec_error(replaced(tiny_spec(3), "run: {quality: fast}",
+                                "run: {split: {train: 0.8, valid: 0.2}}"))
+                .find("run.split.valid"),
+            std::string::npos);
+}
+
+TEST(DatasetSpec, LabelsTakeTheSceneFilesBlockAndGoIntoEveryItemsScene) {
+  const std::string with =
+      replaced(tiny_spec(3), "run: {quality: fast}",
+               "run: {products: {labels: {coco: true, chips: {size_px: 32}}}}");
+  const DatasetSpec s = load_dataset_spec_from_string(with, "l.yaml");
+  EXPECT_TRUE(s.labels.coco);
+  EXPECT_TRUE(s.labels.chips);
+  EXPECT_EQ(s.labels.chip_size_px, 32u);
+  // The drawn scene carries the block; the scene reader reads the same settings from it.
+  const DatasetItemScene item = dataset_item_scene(s, 1);
+  const SimulationSetup setup =
+      load_simulation_from_string(item.yaml, "item.yaml", fs::temp_directory_path());
+  EXPECT_TRUE(setup.labels.coco);
+  EXPECT_FALSE(setup.labels.yolo);
+  EXPECT_TRUE(setup.labels.chips);
+  EXPECT_EQ(setup.labels.chip_size_px, 32u);
+  // The errors of the scene reader, at the spec's key.
+  const std::string e1 = spec_error(
+      replaced(tiny_spec(3), "run: {quality: fast}", "run: {products: {labels: {cocoa: true}}}"));
+  EXPECT_NE(e1.find("bad.yaml: run.products.labels.cocoa"), std::string::npos) << e1;
+  const std::string e2 = spec_error(replaced(tiny_spec(3), "run: {quality: fast}",
+                                             "run: {products: {labels: {chips: {size_px: 3}}}}"));
+  EXPECT_NE(e2.find("run.products.labels.chips.size_px"), std::string::npos) << e2;
+  const std::string e3 =
+      spec_error(replaced(tiny_spec(3), "run: {quality: fast}",
+                          "run: {products: {truth: false, labels: {coco: true}}}"));
+  EXPECT_NE(e3.find("labels need the truth"), std::string::npos) << e3;
+}
+
+TEST(DatasetSpec, TheSpecFileIsCheckedBeforeItIsRead) {
+  for (const std::string path : {"/dev/zero", "/nonexistent/spec.yaml", "/tmp", ""}) {
+    try {
+      load_dataset_spec(path);
+      FAIL() << path;
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(path.empty() ? "''" : path), std::string::npos) << msg;
+    }
+  }
+  const std::string big(kMaxDatasetSpecBytes + 1, '#');
+  try {
+    load_dataset_spec_from_string(big, "big.yaml");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("big.yaml: 1048577 bytes"), std::string::npos) << e.what();
+  }
+  // Aliases that expand a few lines into 10^9 nodes are refused like in scene files.
+  std::string bomb = "a: &a [x, x, x, x, x, x, x, x, x, x]\n";
+  for (char c = 'b'; c <= 'j'; ++c) {
+    const char prev = static_cast<char>(c - 1);
+    bomb += std::string(1, c) + ": &" + c + " [*" + prev + ", *" + prev + ", *" + prev + ", *" +
+            prev + ", *" + prev + ", *" + prev + ", *" + prev + ", *" + prev + ", *" + prev +
+            ", *" + prev + "]\n";
+  }
+  EXPECT_THROW(load_dataset_spec_from_string(bomb, "bomb.yaml"), FormatError);
+}
+
+TEST(DatasetSpec, ParseItemRange) {
+  EXPECT_EQ(parse_item_range("3:7", "--items"), (std::pair<std::size_t, std::size_t>{3, 7}));
+  EXPECT_EQ(parse_item_range(":7", "--items"), (std::pair<std::size_t, std::size_t>{0, 7}));
+  EXPECT_EQ(parse_item_range("5:", "--items").first, 5u);
+  for (const std::string bad : {"7:3", "3:3", "3", "a:b", "-1:4", "1:2:3"}) {
+    try {
+      parse_item_range(bad, "--items");
+      FAIL() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("--items = '" + bad + "'"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+TEST_F(DatasetRun, RaisingCountGrowsTheDatasetAndAnItemRangeRendersASlice) {
+  run_dataset(tiny(3), dir_ / "d");
+  const auto first3 = snapshot(dir_ / "d" / "items");
+  // count 3 -> 5: only items 3 and 4 are rendered; the first three keep their bytes.
+  const DatasetRunResult grown = run_dataset(tiny(5), dir_ / "d");
+  EXPECT_EQ(grown.done, 2u);
+  EXPECT_EQ(grown.skipped, 3u);
+  for (const auto& [path, bytes] : first3)
+    EXPECT_EQ(snapshot(dir_ / "d" / "items").at(path), bytes);
+  EXPECT_EQ(read_text(dir_ / "d" / "spec.yaml"), tiny(5).text);
+  // The grown dataset equals one made with count 5 at once.
+  run_dataset(tiny(5), dir_ / "at_once");
+  EXPECT_EQ(snapshot(dir_ / "d"), snapshot(dir_ / "at_once"));
+  // A slice: items 1 and 2 of a fresh directory, nothing else.
+  DatasetRunOptions o;
+  o.first_item = 1;
+  o.end_item = 3;
+  const DatasetRunResult slice = run_dataset(tiny(5), dir_ / "slice", o);
+  EXPECT_EQ(slice.done, 2u);
+  EXPECT_EQ(slice.items.front().index, 1u);
+  EXPECT_FALSE(fs::exists(dir_ / "slice" / dataset_item_dir(0)));
+  EXPECT_FALSE(fs::exists(dir_ / "slice" / dataset_item_dir(3)));
+  EXPECT_EQ(snapshot(dir_ / "slice" / dataset_item_dir(2)),
+            snapshot(dir_ / "d" / dataset_item_dir(2)));
+  o.first_item = 5;
+  o.end_item = 9;
+  EXPECT_THROW(run_dataset(tiny(5), dir_ / "slice", o), InputError);
+}
+
+TEST_F(DatasetRun, ADamagedItemIsRenderedAgainNotReportedDone) {
+  const DatasetSpec s = tiny(2);
+  run_dataset(s, dir_ / "d");
+  const auto item1 = snapshot(dir_ / "d" / dataset_item_dir(1));
+  fs::remove(dir_ / "d" / dataset_item_dir(1) / "L1.xtf");
+  DatasetRunResult r = run_dataset(s, dir_ / "d");
+  EXPECT_EQ(r.done, 1u);
+  EXPECT_EQ(r.repaired, 1u);
+  EXPECT_NE(r.items[1].repaired.find("L1.xtf is missing"), std::string::npos)
+      << r.items[1].repaired;
+  EXPECT_EQ(snapshot(dir_ / "d" / dataset_item_dir(1)), item1);
+  // A file changed in place (same size) is found with verify, by its SHA-256.
+  {
+    std::fstream f(dir_ / "d" / dataset_item_dir(1) / "scene.yaml",
+                   std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(0);
+    f.put('%');
+  }
+  EXPECT_EQ(run_dataset(s, dir_ / "d").skipped, 2u);  // sizes only: not seen
+  DatasetRunOptions o;
+  o.verify = true;
+  r = run_dataset(s, dir_ / "d", o);
+  EXPECT_EQ(r.repaired, 1u);
+  EXPECT_NE(r.items[1].repaired.find("another SHA-256"), std::string::npos);
+  EXPECT_EQ(snapshot(dir_ / "d" / dataset_item_dir(1)), item1);
+  // Every recorded SHA-256 is the file's (checked with the system's sha256sum).
+  const auto record =
+      nlohmann::json::parse(read_text(dir_ / "d" / dataset_item_dir(1) / "item.json"));
+  const auto f0 = record["file_records"][0];
+  const fs::path out = dir_ / "sum.txt";
+  const std::string cmd =
+      "sha256sum '" + (dir_ / "d" / dataset_item_dir(1) / f0["path"].get<std::string>()).string() +
+      "' > '" + out.string() + "'";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_EQ(read_text(out).substr(0, 64), f0["sha256"].get<std::string>());
+}
+
+TEST_F(DatasetRun, OrphanedStagingIsRemovedAndThreadsOfOneProcessDoNotCollide) {
+  const DatasetSpec s = tiny(2);
+  prepare_dataset_dir(s, dir_ / "d");
+  // A child that has exited: its pid is no longer running (kill -9 of a run leaves this).
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ::waitpid(child, nullptr, 0);
+  char host[256] = {};
+  ::gethostname(host, sizeof host - 1);
+  std::string h(host);
+  for (char& c : h) {
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-')) c = '_';
+  }
+  const fs::path dead = dir_ / "d" / ".work" / ("000001." + h + "." + std::to_string(child) + ".0");
+  const fs::path other_host = dir_ / "d" / ".work" / "000001.otherhost.1.0";
+  const fs::path live =
+      dir_ / "d" / ".work" / ("000001." + h + "." + std::to_string(::getpid()) + ".99");
+  for (const auto& p : {dead, other_host, live}) fs::create_directories(p / "item");
+  prepare_dataset_dir(s, dir_ / "d");
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(other_host));  // may belong to a run on another machine
+  EXPECT_TRUE(fs::exists(live));        // this process is running
+  fs::remove_all(other_host);
+  fs::remove_all(live);
+  // Four threads of one process on the same two items: each item done once, no failure.
+  std::vector<std::thread> threads;
+  std::atomic<int> errors{0};
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      try {
+        run_dataset_item(s, dir_ / "d", static_cast<std::size_t>(t % 2), 1);
+      } catch (const std::exception&) {
+        ++errors;
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  EXPECT_EQ(errors.load(), 0);
+  EXPECT_TRUE(fs::is_empty(dir_ / "d" / ".work"));
+  EXPECT_TRUE(fs::is_empty(dir_ / "d" / "failed"));
+  run_dataset(s, dir_ / "once");
+  EXPECT_EQ(snapshot(dir_ / "d" / "items"), snapshot(dir_ / "once" / "items"));
+}
+
+TEST_F(DatasetRun, CommandLineRefusesAnEmptyOutputAndANonFileSpec) {
+  const fs::path spec = write("spec.yaml", tiny_spec(2));
+  const auto before = snapshot(dir_);
+  const auto e = test::run_cli("dataset " + spec.string() + " -o ''", dir_);
+  EXPECT_NE(e.exit_code, 0);
+  EXPECT_NE(e.err.find("-o ''"), std::string::npos) << e.err;
+  EXPECT_EQ(snapshot(dir_), before);  // nothing written into the working directory
+  const auto z = test::run_cli("dataset /dev/zero -o " + (dir_ / "z").string(), dir_);
+  EXPECT_NE(z.exit_code, 0);
+  EXPECT_NE(z.err.find("/dev/zero: not a regular file"), std::string::npos) << z.err;
+  EXPECT_FALSE(fs::exists(dir_ / "z"));
+  const auto i = test::run_cli(
+      "dataset " + spec.string() + " -o " + (dir_ / "i").string() + " --items 1:2 --threads 1",
+      dir_);
+  EXPECT_EQ(i.exit_code, 0) << i.err;
+  EXPECT_TRUE(fs::exists(dir_ / "i" / dataset_item_dir(1) / "item.json"));
+  EXPECT_FALSE(fs::exists(dir_ / "i" / dataset_item_dir(0)));
 }
 
 }  // namespace

@@ -17,6 +17,8 @@ py::dict item_dict(const DatasetItemResult& r) {
   d["index"] = r.index;
   d["seed"] = r.seed;
   d["status"] = r.status;
+  d["split"] = r.split;
+  d["repaired"] = r.repaired;
   d["error"] = r.error;
   d["files"] = r.files;
   d["objects"] = r.object_counts;
@@ -43,6 +45,11 @@ void bind_dataset(py::module_& m) {
       .def_readonly("seed", &DatasetSpec::seed)
       .def_readonly("count", &DatasetSpec::count)
       .def(
+          "item_split",
+          [](const DatasetSpec& s, std::size_t i) { return dataset_item_split(s, i); },
+          py::arg("index"),
+          "The split of item `index`: 'train', 'val', 'test' ('' without run.split).")
+      .def(
           "item_seed", [](const DatasetSpec& s, std::size_t i) { return dataset_item_seed(s, i); },
           py::arg("index"),
           "The seed of item `index`: a keyed hash of the index with the spec's seed as key.")
@@ -64,28 +71,38 @@ void bind_dataset(py::module_& m) {
   m.def(
       "run_dataset_item",
       [](const DatasetSpec& s, const std::filesystem::path& dir, std::size_t index,
-         unsigned threads) {
+         unsigned threads, bool verify) {
         DatasetItemResult r;
         {
           py::gil_scoped_release release;
-          r = run_dataset_item(s, dir, index, threads);
+          r = run_dataset_item(s, dir, index, threads, verify);
         }
         return item_dict(r);
       },
       py::arg("spec"), py::arg("dir"), py::arg("index"), py::arg("threads") = 0,
+      py::arg("verify") = false,
       "Renders item `index` into `dir` (prepare_dataset_dir first), atomically; an item already "
-      "there is skipped. Returns {index, seed, status: done | skipped, files, objects (counts "
-      "by type), pings, seconds (wall time, s)}. Raises ValueError / FormatError naming the "
+      "there is skipped unless its files do not match its record (then it is rendered again and "
+      "`repaired` says why; verify=True also checks their SHA-256). Returns {index, seed, "
+      "status: done | skipped, split, repaired, files, objects (counts by type), pings, seconds "
+      "(wall time, s)}. Raises ValueError / FormatError naming the "
       "index and seed if the item fails. threads: per item, 0 = all cores (the files do not "
       "depend on it). The GIL is released while rendering.");
   m.def(
       "run_dataset",
       [](const DatasetSpec& s, const std::filesystem::path& dir, unsigned threads,
-         std::pair<std::size_t, std::size_t> shard, const py::object& progress) {
+         std::pair<std::size_t, std::size_t> shard, const py::object& progress,
+         const py::object& item_range, bool verify) {
         DatasetRunOptions o;
         o.threads = threads;
         o.shard_index = shard.first;
         o.shard_count = shard.second;
+        o.verify = verify;
+        if (!item_range.is_none()) {
+          const auto range = item_range.cast<std::pair<std::size_t, std::size_t>>();
+          o.first_item = range.first;
+          o.end_item = range.second;
+        }
         if (!progress.is_none()) {
           o.progress = [&progress](std::size_t done, std::size_t total,
                                    const DatasetItemResult& r) {
@@ -105,16 +122,18 @@ void bind_dataset(py::module_& m) {
         d["done"] = r.done;
         d["skipped"] = r.skipped;
         d["failed"] = r.failed;
+        d["repaired"] = r.repaired;
         d["seconds"] = r.seconds;
         return d;
       },
       py::arg("spec"), py::arg("dir"), py::arg("threads") = 0,
       py::arg("shard") = std::pair<std::size_t, std::size_t>{0, 1},
-      py::arg("progress") = py::none(),
-      "Renders the items i with i % shard[1] == shard[0] one after the other (what `sonarsynth "
+      py::arg("progress") = py::none(), py::arg("items") = py::none(), py::arg("verify") = false,
+      "Renders the items i with i % shard[1] == shard[0] (and items[0] <= i < items[1] when "
+      "`items` is given) one after the other (what `sonarsynth "
       "dataset` does), recording a failed item and going on, then writes manifest.jsonl and "
-      "summary.json. progress(done, total, item) is called after each item. Returns {items, "
-      "done, skipped, failed, seconds}.");
+      "summary.json (and the dataset-level annotation files). progress(done, total, item) is "
+      "called after each item. Returns {items, done, skipped, failed, repaired, seconds}.");
   m.def("write_dataset_manifest", &write_dataset_manifest, py::arg("spec"), py::arg("dir"),
         "Rewrites manifest.jsonl and summary.json from the items' records in `dir`.");
 }

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/formats/simulation_file.hpp"
+
 namespace sonarsynth {
 
 /// A number drawn uniformly from [lo, hi]; lo == hi is a fixed value. In a spec file: a number,
@@ -78,7 +80,21 @@ struct DatasetSpec {
   bool mosaic = false;
   bool waterfalls = true;
   bool truth = true;
+  /// run.products.labels: the same block as output.labels in a scene file (docs/labels.md),
+  /// written into every item's scene file as it was given ("" = no labels).
+  std::string labels_yaml;
+  LabelOutput labels;  ///< run.products.labels as read
+  /// run.split: the fractions of the items in train, val and test (each >= 0, sum 1); all
+  /// images and chips of an item belong to the item's split. Not given: no split.
+  bool split = false;
+  double split_train = 1.0, split_val = 0.0, split_test = 0.0;
+  /// The spec without `count` (canonical YAML): two specs with the same identity draw the same
+  /// items, so a dataset directory may be grown or shrunk by changing `count` alone.
+  std::string identity;
 };
+
+/// The largest spec file read (bytes).
+inline constexpr std::size_t kMaxDatasetSpecBytes = std::size_t{1} << 20;
 
 /// Reads and validates a spec file; throws InputError / FormatError naming the file, the field
 /// and the value.
@@ -104,6 +120,11 @@ struct DatasetItemScene {
 /// Draws item `index` (< spec.count); a pure function of (spec, index).
 DatasetItemScene dataset_item_scene(const DatasetSpec& spec, std::size_t index);
 
+/// The split of item `index` ("train", "val" or "test"; "" without run.split). Interleaved by
+/// index so that among the first n items, for every n, each split holds its fraction of n to
+/// within one item: a dataset grown by raising `count` keeps the split of every item it had.
+std::string dataset_item_split(const DatasetSpec& spec, std::size_t index);
+
 /// What became of one item.
 struct DatasetItemResult {
   std::size_t index = 0;
@@ -115,6 +136,18 @@ struct DatasetItemResult {
   std::map<std::string, double> drawn_numbers;     ///< DatasetItemScene::drawn_numbers
   std::map<std::string, std::string> drawn_names;  ///< DatasetItemScene::drawn_names
   std::uint64_t pings = 0;
+  std::string split;  ///< dataset_item_split()
+  /// Each file of the item (paths relative to the item directory; item.json itself excepted)
+  /// with its size and SHA-256, as written: a resumed run checks the sizes (and with `verify`
+  /// the hashes) before it counts the item as done.
+  struct FileRecord {
+    std::string path;
+    std::uint64_t bytes = 0;
+    std::string sha256;
+  };
+  std::vector<FileRecord> file_records;
+  /// A done item found damaged (a file missing or changed) and rendered again: what was wrong.
+  std::string repaired;
   double seconds = 0.0;  ///< wall time of this call
 };
 
@@ -129,15 +162,21 @@ void prepare_dataset_dir(const DatasetSpec& spec, const std::filesystem::path& d
 /// products and `item.json` are written into a temporary directory that is renamed into place
 /// when complete; an item already in place is skipped. `threads` 0 = all cores (the files do not
 /// depend on it). Throws InputError / FormatError naming the index and seed when the item fails
-/// (and records the failure in `failed/<index>.json`).
+/// (and records the failure in `failed/<index>.json`). An item already in place whose files do
+/// not match its record (a file missing or resized; with `verify` also a SHA-256 changed) is
+/// rendered again, and DatasetItemResult::repaired says what was wrong.
 DatasetItemResult run_dataset_item(const DatasetSpec& spec, const std::filesystem::path& dir,
-                                   std::size_t index, unsigned threads = 0);
+                                   std::size_t index, unsigned threads = 0, bool verify = false);
 
 /// Options of run_dataset().
 struct DatasetRunOptions {
   unsigned threads = 0;         ///< per item; 0 = all cores
   std::size_t shard_index = 0;  ///< this run does the items i with i % shard_count == shard_index
   std::size_t shard_count = 1;  ///< >= 1
+  /// Only the items in [first_item, end_item) (of this shard); end_item is capped at count.
+  std::size_t first_item = 0;
+  std::size_t end_item = static_cast<std::size_t>(-1);
+  bool verify = false;  ///< check the SHA-256 of every file of the items already done
   /// Called after each item (done, skipped or failed): (items finished, items of this shard).
   std::function<void(std::size_t, std::size_t, const DatasetItemResult&)> progress;
 };
@@ -146,6 +185,7 @@ struct DatasetRunOptions {
 struct DatasetRunResult {
   std::vector<DatasetItemResult> items;  ///< this shard's, in index order
   std::size_t done = 0, skipped = 0, failed = 0;
+  std::size_t repaired = 0;  ///< of `done`: items found damaged and rendered again
   double seconds = 0.0;
 };
 
@@ -154,12 +194,19 @@ std::pair<std::size_t, std::size_t> parse_shard(const std::string& text, const s
 
 /// Runs this shard's items one after the other (a failed item is recorded and the run goes on),
 /// then writes the manifest (write_dataset_manifest).
+/// Parses "A:B" (0 <= A < B, either may be left out: ":B", "A:") for --items into [A, B); throws
+/// InputError naming `what`.
+std::pair<std::size_t, std::size_t> parse_item_range(const std::string& text,
+                                                     const std::string& what);
+
 DatasetRunResult run_dataset(const DatasetSpec& spec, const std::filesystem::path& dir,
                              const DatasetRunOptions& options = {});
 
-/// Writes `manifest.jsonl` (one JSON object per item in index order: index, seed, status
-/// done / failed / pending, dir, files, objects, pings, error) and `summary.json` from the items'
-/// records in `dir`, each file atomically. Any process may call it at any time.
+/// Writes `manifest.jsonl` (one JSON object per item in index order: index, seed, seed_text,
+/// status done / failed / pending, split, dir, files, objects, drawn, pings, error) and
+/// `summary.json` from the items' records in `dir`, and with run.products.labels the
+/// dataset-level annotation files merged over the done items (docs/dataset.md), each file
+/// atomically. Any process may call it at any time.
 void write_dataset_manifest(const DatasetSpec& spec, const std::filesystem::path& dir);
 
 }  // namespace sonarsynth

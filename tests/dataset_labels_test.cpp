@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: MIT
+// Datasets ready for detector training (docs/dataset.md): labels declared in the spec, the
+// dataset-level COCO / YOLO files merged over the items, the train/val/test split, growth.
+// Boxes are checked against the label rasters read back with GDAL and flood-filled here.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "cli_test_util.hpp"
+#include "label_check_util.hpp"
+#include "sonarsynth/formats/dataset.hpp"
+
+namespace sonarsynth {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::read_text;
+using test::snapshot;
+
+// Small items (a 4 m line, 10 m range, 128 samples) with objects in every one, so that a
+// few hundred items render in seconds.
+std::string spec_text(std::size_t count) {
+  return "name: labelled\nseed: 7\ncount: " + std::to_string(count) + R"(
+location: {lat_deg: 43.0, lon_deg: 5.0}
+seabed: {depth_m: [9, 11], cell_m: 0.5, material: sand, roughness: {rms_m: 0.02, wavelength_m: 5}}
+objects:
+  count: [1, 2]
+  across_track_m: [2, 6]
+  types:
+    rock: {diameter_m: [0.6, 1.2]}
+    box: {length_m: [1, 2], width_m: [0.6, 1], height_m: [0.5, 0.9]}
+survey: {line_length_m: 4, altitude_m: [3, 4], speed_m_s: 2}
+sonar: {preset: seascan-hds-600, range_m: 10, samples: 128}
+noise: {model: speckle, snr_db: 20}
+run:
+  quality: fast
+  products:
+    waterfalls: true
+    truth: true
+    labels: {coco: true, yolo: true, chips: {size_px: 32, stride_px: 32, max_nodata_fraction: 0.9}}
+  split: {train: 0.8, val: 0.1, test: 0.1}
+)";
+}
+
+DatasetSpec spec(std::size_t count) {
+  return load_dataset_spec_from_string(spec_text(count), "labelled.yaml");
+}
+
+json read_json(const fs::path& p) {
+  return json::parse(read_text(p));
+}
+
+class DatasetLabels : public test::ScratchDirTest {};
+
+TEST_F(DatasetLabels, TwoHundredItemsMergeSplitRepeatAndGrow) {
+  const fs::path d = dir_ / "d";
+  DatasetRunOptions one_thread;
+  one_thread.threads = 1;
+  const DatasetRunResult r = run_dataset(spec(200), d, one_thread);
+  ASSERT_EQ(r.done, 200u);
+  ASSERT_EQ(r.failed, 0u);
+
+  // Split: every item's split in the manifest, each within one item of its fraction.
+  std::map<std::string, std::set<std::size_t>> split_items;
+  {
+    std::istringstream m(read_text(d / "manifest.jsonl"));
+    std::string line;
+    while (std::getline(m, line)) {
+      const json j = json::parse(line);
+      split_items[j["split"].get<std::string>()].insert(j["index"].get<std::size_t>());
+    }
+  }
+  const std::map<std::string, double> fraction = {{"train", 0.8}, {"val", 0.1}, {"test", 0.1}};
+  for (const auto& [name, f] : fraction) {
+    EXPECT_LE(std::abs(static_cast<double>(split_items[name].size()) - 200.0 * f), 1.0) << name;
+  }
+
+  // Merged COCO files: every image exists and belongs to an item of the split; every box of a
+  // whole waterfall equals a connected piece of its item's label rasters and vice versa.
+  std::size_t boxes_checked = 0;
+  for (const auto& [split, items] : split_items) {
+    for (const std::string set : {"waterfalls", "chips"}) {
+      const fs::path merged = d / "annotations" / (set + "_" + split + ".coco.json");
+      ASSERT_TRUE(fs::exists(merged)) << merged;
+      const json coco = read_json(merged);
+      EXPECT_TRUE(coco["licenses"].is_array());
+      std::map<long long, std::vector<test::BoxRow>> by_image;
+      for (const auto& a : coco["annotations"]) {
+        const auto& b = a["bbox"];
+        const std::size_t x = b[0], y = b[1], w = b[2], h = b[3];
+        by_image[a["image_id"].get<long long>()].push_back({a["object_id"].get<std::size_t>(),
+                                                            a["category_id"].get<std::size_t>(), x,
+                                                            y, x + w, y + h});
+      }
+      std::set<std::size_t> seen_items;
+      for (const auto& im : coco["images"]) {
+        const std::string file = im["file_name"];
+        EXPECT_TRUE(fs::exists(d / file)) << file;
+        const std::size_t item = im["item"];
+        EXPECT_EQ(items.count(item), 1u) << file << " in split " << split;
+        seen_items.insert(item);
+        if (set != "waterfalls") continue;
+        const fs::path item_dir = d / dataset_item_dir(item);
+        const auto cls = test::read_label_raster(item_dir / "L1_truth_class.tif");
+        const auto inst = test::read_label_raster(item_dir / "L1_truth_instance.tif");
+        auto got = by_image[im["id"].get<long long>()];
+        std::sort(got.begin(), got.end());
+        EXPECT_EQ(got, test::brute_boxes(cls, inst)) << file;
+        boxes_checked += got.size();
+      }
+      if (set == "waterfalls") {
+        EXPECT_EQ(seen_items, items) << split;
+      }
+    }
+  }
+  EXPECT_GT(boxes_checked, 200u);  // every item has objects: at least one box each
+
+  // YOLO: the lists name images whose label file is where Ultralytics looks for it.
+  EXPECT_TRUE(fs::exists(d / "data.yaml"));
+  std::size_t listed = 0;
+  for (const auto& [split, items] : split_items) {
+    std::istringstream list(read_text(d / ("yolo_chips_" + split + ".txt")));
+    std::string line;
+    while (std::getline(list, line)) {
+      ASSERT_EQ(line.rfind("./items/", 0), 0u) << line;
+      const fs::path image = d / line.substr(2);
+      EXPECT_TRUE(fs::exists(image)) << line;
+      const fs::path label =
+          image.parent_path().parent_path() / "labels" / (image.stem().string() + ".txt");
+      EXPECT_TRUE(fs::exists(label)) << label;
+      const std::size_t item = std::stoul(line.substr(8, 6));
+      EXPECT_EQ(items.count(item), 1u) << line;
+      ++listed;
+    }
+  }
+  EXPECT_GT(listed, 200u);
+
+  // A second run into another directory: the same bytes, file for file.
+  run_dataset(spec(200), dir_ / "again", one_thread);
+  const auto first = snapshot(d);
+  EXPECT_EQ(snapshot(dir_ / "again"), first);
+
+  // count 200 -> 250: only the 50 new items are rendered; the first 200 keep their bytes.
+  const DatasetRunResult grown = run_dataset(spec(250), d, one_thread);
+  EXPECT_EQ(grown.done, 50u);
+  EXPECT_EQ(grown.skipped, 200u);
+  const auto after = snapshot(d / "items");
+  for (const auto& [path, bytes] : first) {
+    if (path.rfind("items/", 0) != 0) continue;
+    ASSERT_EQ(after.count(path.substr(6)), 1u) << path;
+    EXPECT_EQ(after.at(path.substr(6)), bytes) << path;
+  }
+  EXPECT_EQ(read_json(d / "summary.json")["done"], 250);
+}
+
+}  // namespace
+}  // namespace sonarsynth
