@@ -226,7 +226,8 @@ YAML::Node parse(const std::string& name, F&& load) {
 YAML::Node load_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
-    throw FormatError(path + ": no such file");
+    throw FormatError(
+        path + (std::filesystem::exists(path, ec) ? ": not a regular file" : ": no such file"));
   }
   return parse(path, [&] { return YAML::LoadFile(path); });
 }

@@ -188,3 +188,21 @@ def test_a_transient_failure_is_retried(spec, tmp_path, client):
                                  before_item=fail_first_attempt, progress=False)
     assert marker.exists()
     assert r["done"] == 4 and r["failed"] == 0
+
+
+def test_item_slice_split_and_repair(tmp_path):
+    text = TINY + "run: {split: {train: 0.5, val: 0.25, test: 0.25}}\n"
+    spec = sonarsynth.DatasetSpec.from_yaml(text, "tiny.yaml")
+    out = tmp_path / "d"
+    r = sonarsynth.run_dataset(spec, out, threads=1, items=(1, 3))
+    assert [i["index"] for i in r["items"]] == [1, 2] and r["done"] == 2
+    assert [i["split"] for i in r["items"]] == [spec.item_split(1), spec.item_split(2)]
+    manifest = [json.loads(line) for line in (out / "manifest.jsonl").read_text().splitlines()]
+    assert [m["status"] for m in manifest] == ["pending", "done", "done", "pending"]
+    assert all(m["seed_text"] == str(m["seed"]) for m in manifest)
+    # A deleted file is found on the next run and the item rendered again, identical.
+    before = digests(out)
+    os.remove(out / "items" / "000002" / "L1.xtf")
+    r = sonarsynth.run_dataset(spec, out, threads=1, items=(1, 3))
+    assert r["repaired"] == 1 and "L1.xtf is missing" in r["items"][1]["repaired"]
+    assert digests(out) == before
