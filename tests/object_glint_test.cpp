@@ -22,6 +22,8 @@ namespace {
 using test::make_scene;
 using test::plain_config;
 using test::pose_at;
+using test::speckle_config;
+using test::with_test_box;
 
 constexpr double kBeta = 0.02;
 constexpr double kY = 10.0;  // the face's across-track distance, metres (sensor at z = 0)
@@ -184,25 +186,8 @@ Scene box_scene(const char* material, bool smooth) {
     m.roughness_rms_m = 0.0;
     scene.materials.set(m);
   }
-  ObjectPrimitive box;
-  box.shape = ObjectShape::kBox;
-  box.id = 9;
-  box.material = scene.materials.index_of(material);
-  box.centre_xy_m = {15.0, 0.0};
-  box.half_extent_m = {15.0, 5.0, 1.0};
-  box.place_on_seabed(scene.bathymetry, 0.0, 0.0, "box");
-  scene.objects.add(box);
-  scene.objects.build_index();
-  return scene;
-}
-
-SimulationConfig speckle_config(bool texture) {
-  SimulationConfig c = plain_config();
-  c.noise.model = NoiseConfig::Model::kSpeckle;
-  c.noise.snr_at_max_range_db = 250.0;
-  c.noise.texture = texture;
-  c.output.detector_sub_samples = 1;
-  return c;
+  const std::uint16_t index = scene.materials.index_of(material);
+  return with_test_box(std::move(scene), index);
 }
 
 TEST(ObjectMaterials, BuiltInSteelTextureFollowsItsGammaLaw) {

@@ -17,6 +17,8 @@ namespace {
 using test::make_scene;
 using test::plain_config;
 using test::pose_at;
+using test::speckle_config;
+using test::with_test_box;
 
 constexpr double kNu = 4.0;  // the box's texture shape
 
@@ -24,31 +26,12 @@ constexpr double kNu = 4.0;  // the box's texture shape
 // track (y -15 to 15 m), of a textured material.
 Scene box_scene(double roughness_rms_m = 0.0) {
   Scene scene = make_scene(-40, -40, 80, 1.0, [](double, double) { return -20.0; });
-  ObjectPrimitive box;
-  box.shape = ObjectShape::kBox;
-  box.id = 9;
-  box.material = scene.materials.set({.name = "painted",
-                                      .lambert_mu = 0.1,
-                                      .texture_shape_nu = kNu,
-                                      .roughness_rms_m = roughness_rms_m,
-                                      .roughness_length_m = 0.1});
-  box.centre_xy_m = {15.0, 0.0};
-  box.half_extent_m = {15.0, 5.0, 1.0};
-  box.place_on_seabed(scene.bathymetry, 0.0, 0.0, "box");
-  scene.objects.add(box);
-  scene.objects.build_index();
-  return scene;
-}
-
-// Speckle and texture, single look, no thermal or receiver noise: the output is the clean
-// intensity times the texture T times the speckle S.
-SimulationConfig speckle_config(bool texture) {
-  SimulationConfig c = plain_config();
-  c.noise.model = NoiseConfig::Model::kSpeckle;
-  c.noise.snr_at_max_range_db = 250.0;
-  c.noise.texture = texture;
-  c.output.detector_sub_samples = 1;
-  return c;
+  const std::uint16_t painted = scene.materials.set({.name = "painted",
+                                                     .lambert_mu = 0.1,
+                                                     .texture_shape_nu = kNu,
+                                                     .roughness_rms_m = roughness_rms_m,
+                                                     .roughness_length_m = 0.1});
+  return with_test_box(std::move(scene), painted);
 }
 
 // The texture of each object sample of the starboard side at `pose`: the textured over the

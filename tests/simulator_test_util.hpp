@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -54,6 +55,32 @@ inline PingPose pose_at(const Scene& s, Eigen::Vector2d xy, double heading, doub
   p.sensor_z_m = s.bathymetry.height_m(xy.x(), xy.y()) + altitude;
   p.altitude_m = altitude;
   return p;
+}
+
+/// `scene` with the object tests' box: id 9, half extents 15 x 5 x 1 m, centred at x = 15 m,
+/// y = 0 on the seabed, of `material` (an index into the scene's MaterialTable).
+inline Scene with_test_box(Scene scene, std::uint16_t material) {
+  ObjectPrimitive box;
+  box.shape = ObjectShape::kBox;
+  box.id = 9;
+  box.material = material;
+  box.centre_xy_m = {15.0, 0.0};
+  box.half_extent_m = {15.0, 5.0, 1.0};
+  box.place_on_seabed(scene.bathymetry, 0.0, 0.0, "box");
+  scene.objects.add(box);
+  scene.objects.build_index();
+  return scene;
+}
+
+/// Speckle and texture, single look, no thermal or receiver noise: the output is the clean
+/// intensity times the texture T times the speckle S.
+inline SimulationConfig speckle_config(bool texture) {
+  SimulationConfig c = plain_config();
+  c.noise.model = NoiseConfig::Model::kSpeckle;
+  c.noise.snr_at_max_range_db = 250.0;
+  c.noise.texture = texture;
+  c.output.detector_sub_samples = 1;
+  return c;
 }
 
 }  // namespace sonarsynth::test
