@@ -607,6 +607,12 @@ class AnnotationMerger {
       image_ids[im.at("id").get<long long>()] = id;
       im["id"] = id;
       im["file_name"] = prefix + im.at("file_name").get<std::string>();
+      // Other files an image entry names (its masks: "class_mask", "instance_mask", ...).
+      for (auto& [key, value] : im.items()) {
+        if (value.is_string() && (key.ends_with("_mask") || key == "mask")) {
+          value = prefix + value.get<std::string>();
+        }
+      }
       im["item"] = index;
       c.images.push_back(std::move(im));
     }

@@ -102,6 +102,11 @@ TEST_F(DatasetLabels, TwoHundredItemsMergeSplitRepeatAndGrow) {
       for (const auto& im : coco["images"]) {
         const std::string file = im["file_name"];
         EXPECT_TRUE(fs::exists(d / file)) << file;
+        for (const auto& [key, value] : im.items()) {
+          if (key.ends_with("_mask")) {
+            EXPECT_TRUE(fs::exists(d / value.get<std::string>())) << key << " " << value;
+          }
+        }
         const std::size_t item = im["item"];
         EXPECT_EQ(items.count(item), 1u) << file << " in split " << split;
         seen_items.insert(item);
