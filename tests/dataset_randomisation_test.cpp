@@ -14,6 +14,7 @@
 
 #include "../formats/option_table.hpp"
 #include "cli_test_util.hpp"
+#include "dataset_test_spec.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/dataset.hpp"
 #include "sonarsynth/formats/run_check.hpp"
@@ -25,42 +26,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Tiny items (a 6 m line, 10 m range) with a few of every object type but meshes.
-std::string base_spec() {
-  return R"(name: knobs
-seed: 5
-count: 60
-seabed:
-  depth_m: [10, 14]
-  cell_m: 0.5
-  material: {sand: 2, mud: 1, gravel: 1}
-  slope_deg: [0, 2]
-  roughness: {rms_m: [0.01, 0.05], wavelength_m: [5, 10]}
-  ripples: {probability: 0.5, wavelength_m: [1, 2], amplitude_m: [0.02, 0.04]}
-objects:
-  count: [1, 3]
-  burial: [0, 0.3]
-  across_track_m: [2, 8]
-  types:
-    rock: {weight: 2, diameter_m: [0.5, 1.5]}
-    box: {length_m: [1, 3], width_m: [0.5, 1], height_m: [0.4, 1]}
-    pipe: {diameter_m: [0.2, 0.4], length_m: [3, 6]}
-    moored: {diameter_m: [0.4, 0.8], height_m: [2, 3]}
-survey:
-  line_length_m: 6
-  altitude_m: [3, 5]
-  speed_m_s: [2, 3]
-sonar: {preset: seascan-hds-600, range_m: [9, 10], samples: 200}
-noise: {model: {speckle: 3, none: 1}, snr_db: [15, 30]}
-run: {quality: fast}
-)";
-}
-
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const std::size_t at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   if (at != std::string::npos) text.replace(at, from.size(), to);
   return text;
+}
+
+// The tests' tiny spec (a 6 m line, 10 m range) with ranges where it has fixed values and a
+// choice of noise models.
+std::string base_spec() {
+  std::string t = test::tiny_spec(60);
+  t = replaced(t, "name: tiny\nseed: 99", "name: knobs\nseed: 5");
+  t = replaced(t, "material: {sand: 2, mud: 1}", "material: {sand: 2, mud: 1, gravel: 1}");
+  t = replaced(t, "speed_m_s: 3", "speed_m_s: [2, 3]");
+  t = replaced(t, "range_m: 10,", "range_m: [9, 10],");
+  return replaced(t, "model: speckle,", "model: {speckle: 3, none: 1},");
 }
 
 // The base spec with every knob randomised, and meshes (the shipped mine and a copy of the
