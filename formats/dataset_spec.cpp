@@ -45,7 +45,7 @@ std::string fx(double v, int decimals = 3) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
   std::string s(buf);
-  if (s == "-0.000" || s == "-0.00" || s == "-0") s.erase(0, 1);
+  if (s[0] == '-' && s.find_first_not_of("0.", 1) == std::string::npos) s.erase(0, 1);  // -0
   return s;
 }
 
@@ -776,6 +776,55 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
   return s;
 }
 
+// Object k of an item as an entry of the scene's `objects`: its type, its place beside the
+// line (forward (fe, fn), starboard (se, sn)), pose and size.
+std::string object_entry(const DatasetSpec& s, ItemWriter& w, DatasetItemScene& item, int k,
+                         const std::vector<double>& type_weights, double fe, double fn, double se,
+                         double sn) {
+  const ItemDraws& d = w.draws();
+  std::ostringstream y;
+  const std::string o = "objects[" + std::to_string(k) + "].";
+  const auto key = [&](ObjectAttribute attribute) {
+    return 16 * static_cast<std::uint64_t>(k) + attribute;
+  };
+  const auto draw = [&](const std::string& name, NumberRange r, ObjectAttribute a) {
+    return w.draw(o + name, r, kObject, 3, key(a));
+  };
+  const DatasetObjectType& t = s.object_types[d.pick(type_weights, kObject, key(kType))];
+  w.text(o + "type", t.type);
+  const double along = (d.unit(kObject, key(kAlong)) - 0.5) * 0.8 * s.line_length_m;
+  const double across = d.in(s.across_track_m, kObject, key(kAcross)) *
+                        (d.unit(kObject, key(kSide)) < 0.5 ? -1.0 : 1.0);
+  w.number(o + "along_track_m", along);
+  w.number(o + "across_track_m", across);
+  const double east = along * fe + across * se, north = along * fn + across * sn;
+  ++item.object_counts[t.type];
+  y << "  - {type: " << t.type << ", id: " << k + 1 << ", name: " << t.type << "-" << k + 1
+    << ", position: {east_m: " << fx(east) << ", north_m: " << fx(north)
+    << "}, heading_deg: " << draw("heading_deg", s.object_heading_deg, kHeading);
+  const auto embed = [&] { return ", embed: " + draw("burial", s.burial, kEmbed); };
+  if (t.type == "rock") {
+    y << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter) << embed();
+  } else if (t.type == "box") {
+    y << ", size_m: [" << draw("length_m", t.length_m, kLength) << ", "
+      << draw("width_m", t.width_m, kWidth) << ", " << draw("height_m", t.height_m, kHeight) << "]"
+      << embed();
+  } else if (t.type == "pipe") {
+    y << ", length_m: " << draw("length_m", t.length_m, kLength)
+      << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter) << embed();
+  } else if (t.type == "moored") {
+    y << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter)
+      << ", height_m: " << draw("height_m", t.height_m, kHeight);
+  } else {
+    const std::size_t m = d.pick(t.models.weights, kObject, key(kModel));
+    w.text(o + "model", t.models.names[m]);
+    y << ", file: " << yaml_quoted(t.model_files[m])
+      << ", scale: " << draw("scale", t.scale, kScale) << embed();
+  }
+  y << "}\n";
+  return y.str();
+}
+
 }  // namespace
 
 DatasetSpec load_dataset_spec(const std::string& path) {
@@ -863,45 +912,7 @@ DatasetItemScene dataset_item_scene(const DatasetSpec& s, std::size_t index) {
   for (const auto& t : s.object_types) type_weights.push_back(t.weight);
   if (n_objects > 0) y << "objects:\n";
   for (int k = 0; k < n_objects; ++k) {
-    const std::string o = "objects[" + std::to_string(k) + "].";
-    const auto key = [&](ObjectAttribute attribute) {
-      return 16 * static_cast<std::uint64_t>(k) + attribute;
-    };
-    const auto draw = [&](const std::string& name, NumberRange r, ObjectAttribute a) {
-      return w.draw(o + name, r, kObject, 3, key(a));
-    };
-    const DatasetObjectType& t = s.object_types[d.pick(type_weights, kObject, key(kType))];
-    w.text(o + "type", t.type);
-    const double along = (d.unit(kObject, key(kAlong)) - 0.5) * 0.8 * s.line_length_m;
-    const double across = d.in(s.across_track_m, kObject, key(kAcross)) *
-                          (d.unit(kObject, key(kSide)) < 0.5 ? -1.0 : 1.0);
-    w.number(o + "along_track_m", along);
-    w.number(o + "across_track_m", across);
-    const double east = along * fe + across * se, north = along * fn + across * sn;
-    ++item.object_counts[t.type];
-    y << "  - {type: " << t.type << ", id: " << k + 1 << ", name: " << t.type << "-" << k + 1
-      << ", position: {east_m: " << fx(east) << ", north_m: " << fx(north)
-      << "}, heading_deg: " << draw("heading_deg", s.object_heading_deg, kHeading);
-    const auto embed = [&] { return ", embed: " + draw("burial", s.burial, kEmbed); };
-    if (t.type == "rock") {
-      y << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter) << embed();
-    } else if (t.type == "box") {
-      y << ", size_m: [" << draw("length_m", t.length_m, kLength) << ", "
-        << draw("width_m", t.width_m, kWidth) << ", " << draw("height_m", t.height_m, kHeight)
-        << "]" << embed();
-    } else if (t.type == "pipe") {
-      y << ", length_m: " << draw("length_m", t.length_m, kLength)
-        << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter) << embed();
-    } else if (t.type == "moored") {
-      y << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter)
-        << ", height_m: " << draw("height_m", t.height_m, kHeight);
-    } else {
-      const std::size_t m = d.pick(t.models.weights, kObject, key(kModel));
-      w.text(o + "model", t.models.names[m]);
-      y << ", file: " << yaml_quoted(t.model_files[m])
-        << ", scale: " << draw("scale", t.scale, kScale) << embed();
-    }
-    y << "}\n";
+    y << object_entry(s, w, item, k, type_weights, fe, fn, se, sn);
   }
   const double h = s.line_length_m / 2.0;
   y << "survey:\n  start_time: \"2026-01-01T00:00:00Z\"\n";

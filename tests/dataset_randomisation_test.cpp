@@ -313,6 +313,11 @@ struct Rejected {
   std::vector<std::string> expected;
 };
 
+// Names the case in test listings (ctest), instead of its bytes.
+void PrintTo(const Rejected& r, std::ostream* os) {
+  *os << r.name;
+}
+
 class DatasetRejected : public ::testing::TestWithParam<Rejected> {};
 
 TEST_P(DatasetRejected, NamesTheFileTheKeyAndTheValue) {
