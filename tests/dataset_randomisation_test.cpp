@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <set>
 
@@ -285,6 +286,44 @@ TEST_F(DatasetRandomisationRun, EveryItemOfAValidSpecPassesTheSceneChecks) {
     } catch (const std::exception& e) {
       ADD_FAILURE() << "item " << i << ": " << e.what() << "\n" << item.yaml;
     }
+  }
+}
+
+TEST_F(DatasetRandomisationRun, ModelPathsAreRelativeToTheSpecAndAbsoluteInTheScene) {
+  // A spec in its own directory naming a model beside it: the drawn scene names the model's
+  // absolute path, so the scene loads from the item's directory, wherever that is.
+  fs::create_directories(dir_ / "specs" / "models");
+  fs::copy_file(fs::path(SONARSYNTH_SAMPLES_DIR) / "models" / "mine.obj",
+                dir_ / "specs" / "models" / "mine.obj");
+  const std::string text =
+      replaced(base_spec(), "    moored: {diameter_m: [0.4, 0.8], height_m: [2, 3]}\n",
+               "    mesh: {weight: 100, models: models/mine.obj}\n");
+  const fs::path spec = write("specs/spec.yaml", text);
+  const DatasetSpec s = load_dataset_spec(spec.string());
+  const DatasetItemScene item = dataset_item_scene(s, 0);
+  ASSERT_EQ(item.object_counts.count("mesh"), 1u) << item.yaml;
+  const fs::path item_dir = dir_ / "items" / "000000";
+  fs::create_directories(item_dir);
+  std::ofstream(item_dir / "scene.yaml") << item.yaml;
+  const SimulationSetup setup = load_simulation((item_dir / "scene.yaml").string());
+  EXPECT_EQ(setup.scene.objects.primitives().size(),
+            static_cast<std::size_t>(item.drawn_numbers.at("objects.count")));
+  const YAML::Node doc = YAML::Load(item.yaml);
+  for (const YAML::Node& o : doc["objects"]) {
+    if (o["type"].as<std::string>() != "mesh") continue;
+    EXPECT_TRUE(fs::path(o["file"].as<std::string>()).is_absolute()) << o["file"];
+    EXPECT_TRUE(
+        fs::equivalent(o["file"].as<std::string>(), dir_ / "specs" / "models" / "mine.obj"));
+  }
+  // The model gone, the spec is refused on loading, naming the file, the key and the model.
+  fs::remove(dir_ / "specs" / "models" / "mine.obj");
+  try {
+    load_dataset_spec(spec.string());
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(spec.string() + ": objects.types.mesh.models: 'models/mine.obj'", 0), 0u)
+        << msg;
   }
 }
 
