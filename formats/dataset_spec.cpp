@@ -7,10 +7,19 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <optional>
+#include <set>
 #include <sstream>
+#include <stdexcept>
+#include <string_view>
 
+#include "mesh_file.hpp"
+#include "option_table.hpp"
+#include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/bathy_spec_parser.hpp"
 #include "sonarsynth/formats/dataset.hpp"
+#include "sonarsynth/formats/simulation_file.hpp"  // RunLimits
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/material.hpp"
 #include "sonarsynth/sonar_presets.hpp"
@@ -24,11 +33,33 @@ using yaml::Fields;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Salt of the item seeds: keyed_hash(spec seed, index, kItemStream).
 constexpr std::uint64_t kItemStream = 0x64617461'73657431ULL;  // "dataset1"
+constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 std::string number_text(double v) {
   std::ostringstream s;
   s << v;
   return s.str();
+}
+
+// Fixed-point text: the scene file holds exactly the values the run uses.
+std::string fx(double v, int decimals = 3) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string s(buf);
+  if (s[0] == '-' && s.find_first_not_of("0.", 1) == std::string::npos) s.erase(0, 1);  // -0
+  return s;
+}
+
+// `v` as the scene file holds it (fx) and as its reader reads it back.
+double rounded(double v, int decimals) {
+  return std::stod(fx(v, decimals));
+}
+
+std::string range_text(NumberRange r) {
+  if (r.lo == r.hi) return number_text(r.lo);
+  std::string t(1, '[');
+  t.append(number_text(r.lo)).append(", ").append(number_text(r.hi)).append("]");
+  return t;
 }
 
 // A number or [lo, hi], each within [min, max] (min exclusive when `min_exclusive`).
@@ -51,6 +82,77 @@ NumberRange read_range(const Fields& f, const std::string& key, NumberRange fall
     if (std::isfinite(max)) c += " and <= " + number_text(max);
     f.fail_value(key, c);
   }
+  return r;
+}
+
+// What a scene file accepts for one key (docs/scene-format.md), from the declarations its reader
+// uses: the option table (formats/option_table.cpp) and the bathymetry generators' parameters
+// (formats/bathy_spec_parser.cpp). The keys of a `materials` entry and of a mesh object are
+// bounded in the scene reader's code (formats/scene_file.cpp); their bounds are restated here.
+struct SceneBound {
+  std::string key;
+  double lo = -kInf, hi = kInf;
+  bool lo_open = false, hi_open = false;
+  bool accepts(double v) const {
+    return std::isfinite(v) && (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+  std::string constraint() const {
+    std::string c = key;
+    if (std::isfinite(lo)) c += (lo_open ? " > " : " >= ") + number_text(lo);
+    if (std::isfinite(hi)) {
+      c += std::string(std::isfinite(lo) ? " and" : "") + (hi_open ? " < " : " <= ") +
+           number_text(hi);
+    }
+    return c;
+  }
+};
+
+SceneBound scene_bound(std::string_view scene_key) {
+  const std::string key(scene_key);
+  const auto from_param = [&](const bathy_spec::Param& p) {
+    return SceneBound{key, p.lo, p.hi, p.lo_open, p.hi_open};
+  };
+  constexpr std::string_view kComponents = "bathymetry.generate.components.";
+  if (scene_key.starts_with(kComponents)) {
+    const std::string_view rest = scene_key.substr(kComponents.size());
+    const std::size_t dot = rest.find('.');
+    if (const auto* c = bathy_spec::find_component(rest.substr(0, dot))) {
+      for (const bathy_spec::Param& p : c->params) {
+        if (p.key == rest.substr(dot + 1)) return from_param(p);
+      }
+    }
+  } else if (scene_key == "bathymetry.generate.depth_m") {
+    return from_param(bathy_spec::depth_param());
+  } else if (scene_key == "materials.texture_shape") {
+    return {key, 0.0, 1e6};
+  } else if (scene_key == "materials.reflectivity") {
+    return {key, 0.0, 1.0};
+  } else if (scene_key == "objects.scale") {
+    return {key, 0.0, 1e4, true};
+  } else {
+    const options::Option& o = options::at(scene_key);
+    return {key, o.lo, o.hi, o.lo_open, false};
+  }
+  throw std::logic_error("dataset spec: no scene key " + key);
+}
+
+// Every value of `r` as the item's scene file will hold it (rounded to `decimals`) must be one
+// that the scene file accepts for `scene_key`.
+void check_scene_bound(const Fields& f, const std::string& key, NumberRange r, int decimals,
+                       std::string_view scene_key) {
+  const SceneBound b = scene_bound(scene_key);
+  if (!b.accepts(rounded(r.lo, decimals)) || !b.accepts(rounded(r.hi, decimals))) {
+    f.fail_value(key, b.constraint() + " in the item's scene file (docs/scene-format.md), " +
+                          "every value as written there (to " + std::to_string(decimals) +
+                          " decimals)");
+  }
+}
+
+// A range of a key the scene file bounds: a number or [lo, hi] within `scene_key`'s bounds.
+NumberRange read_scene_range(const Fields& f, const std::string& key, NumberRange fallback,
+                             std::string_view scene_key, int decimals) {
+  const NumberRange r = read_range(f, key, fallback, -kInf, kInf);
+  if (f.given(key)) check_scene_bound(f, key, r, decimals, scene_key);
   return r;
 }
 
@@ -92,6 +194,387 @@ std::string join(const std::vector<std::string>& names) {
   return s;
 }
 
+// Fields of the draws (ItemDraws keys); new fields take new numbers, existing ones keep theirs
+// (a spec that does not use a new field draws the scene it drew before).
+enum Field : std::uint64_t {
+  kDepth = 1,
+  kMaterial,
+  kSlope,
+  kSlopeAzimuth,
+  kRoughRms,
+  kRoughWavelength,
+  kRipplesOn,
+  kRippleWavelength,
+  kRippleAmplitude,
+  kRippleAzimuth,
+  kObjectCount,
+  kObject,  // sub = 16 * object + attribute (ObjectAttribute)
+  kLineHeading,
+  kAltitude,
+  kSpeed,
+  kPreset,
+  kRange,
+  kNoiseModel,
+  kSnr,
+  // Domain randomisation knobs (kKnobs).
+  kFrequency = 20,
+  kAltitudeTimeConstant,
+  kRoll,
+  kPitch,
+  kYaw,
+  kHeave,
+  kDisturbancePeriod,
+  kAltitudeWander,
+  kHeadingWander,
+  kWanderPeriod,
+  kGain,
+  kSeabedMedian,
+  kTextureShape,
+  kReflectivity,
+  kRoughPersistence,
+  kRippleBandwidth,
+  kRippleVariation,
+  kRippleAsymmetry,
+};
+static_assert(kSnr == 19 && kFrequency == 20, "existing fields keep their numbers");
+
+// Attributes of object k (sub-index 16 k + attribute of kObject).
+enum ObjectAttribute : std::uint64_t {
+  kType = 0,
+  kAlong = 1,
+  kAcross = 2,
+  kSide = 3,
+  kHeading = 4,
+  kEmbed = 5,
+  kDiameter = 6,
+  kLength = 7,
+  kWidth = 8,
+  kHeight = 9,
+  kModel = 10,
+  kScale = 11,
+};
+
+// An optional knob of domain randomisation: a spec key whose last part is the key it sets in the
+// scene file, the scene key that bounds it, its draw field and its decimals in the scene file.
+struct Knob {
+  std::string_view key;
+  std::string_view scene_key;
+  Field field;
+  int decimals;
+};
+
+// docs/dataset.md, "Domain randomisation": one line per knob.
+constexpr Knob kKnobs[] = {
+    {"seabed.texture_shape", "materials.texture_shape", kTextureShape, 3},
+    {"seabed.reflectivity", "materials.reflectivity", kReflectivity, 4},
+    {"seabed.roughness.persistence", "bathymetry.generate.components.fbm.persistence",
+     kRoughPersistence, 3},
+    {"seabed.ripples.bandwidth", "bathymetry.generate.components.ripples.bandwidth",
+     kRippleBandwidth, 3},
+    {"seabed.ripples.amplitude_variation",
+     "bathymetry.generate.components.ripples.amplitude_variation", kRippleVariation, 3},
+    {"seabed.ripples.asymmetry", "bathymetry.generate.components.ripples.asymmetry",
+     kRippleAsymmetry, 3},
+    {"survey.altitude_time_constant_s", "survey.altitude_time_constant_s", kAltitudeTimeConstant,
+     3},
+    {"survey.disturbance.roll_deg", "survey.disturbance.roll_deg", kRoll, 3},
+    {"survey.disturbance.pitch_deg", "survey.disturbance.pitch_deg", kPitch, 3},
+    {"survey.disturbance.yaw_deg", "survey.disturbance.yaw_deg", kYaw, 3},
+    {"survey.disturbance.heave_m", "survey.disturbance.heave_m", kHeave, 3},
+    {"survey.disturbance.period_s", "survey.disturbance.period_s", kDisturbancePeriod, 3},
+    {"survey.disturbance.altitude_m", "survey.disturbance.altitude_m", kAltitudeWander, 3},
+    {"survey.disturbance.heading_wander_deg", "survey.disturbance.heading_wander_deg",
+     kHeadingWander, 3},
+    {"survey.disturbance.wander_period_s", "survey.disturbance.wander_period_s", kWanderPeriod, 3},
+    {"sonar.frequency_khz", "sonar.frequency_khz", kFrequency, 3},
+    {"output.gain_db", "output.gain_db", kGain, 2},
+    {"output.seabed_median_dbfs", "output.seabed_median_dbfs", kSeabedMedian, 2},
+};
+
+std::string_view section_of(std::string_view key) {
+  return key.substr(0, key.rfind('.'));
+}
+std::string name_of(std::string_view key) {
+  return std::string(key.substr(key.rfind('.') + 1));
+}
+
+// The keys of a spec section: `keys` and the knobs of `section`.
+std::set<std::string> with_knobs(std::set<std::string> keys, std::string_view section) {
+  for (const Knob& k : kKnobs) {
+    if (section_of(k.key) == section) keys.insert(name_of(k.key));
+  }
+  return keys;
+}
+
+// Reads the knobs of `section` (the map `f`) that the spec gives.
+void read_knobs(const Fields& f, std::string_view section, DatasetSpec& s) {
+  for (const Knob& k : kKnobs) {
+    if (section_of(k.key) != section || !f.given(name_of(k.key))) continue;
+    s.knobs[std::string(k.key)] = read_scene_range(f, name_of(k.key), {}, k.scene_key, k.decimals);
+  }
+}
+
+// The highest value of knob `key`, or `fallback` (the scene's default) when it is left out.
+double knob_hi(const DatasetSpec& s, const std::string& key, double fallback = 0.0) {
+  const auto it = s.knobs.find(key);
+  return it == s.knobs.end() ? fallback : it->second.hi;
+}
+
+// The file of a mesh model as a spec names it: the name of a shipped model (samples/models,
+// docs/dataset.md) or a path relative to the spec file's directory; absolute either way.
+std::filesystem::path model_file(const std::string& spec_file, const std::string& name) {
+  namespace fs = std::filesystem;
+  if (name.find('/') == std::string::npos && name.find('.') == std::string::npos) {
+    return fs::path(SONARSYNTH_MODELS_DIR) / (name + ".obj");
+  }
+  std::error_code ec;
+  const fs::path p = fs::absolute(fs::path(spec_file).parent_path() / name, ec);
+  return p.lexically_normal();
+}
+
+// The mesh type of a spec (`objects.types.mesh`): its models read at load, so that a missing or
+// unreadable file is an error of the spec, and their size sets the grid's margin.
+void read_mesh_type(const Fields& d, DatasetObjectType& t) {
+  d.only({"weight", "models", "scale"});
+  if (!d.given("models")) {
+    d.fail("models",
+           "missing (a map {model: weight}: a path relative to the spec file or a shipped "
+           "model, mine or wreck)");
+  }
+  t.models = read_choice(
+      d, "models", {}, [](const std::string& n) { return !n.empty(); }, "non-empty names");
+  for (const std::string& name : t.models.names) {
+    const std::filesystem::path file = model_file(d.file(), name);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) {
+      d.fail("models", "'" + name + "'. Violated constraint: an existing model file (" +
+                           file.string() +
+                           " is none; a path is relative to the spec file's directory, a name "
+                           "without '/' or '.' is a shipped model: mine, wreck)");
+    }
+    try {
+      const mesh_file::Model m = mesh_file::load(file.string(), false);
+      for (const Eigen::Vector3d& v : m.mesh.vertex_m) {
+        t.model_radius_m = std::max(t.model_radius_m, std::hypot(v.x(), v.y()));
+      }
+    } catch (const InputError& e) {
+      d.fail("models", "'" + name + "': " + e.what());
+    }
+    t.model_files.push_back(file.string());
+  }
+  t.scale = read_range(d, "scale", t.scale, 0.0, kInf, true);
+  check_scene_bound(d, "scale", t.scale, 3, "objects.scale");
+}
+
+// Counter-based draws of one item: each value is keyed by (field, sub-index), so a change to
+// one field of the spec leaves the draws of the others as they were.
+class ItemDraws {
+ public:
+  explicit ItemDraws(std::uint64_t seed) : seed_(seed) {}
+  double unit(std::uint64_t field, std::uint64_t sub = 0) const {
+    return static_cast<double>(keyed_hash(seed_, field, sub) >> 11) * 0x1.0p-53;
+  }
+  double in(NumberRange r, std::uint64_t field, std::uint64_t sub = 0) const {
+    return r.lo == r.hi ? r.lo : r.lo + unit(field, sub) * (r.hi - r.lo);
+  }
+  int integer(NumberRange r, std::uint64_t field, std::uint64_t sub = 0) const {
+    const double span = r.hi - r.lo + 1.0;
+    return static_cast<int>(r.lo + std::min(std::floor(unit(field, sub) * span), span - 1.0));
+  }
+  template <class Weights>
+  std::size_t pick(const Weights& w, std::uint64_t field, std::uint64_t sub = 0) const {
+    double total = 0.0;
+    for (double x : w) total += x;
+    double u = unit(field, sub) * total;
+    for (std::size_t i = 0; i + 1 < w.size(); ++i) {
+      if (u < w[i]) return i;
+      u -= w[i];
+    }
+    return w.size() - 1;
+  }
+
+ private:
+  std::uint64_t seed_;
+};
+
+// A YAML double-quoted scalar.
+std::string yaml_quoted(const std::string& text) {
+  std::string q = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+// Writes the draws of one item: each value as the scene text holds it (fx), recorded under its
+// spec key in the item's drawn values (DatasetItemScene::drawn_numbers, drawn_names).
+class ItemWriter {
+ public:
+  ItemWriter(const DatasetSpec& s, DatasetItemScene& item)
+      : spec_(s), item_(item), draws_(item.seed) {}
+  const ItemDraws& draws() const { return draws_; }
+  // `v` as written with `decimals`, recorded under `key`.
+  std::string number(const std::string& key, double v, int decimals = 3) {
+    std::string t = fx(v, decimals);
+    item_.drawn_numbers[key] = std::stod(t);
+    return t;
+  }
+  std::string draw(const std::string& key, NumberRange r, std::uint64_t field, int decimals = 3,
+                   std::uint64_t sub = 0) {
+    return number(key, draws_.in(r, field, sub), decimals);
+  }
+  const std::string& name(const std::string& key, const WeightedChoice& c, std::uint64_t field) {
+    const std::string& n = c.names[draws_.pick(c.weights, field)];
+    item_.drawn_names[key] = n;
+    return n;
+  }
+  void text(const std::string& key, const std::string& value) { item_.drawn_names[key] = value; }
+  // ", key: value" for each knob of `section` the spec gives, in the order of kKnobs.
+  std::string knob_pairs(std::string_view section) {
+    std::string out;
+    for (const auto& [name, value] : knobs(section)) out += ", " + name + ": " + value;
+    return out;
+  }
+  // "<indent>key: value\n" for each knob of `section` the spec gives.
+  std::string knob_lines(std::string_view section, const std::string& indent) {
+    std::string out;
+    for (const auto& [name, value] : knobs(section)) out += indent + name + ": " + value + "\n";
+    return out;
+  }
+
+ private:
+  std::vector<std::pair<std::string, std::string>> knobs(std::string_view section) {
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const Knob& k : kKnobs) {
+      const auto it = spec_.knobs.find(std::string(k.key));
+      if (section_of(k.key) != section || it == spec_.knobs.end()) continue;
+      out.emplace_back(name_of(k.key), draw(std::string(k.key), it->second, k.field, k.decimals));
+    }
+    return out;
+  }
+
+  const DatasetSpec& spec_;
+  DatasetItemScene& item_;
+  ItemDraws draws_;
+};
+
+double max_object_extent_m(const DatasetSpec& s) {
+  double e = 0.0;
+  for (const DatasetObjectType& t : s.object_types) {
+    if (t.type == "rock" || t.type == "moored") e = std::max(e, t.diameter_m.hi);
+    if (t.type == "pipe") e = std::max(e, t.length_m.hi / 2.0 + t.diameter_m.hi);
+    if (t.type == "box") e = std::max(e, std::hypot(t.length_m.hi, t.width_m.hi) / 2.0);
+    if (t.type == "mesh") e = std::max(e, t.model_radius_m * t.scale.hi);
+  }
+  return e;
+}
+
+// The side of an item's square grid: it holds the line and its swath whatever the heading, with
+// a margin for the largest object.
+double grid_side_m(const DatasetSpec& s, double max_range_m) {
+  const double half_m = s.line_length_m / 2.0 + std::max(max_range_m, s.across_track_m.hi) +
+                        max_object_extent_m(s) + 10.0;
+  return 2.0 * std::ceil(half_m / s.cell_m) * s.cell_m;
+}
+
+// The constraints of the scene file that tie several keys together (docs/scene-format.md,
+// "Checks before the run"), checked on the extremes of the spec's ranges so that no drawn item
+// fails them. The seabed's relief under the line and the sensor's motion are bounded as
+// docs/dataset.md states ("Validation").
+void check_item_constraints(const DatasetSpec& s) {
+  const auto fail = [&](const std::string& key, const std::string& value,
+                        const std::string& constraint) {
+    throw InputError(s.file + ": " + key + " = '" + value +
+                     "'. Violated constraint: " + constraint);
+  };
+  // The presets an item may draw, with the spec's range.
+  double min_range_m = kInf, max_range_m = 0.0, max_pings = 0.0;
+  const double line_m = s.line_length_m, slowest_m_s = rounded(s.speed_m_s.lo, 3);
+  for (const std::string& name : s.sonar_preset.names) {
+    SonarConfig c = find_sonar_preset(name)->sonar;
+    const double preset_range_m = c.max_range_m;
+    c.max_range_m = s.range_m ? rounded(s.range_m->lo, 3) : preset_range_m;
+    min_range_m = std::min(min_range_m, c.max_range_m);
+    max_range_m = std::max(max_range_m, s.range_m ? s.range_m->hi : preset_range_m);
+    max_pings =
+        std::max(max_pings, std::floor(line_m / (slowest_m_s * c.effective_ping_period_s())) + 1.0);
+  }
+  // The generator's size limit on an item's grid.
+  const double side_m = grid_side_m(s, max_range_m);
+  BathyGenSpec g;
+  try {
+    g.geometry = BathyGenSpec::centred_geometry(0.0, 0.0, side_m, side_m, s.cell_m);
+  } catch (const InputError& e) {
+    fail("seabed.cell_m", number_text(s.cell_m),
+         std::string(e.what()) + " (an item's grid is " + number_text(side_m) +
+             " m across: the line, the swath and the largest object)");
+  }
+  const RunLimits limits;
+  if (!(max_pings <= static_cast<double>(limits.max_pings))) {
+    fail("survey.speed_m_s", range_text(s.speed_m_s),
+         "an item's line of " + number_text(line_m) +
+             " m at the lowest speed and the shortest "
+             "range (one ping per two-way travel time) takes " +
+             number_text(max_pings) + " pings; at most limits.max_pings = " +
+             std::to_string(limits.max_pings) + " of the scene file (docs/scene-format.md)");
+  }
+  // The seabed under the line, from its depth at the centre: the plane's rise over half the
+  // line, 4 rms of the fBm and 3 ripple amplitudes; the sensor's excursions from its altitude:
+  // the heave's peak, the altitude wander's (five sinusoids of sqrt(2/5) rms: sqrt(10) rms) and
+  // a lagging altitude controller's, at most the relief's span, and at most its lag on the
+  // steepest slope (slope x speed x time constant) plus the span of the bumps.
+  const double slope = std::tan(s.slope_deg.hi * kRadPerDeg);
+  const double bumps_m = 4.0 * s.roughness_rms_m.hi +
+                         (s.ripples_probability > 0.0 ? 3.0 * s.ripple_amplitude_m.hi : 0.0);
+  const double relief_m = slope * line_m / 2.0 + bumps_m;
+  const double tau_s = knob_hi(s, "survey.altitude_time_constant_s");
+  const double lag_m =
+      tau_s > 0.0 ? std::min(2.0 * relief_m, slope * s.speed_m_s.hi * tau_s + 2.0 * bumps_m) : 0.0;
+  const double motion_m = knob_hi(s, "survey.disturbance.heave_m") +
+                          std::sqrt(10.0) * knob_hi(s, "survey.disturbance.altitude_m") + lag_m;
+  const double lowest_m = rounded(s.altitude_m.lo, 3), highest_m = rounded(s.altitude_m.hi, 3);
+  if (!(lowest_m > motion_m)) {
+    fail("survey.altitude_m", range_text(s.altitude_m),
+         "the lowest altitude > the sensor's motion about it (" + number_text(motion_m) +
+             " m: survey.disturbance.heave_m, altitude_m, altitude_time_constant_s): the sensor "
+             "must stay above the seabed");
+  }
+  if (!(rounded(s.depth_m.lo, 3) - relief_m > highest_m + motion_m)) {
+    fail("seabed.depth_m", number_text(s.depth_m.lo),
+         "the shallowest depth less the seabed's relief under the line (" + number_text(relief_m) +
+             " m) > the highest survey.altitude_m (" + number_text(s.altitude_m.hi) +
+             " m) plus the sensor's motion (" + number_text(motion_m) +
+             " m): the towfish must stay in the water");
+  }
+  if (!(min_range_m > highest_m + motion_m)) {
+    fail(s.range_m ? "sonar.range_m" : "sonar.preset",
+         s.range_m ? range_text(*s.range_m) : join(s.sonar_preset.names),
+         "the shortest range (" + number_text(min_range_m) + " m) > the highest altitude (" +
+             number_text(highest_m) + " m) plus the sensor's motion (" + number_text(motion_m) +
+             " m): every ping sees the seabed");
+  }
+  // The generator's own checks: the depth, the ripples on the grid.
+  for (const double depth_m : {s.depth_m.lo, s.depth_m.hi}) {
+    g.depth_m = rounded(depth_m, 3);
+    try {
+      g.validate();
+    } catch (const InputError& e) {
+      fail("seabed.depth_m", range_text(s.depth_m), e.what());
+    }
+  }
+  if (s.ripples_probability > 0.0) {
+    bathy::Ripples r;
+    r.wavelength_m = rounded(s.ripple_wavelength_m.lo, 3);
+    g.components = {r};
+    try {
+      g.validate_components();
+    } catch (const InputError& e) {
+      fail("seabed.ripples.wavelength_m", range_text(s.ripple_wavelength_m), e.what());
+    }
+  }
+}
+
 DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::string text) {
   DatasetSpec s;
   s.file = file;
@@ -99,7 +582,7 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
   const Fields top(root, file, "");
   if (!root.IsMap()) throw InputError(file + ": a dataset spec is a map of keys (docs/dataset.md)");
   top.only({"name", "seed", "count", "location", "seabed", "objects", "survey", "sonar", "noise",
-            "run"});
+            "output", "run"});
   s.name = top.text("name", s.name);
   for (const char c : s.name) {
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.')) {
@@ -122,8 +605,10 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
   }
   if (top.has("seabed")) {
     const Fields b = top.child("seabed");
-    b.only({"depth_m", "cell_m", "material", "slope_deg", "roughness", "ripples"});
+    b.only(with_knobs({"depth_m", "cell_m", "material", "slope_deg", "roughness", "ripples"},
+                      "seabed"));
     s.depth_m = read_range(b, "depth_m", s.depth_m, 0.0, 12000.0, true);
+    check_scene_bound(b, "depth_m", s.depth_m, 3, "bathymetry.generate.depth_m");
     s.cell_m = b.number_in("cell_m", s.cell_m, 0.01, 10.0);
     const MaterialTable materials = MaterialTable::defaults();
     std::vector<std::string> material_names;
@@ -132,47 +617,63 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
         b, "material", s.material, [&](const std::string& n) { return materials.contains(n); },
         join(material_names));
     s.slope_deg = read_range(b, "slope_deg", s.slope_deg, 0.0, 30.0);
+    read_knobs(b, "seabed", s);
     if (b.has("roughness")) {
       const Fields r = b.child("roughness");
-      r.only({"rms_m", "wavelength_m"});
+      r.only(with_knobs({"rms_m", "wavelength_m"}, "seabed.roughness"));
       s.roughness_rms_m = read_range(r, "rms_m", s.roughness_rms_m, 0.0, 100.0);
       s.roughness_wavelength_m =
           read_range(r, "wavelength_m", s.roughness_wavelength_m, 0.0, 1e5, true);
+      check_scene_bound(r, "wavelength_m", s.roughness_wavelength_m, 3,
+                        "bathymetry.generate.components.fbm.wavelength_m");
+      read_knobs(r, "seabed.roughness", s);
     }
     if (b.has("ripples")) {
       const Fields r = b.child("ripples");
-      r.only({"probability", "wavelength_m", "amplitude_m"});
+      r.only(with_knobs({"probability", "wavelength_m", "amplitude_m"}, "seabed.ripples"));
       s.ripples_probability = r.number_in("probability", 1.0, 0.0, 1.0);
       s.ripple_wavelength_m = read_range(r, "wavelength_m", s.ripple_wavelength_m, 0.0, 1e4, true);
+      check_scene_bound(r, "wavelength_m", s.ripple_wavelength_m, 3,
+                        "bathymetry.generate.components.ripples.wavelength_m");
       s.ripple_amplitude_m = read_range(r, "amplitude_m", s.ripple_amplitude_m, 0.0, 100.0);
+      read_knobs(r, "seabed.ripples", s);
     }
   }
   if (top.has("survey")) {
     const Fields v = top.child("survey");
-    v.only({"line_length_m", "heading_deg", "altitude_m", "speed_m_s"});
+    v.only(with_knobs({"line_length_m", "heading_deg", "altitude_m", "speed_m_s", "disturbance"},
+                      "survey"));
     s.line_length_m = v.number_in("line_length_m", s.line_length_m, 1.0, 1e5);
     s.line_heading_deg = read_range(v, "heading_deg", s.line_heading_deg, -360.0, 720.0);
     s.altitude_m = read_range(v, "altitude_m", s.altitude_m, 0.0, 12000.0, true);
+    check_scene_bound(v, "altitude_m", s.altitude_m, 3, "survey.altitude_m");
     s.speed_m_s = read_range(v, "speed_m_s", s.speed_m_s, 0.0, 50.0, true);
-  }
-  if (!(s.depth_m.lo > s.altitude_m.hi)) {
-    throw InputError(file + ": seabed.depth_m = '" + number_text(s.depth_m.lo) +
-                     "'. Violated constraint: the shallowest depth > the highest "
-                     "survey.altitude_m (" +
-                     number_text(s.altitude_m.hi) + " m): the towfish must stay in the water");
+    check_scene_bound(v, "speed_m_s", s.speed_m_s, 3, "survey.speed_m_s");
+    read_knobs(v, "survey", s);
+    if (v.has("disturbance")) {
+      const Fields d = v.child("disturbance");
+      d.only(with_knobs({}, "survey.disturbance"));
+      read_knobs(d, "survey.disturbance", s);
+    }
   }
   if (top.has("sonar")) {
     const Fields v = top.child("sonar");
-    v.only({"preset", "range_m", "samples"});
+    v.only(with_knobs({"preset", "range_m", "samples"}, "sonar"));
     s.sonar_preset = read_choice(
         v, "preset", s.sonar_preset,
         [](const std::string& n) { return find_sonar_preset(n) != nullptr; }, sonar_preset_names());
-    if (v.given("range_m")) s.range_m = read_range(v, "range_m", {}, 0.0, 10000.0, true);
+    if (v.given("range_m")) {
+      s.range_m = read_range(v, "range_m", {}, 0.0, 10000.0, true);
+      check_scene_bound(v, "range_m", *s.range_m, 3, "sonar.range_m");
+    }
     if (v.given("samples")) {
       const std::int64_t n = v.integer("samples", 1024);
-      if (n < 16 || n > 65535) v.fail_value("samples", "samples >= 16 and <= 65535");
+      // At most what XTF readers accept (docs/scene-format.md `sonar.samples`; a spec has no
+      // output.allow_more_than_8192_samples).
+      if (n < 16 || n > 8192) v.fail_value("samples", "samples >= 16 and <= 8192");
       s.samples = static_cast<std::size_t>(n);
     }
+    read_knobs(v, "sonar", s);
   }
   if (top.has("noise")) {
     const Fields v = top.child("noise");
@@ -182,6 +683,17 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
         [](const std::string& n) { return n == "none" || n == "paper" || n == "speckle"; },
         "none, paper, speckle");
     s.snr_db = read_range(v, "snr_db", s.snr_db, -100.0, 200.0);
+    check_scene_bound(v, "snr_db", s.snr_db, 2, "noise.snr_db");
+  }
+  if (top.has("output")) {
+    const Fields v = top.child("output");
+    v.only(with_knobs({}, "output"));
+    if (v.given("gain_db") && v.given("seabed_median_dbfs")) {
+      v.fail("gain_db",
+             "give gain_db (a fixed gain) or seabed_median_dbfs (the automatic gain's target), "
+             "not both: a fixed gain ignores the target (docs/scene-format.md)");
+    }
+    read_knobs(v, "output", s);
   }
   double max_range_m = 0.0;
   for (const std::string& p : s.sonar_preset.names) {
@@ -202,34 +714,42 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
     s.across_track_m = read_range(o, "across_track_m", s.across_track_m, 0.0, max_range_m);
     if (o.has("types")) {
       const Fields t = o.child("types");
-      t.only({"rock", "box", "pipe", "moored"});
-      for (const std::string type : {"rock", "box", "pipe", "moored"}) {
+      t.only({"rock", "box", "pipe", "moored", "mesh"});
+      for (const std::string type : {"rock", "box", "pipe", "moored", "mesh"}) {
         if (!t.has(type)) continue;
         const Fields d = t.child(type);
         DatasetObjectType ot;
         ot.type = type;
         ot.weight = d.number_in("weight", 1.0, 0.0, kInf, true);
+        // Sizes are written to 1 mm: each must stay > 0 there.
+        const auto size = [&](const std::string& key, NumberRange fallback, double max) {
+          const NumberRange r = read_range(d, key, fallback, 0.0, max, true);
+          if (!(rounded(r.lo, 3) > 0.0)) d.fail_value(key, key + " >= 0.0005 (written to 1 mm)");
+          return r;
+        };
         if (type == "rock") {
           d.only({"weight", "diameter_m"});
-          ot.diameter_m = read_range(d, "diameter_m", {1.0, 1.0}, 0.0, 100.0, true);
+          ot.diameter_m = size("diameter_m", {1.0, 1.0}, 100.0);
         } else if (type == "box") {
           d.only({"weight", "length_m", "width_m", "height_m"});
-          ot.length_m = read_range(d, "length_m", {2.0, 2.0}, 0.0, 500.0, true);
-          ot.width_m = read_range(d, "width_m", {1.0, 1.0}, 0.0, 500.0, true);
-          ot.height_m = read_range(d, "height_m", {1.0, 1.0}, 0.0, 100.0, true);
+          ot.length_m = size("length_m", {2.0, 2.0}, 500.0);
+          ot.width_m = size("width_m", {1.0, 1.0}, 500.0);
+          ot.height_m = size("height_m", {1.0, 1.0}, 100.0);
         } else if (type == "pipe") {
           d.only({"weight", "diameter_m", "length_m"});
-          ot.diameter_m = read_range(d, "diameter_m", {0.3, 0.3}, 0.0, 20.0, true);
-          ot.length_m = read_range(d, "length_m", {20.0, 20.0}, 0.0, 1e4, true);
-        } else {
+          ot.diameter_m = size("diameter_m", {0.3, 0.3}, 20.0);
+          ot.length_m = size("length_m", {20.0, 20.0}, 1e4);
+        } else if (type == "moored") {
           d.only({"weight", "diameter_m", "height_m"});
-          ot.diameter_m = read_range(d, "diameter_m", {1.0, 1.0}, 0.0, 50.0, true);
-          ot.height_m = read_range(d, "height_m", {3.0, 3.0}, 0.0, 1000.0, true);
-          if (!(ot.height_m.lo > ot.diameter_m.hi / 2.0)) {
+          ot.diameter_m = size("diameter_m", {1.0, 1.0}, 50.0);
+          ot.height_m = size("height_m", {3.0, 3.0}, 1000.0);
+          if (!(rounded(ot.height_m.lo, 3) > rounded(ot.diameter_m.hi, 3) / 2.0)) {
             d.fail_value("height_m",
                          "the lowest height_m > half the largest diameter_m (the "
                          "target's centre above the seabed)");
           }
+        } else {
+          read_mesh_type(d, ot);
         }
         s.object_types.push_back(ot);
       }
@@ -238,6 +758,7 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
       o.fail("types", "missing (objects.count allows objects: give at least one type)");
     }
   }
+  check_item_constraints(s);
   if (top.has("run")) {
     const Fields r = top.child("run");
     r.only({"quality", "products", "split"});
@@ -282,77 +803,53 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
   return s;
 }
 
-// Counter-based draws of one item: each value is keyed by (field, sub-index), so a change to
-// one field of the spec leaves the draws of the others as they were.
-class ItemDraws {
- public:
-  explicit ItemDraws(std::uint64_t seed) : seed_(seed) {}
-  double unit(std::uint64_t field, std::uint64_t sub = 0) const {
-    return static_cast<double>(keyed_hash(seed_, field, sub) >> 11) * 0x1.0p-53;
+// Object k of an item as an entry of the scene's `objects`: its type, its place beside the
+// line (forward (fe, fn), starboard (se, sn)), pose and size.
+std::string object_entry(const DatasetSpec& s, ItemWriter& w, DatasetItemScene& item, int k,
+                         const std::vector<double>& type_weights, double fe, double fn, double se,
+                         double sn) {
+  const ItemDraws& d = w.draws();
+  std::ostringstream y;
+  const std::string o = "objects[" + std::to_string(k) + "].";
+  const auto key = [&](ObjectAttribute attribute) {
+    return 16 * static_cast<std::uint64_t>(k) + attribute;
+  };
+  const auto draw = [&](const std::string& name, NumberRange r, ObjectAttribute a) {
+    return w.draw(o + name, r, kObject, 3, key(a));
+  };
+  const DatasetObjectType& t = s.object_types[d.pick(type_weights, kObject, key(kType))];
+  w.text(o + "type", t.type);
+  const double along = (d.unit(kObject, key(kAlong)) - 0.5) * 0.8 * s.line_length_m;
+  const double across = d.in(s.across_track_m, kObject, key(kAcross)) *
+                        (d.unit(kObject, key(kSide)) < 0.5 ? -1.0 : 1.0);
+  w.number(o + "along_track_m", along);
+  w.number(o + "across_track_m", across);
+  const double east = along * fe + across * se, north = along * fn + across * sn;
+  ++item.object_counts[t.type];
+  y << "  - {type: " << t.type << ", id: " << k + 1 << ", name: " << t.type << "-" << k + 1
+    << ", position: {east_m: " << fx(east) << ", north_m: " << fx(north)
+    << "}, heading_deg: " << draw("heading_deg", s.object_heading_deg, kHeading);
+  const auto embed = [&] { return ", embed: " + draw("burial", s.burial, kEmbed); };
+  if (t.type == "rock") {
+    y << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter) << embed();
+  } else if (t.type == "box") {
+    y << ", size_m: [" << draw("length_m", t.length_m, kLength) << ", "
+      << draw("width_m", t.width_m, kWidth) << ", " << draw("height_m", t.height_m, kHeight) << "]"
+      << embed();
+  } else if (t.type == "pipe") {
+    y << ", length_m: " << draw("length_m", t.length_m, kLength)
+      << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter) << embed();
+  } else if (t.type == "moored") {
+    y << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter)
+      << ", height_m: " << draw("height_m", t.height_m, kHeight);
+  } else {
+    const std::size_t m = d.pick(t.models.weights, kObject, key(kModel));
+    w.text(o + "model", t.models.names[m]);
+    y << ", file: " << yaml_quoted(t.model_files[m])
+      << ", scale: " << draw("scale", t.scale, kScale) << embed();
   }
-  double in(NumberRange r, std::uint64_t field, std::uint64_t sub = 0) const {
-    return r.lo == r.hi ? r.lo : r.lo + unit(field, sub) * (r.hi - r.lo);
-  }
-  int integer(NumberRange r, std::uint64_t field, std::uint64_t sub = 0) const {
-    const double span = r.hi - r.lo + 1.0;
-    return static_cast<int>(r.lo + std::min(std::floor(unit(field, sub) * span), span - 1.0));
-  }
-  template <class Weights>
-  std::size_t pick(const Weights& w, std::uint64_t field, std::uint64_t sub = 0) const {
-    double total = 0.0;
-    for (double x : w) total += x;
-    double u = unit(field, sub) * total;
-    for (std::size_t i = 0; i + 1 < w.size(); ++i) {
-      if (u < w[i]) return i;
-      u -= w[i];
-    }
-    return w.size() - 1;
-  }
-
- private:
-  std::uint64_t seed_;
-};
-
-// Fields of the draws (ItemDraws keys); new fields take new numbers.
-enum Field : std::uint64_t {
-  kDepth = 1,
-  kMaterial,
-  kSlope,
-  kSlopeAzimuth,
-  kRoughRms,
-  kRoughWavelength,
-  kRipplesOn,
-  kRippleWavelength,
-  kRippleAmplitude,
-  kRippleAzimuth,
-  kObjectCount,
-  kObject,  // sub = 16 * object + attribute
-  kLineHeading,
-  kAltitude,
-  kSpeed,
-  kPreset,
-  kRange,
-  kNoiseModel,
-  kSnr,
-};
-
-// Fixed-point text: the scene file holds exactly the values the run uses.
-std::string fx(double v, int decimals = 3) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string s(buf);
-  if (s == "-0.000" || s == "-0.00" || s == "-0") s.erase(0, 1);
-  return s;
-}
-
-double max_object_extent_m(const DatasetSpec& s) {
-  double e = 0.0;
-  for (const DatasetObjectType& t : s.object_types) {
-    if (t.type == "rock" || t.type == "moored") e = std::max(e, t.diameter_m.hi);
-    if (t.type == "pipe") e = std::max(e, t.length_m.hi / 2.0 + t.diameter_m.hi);
-    if (t.type == "box") e = std::max(e, std::hypot(t.length_m.hi, t.width_m.hi) / 2.0);
-  }
-  return e;
+  y << "}\n";
+  return y.str();
 }
 
 }  // namespace
@@ -418,18 +915,13 @@ DatasetItemScene dataset_item_scene(const DatasetSpec& s, std::size_t index) {
   DatasetItemScene item;
   item.index = index;
   item.seed = dataset_item_seed(s, index);
-  const ItemDraws d(item.seed);
-  constexpr double kRadPerDeg = std::numbers::pi / 180.0;
+  ItemWriter w(s, item);
+  const ItemDraws& d = w.draws();
 
-  const std::string preset = s.sonar_preset.names[d.pick(s.sonar_preset.weights, kPreset)];
+  const std::string& preset = w.name("sonar.preset", s.sonar_preset, kPreset);
   const double range_m =
       s.range_m ? d.in(*s.range_m, kRange) : find_sonar_preset(preset)->sonar.max_range_m;
-  // A square grid that holds the line and its swath whatever the heading, with a margin for the
-  // largest object.
-  const double max_range_m = s.range_m ? s.range_m->hi : range_m;
-  const double half_m = s.line_length_m / 2.0 + std::max(max_range_m, s.across_track_m.hi) +
-                        max_object_extent_m(s) + 10.0;
-  const double side_m = 2.0 * std::ceil(half_m / s.cell_m) * s.cell_m;
+  const double side_m = grid_side_m(s, s.range_m ? s.range_m->hi : range_m);
 
   std::ostringstream y;
   char idx[32];
@@ -442,75 +934,69 @@ DatasetItemScene dataset_item_scene(const DatasetSpec& s, std::size_t index) {
   y << "    centre: {lat_deg: " << fx(s.lat_deg, 6) << ", lon_deg: " << fx(s.lon_deg, 6) << "}\n";
   y << "    size_m: [" << fx(side_m) << ", " << fx(side_m) << "]\n";
   y << "    cell_m: " << fx(s.cell_m, 4) << "\n";
-  y << "    depth_m: " << fx(d.in(s.depth_m, kDepth)) << "\n";
+  y << "    depth_m: " << w.draw("seabed.depth_m", s.depth_m, kDepth) << "\n";
   y << "    components:\n";
-  y << "      - {type: plane, slope_deg: " << fx(d.in(s.slope_deg, kSlope))
-    << ", downslope_azimuth_deg: " << fx(360.0 * d.unit(kSlopeAzimuth)) << "}\n";
+  y << "      - {type: plane, slope_deg: " << w.draw("seabed.slope_deg", s.slope_deg, kSlope)
+    << ", downslope_azimuth_deg: "
+    << w.number("seabed.downslope_azimuth_deg", 360.0 * d.unit(kSlopeAzimuth)) << "}\n";
   const double rms = d.in(s.roughness_rms_m, kRoughRms);
   if (rms > 0.0) {
-    y << "      - {type: fbm, rms_m: " << fx(rms, 4)
-      << ", wavelength_m: " << fx(d.in(s.roughness_wavelength_m, kRoughWavelength))
-      << ", octaves: 6}\n";
+    y << "      - {type: fbm, rms_m: " << w.number("seabed.roughness.rms_m", rms, 4)
+      << ", wavelength_m: "
+      << w.draw("seabed.roughness.wavelength_m", s.roughness_wavelength_m, kRoughWavelength)
+      << ", octaves: 6" << w.knob_pairs("seabed.roughness") << "}\n";
   }
-  if (d.unit(kRipplesOn) < s.ripples_probability) {
+  const bool ripples = d.unit(kRipplesOn) < s.ripples_probability;
+  w.number("seabed.ripples", ripples ? 1.0 : 0.0, 0);
+  if (ripples) {
     y << "      - {type: ripples, wavelength_m: "
-      << fx(d.in(s.ripple_wavelength_m, kRippleWavelength))
-      << ", amplitude_m: " << fx(d.in(s.ripple_amplitude_m, kRippleAmplitude), 4)
-      << ", crest_azimuth_deg: " << fx(180.0 * d.unit(kRippleAzimuth)) << "}\n";
+      << w.draw("seabed.ripples.wavelength_m", s.ripple_wavelength_m, kRippleWavelength)
+      << ", amplitude_m: "
+      << w.draw("seabed.ripples.amplitude_m", s.ripple_amplitude_m, kRippleAmplitude, 4)
+      << ", crest_azimuth_deg: "
+      << w.number("seabed.ripples.crest_azimuth_deg", 180.0 * d.unit(kRippleAzimuth))
+      << w.knob_pairs("seabed.ripples") << "}\n";
   }
-  y << "seabed:\n  material: " << s.material.names[d.pick(s.material.weights, kMaterial)] << "\n";
+  const std::string& material = w.name("seabed.material", s.material, kMaterial);
+  if (const std::string m = w.knob_pairs("seabed"); !m.empty()) {
+    y << "materials:\n  - {name: " << material << m << "}\n";
+  }
+  y << "seabed:\n  material: " << material << "\n";
 
   // The line through the grid centre; objects along it within its middle 80 %, either side.
-  const double heading_rad = d.in(s.line_heading_deg, kLineHeading) * kRadPerDeg;
+  const double heading_deg = d.in(s.line_heading_deg, kLineHeading);
+  w.number("survey.heading_deg", heading_deg);
+  const double heading_rad = heading_deg * kRadPerDeg;
   const double fe = std::sin(heading_rad), fn = std::cos(heading_rad);  // forward
   const double se = fn, sn = -fe;                                       // starboard
   const int n_objects = s.object_types.empty() ? 0 : d.integer(s.object_count, kObjectCount);
+  w.number("objects.count", n_objects, 0);
   std::vector<double> type_weights;
   for (const auto& t : s.object_types) type_weights.push_back(t.weight);
   if (n_objects > 0) y << "objects:\n";
   for (int k = 0; k < n_objects; ++k) {
-    const auto key = [&](std::uint64_t attribute) {
-      return 16 * static_cast<std::uint64_t>(k) + attribute;
-    };
-    const DatasetObjectType& t = s.object_types[d.pick(type_weights, kObject, key(0))];
-    const double along = (d.unit(kObject, key(1)) - 0.5) * 0.8 * s.line_length_m;
-    const double across =
-        d.in(s.across_track_m, kObject, key(2)) * (d.unit(kObject, key(3)) < 0.5 ? -1.0 : 1.0);
-    const double east = along * fe + across * se, north = along * fn + across * sn;
-    const double heading_deg = d.in(s.object_heading_deg, kObject, key(4));
-    const double embed = d.in(s.burial, kObject, key(5));
-    ++item.object_counts[t.type];
-    y << "  - {type: " << t.type << ", id: " << k + 1 << ", name: " << t.type << "-" << k + 1
-      << ", position: {east_m: " << fx(east) << ", north_m: " << fx(north)
-      << "}, heading_deg: " << fx(heading_deg);
-    if (t.type == "rock") {
-      y << ", diameter_m: " << fx(d.in(t.diameter_m, kObject, key(6))) << ", embed: " << fx(embed);
-    } else if (t.type == "box") {
-      y << ", size_m: [" << fx(d.in(t.length_m, kObject, key(7))) << ", "
-        << fx(d.in(t.width_m, kObject, key(8))) << ", " << fx(d.in(t.height_m, kObject, key(9)))
-        << "], embed: " << fx(embed);
-    } else if (t.type == "pipe") {
-      y << ", length_m: " << fx(d.in(t.length_m, kObject, key(7)))
-        << ", diameter_m: " << fx(d.in(t.diameter_m, kObject, key(6))) << ", embed: " << fx(embed);
-    } else {
-      y << ", diameter_m: " << fx(d.in(t.diameter_m, kObject, key(6)))
-        << ", height_m: " << fx(d.in(t.height_m, kObject, key(9)));
-    }
-    y << "}\n";
+    y << object_entry(s, w, item, k, type_weights, fe, fn, se, sn);
   }
   const double h = s.line_length_m / 2.0;
   y << "survey:\n  start_time: \"2026-01-01T00:00:00Z\"\n";
-  y << "  speed_m_s: " << fx(d.in(s.speed_m_s, kSpeed)) << "\n";
-  y << "  altitude_m: " << fx(d.in(s.altitude_m, kAltitude)) << "\n";
+  y << "  speed_m_s: " << w.draw("survey.speed_m_s", s.speed_m_s, kSpeed) << "\n";
+  y << "  altitude_m: " << w.draw("survey.altitude_m", s.altitude_m, kAltitude) << "\n";
+  y << w.knob_lines("survey", "  ");
+  if (const std::string m = w.knob_pairs("survey.disturbance"); !m.empty()) {
+    y << "  disturbance: {" << m.substr(2) << "}\n";
+  }
   y << "  lines:\n    - {name: L1, waypoints: [{east_m: " << fx(-h * fe)
     << ", north_m: " << fx(-h * fn) << "}, {east_m: " << fx(h * fe) << ", north_m: " << fx(h * fn)
     << "}]}\n";
   y << "sonar:\n  preset: " << preset << "\n";
-  if (s.range_m) y << "  range_m: " << fx(range_m) << "\n";
+  if (s.range_m) y << "  range_m: " << w.number("sonar.range_m", range_m) << "\n";
   if (s.samples) y << "  samples: " << *s.samples << "\n";
-  y << "noise:\n  model: " << s.noise_model.names[d.pick(s.noise_model.weights, kNoiseModel)]
-    << "\n  snr_db: " << fx(d.in(s.snr_db, kSnr), 2) << "\n";
-  if (!s.labels_yaml.empty()) y << "output:\n  labels: " << s.labels_yaml << "\n";
+  y << w.knob_lines("sonar", "  ");
+  y << "noise:\n  model: " << w.name("noise.model", s.noise_model, kNoiseModel)
+    << "\n  snr_db: " << w.draw("noise.snr_db", s.snr_db, kSnr, 2) << "\n";
+  const std::string output = w.knob_lines("output", "  ") +
+                             (s.labels_yaml.empty() ? "" : "  labels: " + s.labels_yaml + "\n");
+  if (!output.empty()) y << "output:\n" << output;
   item.yaml = y.str();
   return item;
 }

@@ -28,14 +28,23 @@ struct WeightedChoice {
   std::vector<double> weights;  ///< > 0, same length as names
 };
 
-/// The distributions of one object type (`objects.<type>` in a spec file).
+/// The distributions of one object type (`objects.types.<type>` in a spec file).
 struct DatasetObjectType {
-  std::string type;  ///< rock, box, pipe or moored
+  std::string type;  ///< rock, box, pipe, moored or mesh
   double weight = 1.0;
   NumberRange diameter_m{1.0, 1.0};  ///< rock, pipe, moored
   NumberRange length_m{2.0, 2.0};    ///< box, pipe
   NumberRange width_m{1.0, 1.0};     ///< box
   NumberRange height_m{1.0, 1.0};    ///< box; moored: height of the centre above the seabed
+  // mesh
+  /// The models as the spec names them (a path relative to the spec file, or the name of a
+  /// shipped model: `mine`, `wreck`), with their weights.
+  WeightedChoice models;
+  std::vector<std::string> model_files;  ///< absolute path of each of models.names
+  NumberRange scale{1.0, 1.0};           ///< uniform scale of the model, > 0
+  /// Largest horizontal distance of a vertex from its model's origin over the models, at scale
+  /// 1, metres (read from the files at load: the grid's margin).
+  double model_radius_m = 0.0;
 };
 
 /// A dataset specification (docs/dataset.md): N scenes drawn from distributions. Every item is
@@ -75,6 +84,10 @@ struct DatasetSpec {
   std::optional<std::size_t> samples;  ///< replaces the preset's samples when given
   WeightedChoice noise_model{{"speckle"}, {1.0}};
   NumberRange snr_db{20.0, 20.0};
+  /// The optional knobs of domain randomisation (docs/dataset.md, "Domain randomisation"), by
+  /// spec key ("survey.disturbance.roll_deg", "sonar.frequency_khz", ...), in the key's units. A
+  /// knob left out writes nothing into the scene: the scene file's default holds.
+  std::map<std::string, NumberRange> knobs;
   // run
   std::string quality = "fast";  ///< QualityConfig preset: fast, default, high
   bool mosaic = false;
@@ -113,7 +126,9 @@ struct DatasetItemScene {
   std::string yaml;
   std::map<std::string, int> object_counts;  ///< by type
   /// The values drawn for this item by spec key ("survey.altitude_m", "sonar.preset", ...), so
-  /// that results can be sliced by them: numbers in the units of the key, names as text.
+  /// that results can be sliced by them: numbers in the units of the key, names as text; the
+  /// values of object k under "objects[k].<key>". Each is the value the scene text holds (as
+  /// rounded there); docs/dataset.md lists the keys.
   std::map<std::string, double> drawn_numbers;
   std::map<std::string, std::string> drawn_names;
 };
