@@ -28,9 +28,9 @@ constexpr std::array<short, 4> kClassColours[kClassCount] = {
 };
 
 constexpr const char* kShadowAttribution =
-    "a shadow sample belongs to the object that hides it, recorded by the renderer (the first "
-    "occluder on the ray from the sensor; an object wins over seabed relief); instance 0 where "
-    "only seabed relief hides it (docs/labels.md)";
+    "a shadow sample belongs to the object that casts it, recorded by the renderer: the nearest "
+    "object on its ray from the sensor (in a sample hidden by several, the largest id); instance "
+    "0 where no object is on the ray and seabed relief alone hides it (docs/labels.md)";
 constexpr const char* kInstanceCodes =
     "0 = no object (seabed, water column, no seabed, shadow not cast by an object), > 0 = the "
     "scene object with that id (class object: its echo, class shadow: the shadow it casts), "
