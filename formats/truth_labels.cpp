@@ -28,8 +28,9 @@ constexpr std::array<short, 4> kClassColours[kClassCount] = {
 };
 
 constexpr const char* kShadowAttribution =
-    "a run of shadow samples of one ping side belongs to the object whose samples end just before "
-    "it (nearer in range); a run after seabed or water column has instance 0 (docs/labels.md)";
+    "a shadow sample belongs to the object that casts it, recorded by the renderer: the nearest "
+    "object on its ray from the sensor (in a sample hidden by several, the largest id); instance "
+    "0 where no object is on the ray and seabed relief alone hides it (docs/labels.md)";
 constexpr const char* kInstanceCodes =
     "0 = no object (seabed, water column, no seabed, shadow not cast by an object), > 0 = the "
     "scene object with that id (class object: its echo, class shadow: the shadow it casts), "
@@ -133,7 +134,12 @@ void side_instances(std::span<const SampleClass> cls, std::span<const std::int32
         out[i] = id[i] > 0 ? static_cast<std::uint32_t>(id[i]) : 0;
         break;
       case SampleClass::shadow:
-        if (i == 0 || cls[i - 1] != SampleClass::shadow) {
+        if (id[i] >= 0) {  // the caster the renderer recorded (0: seabed relief)
+          out[i] = static_cast<std::uint32_t>(id[i]);
+          break;
+        }
+        // No caster recorded: the run rule.
+        if (i == 0 || cls[i - 1] != SampleClass::shadow || id[i - 1] >= 0) {
           caster = i > 0 && cls[i - 1] == SampleClass::object && id[i - 1] > 0
                        ? static_cast<std::uint32_t>(id[i - 1])
                        : 0;

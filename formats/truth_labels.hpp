@@ -44,9 +44,10 @@ const char* class_name(std::uint8_t code);
 std::string class_codes_text();
 
 /// The instance of each sample of one side (NEAR -> FAR, `cls` and `id` of one size): an object
-/// sample its object id; a shadow sample the id of the object whose samples end just before the
-/// run of shadow samples it belongs to (the caster), 0 if the run follows anything else (seabed
-/// relief, water column); every other sample 0. Negative ids are taken as 0.
+/// sample its object id (negative taken as 0); a shadow sample its id, the caster the renderer
+/// records (what hides it: > 0 an object, 0 seabed relief; docs/labels.md); a shadow sample
+/// without one (id < 0: truth not from the renderer) the id of the object whose samples end just
+/// before its run of such samples, 0 if the run follows anything else; every other sample 0.
 void side_instances(std::span<const SampleClass> cls, std::span<const std::int32_t> id,
                     std::vector<std::uint32_t>& out);
 

@@ -526,8 +526,9 @@ raster::RasterLabels truth_labels(
        {"SONARSYNTH_CLASS_CODES",
         "0 = water_column, 1 = seabed, 2 = object, 3 = shadow, 4 = no_seabed, 255 = padding"},
        {"SONARSYNTH_OBJECT_ID_CODES",
-        "0 = seabed, -1 = none (no seabed or object echo, or padding), > 0 = the scene object with "
-        "that id"},
+        "0 = seabed (class shadow: hidden by seabed relief alone), -1 = none (no echo and no "
+        "shadow, or padding), > 0 = the scene object with that id (class shadow: the object that "
+        "casts it, docs/labels.md)"},
        {"SONARSYNTH_WATERFALL_LAYOUT",
         "row = ping, columns = port far -> near | starboard near -> far, slant range"},
        {"SONARSYNTH_NODATA",

@@ -49,6 +49,64 @@ inline double tan_depression(double y_rel, double z_rel) {
   return sections::tan_depression(y_rel, z_rel, kMinTanY);
 }
 
+using HorizonStep = SideEcho::Workspace::HorizonStep;
+
+// The label of the occluder `o`: a seabed piece's facet label (0, or an object entered in the
+// height profile) or its section's object id.
+inline std::int32_t occluder_label(const BeamProfile& prof, const Segment& o) {
+  return static_cast<std::size_t>(o.facet) < prof.seabed_facets()
+             ? prof.label[static_cast<std::size_t>(o.facet)]
+             : prof.section_label[o.section];
+}
+
+// Records that the objects' horizon in the height profile (the running minimum of
+// tan(depression) over its facets with a label > 0) came down to `tan` through a facet labelled
+// `label`.
+inline void add_horizon_step(std::vector<HorizonStep>& steps, double tan, std::int32_t label) {
+  if (!steps.empty() && steps.back().label == label) {
+    steps.back().tan = tan;
+  } else {
+    steps.push_back({tan, label});
+  }
+}
+
+// Marks the part [h0, h1] of the height-profile facet A -> B (absolute heights, sensor at
+// height hs) that the horizon hides, each point with the label of the nearest object of the
+// profile that its ray from the sensor passes through (the first step of `steps` below the
+// point's tan(depression)), 0 where none does (seabed relief alone hides it). tan is monotone
+// along a straight facet, so the part splits into one piece per step it spans.
+template <class Grid>
+void mark_horizon_shadow(const Facet& f, const Grid& grid, double hs, double ya, double za,
+                         double yb, double zb, double h0, double h1,
+                         const std::vector<HorizonStep>& steps, std::vector<std::int32_t>& caster) {
+  if (!(h1 > h0)) return;
+  const double uy = yb - ya, uz = zb - za;
+  // Index of the first step below the tan at t; steps.size() if none (relief).
+  const auto step_of = [&](double t) {
+    const double tp = tan_depression(ya + t * uy, za - hs + t * uz);
+    return static_cast<std::size_t>(
+        std::partition_point(steps.begin(), steps.end(),
+                             [tp](const HorizonStep& s) { return s.tan >= tp; }) -
+        steps.begin());
+  };
+  const auto label = [&](std::size_t k) { return k < steps.size() ? steps[k].label : 0; };
+  const std::size_t k0 = step_of(h0), k1 = step_of(h1);
+  std::size_t k = k0;
+  double from = h0;
+  while (k != k1) {
+    const std::size_t next = k0 < k1 ? k + 1 : k - 1;
+    // The boundary between steps k and next: the tan the nearer of them came down to.
+    const double tb = steps[std::min(k, next)].tan;
+    const double den = uz + tb * uy;
+    double t = den != 0.0 ? (hs - za - tb * ya) / den : from;
+    t = std::isnan(t) ? from : std::clamp(t, from, h1);
+    mark_shadow(f, grid, from, t, label(k), caster);
+    from = t;
+    k = next;
+  }
+  mark_shadow(f, grid, from, h1, label(k), caster);
+}
+
 // Renders the front facets of the closed sections (w.occluders), each minus what the seabed
 // (w.seabed_pieces: the visible seabed facing the sensor, in order of decreasing tan(depression))
 // and the other sections hide.
@@ -75,7 +133,8 @@ void render_sections(const BeamProfile& prof, const SideParams& par, const Grid&
         double q0 = 0.0, q1 = 0.0;
         if (!hidden_by(o, s.y0, s.z0, uy, uz, q0, q1) || !(q1 - q0 > kMinHidden)) return;
         subtract_interval(vis, w.visible_next, q0, q1);
-        if constexpr (kTruth) mark_shadow(f, grid, q0, q1, w.shadowed);
+        if constexpr (kTruth)
+          mark_shadow(f, grid, q0, q1, occluder_label(prof, o), w.shadow_caster);
       };
       // Seabed pieces whose tan range meets [tan_lo, tan_hi]: they are sorted by decreasing tan.
       auto it = std::partition_point(pieces.begin(), pieces.end(),
@@ -130,7 +189,9 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
   const double r_max = grid.edge(grid.n);
   const double kb = par.calibration_k * par.beta_eff_rad;
   bool any_valid = false;
-  double tan_h = kInf;  // running minimum of tan(depression) (the horizon)
+  double tan_h = kInf;                     // running minimum of tan(depression) (the horizon)
+  [[maybe_unused]] double tan_obj = kInf;  // the same over the facets labelled > 0 (truth)
+  if constexpr (kTruth) w.horizon_steps.clear();
   const std::size_t n = prof.nodes();
   // Closed sections (objects off the seabed, BeamProfile): their front facets occlude the
   // seabed and each other; visible seabed pieces facing the sensor are kept to occlude them.
@@ -179,6 +240,12 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
           h1 = ts;
         }
       }
+      if constexpr (kTruth) {
+        if (prof.label[i] > 0 && std::min(ta, tb) < tan_obj) {
+          tan_obj = std::min(ta, tb);
+          add_horizon_step(w.horizon_steps, tan_obj, prof.label[i]);
+        }
+      }
       tan_h = std::min({tan_h, ta, tb});
     }
     if (!(f.a > 0.0)) continue;  // zero-length facet
@@ -202,7 +269,26 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     const double c0 =
         setup_facet(f, in, hs, ya, za, yb, zb, static_cast<std::int32_t>(i),
                     kb * backscatter_coefficient(par.backscatter, par.materials[prof.material[i]]));
-    if constexpr (kTruth) mark_shadow(f, grid, h0, h1, w.shadowed);
+    if constexpr (kTruth) {
+      mark_horizon_shadow(f, grid, hs, ya, za, yb, zb, h0, h1, w.horizon_steps, w.shadow_caster);
+      if (has_sections && h1 > h0) {
+        // A closed section on the ray of a point the profile hides also casts it: its label
+        // wins over relief (mark_shadow keeps the largest).
+        const double wz = za - hs, uy = f.uy, uz = f.uz;
+        const double tp0 = tan_depression(ya + h0 * uy, wz + h0 * uz);
+        const double tp1 = tan_depression(ya + h1 * uy, wz + h1 * uz);
+        const double tlo = std::min(tp0, tp1), thi = std::max(tp0, tp1);
+        if (thi >= sec_tan_lo && tlo <= sec_tan_hi) {
+          for (const Segment& o : occluders_meeting(by_tan, span, tlo, thi)) {
+            if (o.tan_hi < tlo || o.tan_lo > thi) continue;
+            double q0 = 0.0, q1 = 0.0;
+            if (!hidden_by(o, ya, wz, uy, uz, q0, q1)) continue;
+            mark_shadow(f, grid, std::max(q0, h0), std::min(q1, h1), prof.section_label[o.section],
+                        w.shadow_caster);
+          }
+        }
+      }
+    }
     // Lit part only; a facet seen from behind or edge-on (c0 <= 0) returns nothing.
     if (!(t1 > t0) || !(c0 > 0.0)) continue;
     if (has_sections && par.shadows) {
@@ -223,7 +309,8 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
           q1 = std::min(q1, t1);
           if (!(q1 - q0 > kMinHidden)) continue;
           subtract_interval(vis, w.visible_next, q0, q1);
-          if constexpr (kTruth) mark_shadow(f, grid, q0, q1, w.shadowed);
+          if constexpr (kTruth)
+            mark_shadow(f, grid, q0, q1, prof.section_label[o.section], w.shadow_caster);
         }
         for (std::size_t v = 0; v + 1 < vis.size(); v += 2) {
           render_lit<kTruth>(f, in, grid, vis[v], vis[v + 1], std::clamp(f.tm0, vis[v], vis[v + 1]),
@@ -275,7 +362,7 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
     const auto [j0, j1] = window(static_cast<std::ptrdiff_t>(i));
     double sum = 0.0;
     std::ptrdiff_t jbest = -1;
-    bool shadow = false;
+    std::int32_t caster = -1;  // of the hidden parts in the window (-1: none)
     for (std::ptrdiff_t j = std::max<std::ptrdiff_t>(0, j0); j <= j1; ++j) {
       const auto u = static_cast<std::size_t>(j);
       sum += w.fine_energy[u];
@@ -284,7 +371,7 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
             (jbest < 0 || w.best_energy[u] > w.best_energy[static_cast<std::size_t>(jbest)])) {
           jbest = j;
         }
-        shadow = shadow || w.shadowed[u] != 0;
+        caster = std::max(caster, w.shadow_caster[u]);
       }
     }
     out.intensity[i] = sum;
@@ -345,10 +432,10 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
         out.truth_ground_y_m[i] = my;
         out.truth_ground_z_m[i] = mz + prof.sensor_z_m;
       } else {
-        out.truth_class[i] = shadow                             ? SampleClass::shadow
+        out.truth_class[i] = caster >= 0                        ? SampleClass::shadow
                              : (j1 < first_return && any_valid) ? SampleClass::water_column
                                                                 : SampleClass::no_seabed;
-        out.truth_label[i] = -1;
+        out.truth_label[i] = caster;  // a shadow's caster (0 relief, > 0 object id), else -1
         out.truth_material[i] = 0;
         if (grazing) out.truth_grazing_rad[i] = kNaN;
         out.truth_ground_y_m[i] = kNaN;
@@ -380,7 +467,7 @@ void render_impl(const BeamProfile& prof, const SideParams& par, SideEcho& out) 
     w.best_facet.resize(nf);
     w.best_y_m.resize(nf);
     w.best_dz_m.resize(nf);
-    w.shadowed.assign(nf, 0);
+    w.shadow_caster.assign(nf, -1);
     out.truth_class.resize(par.samples);
     out.truth_label.resize(par.samples);
     out.truth_material.resize(par.samples);

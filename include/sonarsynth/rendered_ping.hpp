@@ -28,9 +28,11 @@ struct SideOutput {
   std::vector<float> clean_samples;
   // Truth (empty unless SimulationConfig::truth).
   std::vector<SampleClass> truth_class;
-  std::vector<std::int32_t> truth_label;  ///< object id, 0 seabed, -1 none
-  std::vector<float> truth_grazing_rad;   ///< NaN where no seabed contributes
-  std::vector<double> truth_ground_x_m;   ///< local frame; NaN where none
+  /// Object id of an object echo, 0 seabed; of a shadow sample what casts it (> 0 the object, 0
+  /// seabed relief alone, docs/labels.md "Shadow attribution"); -1 none.
+  std::vector<std::int32_t> truth_label;
+  std::vector<float> truth_grazing_rad;  ///< NaN where no seabed contributes
+  std::vector<double> truth_ground_x_m;  ///< local frame; NaN where none
   std::vector<double> truth_ground_y_m;
 };
 

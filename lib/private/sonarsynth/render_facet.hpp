@@ -399,10 +399,12 @@ void render_lit(const Facet& f, const Integrand& in, const Grid& grid, double t0
   if (mid_off > in.lit_lo && mid_off < in.lit_hi) piece(q, t1);
 }
 
-// Marks the fine bins spanned by the hidden part [h0, h1] of a facet as shadow (truth only).
+// Marks the fine bins spanned by the hidden part [h0, h1] of a facet as shadow cast by `caster`
+// (truth only: the occluder's label, 0 seabed relief, > 0 object id). A bin hidden by several
+// occluders keeps the largest label, so an object wins over relief (docs/labels.md).
 template <class Grid>
-void mark_shadow(const Facet& f, const Grid& grid, double h0, double h1,
-                 std::vector<std::uint8_t>& shadowed) {
+void mark_shadow(const Facet& f, const Grid& grid, double h0, double h1, std::int32_t caster,
+                 std::vector<std::int32_t>& shadow_caster) {
   if (!(h1 > h0)) return;
   const double tm = std::clamp(f.tm0, h0, h1);
   const double ra = f.range(h0), rb = f.range(h1), rm = f.range(tm);
@@ -411,7 +413,10 @@ void mark_shadow(const Facet& f, const Grid& grid, double h0, double h1,
   if (lo >= grid.edge(grid.n)) return;
   const std::ptrdiff_t j0 = std::max<std::ptrdiff_t>(0, grid.index(lo));
   const std::ptrdiff_t j1 = std::min<std::ptrdiff_t>(grid.n - 1, grid.index(hi));
-  for (std::ptrdiff_t j = j0; j <= j1; ++j) shadowed[static_cast<std::size_t>(j)] = 1;
+  for (std::ptrdiff_t j = j0; j <= j1; ++j) {
+    std::int32_t& c = shadow_caster[static_cast<std::size_t>(j)];
+    c = std::max(c, caster);
+  }
 }
 
 // The facet A -> B (absolute coordinates) of the integrand; returns c0 = cos(incidence) r (> 0

@@ -61,7 +61,9 @@ struct SideEcho {
   // Truth (filled only with SideParams::truth; sized 0 otherwise). Describes the single
   // sub-piece of seabed contributing the most energy to the sample (its midpoint).
   std::vector<SampleClass> truth_class;
-  std::vector<std::int32_t> truth_label;      ///< facet label (0 seabed, > 0 object id, -1 none)
+  /// Facet label (0 seabed, > 0 object id) of an echo; of a shadow sample the label of what hides
+  /// it (0 seabed relief, > 0 the object id, docs/labels.md); -1 none.
+  std::vector<std::int32_t> truth_label;
   std::vector<std::uint16_t> truth_material;  ///< facet material (0 if none)
   /// Grazing angle at the contributor, rad, NaN if none (empty unless SideParams::truth_grazing).
   std::vector<double> truth_grazing_rad;
@@ -86,7 +88,18 @@ struct SideEcho {
     std::vector<std::int32_t> best_facet;  ///< profile facet index of the dominant sub-piece
     std::vector<double> best_y_m;          ///< its midpoint's y
     std::vector<double> best_dz_m;         ///< its midpoint's z minus the sensor height
-    std::vector<std::uint8_t> shadowed;
+    /// Per fine bin: -1 if no hidden part falls there, else the label of what hides it (the
+    /// largest if several: 0 seabed relief, > 0 object id; docs/labels.md).
+    std::vector<std::int32_t> shadow_caster;
+    /// The objects' horizon in the height profile (truth only): the running minimum of
+    /// tan(depression) over its facets with a label > 0, as steps, nearest first (tan
+    /// decreasing): each the tan it came down to and the label of the facets that brought it
+    /// there, consecutive equal labels merged.
+    struct HorizonStep {
+      double tan;
+      std::int32_t label;
+    };
+    std::vector<HorizonStep> horizon_steps;
     // Closed sections (BeamProfile sections): their front-facing facets, the seabed pieces that
     // can occlude them, and visible-interval lists (flattened pairs of facet parameters).
     struct Segment {
