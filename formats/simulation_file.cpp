@@ -113,12 +113,26 @@ void read_beam(const Fields& b, SimulationSetup& setup) {
   }
 }
 
-// output.labels (docs/labels.md): coco, yolo, chips (a boolean, or a map of its settings).
+// output.labels (docs/labels.md): coco, yolo, voc, chips (a boolean, or a map of its settings),
+// segmentation.
 void read_labels(const Fields& f, SimulationSetup& setup) {
-  f.only({"coco", "yolo", "chips"});
+  f.only({"coco", "yolo", "voc", "chips", "segmentation"});
   LabelOutput& l = setup.labels;
   l.coco = f.boolean("coco", l.coco);
   l.yolo = f.boolean("yolo", l.yolo);
+  l.voc = f.boolean("voc", l.voc);
+  if (f.given("segmentation")) {
+    const std::string v = f.text("segmentation");
+    if (v == "rle") {
+      l.segmentation = LabelOutput::Segmentation::rle;
+    } else if (v == "polygon") {
+      l.segmentation = LabelOutput::Segmentation::polygon;
+    } else if (v == "none") {
+      l.segmentation = LabelOutput::Segmentation::none;
+    } else {
+      f.fail_value("segmentation", "one of rle, polygon, none");
+    }
+  }
   if (f.has("chips") && f.node()["chips"].IsMap()) {
     const Fields c = f.child("chips");
     c.only({"size_px", "stride_px", "max_nodata_fraction"});
@@ -299,9 +313,19 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   // Output scaling and format.
   if (top.has("output")) {
     const Fields f = top.child("output");
-    f.only(keys_of("output", {"labels"}));
+    f.only(keys_of("output", {"labels", "display_window_db"}));
     options::read_all(f, "output", setup);
     if (f.has("labels")) read_labels(f.child("labels"), setup);
+    if (f.has("display_window_db")) {
+      const auto w = f.numbers("display_window_db", 2);
+      if (!(w[0] < w[1]) || w[1] - w[0] > 200.0) {
+        f.fail_value("display_window_db", "[lo, hi] with lo < hi <= lo + 200 (dB)");
+      }
+      if (setup.display_linear) {
+        f.fail_value("display_window_db", "not with output.display: linear");
+      }
+      setup.display_window_db = std::pair<double, double>{w[0], w[1]};
+    }
   }
   // Common XTF readers take at most 8192 samples per channel: more only on request.
   if (const auto v = sample_count_violation(setup)) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <span>
+#include <tuple>
 #include <utility>
 
 #include "sink_threads.hpp"
@@ -89,6 +90,10 @@ class SurveyProducts::MosaicPart final : public PingSink {
     MosaicWriteOptions w = options_.write_options;
     w.rgb_path = (dir_ / "mosaic_rgb.tif").string();
     w.linear_full_scale = options_.display_linear_full_scale;
+    if (options_.display_window_db) {
+      w.fixed_db = true;
+      std::tie(w.lo_db, w.hi_db) = *options_.display_window_db;
+    }
     if (options_.truth) w.labels_path = (dir_ / "truth_mosaic.tif").string();
     const auto path = dir_ / "mosaic.tif";
     // The files are written window by window from the tiles (no image in memory): the tiles
@@ -200,6 +205,10 @@ class SurveyProducts::WaterfallPart final : public LinePart {
     wo.spool_dir = dir();
     wo.max_pixels = options_.waterfall_max_pixels;
     wo.linear_full_scale = options_.display_linear_full_scale;
+    if (options_.display_window_db) {
+      wo.fixed_db = true;
+      std::tie(wo.lo_db, wo.hi_db) = *options_.display_window_db;
+    }
     wo.metadata = options_.write_options.metadata;  // the run's items, in every product
     waterfall_ = std::make_shared<Waterfall>(wo);
   }

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +33,9 @@ struct SurveyProductOptions {
   /// > 0: the waterfalls and mosaic_rgb show value / this linearly (output.display: linear, the
   /// samples' full scale); 0: a dB window (percentiles).
   double display_linear_full_scale = 0.0;
+  /// Given (and display_linear_full_scale 0): the waterfalls and mosaic_rgb map 10 log10(value)
+  /// from first (0) to second (1), one window for every image (output.display_window_db).
+  std::optional<std::pair<double, double>> display_window_db;
   /// true: a finished line's images are written on a thread of their own while the next line
   /// accumulates; false: on the calling thread (a one-thread run: one core). Same files.
   bool background_images = true;
