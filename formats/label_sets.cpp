@@ -8,12 +8,17 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <tuple>
 #include <utility>
 
 #include "raster_util.hpp"
+#include "sonarsynth/colormap.hpp"
+#include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
 #include "sonarsynth/version.hpp"
@@ -349,17 +354,18 @@ struct ChipFrame {
   double gt[6] = {0, 1, 0, 0, 0, 1};
 };
 
-ChipFrame chip_frame(const LabelImage& li, ImageLabels& il, const LabelContext& context) {
+ChipFrame chip_frame(const LabelImage& li, std::size_t rows, GDALDataset* image,
+                     const LabelContext& context) {
   ChipFrame f;
   if (!li.line.empty()) {
     for (std::size_t l = 0; l < context.line_names.size(); ++l) {
       if (context.line_names[l] == li.line && context.tracks && l < context.tracks->size() &&
-          (*context.tracks)[l].along_track_m.size() == il.cls.rows) {
+          (*context.tracks)[l].along_track_m.size() == rows) {
         f.track = &(*context.tracks)[l];
       }
     }
-  } else {
-    f.geo = il.image.ds->GetGeoTransform(f.gt) == CE_None;
+  } else if (image) {
+    f.geo = image->GetGeoTransform(f.gt) == CE_None;
   }
   return f;
 }
@@ -490,100 +496,242 @@ struct ChipSinks {
   std::string jsonl;
 };
 
-/// The chips of one image; appends to the chip documents and result.
+std::string chip_stem(const std::string& stem, std::size_t top, std::size_t left) {
+  char suffix[64];
+  std::snprintf(suffix, sizeof suffix, "_r%06zu_c%06zu", top, left);
+  return stem + suffix;
+}
+
+/// A chip's labels: its window, pieces and where the chip cut them.
+struct ChipCut {
+  std::size_t top = 0, left = 0;
+  std::vector<Piece> pieces;
+  std::vector<bool> truncated;
+};
+
+/// Scratch buffers of one chip.
+struct ChipScratch {
+  std::vector<std::uint8_t> cls, colour;
+  std::vector<std::uint32_t> inst;
+  std::vector<float> values;
+  std::vector<std::uint16_t> u16;
+};
+
+/// Cuts the labels of the chip at (top, left) from the rows `cls_row(y)`, `inst_row(y)` (the
+/// rows top - 1 .. top + size where they exist): false (nothing written) if it has too much
+/// nodata, else writes its masks and fills `cut`.
+template <class ClsRow, class InstRow>
+bool cut_chip(const fs::path& dir, const std::string& stem, std::size_t top, std::size_t left,
+              std::size_t rows, std::size_t cols, const LabelSetOptions& options,
+              const ClsRow& cls_row, const InstRow& inst_row, ChipScratch& scratch, ChipCut& cut) {
+  const std::size_t size = options.chip_size_px;
+  const auto limit =
+      static_cast<std::size_t>(options.chip_max_nodata_fraction * static_cast<double>(size * size));
+  scratch.cls.resize(size * size);
+  scratch.inst.resize(size * size);
+  std::size_t nodata = 0;
+  BoxAccumulator acc;
+  for (std::size_t r = 0; r < size; ++r) {
+    const std::uint8_t* c = cls_row(top + r) + left;
+    const std::uint32_t* k = inst_row(top + r) + left;
+    std::copy(c, c + size, scratch.cls.begin() + static_cast<std::ptrdiff_t>(r * size));
+    std::copy(k, k + size, scratch.inst.begin() + static_cast<std::ptrdiff_t>(r * size));
+    nodata += static_cast<std::size_t>(std::count(c, c + size, kClassNodata));
+    acc.add_row(r, {c, size}, {k, size});
+  }
+  if (nodata == size * size || nodata > limit) return false;
+  write_small(dir / "chips" / "masks" / (stem + "_class.tif"), size, GDT_Byte, {scratch.cls.data()},
+              "GTiff", true, kClassNodata);
+  write_small(dir / "chips" / "masks" / (stem + "_instance.tif"), size, GDT_UInt32,
+              {scratch.inst.data()}, "GTiff", true, kInstanceNodata);
+  const auto key = [&](std::size_t x, std::size_t y) {
+    const std::uint32_t k = inst_row(y)[x];
+    const int c = category_of(cls_row(y)[x]);
+    if (k == 0 || k == kInstanceNodata || c == 0) return std::pair<int, std::uint32_t>{0, 0};
+    return std::pair<int, std::uint32_t>{c, k};
+  };
+  cut.top = top;
+  cut.left = left;
+  cut.pieces = acc.pieces();
+  cut.truncated = chip_truncated(cut.pieces, top, left, size, cols, rows, key);
+  return true;
+}
+
+/// No sample in a u16 sample chip (sonarsynth's u16 samples reach 32767 at most).
+constexpr std::uint16_t kU16SampleNodata = 65535;
+
+/// Writes the chip's image (colour bands `colour_row(b, y)`, or grey from the display values
+/// `display_row(y)`) and, if asked, its sample chip (`value_row(y)`).
+template <class ColourRow, class DisplayRow, class ValueRow>
+void write_chip_image(const fs::path& dir, const std::string& stem, std::size_t top,
+                      std::size_t left, std::size_t bands, const LabelSetOptions& options,
+                      const ColourRow& colour_row, const DisplayRow& display_row,
+                      const ValueRow& value_row, ChipScratch& scratch) {
+  const std::size_t size = options.chip_size_px;
+  const bool grey = options.chip_color == LabelOutput::ChipColor::grey;
+  const std::size_t out_bands = grey ? 1 : bands;
+  scratch.colour.resize(out_bands * size * size);
+  for (std::size_t r = 0; r < size; ++r) {
+    if (grey) {
+      const float* v = display_row(top + r) + left;
+      for (std::size_t i = 0; i < size; ++i) {
+        scratch.colour[r * size + i] = colormap(Colormap::grey, static_cast<double>(v[i])).r;
+      }
+    } else {
+      for (std::size_t b = 0; b < bands; ++b) {
+        const std::uint8_t* p = colour_row(b, top + r) + left;
+        std::copy(p, p + size,
+                  scratch.colour.begin() + static_cast<std::ptrdiff_t>((b * size + r) * size));
+      }
+    }
+  }
+  std::vector<const void*> views;
+  for (std::size_t b = 0; b < out_bands; ++b) views.push_back(&scratch.colour[b * size * size]);
+  write_small(dir / "chips" / "images" / (stem + ".png"), size, GDT_Byte, views, "PNG", false, 0.0);
+  if (options.chip_samples == LabelOutput::ChipSamples::none) return;
+  scratch.values.resize(size * size);
+  for (std::size_t r = 0; r < size; ++r) {
+    const float* v = value_row(top + r) + left;
+    std::copy(v, v + size, scratch.values.begin() + static_cast<std::ptrdiff_t>(r * size));
+  }
+  const fs::path path = dir / "chips" / "samples" / (stem + ".tif");
+  if (options.chip_samples == LabelOutput::ChipSamples::f32) {
+    write_small(path, size, GDT_Float32, {scratch.values.data()}, "GTiff", true, NAN);
+    return;
+  }
+  scratch.u16.resize(size * size);
+  for (std::size_t i = 0; i < size * size; ++i) {
+    const float v = scratch.values[i];
+    scratch.u16[i] = std::isnan(v) ? kU16SampleNodata
+                                   : static_cast<std::uint16_t>(std::clamp(
+                                         std::lround(static_cast<double>(v)), 0L, 65534L));
+  }
+  write_small(path, size, GDT_UInt16, {scratch.u16.data()}, "GTiff", true, kU16SampleNodata);
+}
+
+/// The files of one chip, relative to the output directory.
+std::vector<fs::path> chip_files(const std::string& stem, const LabelSetOptions& options) {
+  std::vector<fs::path> f = {fs::path("chips") / "images" / (stem + ".png"),
+                             fs::path("chips") / "masks" / (stem + "_class.tif"),
+                             fs::path("chips") / "masks" / (stem + "_instance.tif")};
+  if (options.chip_samples != LabelOutput::ChipSamples::none) {
+    f.push_back(fs::path("chips") / "samples" / (stem + ".tif"));
+  }
+  return f;
+}
+
+/// The chip's boxes: YOLO text, VOC XML, its COCO image and annotations and its record.
+void emit_chip(const fs::path& dir, const LabelImage& li, const std::string& stem,
+               const ChipCut& cut, std::size_t cols, std::size_t bands,
+               const LabelSetOptions& options, const LabelContext& context, const ChipFrame& frame,
+               ChipSinks& sinks, LabelSetResult& result) {
+  const std::size_t size = options.chip_size_px;
+  const std::vector<fs::path> files = chip_files(stem, options);
+  result.files.insert(result.files.end(), files.begin(), files.end());
+  if (options.yolo) {
+    const fs::path rel = fs::path("chips") / "labels" / (stem + ".txt");
+    write_text(dir / rel, yolo_text(cut.pieces, size, size));
+    result.files.push_back(rel);
+  }
+  const std::size_t depth = options.chip_color == LabelOutput::ChipColor::grey ? 1 : bands;
+  if (options.voc) {
+    const fs::path rel = fs::path("chips") / "voc" / "Annotations" / (stem + ".xml");
+    write_text(dir / rel, voc_xml("chips/images", stem + ".png", size, size, depth, cut.pieces,
+                                  cut.truncated));
+    result.files.push_back(rel);
+  }
+  if (options.coco) {
+    Json& coco = sinks.coco;
+    const auto image_id = static_cast<int>(coco["images"].size()) + 1;
+    Json im = {{"id", image_id},
+               {"file_name", "images/" + stem + ".png"},
+               {"width", size},
+               {"height", size},
+               {"class_mask", "masks/" + stem + "_class.tif"},
+               {"instance_mask", "masks/" + stem + "_instance.tif"}};
+    if (options.chip_samples != LabelOutput::ChipSamples::none) {
+      im["samples"] = "samples/" + stem + ".tif";
+    }
+    im["source_image"] = li.image;
+    im["source_x0"] = cut.left;
+    im["source_y0"] = cut.top;
+    coco["images"].push_back(std::move(im));
+    add_annotations(coco, image_id, cut.pieces, size, size, options, cut.truncated);
+  }
+  sinks.jsonl += chip_record("images/" + stem + ".png", li, frame, context, cut.top, cut.left, size,
+                             cols, cut.pieces, cut.truncated)
+                     .dump() +
+                 "\n";
+  ++result.chips;
+}
+
+/// The chips of one image read back from its files; appends to the chip documents and result.
 void write_chips(const fs::path& dir, const LabelImage& li, ImageLabels& il,
                  const LabelSetOptions& options, const LabelContext& context, ChipSinks& sinks,
                  LabelSetResult& result) {
   const std::size_t size = options.chip_size_px, stride = options.chip_stride_px;
   const std::size_t rows = il.cls.rows, cols = il.cls.cols;
   if (rows < size || cols < size) return;
-  const ChipFrame frame = chip_frame(li, il, context);
+  const ChipFrame frame = chip_frame(li, rows, il.image.ds.get(), context);
   const std::vector<int> colour = colour_bands(il.image);
   // The chip's rows and one more above and below (where a chip cuts a piece).
   const std::size_t window = size + 2;
   RowWindow img(il.image, colour, GDT_Byte, window);
   RowWindow cls(il.cls, {1}, GDT_Byte, window);
   RowWindow inst(il.inst, {1}, GDT_UInt32, window);
-  std::vector<std::uint8_t> chip_img(colour.size() * size * size), chip_cls(size * size);
-  std::vector<std::uint32_t> chip_inst(size * size);
-  const auto limit =
-      static_cast<std::size_t>(options.chip_max_nodata_fraction * static_cast<double>(size * size));
-  const auto key = [&](std::size_t x, std::size_t y) {
-    const std::uint32_t k = inst.row<std::uint32_t>(0, y)[x];
-    const int c = category_of(cls.row<std::uint8_t>(0, y)[x]);
-    if (k == 0 || k == kInstanceNodata || c == 0) return std::pair<int, std::uint32_t>{0, 0};
-    return std::pair<int, std::uint32_t>{c, k};
+  // The sample values (grey chips, sample chips): a float raster on the same grid.
+  const bool need_values = options.chip_color == LabelOutput::ChipColor::grey ||
+                           options.chip_samples != LabelOutput::ChipSamples::none;
+  Raster values;
+  std::optional<RowWindow> val;
+  DisplayRange range = context.display;
+  std::vector<float> display;
+  if (need_values) {
+    if (li.values.empty()) {
+      throw FormatError(std::string(kWho) + ": " + li.image +
+                        ": no sample values for grey or sample chips");
+    }
+    values = open(dir, li.values);
+    if (!context.display_fixed) {
+      // The display copy's window: the percentiles of its values (robust_db_range's).
+      std::vector<float> all(values.cols * values.rows);
+      if (values.ds->GetRasterBand(1)->RasterIO(
+              GF_Read, 0, 0, static_cast<int>(values.cols), static_cast<int>(values.rows),
+              all.data(), static_cast<int>(values.cols), static_cast<int>(values.rows), GDT_Float32,
+              0, 0, nullptr) != CE_None) {
+        throw FormatError(std::string(kWho) + ": cannot read " + values.path);
+      }
+      range = robust_db_range(all, 1.0, 99.0);
+    }
+    val.emplace(values, std::vector<int>{1}, GDT_Float32, window);
+    display.resize(window * cols);
+  }
+  ChipScratch scratch;
+  const auto cls_row = [&](std::size_t y) { return cls.row<std::uint8_t>(0, y); };
+  const auto inst_row = [&](std::size_t y) { return inst.row<std::uint32_t>(0, y); };
+  const auto colour_row = [&](std::size_t b, std::size_t y) { return img.row<std::uint8_t>(b, y); };
+  const auto value_row = [&](std::size_t y) { return val->row<float>(0, y); };
+  const auto display_row = [&](std::size_t y) {
+    float* d = display.data() + (y % window) * cols;
+    const float* v = value_row(y);
+    for (std::size_t i = 0; i < cols; ++i) d[i] = static_cast<float>(range.value(v[i]));
+    return d;
   };
   for (std::size_t top = 0; top + size <= rows; top += stride) {
     const std::size_t first = top > 0 ? top - 1 : 0;
     img.move_to(first);
     cls.move_to(first);
     inst.move_to(first);
+    if (val) val->move_to(first);
     for (std::size_t left = 0; left + size <= cols; left += stride) {
-      std::size_t nodata = 0;
-      BoxAccumulator acc;
-      for (std::size_t r = 0; r < size; ++r) {
-        const std::uint8_t* c = cls.row<std::uint8_t>(0, top + r) + left;
-        const std::uint32_t* k = inst.row<std::uint32_t>(0, top + r) + left;
-        std::copy(c, c + size, chip_cls.begin() + static_cast<std::ptrdiff_t>(r * size));
-        std::copy(k, k + size, chip_inst.begin() + static_cast<std::ptrdiff_t>(r * size));
-        nodata += static_cast<std::size_t>(std::count(c, c + size, kClassNodata));
-        acc.add_row(r, {c, size}, {k, size});
+      const std::string stem = chip_stem(li.stem, top, left);
+      ChipCut cut;
+      if (!cut_chip(dir, stem, top, left, rows, cols, options, cls_row, inst_row, scratch, cut)) {
+        continue;
       }
-      if (nodata == size * size || nodata > limit) continue;
-      for (std::size_t r = 0; r < size; ++r) {
-        for (std::size_t b = 0; b < colour.size(); ++b) {
-          const std::uint8_t* p = img.row<std::uint8_t>(b, top + r) + left;
-          std::copy(p, p + size,
-                    chip_img.begin() + static_cast<std::ptrdiff_t>((b * size + r) * size));
-        }
-      }
-      char suffix[64];
-      std::snprintf(suffix, sizeof suffix, "_r%06zu_c%06zu", top, left);
-      const std::string stem = li.stem + suffix;
-      std::vector<const void*> views;
-      for (std::size_t b = 0; b < colour.size(); ++b) views.push_back(&chip_img[b * size * size]);
-      write_small(dir / "chips" / "images" / (stem + ".png"), size, GDT_Byte, views, "PNG", false,
-                  0.0);
-      write_small(dir / "chips" / "masks" / (stem + "_class.tif"), size, GDT_Byte,
-                  {chip_cls.data()}, "GTiff", true, kClassNodata);
-      write_small(dir / "chips" / "masks" / (stem + "_instance.tif"), size, GDT_UInt32,
-                  {chip_inst.data()}, "GTiff", true, kInstanceNodata);
-      result.files.push_back(fs::path("chips") / "images" / (stem + ".png"));
-      result.files.push_back(fs::path("chips") / "masks" / (stem + "_class.tif"));
-      result.files.push_back(fs::path("chips") / "masks" / (stem + "_instance.tif"));
-      const std::vector<Piece> pieces = acc.pieces();
-      const std::vector<bool> truncated = chip_truncated(pieces, top, left, size, cols, rows, key);
-      if (options.yolo) {
-        const fs::path rel = fs::path("chips") / "labels" / (stem + ".txt");
-        write_text(dir / rel, yolo_text(pieces, size, size));
-        result.files.push_back(rel);
-      }
-      if (options.voc) {
-        const fs::path rel = fs::path("chips") / "voc" / "Annotations" / (stem + ".xml");
-        write_text(dir / rel, voc_xml("chips/images", stem + ".png", size, size, colour.size(),
-                                      pieces, truncated));
-        result.files.push_back(rel);
-      }
-      if (options.coco) {
-        Json& coco = sinks.coco;
-        const auto image_id = static_cast<int>(coco["images"].size()) + 1;
-        coco["images"].push_back({{"id", image_id},
-                                  {"file_name", "images/" + stem + ".png"},
-                                  {"width", size},
-                                  {"height", size},
-                                  {"class_mask", "masks/" + stem + "_class.tif"},
-                                  {"instance_mask", "masks/" + stem + "_instance.tif"},
-                                  {"source_image", li.image},
-                                  {"source_x0", left},
-                                  {"source_y0", top}});
-        add_annotations(coco, image_id, pieces, size, size, options, truncated);
-      }
-      sinks.jsonl += chip_record("images/" + stem + ".png", li, frame, context, top, left, size,
-                                 cols, pieces, truncated)
-                         .dump() +
-                     "\n";
-      ++result.chips;
+      write_chip_image(dir, stem, top, left, colour.size(), options, colour_row, display_row,
+                       value_row, scratch);
+      emit_chip(dir, li, stem, cut, cols, colour.size(), options, context, frame, sinks, result);
     }
   }
 }
@@ -789,9 +937,184 @@ void TrackRecorder::ping(const RenderedPing& p) {
   }
 }
 
+struct LabelPass::Line {
+  std::string stem;  ///< of the chips: "<line>_waterfall"
+  // The image side (the waterfall writer's thread): the last chip_size_px rows.
+  std::size_t image_rows = 0, image_cols = 0, bands = 0;
+  std::vector<std::uint8_t> colour;  ///< rows of bands x cols, row y in slot y % size
+  std::vector<float> linear, display;
+  std::vector<std::string> image_chips;  ///< stems of the chip images written
+  ChipScratch image_scratch;
+  // The label side (the truth writer's thread): the last chip_size_px + 2 rows.
+  std::size_t label_rows = 0, label_cols = 0;
+  BoxAccumulator whole;
+  std::vector<std::uint8_t> cls;
+  std::vector<std::uint32_t> inst;
+  std::size_t next_top = 0;    ///< the next band of chips to cut
+  std::vector<ChipCut> chips;  ///< the chips kept, their masks written
+  ChipScratch label_scratch;
+};
+
+namespace {
+
+/// Cuts the chips of the band at `top` from the line's label rows (rows top - 1 .. top + size
+/// where they exist; `rows` the rows known to exist).
+void cut_band(LabelPass::Line& l, const fs::path& dir, const LabelSetOptions& o, std::size_t top,
+              std::size_t rows) {
+  const std::size_t size = o.chip_size_px, window = size + 2, cols = l.label_cols;
+  const auto cls_row = [&](std::size_t y) { return l.cls.data() + (y % window) * cols; };
+  const auto inst_row = [&](std::size_t y) { return l.inst.data() + (y % window) * cols; };
+  for (std::size_t left = 0; left + size <= cols; left += o.chip_stride_px) {
+    ChipCut cut;
+    if (cut_chip(dir, chip_stem(l.stem, top, left), top, left, rows, cols, o, cls_row, inst_row,
+                 l.label_scratch, cut)) {
+      l.chips.push_back(std::move(cut));
+    }
+  }
+}
+
+/// The bands of chips left when the line's last label row has come (no row below them).
+void finish_line(LabelPass::Line& l, const fs::path& dir, const LabelSetOptions& o) {
+  if (!o.chips) return;
+  for (; l.next_top + o.chip_size_px <= l.label_rows; l.next_top += o.chip_stride_px) {
+    cut_band(l, dir, o, l.next_top, l.label_rows);
+  }
+}
+
+}  // namespace
+
+LabelPass::LabelPass(fs::path dir, LabelSetOptions options)
+    : dir_(std::move(dir)), options_(options) {
+  if (!options_.chips) return;
+  for (const char* sub : {"images", "masks"}) fs::create_directories(dir_ / "chips" / sub);
+  if (options_.chip_samples != LabelOutput::ChipSamples::none) {
+    fs::create_directories(dir_ / "chips" / "samples");
+  }
+}
+
+LabelPass::~LabelPass() = default;
+
+LabelPass::Line& LabelPass::get(const std::string& name) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_ptr<Line>& l = lines_[name];
+  if (!l) {
+    l = std::make_unique<Line>();
+    l->stem = name + "_waterfall";
+  }
+  return *l;
+}
+
+LabelPass::Line* LabelPass::line(const std::string& name) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = lines_.find(name);
+  return it == lines_.end() ? nullptr : it->second.get();
+}
+
+Waterfall::RowTap LabelPass::image_tap(const std::string& name) {
+  if (!options_.chips) return {};
+  Line* l = &get(name);
+  return [l, dir = dir_, o = options_](std::size_t row, std::span<const float> linear,
+                                       std::span<const float> display,
+                                       std::span<const std::uint8_t> colour, std::size_t bands) {
+    const std::size_t size = o.chip_size_px, cols = linear.size();
+    if (row == 0) {
+      l->image_cols = cols;
+      l->bands = bands;
+      l->colour.assign(size * bands * cols, 0);
+      l->linear.assign(size * cols, 0.0f);
+      l->display.assign(size * cols, 0.0f);
+    }
+    if (cols != l->image_cols || bands != l->bands) return;  // not a waterfall of one width
+    const std::size_t slot = row % size;
+    std::copy(colour.begin(), colour.end(),
+              l->colour.begin() + static_cast<std::ptrdiff_t>(slot * bands * cols));
+    std::copy(linear.begin(), linear.end(),
+              l->linear.begin() + static_cast<std::ptrdiff_t>(slot * cols));
+    std::copy(display.begin(), display.end(),
+              l->display.begin() + static_cast<std::ptrdiff_t>(slot * cols));
+    l->image_rows = row + 1;
+    if (row + 1 < size || (row + 1 - size) % o.chip_stride_px != 0) return;
+    const std::size_t top = row + 1 - size;
+    const auto colour_row = [&](std::size_t b, std::size_t y) {
+      return l->colour.data() + ((y % size) * bands + b) * cols;
+    };
+    const auto display_row = [&](std::size_t y) { return l->display.data() + (y % size) * cols; };
+    const auto value_row = [&](std::size_t y) { return l->linear.data() + (y % size) * cols; };
+    for (std::size_t left = 0; left + size <= cols; left += o.chip_stride_px) {
+      const std::string stem = chip_stem(l->stem, top, left);
+      write_chip_image(dir, stem, top, left, bands, o, colour_row, display_row, value_row,
+                       l->image_scratch);
+      l->image_chips.push_back(stem);
+    }
+  };
+}
+
+TruthWaterfall::LabelRowTap LabelPass::label_tap(const std::string& name) {
+  Line* l = &get(name);
+  return [l, dir = dir_, o = options_](std::size_t row, std::span<const std::uint8_t> cls,
+                                       std::span<const std::uint32_t> inst) {
+    const std::size_t size = o.chip_size_px, window = size + 2, cols = cls.size();
+    if (row == 0) {
+      l->label_cols = cols;
+      if (o.chips) {
+        l->cls.assign(window * cols, 0);
+        l->inst.assign(window * cols, 0);
+      }
+    }
+    l->whole.add_row(row, cls, inst);
+    l->label_rows = row + 1;
+    if (!o.chips) return;
+    std::copy(cls.begin(), cls.end(),
+              l->cls.begin() + static_cast<std::ptrdiff_t>((row % window) * cols));
+    std::copy(inst.begin(), inst.end(),
+              l->inst.begin() + static_cast<std::ptrdiff_t>((row % window) * cols));
+    // A band of chips is cut when the row below it has come (where a chip cuts a piece).
+    for (; l->next_top + size <= row; l->next_top += o.chip_stride_px) {
+      cut_band(*l, dir, o, l->next_top, l->label_rows);
+    }
+  };
+}
+
+namespace {
+
+void remove_files(const fs::path& dir, const std::vector<fs::path>& files) {
+  for (const fs::path& f : files) {
+    std::error_code ec;
+    fs::remove(dir / f, ec);
+  }
+}
+
+/// The chips of a line cut in the pass: the records of those kept, the files of the others
+/// removed; false (all its chip files removed) if the image and its labels differ in size.
+bool emit_line_chips(const fs::path& dir, const LabelImage& li, LabelPass::Line& l,
+                     const LabelSetOptions& options, const LabelContext& context, ChipSinks& sinks,
+                     LabelSetResult& result) {
+  const bool usable = l.image_rows == l.label_rows && l.image_cols == l.label_cols;
+  std::set<std::string> kept;
+  if (usable) {
+    const ChipFrame frame = chip_frame(li, l.label_rows, nullptr, context);
+    for (const ChipCut& cut : l.chips) {
+      const std::string stem = chip_stem(l.stem, cut.top, cut.left);
+      kept.insert(stem);
+      emit_chip(dir, li, stem, cut, l.label_cols, l.bands, options, context, frame, sinks, result);
+    }
+  } else {
+    for (const ChipCut& cut : l.chips) {
+      remove_files(dir, chip_files(chip_stem(l.stem, cut.top, cut.left), options));
+    }
+  }
+  for (const std::string& stem : l.image_chips) {
+    if (!kept.count(stem)) remove_files(dir, chip_files(stem, options));
+  }
+  return usable;
+}
+
+}  // namespace
+
 LabelSetResult write_label_sets(const fs::path& dir, const std::vector<LabelImage>& waterfalls,
                                 const std::vector<LabelImage>& mosaic,
-                                const LabelSetOptions& options, const LabelContext& context) {
+                                const LabelSetOptions& options, const LabelContext& context,
+                                LabelPass* pass) {
   LabelSetResult result;
   if (!options.any()) return result;
   gdal::ensure_registered();
@@ -802,6 +1125,9 @@ LabelSetResult write_label_sets(const fs::path& dir, const std::vector<LabelImag
   if (options.voc) fs::create_directories(dir / "voc" / "Annotations");
   if (options.chips) {
     for (const char* sub : {"images", "masks"}) fs::create_directories(dir / "chips" / sub);
+    if (options.chip_samples != LabelOutput::ChipSamples::none) {
+      fs::create_directories(dir / "chips" / "samples");
+    }
     if (options.yolo) fs::create_directories(dir / "chips" / "labels");
     if (options.voc) fs::create_directories(dir / "chips" / "voc" / "Annotations");
   }
@@ -811,11 +1137,34 @@ LabelSetResult write_label_sets(const fs::path& dir, const std::vector<LabelImag
   for (const auto& [set, images] : sets) {
     Json coco = coco_document(std::string("sonarsynth ") + set);
     for (const LabelImage& li : *images) {
+      // A waterfall labelled in the pass that wrote it, else read back from its files.
+      LabelPass::Line* l = pass && !li.line.empty() ? pass->line(li.line) : nullptr;
+      if (l && l->label_rows == 0) l = nullptr;
+      if (l) finish_line(*l, dir, options);
       ImageLabels il;
-      if (!open_image(dir, li, il, result.notes)) continue;
-      const std::size_t cols = il.cls.cols, rows = il.cls.rows;
+      std::vector<Piece> pieces;
+      std::size_t cols = 0, rows = 0, bands = 0;
+      if (l) {
+        il.image = open(dir, li.image);
+        bands = colour_bands(il.image).size();
+        cols = l->label_cols;
+        rows = l->label_rows;
+        if (options.chips && !emit_line_chips(dir, li, *l, options, context, chips, result)) {
+          l = nullptr;  // the image is not on the labels' grid: as read back (a note)
+        } else if (il.image.cols != cols || il.image.rows != rows) {
+          l = nullptr;
+        }
+        if (l) pieces = l->whole.pieces();
+      }
+      if (!l) {
+        if (!open_image(dir, li, il, result.notes)) continue;
+        cols = il.cls.cols;
+        rows = il.cls.rows;
+        bands = colour_bands(il.image).size();
+        if (options.coco || options.yolo || options.voc) pieces = whole_image_pieces(il);
+        if (options.chips) write_chips(dir, li, il, options, context, chips, result);
+      }
       if (options.coco || options.yolo || options.voc) {
-        const std::vector<Piece> pieces = whole_image_pieces(il);
         const std::vector<bool> truncated = edge_truncated(pieces, cols, rows);
         result.boxes += pieces.size();
         const std::string stem = fs::path(li.image).stem().string();
@@ -839,12 +1188,10 @@ LabelSetResult write_label_sets(const fs::path& dir, const std::vector<LabelImag
         }
         if (options.voc) {
           const fs::path rel = fs::path("voc") / "Annotations" / (stem + ".xml");
-          write_text(dir / rel, voc_xml(".", li.image, cols, rows, colour_bands(il.image).size(),
-                                        pieces, truncated));
+          write_text(dir / rel, voc_xml(".", li.image, cols, rows, bands, pieces, truncated));
           result.files.push_back(rel);
         }
       }
-      if (options.chips) write_chips(dir, li, il, options, context, chips, result);
     }
     if (options.coco && !images->empty()) {
       const std::string name = std::string(set) + ".coco.json";

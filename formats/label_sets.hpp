@@ -8,11 +8,16 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/formats/waterfall.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/ping_sink.hpp"
 
@@ -86,6 +91,9 @@ struct LabelImage {
   std::string instance;  ///< e.g. "line1_truth_instance.tif"
   std::string stem;      ///< chip names: "<stem>_r<row>_c<col>"
   std::string line;      ///< the survey line of a waterfall; empty for the mosaic
+  /// A float raster of the sample values on the same grid (grey and sample chips read back:
+  /// "mosaic.tif"); empty if none.
+  std::string values;
 };
 
 /// What the rendered pings of one line say about its waterfall rows (one per ping with truth):
@@ -130,6 +138,36 @@ struct LabelContext {
   const std::vector<LineTrack>* tracks = nullptr;
   /// The output directory's final absolute path (data.yaml's `path`); empty: `dir`.
   std::filesystem::path final_dir;
+  /// The display window of the images when it is fixed (output.display_window_db or
+  /// output.display: linear); else each image's own percentiles.
+  bool display_fixed = false;
+  DisplayRange display;
+};
+
+/// The label sets of the waterfalls made in the same pass as the images (docs/labels.md): taps
+/// on each line's image rows (Waterfall::write) and label rows (TruthWaterfall::
+/// write_with_labels) find the boxes and cut the chips as the rows are written, on the threads
+/// that write them. write_label_sets() then only writes the text files.
+class LabelPass {
+ public:
+  /// `dir`: the output directory being written (chips go to its chips/).
+  LabelPass(std::filesystem::path dir, LabelSetOptions options);
+  ~LabelPass();
+  LabelPass(const LabelPass&) = delete;
+  LabelPass& operator=(const LabelPass&) = delete;
+  /// The taps of the line `name` (stem of its chips: "<name>_waterfall").
+  Waterfall::RowTap image_tap(const std::string& name);
+  TruthWaterfall::LabelRowTap label_tap(const std::string& name);
+  struct Line;
+  /// The line's state once its images are written (nullptr if its taps never ran).
+  Line* line(const std::string& name) const;
+
+ private:
+  std::filesystem::path dir_;
+  LabelSetOptions options_;
+  mutable std::mutex mutex_;
+  std::map<std::string, std::unique_ptr<Line>> lines_;
+  Line& get(const std::string& name);
 };
 
 /// What write_label_sets() wrote.
@@ -154,6 +192,7 @@ std::vector<std::uint64_t> coco_rle_counts(const Piece& piece, std::size_t width
 LabelSetResult write_label_sets(const std::filesystem::path& dir,
                                 const std::vector<LabelImage>& waterfalls,
                                 const std::vector<LabelImage>& mosaic,
-                                const LabelSetOptions& options, const LabelContext& context = {});
+                                const LabelSetOptions& options, const LabelContext& context = {},
+                                LabelPass* pass = nullptr);
 
 }  // namespace sonarsynth::labels

@@ -114,9 +114,9 @@ void read_beam(const Fields& b, SimulationSetup& setup) {
 }
 
 // output.labels (docs/labels.md): coco, yolo, voc, chips (a boolean, or a map of its settings),
-// segmentation.
+// segmentation, chip_color, chip_samples.
 void read_labels(const Fields& f, SimulationSetup& setup) {
-  f.only({"coco", "yolo", "voc", "chips", "segmentation"});
+  f.only({"coco", "yolo", "voc", "chips", "segmentation", "chip_color", "chip_samples"});
   LabelOutput& l = setup.labels;
   l.coco = f.boolean("coco", l.coco);
   l.yolo = f.boolean("yolo", l.yolo);
@@ -131,6 +131,28 @@ void read_labels(const Fields& f, SimulationSetup& setup) {
       l.segmentation = LabelOutput::Segmentation::none;
     } else {
       f.fail_value("segmentation", "one of rle, polygon, none");
+    }
+  }
+  if (f.given("chip_color")) {
+    const std::string v = f.text("chip_color");
+    if (v == "colormap") {
+      l.chip_color = LabelOutput::ChipColor::colormap;
+    } else if (v == "grey") {
+      l.chip_color = LabelOutput::ChipColor::grey;
+    } else {
+      f.fail_value("chip_color", "one of grey, colormap");
+    }
+  }
+  if (f.given("chip_samples")) {
+    const std::string v = f.text("chip_samples");
+    if (v == "none") {
+      l.chip_samples = LabelOutput::ChipSamples::none;
+    } else if (v == "u16") {
+      l.chip_samples = LabelOutput::ChipSamples::u16;
+    } else if (v == "f32") {
+      l.chip_samples = LabelOutput::ChipSamples::f32;
+    } else {
+      f.fail_value("chip_samples", "one of none, u16, f32");
     }
   }
   if (f.has("chips") && f.node()["chips"].IsMap()) {

@@ -948,6 +948,108 @@ TEST_F(LabelsTest, OneDisplayWindowForEveryImage) {
   EXPECT_GT(medians[1] - medians[0], 4.0);
 }
 
+// Chip images are windows of their source images (colormap), or the grey level of the display
+// window computed here; sample chips are the XTF samples of the window (read back from the XTF
+// file) or the mosaic's values.
+TEST_F(LabelsTest, ChipImagesAndSamplesAreWindowsOfTheirSources) {
+  const std::string chips = "coco: true, chips: {size_px: 64, stride_px: 48}";
+  run("output: {labels: {" + chips + ", chip_samples: f32}}\n", dir_ / "colour");
+  run("output: {display_window_db: [-60, -5], labels: {" + chips +
+          ", chip_color: grey, chip_samples: u16}}\n",
+      dir_ / "grey");
+  // The XTF samples of the line as a waterfall image (the file read back).
+  WaterfallOptions wo;
+  Waterfall wf(wo);
+  add_file_pings(dir_ / "colour" / "a.xtf", wf, wo);
+  const std::vector<float> xtf = wf.image();
+  const std::size_t xtf_cols = wf.cols();
+  const auto read_all = [](const fs::path& p, int band, GDALDataType type, auto& out) {
+    GDALAllRegister();
+    auto* ds = static_cast<GDALDataset*>(GDALOpen(p.c_str(), GA_ReadOnly));
+    EXPECT_NE(ds, nullptr) << p;
+    if (!ds) return std::size_t{0};
+    const int w = ds->GetRasterXSize(), h = ds->GetRasterYSize();
+    out.resize(std::size_t(w) * std::size_t(h));
+    EXPECT_EQ(ds->GetRasterBand(band)->RasterIO(GF_Read, 0, 0, w, h, out.data(), w, h, type, 0, 0,
+                                                nullptr),
+              CE_None);
+    GDALClose(ds);
+    return std::size_t(w);
+  };
+  std::size_t colour_checked = 0, grey_checked = 0;
+  for (const std::string run_dir : {"colour", "grey"}) {
+    const fs::path out = dir_ / run_dir;
+    const json coco = read_json(out / "chips" / "coco.json");
+    ASSERT_GT(coco["images"].size(), 0u);
+    std::vector<float> mosaic;
+    const std::size_t mosaic_cols = read_all(out / "mosaic.tif", 1, GDT_Float32, mosaic);
+    std::map<std::string, std::pair<std::vector<std::uint8_t>, std::size_t>> images;
+    for (const json& im : coco["images"]) {
+      SCOPED_TRACE(im["file_name"].get<std::string>());
+      const std::string source = im["source_image"];
+      const std::size_t x0 = im["source_x0"], y0 = im["source_y0"];
+      const bool waterfall = source == "a_waterfall.png";
+      ASSERT_TRUE(im.contains("samples"));
+      std::vector<float> samples;
+      read_all(out / "chips" / im["samples"].get<std::string>(), 1, GDT_Float32, samples);
+      ASSERT_EQ(samples.size(), 64u * 64u);
+      for (std::size_t y = 0; y < 64; ++y) {
+        for (std::size_t x = 0; x < 64; ++x) {
+          const float want = waterfall ? xtf[(y0 + y) * xtf_cols + x0 + x]
+                                       : mosaic[(y0 + y) * mosaic_cols + x0 + x];
+          const float got = samples[y * 64 + x];
+          if (run_dir == "colour" || std::isnan(want)) {
+            if (std::isnan(want)) {
+              ASSERT_TRUE(run_dir == "grey" ? got == 65535.0f : std::isnan(got));
+            } else {
+              ASSERT_EQ(got, want);
+            }
+          } else {
+            ASSERT_EQ(got, std::round(want));
+          }
+        }
+      }
+      if (run_dir == "colour") {
+        // The chip is the window of its source image, band for band.
+        for (int band = 1; band <= 3; ++band) {
+          std::vector<std::uint8_t> chip;
+          read_all(out / "chips" / im["file_name"].get<std::string>(), band, GDT_Byte, chip);
+          const std::string key = source + std::to_string(band);
+          if (!images.count(key)) {
+            images[key].second = read_all(out / source, band, GDT_Byte, images[key].first);
+          }
+          const auto& [whole, cols] = images[key];
+          for (std::size_t y = 0; y < 64; ++y) {
+            for (std::size_t x = 0; x < 64; ++x) {
+              ASSERT_EQ(chip[y * 64 + x], whole[(y0 + y) * cols + x0 + x]);
+            }
+          }
+        }
+        ++colour_checked;
+      } else {
+        std::vector<std::uint8_t> grey;
+        read_all(out / "chips" / im["file_name"].get<std::string>(), 1, GDT_Byte, grey);
+        const double full_scale_db = 10.0 * std::log10(32767.0);
+        for (std::size_t y = 0; y < 64; ++y) {
+          for (std::size_t x = 0; x < 64; ++x) {
+            const float v = waterfall ? xtf[(y0 + y) * xtf_cols + x0 + x]
+                                      : mosaic[(y0 + y) * mosaic_cols + x0 + x];
+            double level = 0.0;
+            if (v > 0.0f) {
+              level = std::clamp((10.0 * std::log10(double(v)) - full_scale_db + 60.0) / 55.0, 0.0,
+                                 1.0);
+            }
+            ASSERT_NEAR(double(grey[y * 64 + x]), std::isnan(v) ? 0.0 : 255.0 * level, 0.5001);
+          }
+        }
+        ++grey_checked;
+      }
+    }
+  }
+  EXPECT_GT(colour_checked, 2u);
+  EXPECT_GT(grey_checked, 2u);
+}
+
 TEST_F(LabelsTest, BadSettingsNameFieldAndValue) {
   const auto message = [&](const std::string& extra) {
     try {
@@ -974,6 +1076,14 @@ TEST_F(LabelsTest, BadSettingsNameFieldAndValue) {
             std::string::npos);
   EXPECT_NE(message("output: {display: linear, display_window_db: [-60, -5]}\n")
                 .find("output.display_window_db"),
+            std::string::npos);
+  EXPECT_NE(message("output: {labels: {chips: true, chip_color: sepia}}\n")
+                .find("output.labels.chip_color = 'sepia'. Violated constraint: one of grey, "
+                      "colormap"),
+            std::string::npos);
+  EXPECT_NE(message("output: {labels: {chips: true, chip_samples: u8}}\n")
+                .find("output.labels.chip_samples = 'u8'. Violated constraint: one of none, "
+                      "u16, f32"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }

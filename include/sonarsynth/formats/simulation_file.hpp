@@ -43,10 +43,16 @@ struct RunLimits {
 struct LabelOutput {
   /// The instance mask of each COCO annotation: COCO uncompressed RLE, polygons, or none.
   enum class Segmentation { rle, polygon, none };
+  /// The chip images: the image's colours (colormap), or one 8-bit grey band of the display value.
+  enum class ChipColor { colormap, grey };
+  /// Raw-sample chips beside the images: none, or the sample values as uint16 or float32.
+  enum class ChipSamples { none, u16, f32 };
   bool coco = false;  ///< waterfalls.coco.json, mosaic.coco.json (and chips/coco.json)
   bool yolo = false;  ///< yolo/ (Ultralytics layout: data.yaml, images/, labels/; and chips/)
   bool voc = false;   ///< voc/Annotations/<image>.xml (and chips/voc/Annotations/<chip>.xml)
   Segmentation segmentation = Segmentation::rle;
+  ChipColor chip_color = ChipColor::colormap;
+  ChipSamples chip_samples = ChipSamples::none;
   bool chips = false;                ///< chips/images, chips/masks (and their boxes as asked above)
   std::size_t chip_size_px = 256;    ///< chip side, pixels
   std::size_t chip_stride_px = 256;  ///< step between chips, pixels
