@@ -123,8 +123,7 @@ class ColouredRows final : public raster::RowSource {
     }
     if (tap_ && row_ == tapped_) {
       display_.resize(n);
-      for (std::size_t i = 0; i < n; ++i)
-        display_[i] = static_cast<float>(range_.value(linear_[i]));
+      for (std::size_t i = 0; i < n; ++i) display_[i] = colour(linear_[i]).display;
       const std::size_t bands = map_ == Colormap::grey ? 1 : 3;
       tap_(row_, linear_, display_, {red, bands * n}, bands);
       ++tapped_;
@@ -137,10 +136,11 @@ class ColouredRows final : public raster::RowSource {
   }
 
  private:
-  /// 8 bytes, so that the cache stays small: the float it is the colour of, and the colour
-  /// (black for nodata: the colour of a pixel without a sample).
+  /// 12 bytes, so that the cache stays small: the float it is the colour of, its display value
+  /// (NaN for nodata) and the colour (black for nodata: the colour of a pixel without a sample).
   struct Colour {
     std::uint32_t bits = 0;
+    float display = 0.0f;
     std::uint8_t r = 0, g = 0, b = 0;
     bool known = false;
   };
@@ -153,6 +153,7 @@ class ColouredRows final : public raster::RowSource {
     const double v = range_.value(value);
     const Rgb8 rgb = std::isnan(v) ? Rgb8{} : colormap(map_, v);
     c.bits = bits;
+    c.display = static_cast<float>(v);
     c.known = true;
     c.r = rgb.r;
     c.g = rgb.g;
