@@ -1050,6 +1050,30 @@ TEST_F(LabelsTest, ChipImagesAndSamplesAreWindowsOfTheirSources) {
   EXPECT_GT(grey_checked, 2u);
 }
 
+// A waterfall decimated along track gets no boxes or chips (a note says so): the chips cut while
+// it was written are removed, and every file left in chips/ is one the run lists.
+TEST_F(LabelsTest, DecimatedWaterfallLeavesNoChips) {
+  std::ofstream(scene_) << kScene << kLabels;
+  RunOptions o;
+  o.products.waterfall_max_pixels = 1000 * 300;
+  const fs::path out = dir_ / "out";
+  const RunResult r = run_simulation(scene_, out, o);
+  EXPECT_TRUE(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& n) {
+    return n.find("a_waterfall.png: no boxes or chips") != std::string::npos;
+  }));
+  std::set<fs::path> listed(r.files.begin(), r.files.end());
+  std::size_t chips = 0;
+  for (const auto& e : fs::recursive_directory_iterator(out / "chips")) {
+    if (!e.is_regular_file()) continue;
+    EXPECT_TRUE(listed.count(e.path())) << e.path();
+    EXPECT_EQ(e.path().filename().string().rfind("a_waterfall", 0), std::string::npos) << e.path();
+    ++chips;
+  }
+  EXPECT_GT(chips, 0u);  // the mosaic's
+  const json coco = read_json(out / "waterfalls.coco.json");
+  EXPECT_TRUE(coco["images"].empty());
+}
+
 TEST_F(LabelsTest, BadSettingsNameFieldAndValue) {
   const auto message = [&](const std::string& extra) {
     try {
