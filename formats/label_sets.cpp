@@ -1161,7 +1161,11 @@ LabelSetResult write_label_sets(const fs::path& dir, const std::vector<LabelImag
     for (const LabelImage& li : *images) {
       // A waterfall labelled in the pass that wrote it, else read back from its files.
       LabelPass::Line* l = pass && !li.line.empty() ? pass->line(li.line) : nullptr;
-      if (l && l->label_rows == 0) l = nullptr;
+      if (l && l->label_rows == 0) {
+        // No label rows came (no truth for the line): its chip images go, it is read back.
+        for (const std::string& stem : l->image_chips) remove_files(dir, chip_files(stem, options));
+        l = nullptr;
+      }
       if (l) finish_line(*l, dir, options);
       ImageLabels il;
       std::vector<Piece> pieces;
