@@ -1131,16 +1131,41 @@ bool emit_line_chips(const fs::path& dir, const LabelImage& li, LabelPass::Line&
   return usable;
 }
 
-}  // namespace
+/// The boxes of a whole image: its COCO image and annotations, YOLO text (and image link) and
+/// VOC XML.
+void emit_image(const fs::path& dir, const LabelImage& li, const std::vector<Piece>& pieces,
+                std::size_t cols, std::size_t rows, std::size_t bands,
+                const LabelSetOptions& options, Json& coco, LabelSetResult& result) {
+  const std::vector<bool> truncated = edge_truncated(pieces, cols, rows);
+  result.boxes += pieces.size();
+  const std::string stem = fs::path(li.image).stem().string();
+  if (options.coco) {
+    const auto image_id = static_cast<int>(coco["images"].size()) + 1;
+    coco["images"].push_back({{"id", image_id},
+                              {"file_name", li.image},
+                              {"width", cols},
+                              {"height", rows},
+                              {"class_mask", li.classes},
+                              {"instance_mask", li.instance}});
+    add_annotations(coco, image_id, pieces, cols, rows, options, truncated);
+  }
+  if (options.yolo) {
+    const fs::path image = fs::path("yolo") / "images" / li.image;
+    link_or_copy(dir / li.image, dir / image);
+    const fs::path rel = fs::path("yolo") / "labels" / (stem + ".txt");
+    write_text(dir / rel, yolo_text(pieces, cols, rows));
+    result.files.push_back(image);
+    result.files.push_back(rel);
+  }
+  if (options.voc) {
+    const fs::path rel = fs::path("voc") / "Annotations" / (stem + ".xml");
+    write_text(dir / rel, voc_xml(".", li.image, cols, rows, bands, pieces, truncated));
+    result.files.push_back(rel);
+  }
+}
 
-LabelSetResult write_label_sets(const fs::path& dir, const std::vector<LabelImage>& waterfalls,
-                                const std::vector<LabelImage>& mosaic,
-                                const LabelSetOptions& options, const LabelContext& context,
-                                LabelPass* pass) {
-  LabelSetResult result;
-  if (!options.any()) return result;
-  gdal::ensure_registered();
-  const fs::path root = context.final_dir.empty() ? fs::absolute(dir) : context.final_dir;
+/// The output's label directories.
+void create_label_dirs(const fs::path& dir, const LabelSetOptions& options) {
   if (options.yolo) {
     for (const char* sub : {"images", "labels"}) fs::create_directories(dir / "yolo" / sub);
   }
@@ -1153,6 +1178,19 @@ LabelSetResult write_label_sets(const fs::path& dir, const std::vector<LabelImag
     if (options.yolo) fs::create_directories(dir / "chips" / "labels");
     if (options.voc) fs::create_directories(dir / "chips" / "voc" / "Annotations");
   }
+}
+
+}  // namespace
+
+LabelSetResult write_label_sets(const fs::path& dir, const std::vector<LabelImage>& waterfalls,
+                                const std::vector<LabelImage>& mosaic,
+                                const LabelSetOptions& options, const LabelContext& context,
+                                LabelPass* pass) {
+  LabelSetResult result;
+  if (!options.any()) return result;
+  gdal::ensure_registered();
+  const fs::path root = context.final_dir.empty() ? fs::absolute(dir) : context.final_dir;
+  create_label_dirs(dir, options);
   ChipSinks chips{coco_document("sonarsynth chips of the waterfalls and the mosaic"), {}};
   const std::pair<const char*, const std::vector<LabelImage>*> sets[2] = {
       {"waterfalls", &waterfalls}, {"mosaic", &mosaic}};
@@ -1191,32 +1229,7 @@ LabelSetResult write_label_sets(const fs::path& dir, const std::vector<LabelImag
         if (options.chips) write_chips(dir, li, il, options, context, chips, result);
       }
       if (options.coco || options.yolo || options.voc) {
-        const std::vector<bool> truncated = edge_truncated(pieces, cols, rows);
-        result.boxes += pieces.size();
-        const std::string stem = fs::path(li.image).stem().string();
-        if (options.coco) {
-          const auto image_id = static_cast<int>(coco["images"].size()) + 1;
-          coco["images"].push_back({{"id", image_id},
-                                    {"file_name", li.image},
-                                    {"width", cols},
-                                    {"height", rows},
-                                    {"class_mask", li.classes},
-                                    {"instance_mask", li.instance}});
-          add_annotations(coco, image_id, pieces, cols, rows, options, truncated);
-        }
-        if (options.yolo) {
-          const fs::path image = fs::path("yolo") / "images" / li.image;
-          link_or_copy(dir / li.image, dir / image);
-          const fs::path rel = fs::path("yolo") / "labels" / (stem + ".txt");
-          write_text(dir / rel, yolo_text(pieces, cols, rows));
-          result.files.push_back(image);
-          result.files.push_back(rel);
-        }
-        if (options.voc) {
-          const fs::path rel = fs::path("voc") / "Annotations" / (stem + ".xml");
-          write_text(dir / rel, voc_xml(".", li.image, cols, rows, bands, pieces, truncated));
-          result.files.push_back(rel);
-        }
+        emit_image(dir, li, pieces, cols, rows, bands, options, coco, result);
       }
     }
     if (options.coco && !images->empty()) {
