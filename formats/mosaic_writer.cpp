@@ -160,7 +160,9 @@ void write_rgb(const std::string& path, const std::string& temp, const GeoFrame&
   if (!png) raster::set_georeferencing(src, frame, g, kWho, path);
   std::ostringstream scale;
   scale << range.describe();
-  if (!linear) scale << ", percentiles " << options.lo_percentile << " / " << options.hi_percentile;
+  if (!linear && !options.fixed_db) {
+    scale << ", percentiles " << options.lo_percentile << " / " << options.hi_percentile;
+  }
   if (!png) {
     set_metadata(src, options,
                  std::string("display colour: ") + colormap_name(options.colormap) +
@@ -311,8 +313,8 @@ void write_mosaic(const std::string& path, const GeoFrame& frame, const MosaicIm
   Job rgb, labels;
   if (!options.rgb_path.empty()) {
     rgb = [&](const std::string& temp) {
-      DisplayRange range{0.0, 1.0, options.linear_full_scale};
-      if (!(options.linear_full_scale > 0.0)) {
+      DisplayRange range{options.lo_db, options.hi_db, options.linear_full_scale};
+      if (!(options.linear_full_scale > 0.0) && !options.fixed_db) {
         range = robust_db_range(image.intensity, options.lo_percentile, options.hi_percentile);
       }
       const std::size_t n = g.size();
@@ -360,8 +362,8 @@ void write_mosaic(const std::string& path, const GeoFrame& frame, MosaicGrid& gr
   Job rgb, labels;
   if (!options.rgb_path.empty()) {
     rgb = [&](const std::string& temp) {
-      DisplayRange range{0.0, 1.0, options.linear_full_scale};
-      if (!(options.linear_full_scale > 0.0)) {
+      DisplayRange range{options.lo_db, options.hi_db, options.linear_full_scale};
+      if (!(options.linear_full_scale > 0.0) && !options.fixed_db) {
         // The percentiles of robust_db_range over the image, its values fed in row-major order
         // a row of tiles at a time: the same subsample, the same range.
         DbRangeSampler sampler(g.size());

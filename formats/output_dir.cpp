@@ -82,18 +82,26 @@ bool has_product_extension(const fs::path& p) {
   return false;
 }
 
-/// The label directories of `simulate` (chips/, yolo/: docs/labels.md): real directories holding
-/// only real directories and files with a product extension or .txt (YOLO boxes).
+/// The label directories of `simulate` (chips/, yolo/, voc/: docs/labels.md): real directories
+/// holding only real directories and files with a product extension or a label one (.txt YOLO
+/// boxes, .xml VOC annotations, .yaml dataset descriptions, .jsonl chip records).
 bool is_label_dir(const fs::directory_entry& d) {
   const std::string name = d.path().filename().string();
   std::error_code ec;
-  if ((name != "chips" && name != "yolo") || d.is_symlink(ec) || !d.is_directory(ec)) return false;
+  if ((name != "chips" && name != "yolo" && name != "voc") || d.is_symlink(ec) ||
+      !d.is_directory(ec)) {
+    return false;
+  }
+  const auto label_extension = [](const fs::path& p) {
+    const std::string e = p.extension().string();
+    return e == ".txt" || e == ".xml" || e == ".yaml" || e == ".jsonl";
+  };
   for (fs::recursive_directory_iterator it(d.path(), ec), end; !ec && it != end; it.increment(ec)) {
     std::error_code e2;
     if (it->is_symlink(e2)) return false;
     if (it->is_directory(e2)) continue;
     if (!it->is_regular_file(e2)) return false;
-    if (!has_product_extension(it->path()) && it->path().extension() != ".txt") return false;
+    if (!has_product_extension(it->path()) && !label_extension(it->path())) return false;
   }
   return !ec;
 }

@@ -35,8 +35,12 @@ std::vector<labels::LabelImage> waterfall_label_images(const std::filesystem::pa
   std::vector<labels::LabelImage> out;
   if (!po.waterfalls || !po.truth) return out;
   for (const std::string& name : lines) {
-    labels::LabelImage li{name + "_waterfall.png", name + "_truth_class.tif",
-                          name + "_truth_instance.tif", name + "_waterfall"};
+    labels::LabelImage li{name + "_waterfall.png",
+                          name + "_truth_class.tif",
+                          name + "_truth_instance.tif",
+                          name + "_waterfall",
+                          name,
+                          ""};
     if (std::filesystem::exists(dir / li.image) && std::filesystem::exists(dir / li.classes)) {
       out.push_back(li);
     }
@@ -46,8 +50,9 @@ std::vector<labels::LabelImage> waterfall_label_images(const std::filesystem::pa
 
 std::vector<labels::LabelImage> mosaic_label_images(const std::filesystem::path& dir,
                                                     const SurveyProductOptions& po) {
-  labels::LabelImage li{"mosaic_rgb.tif", "truth_mosaic_class.tif", "truth_mosaic_instance.tif",
-                        "mosaic"};
+  labels::LabelImage li{
+      "mosaic_rgb.tif", "truth_mosaic_class.tif", "truth_mosaic_instance.tif", "mosaic", "",
+      "mosaic.tif"};
   if (!po.mosaic || !po.truth || !std::filesystem::exists(dir / li.classes)) return {};
   return {li};
 }
@@ -71,6 +76,13 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   SurveyProductOptions po = options.products;
   po.truth = po.truth && setup->config.truth;
   if (setup->display_linear) po.display_linear_full_scale = setup->config.output.max_value;
+  if (setup->display_window_db) {
+    // 10 log10(sample / full scale) to the display's 10 log10(sample) (docs/labels.md).
+    const double full_scale_db = 10.0 * std::log10(setup->config.output.max_value);
+    po.display_window_db =
+        std::pair<double, double>{setup->display_window_db->first + full_scale_db,
+                                  setup->display_window_db->second + full_scale_db};
+  }
 
   // Check the whole run before anything is created (formats/run_check.cpp).
   result.plan = check_simulation(scene_path, *setup,
@@ -102,6 +114,13 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   // gridding only: when the mosaic has gridded the last ping every ping has been rendered, and
   // the grid is freed before the mosaic files are written (nothing below reads it).
   po.after_last_bathymetry_use = [&setup] { setup->scene.bathymetry.release_heights(); };
+  // The waterfalls' boxes and chips made as their rows are written (docs/labels.md).
+  std::optional<labels::LabelPass> label_pass;
+  if (setup->labels.any() && po.truth && po.waterfalls) {
+    labels::LabelPass& lp = label_pass.emplace(out.file(""), setup->labels);
+    po.waterfall_rows = [&lp](const std::string& line) { return lp.image_tap(line); };
+    po.label_rows = [&lp](const std::string& line) { return lp.label_tap(line); };
+  }
   SurveyProducts products(out.file(""), scene, setup->config.sonar, setup->lines, po);
   RunStatistics stats;
   // JSF sink (output.jsf): formats/jsf_survey_writer.cpp.
@@ -120,6 +139,13 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   }
   for (const auto& [name, part] : products.parts()) threaded.push_back({part, name});
   std::vector<PingSink*> inline_sinks = {&stats};
+  // The lines' tracks and truth ground positions for the chip records (docs/labels.md).
+  std::optional<labels::TrackRecorder> track;
+  if (setup->labels.chips && po.truth && po.waterfalls) {
+    const std::size_t side = setup->config.sonar.samples_per_channel;
+    inline_sinks.push_back(
+        &track.emplace(setup->lines.size(), side, labels::chip_columns(2 * side, setup->labels)));
+  }
   if (one_core) {
     for (const auto& t : threaded) inline_sinks.push_back(t.sink);
     threaded.clear();
@@ -136,9 +162,24 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   labels::LabelSetResult label_sets;
   if (setup->labels.any() && po.truth) {
     const auto t_labels = std::chrono::steady_clock::now();
+    labels::LabelContext context;
+    context.frame = &scene->frame;
+    context.sample_spacing_m = setup->config.sonar.sample_spacing_m();
+    context.side_cols = setup->config.sonar.samples_per_channel;
+    context.line_names = result.line_names;
+    if (track) context.tracks = &track->tracks();
+    context.final_dir = std::filesystem::absolute(out.final_dir());
+    if (po.display_linear_full_scale > 0.0) {
+      context.display_fixed = true;
+      context.display = {0.0, 1.0, po.display_linear_full_scale};
+    } else if (po.display_window_db) {
+      context.display_fixed = true;
+      context.display = {po.display_window_db->first, po.display_window_db->second, 0.0};
+    }
     label_sets = labels::write_label_sets(
         out.file(""), waterfall_label_images(out.file(""), po, result.line_names),
-        mosaic_label_images(out.file(""), po), setup->labels);
+        mosaic_label_images(out.file(""), po), setup->labels, context,
+        label_pass ? &*label_pass : nullptr);
     result.labels_s = seconds_since(t_labels);
   }
   write_effective_config(scene_path, options.overrides, *setup, sim, out.file("effective.yaml"));

@@ -113,11 +113,47 @@ void read_beam(const Fields& b, SimulationSetup& setup) {
   }
 }
 
-// output.labels (docs/labels.md): coco, yolo, chips (a boolean, or a map of its settings).
+// output.labels (docs/labels.md): coco, yolo, voc, chips (a boolean, or a map of its settings),
+// segmentation, chip_color, chip_samples.
 void read_labels(const Fields& f, LabelOutput& l, bool truth) {
-  f.only({"coco", "yolo", "chips"});
+  f.only({"coco", "yolo", "voc", "chips", "segmentation", "chip_color", "chip_samples"});
   l.coco = f.boolean("coco", l.coco);
   l.yolo = f.boolean("yolo", l.yolo);
+  l.voc = f.boolean("voc", l.voc);
+  if (f.given("segmentation")) {
+    const std::string v = f.text("segmentation");
+    if (v == "rle") {
+      l.segmentation = LabelOutput::Segmentation::rle;
+    } else if (v == "polygon") {
+      l.segmentation = LabelOutput::Segmentation::polygon;
+    } else if (v == "none") {
+      l.segmentation = LabelOutput::Segmentation::none;
+    } else {
+      f.fail_value("segmentation", "one of rle, polygon, none");
+    }
+  }
+  if (f.given("chip_color")) {
+    const std::string v = f.text("chip_color");
+    if (v == "colormap") {
+      l.chip_color = LabelOutput::ChipColor::colormap;
+    } else if (v == "grey") {
+      l.chip_color = LabelOutput::ChipColor::grey;
+    } else {
+      f.fail_value("chip_color", "one of grey, colormap");
+    }
+  }
+  if (f.given("chip_samples")) {
+    const std::string v = f.text("chip_samples");
+    if (v == "none") {
+      l.chip_samples = LabelOutput::ChipSamples::none;
+    } else if (v == "u16") {
+      l.chip_samples = LabelOutput::ChipSamples::u16;
+    } else if (v == "f32") {
+      l.chip_samples = LabelOutput::ChipSamples::f32;
+    } else {
+      f.fail_value("chip_samples", "one of none, u16, f32");
+    }
+  }
   if (f.has("chips") && f.node()["chips"].IsMap()) {
     const Fields c = f.child("chips");
     c.only({"size_px", "stride_px", "max_nodata_fraction"});
@@ -306,9 +342,19 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   // Output scaling and format.
   if (top.has("output")) {
     const Fields f = top.child("output");
-    f.only(keys_of("output", {"labels"}));
+    f.only(keys_of("output", {"labels", "display_window_db"}));
     options::read_all(f, "output", setup);
     if (f.has("labels")) read_labels(f.child("labels"), setup.labels, setup.config.truth);
+    if (f.has("display_window_db")) {
+      const auto w = f.numbers("display_window_db", 2);
+      if (!(w[0] < w[1]) || w[1] - w[0] > 200.0) {
+        f.fail_value("display_window_db", "[lo, hi] with lo < hi <= lo + 200 (dB)");
+      }
+      if (setup.display_linear) {
+        f.fail_value("display_window_db", "not with output.display: linear");
+      }
+      setup.display_window_db = std::pair<double, double>{w[0], w[1]};
+    }
   }
   // Common XTF readers take at most 8192 samples per channel: more only on request.
   if (const auto v = sample_count_violation(setup)) {

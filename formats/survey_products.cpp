@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <span>
+#include <tuple>
 #include <utility>
 
 #include "sink_threads.hpp"
@@ -89,6 +90,10 @@ class SurveyProducts::MosaicPart final : public PingSink {
     MosaicWriteOptions w = options_.write_options;
     w.rgb_path = (dir_ / "mosaic_rgb.tif").string();
     w.linear_full_scale = options_.display_linear_full_scale;
+    if (options_.display_window_db) {
+      w.fixed_db = true;
+      std::tie(w.lo_db, w.hi_db) = *options_.display_window_db;
+    }
     if (options_.truth) w.labels_path = (dir_ / "truth_mosaic.tif").string();
     const auto path = dir_ / "mosaic.tif";
     // The files are written window by window from the tiles (no image in memory): the tiles
@@ -200,6 +205,10 @@ class SurveyProducts::WaterfallPart final : public LinePart {
     wo.spool_dir = dir();
     wo.max_pixels = options_.waterfall_max_pixels;
     wo.linear_full_scale = options_.display_linear_full_scale;
+    if (options_.display_window_db) {
+      wo.fixed_db = true;
+      std::tie(wo.lo_db, wo.hi_db) = *options_.display_window_db;
+    }
     wo.metadata = options_.write_options.metadata;  // the run's items, in every product
     waterfall_ = std::make_shared<Waterfall>(wo);
   }
@@ -217,8 +226,9 @@ class SurveyProducts::WaterfallPart final : public LinePart {
     std::shared_ptr<Waterfall> w = std::move(waterfall_);
     if (!w || w->rows() == 0) return {};
     const std::size_t max_pixels = options_.waterfall_max_pixels;
-    return [w, path = dir() / (name + "_waterfall.png"), max_pixels, &files, &note] {
-      w->write(path.string());
+    Waterfall::RowTap tap = options_.waterfall_rows ? options_.waterfall_rows(name) : nullptr;
+    return [w, path = dir() / (name + "_waterfall.png"), max_pixels, &files, &note, tap] {
+      w->write(path.string(), tap);
       files = {path};
       if (w->pings_per_row() > 1) {
         note = path.filename().string() + ": " + std::to_string(w->rows()) +
@@ -258,11 +268,12 @@ class SurveyProducts::TruthPart final : public LinePart {
     std::shared_ptr<TruthWaterfall> t = std::move(truth_);
     if (!t || t->rows() == 0) return {};
     // The label rasters (docs/labels.md) next to the truth of the line, from the same spool rows.
+    TruthWaterfall::LabelRowTap tap = options_.label_rows ? options_.label_rows(name) : nullptr;
     return
         [t, path = dir() / (name + "_truth.tif"), class_path = dir() / (name + "_truth_class.tif"),
-         instance_path = dir() / (name + "_truth_instance.tif"), this, &files] {
+         instance_path = dir() / (name + "_truth_instance.tif"), this, &files, tap] {
           t->write_with_labels(path.string(), class_path.string(), instance_path.string(), false,
-                               options_.write_options.metadata);
+                               options_.write_options.metadata, tap);
           files = {path, class_path, instance_path};
         };
   }

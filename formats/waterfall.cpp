@@ -103,32 +103,44 @@ class MeanRows {
 class ColouredRows final : public raster::RowSource {
  public:
   ColouredRows(const detail::SideSpool& spool, std::size_t per_row, DisplayRange range,
-               Colormap map)
-      : reader_(spool, per_row), range_(range), map_(map), linear_(spool.cols()) {}
+               Colormap map, const Waterfall::RowTap& tap)
+      : reader_(spool, per_row), range_(range), map_(map), linear_(spool.cols()), tap_(tap) {}
   void next(void* out) override {
     if (!reader_.next(linear_)) throw FormatError("waterfall: spool file ended early");
     const std::size_t n = linear_.size();
     auto* red = static_cast<std::uint8_t*>(out);
     if (map_ == Colormap::grey) {
       for (std::size_t i = 0; i < n; ++i) red[i] = colour(linear_[i]).r;
-      return;
+    } else {
+      std::uint8_t* green = red + n;
+      std::uint8_t* blue = green + n;
+      for (std::size_t i = 0; i < n; ++i) {
+        const Colour& c = colour(linear_[i]);
+        red[i] = c.r;
+        green[i] = c.g;
+        blue[i] = c.b;
+      }
     }
-    std::uint8_t* green = red + n;
-    std::uint8_t* blue = green + n;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Colour& c = colour(linear_[i]);
-      red[i] = c.r;
-      green[i] = c.g;
-      blue[i] = c.b;
+    if (tap_ && row_ == tapped_) {
+      display_.resize(n);
+      for (std::size_t i = 0; i < n; ++i) display_[i] = colour(linear_[i]).display;
+      const std::size_t bands = map_ == Colormap::grey ? 1 : 3;
+      tap_(row_, linear_, display_, {red, bands * n}, bands);
+      ++tapped_;
     }
+    ++row_;
   }
-  void rewind() override { reader_.rewind(); }
+  void rewind() override {
+    reader_.rewind();
+    row_ = 0;
+  }
 
  private:
-  /// 8 bytes, so that the cache stays small: the float it is the colour of, and the colour
-  /// (black for nodata: the colour of a pixel without a sample).
+  /// 12 bytes, so that the cache stays small: the float it is the colour of, its display value
+  /// (NaN for nodata) and the colour (black for nodata: the colour of a pixel without a sample).
   struct Colour {
     std::uint32_t bits = 0;
+    float display = 0.0f;
     std::uint8_t r = 0, g = 0, b = 0;
     bool known = false;
   };
@@ -141,6 +153,7 @@ class ColouredRows final : public raster::RowSource {
     const double v = range_.value(value);
     const Rgb8 rgb = std::isnan(v) ? Rgb8{} : colormap(map_, v);
     c.bits = bits;
+    c.display = static_cast<float>(v);
     c.known = true;
     c.r = rgb.r;
     c.g = rgb.g;
@@ -153,6 +166,9 @@ class ColouredRows final : public raster::RowSource {
   DisplayRange range_;
   Colormap map_;
   std::vector<float> linear_;
+  const Waterfall::RowTap& tap_;
+  std::vector<float> display_;
+  std::size_t row_ = 0, tapped_ = 0;  ///< rows read (this pass), rows shown to the tap
   std::vector<Colour> cache_ = std::vector<Colour>(kCacheSize);
 };
 
@@ -168,8 +184,8 @@ const float kTruthPads[3] = {255.0f, id_bits(-1), kNaNf};
 /// grazing), and on request the class and instance label rows of the same row.
 class TruthSpoolRows {
  public:
-  explicit TruthSpoolRows(const detail::SideSpool& spool)
-      : reader_(spool, kTruthPads), cols_(spool.cols()), row_(3 * cols_), ids_(cols_) {}
+  TruthSpoolRows(const detail::SideSpool& spool, const TruthWaterfall::LabelRowTap& tap)
+      : reader_(spool, kTruthPads), cols_(spool.cols()), row_(3 * cols_), ids_(cols_), tap_(tap) {}
   std::size_t cols() const { return cols_; }
   /// Reads row `index` (the next one, or the current one again).
   void at(std::size_t index) {
@@ -208,6 +224,10 @@ class TruthSpoolRows {
     labels::waterfall_label_row(std::span(row_).first(cols_), ids_, classes_.data(),
                                 instances_.data(), scratch_);
     labels_of_ = read_;
+    if (tap_ && read_ > tapped_) {
+      tap_(read_ - 1, classes_, instances_);
+      tapped_ = read_;
+    }
   }
 
   detail::SideSpool::Reader reader_;
@@ -219,6 +239,8 @@ class TruthSpoolRows {
   labels::LabelRowScratch scratch_;
   std::size_t read_ = 0;       ///< rows read
   std::size_t labels_of_ = 0;  ///< label rows computed for rows [0, labels_of_)
+  const TruthWaterfall::LabelRowTap& tap_;
+  std::size_t tapped_ = 0;  ///< label rows shown to the tap
 };
 
 /// One raster of the rows of a TruthSpoolRows, which several such views may share (each asks
@@ -332,7 +354,7 @@ std::vector<float> Waterfall::image() const {
   return out;
 }
 
-void Waterfall::write(const std::string& path) const {
+void Waterfall::write(const std::string& path, const RowTap& tap) const {
   constexpr const char* kWho = "waterfall";
   const std::string driver = driver_for(path, kWho);
   if (rows() == 0 || cols() == 0) {
@@ -353,7 +375,7 @@ void Waterfall::write(const std::string& path) const {
   }
   const bool grey = options_.colormap == Colormap::grey;
   const int bands = grey ? 1 : 3;
-  ColouredRows source(*spool_, per_row, range, options_.colormap);
+  ColouredRows source(*spool_, per_row, range, options_.colormap, tap);
   // Fast compression: waterfalls are large and written once per line.
   const std::vector<std::pair<std::string, std::string>> co = {
       {"COMPRESS", "ZSTD"}, {"ZSTD_LEVEL", "1"}, {"TILED", "YES"}};
@@ -568,7 +590,8 @@ void TruthWaterfall::write(const std::string& path, bool overwrite,
   }
   gdal::ensure_registered();
   AtomicOutput out(path, overwrite);
-  TruthSpoolRows rows(*spool_);
+  const LabelRowTap none;
+  TruthSpoolRows rows(*spool_, none);
   TruthView source(rows, TruthView::Kind::truth);
   raster::stream_to_file(source, cols(), this->rows(), 3, GDT_Float32, "GTiff",
                          out.temp_path().string(), kTruthTiffOptions, truth_labels(metadata), kWho,
@@ -578,7 +601,8 @@ void TruthWaterfall::write(const std::string& path, bool overwrite,
 
 void TruthWaterfall::write_with_labels(
     const std::string& path, const std::string& class_path, const std::string& instance_path,
-    bool overwrite, const std::vector<std::pair<std::string, std::string>>& metadata) const {
+    bool overwrite, const std::vector<std::pair<std::string, std::string>>& metadata,
+    const LabelRowTap& tap) const {
   constexpr const char* kWho = "truth waterfall";
   if (rows() == 0 || cols() == 0) {
     throw FormatError(std::string(kWho) + ": " + path + ": no ping to write");
@@ -587,7 +611,7 @@ void TruthWaterfall::write_with_labels(
   AtomicOutput out(path, overwrite);
   AtomicOutput class_out(class_path, overwrite);
   AtomicOutput instance_out(instance_path, overwrite);
-  TruthSpoolRows rows(*spool_);
+  TruthSpoolRows rows(*spool_, tap);
   TruthView truth(rows, TruthView::Kind::truth);
   TruthView classes(rows, TruthView::Kind::class_code);
   TruthView instances(rows, TruthView::Kind::instance);

@@ -160,7 +160,12 @@ TEST_F(DatasetLabels, TwoHundredItemsMergeSplitRepeatAndGrow) {
   // A second run into another directory: the same bytes, file for file.
   run_dataset(spec(kItems), dir_ / "again", one_thread);
   const auto first = snapshot(d);
-  EXPECT_EQ(snapshot(dir_ / "again"), first);
+  const auto again = snapshot(dir_ / "again");
+  EXPECT_EQ(again.size(), first.size());
+  for (const auto& [path, bytes] : first) {  // (not EXPECT_EQ of the maps: its diff is huge)
+    const auto it = again.find(path);
+    EXPECT_TRUE(it != again.end() && it->second == bytes) << path << " differs";
+  }
 
   // count 200 -> 250: only the new items are rendered; the first ones keep their bytes.
   const DatasetRunResult grown = run_dataset(spec(kGrown), d, one_thread);

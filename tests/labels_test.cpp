@@ -4,6 +4,7 @@
 // and boxes recomputed here independently.
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
+#include <ogr_spatialref.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <set>
@@ -144,6 +146,141 @@ std::vector<BoxRow> brute_boxes(const Raster& cls, const Raster& inst, std::size
   }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+// The 8-connected pieces of a window with their pixels (x, y relative to the window), in the
+// order of brute_boxes.
+struct BrutePiece {
+  BoxRow box;
+  std::set<std::pair<std::size_t, std::size_t>> pixels;  // (x, y)
+};
+std::vector<BrutePiece> brute_pieces(const Raster& cls, const Raster& inst, std::size_t x0 = 0,
+                                     std::size_t y0 = 0, std::size_t w = 0, std::size_t h = 0) {
+  if (w == 0) {
+    w = cls.cols;
+    h = cls.rows;
+  }
+  auto key = [&](std::size_t x, std::size_t y) {
+    const std::size_t i = (y0 + y) * cls.cols + x0 + x;
+    const std::uint32_t k = inst.values[i];
+    const int c = category_of(cls.values[i]);
+    if (k == labels::kInstanceNodata || c == 0) return std::pair<std::uint32_t, int>{0, 0};
+    return std::pair<std::uint32_t, int>{k, c};
+  };
+  std::vector<int> piece(w * h, -1);
+  std::vector<BrutePiece> out;
+  for (std::size_t y = 0; y < h; ++y) {
+    for (std::size_t x = 0; x < w; ++x) {
+      const auto k = key(x, y);
+      if (k.first == 0 || piece[y * w + x] >= 0) continue;
+      BrutePiece p;
+      p.box = {k.first, static_cast<std::size_t>(k.second), x, y, x + 1, y + 1};
+      std::vector<std::pair<std::size_t, std::size_t>> stack = {{x, y}};
+      piece[y * w + x] = static_cast<int>(out.size());
+      while (!stack.empty()) {
+        const auto [px, py] = stack.back();
+        stack.pop_back();
+        p.pixels.insert({px, py});
+        p.box = {p.box[0],
+                 p.box[1],
+                 std::min(p.box[2], px),
+                 std::min(p.box[3], py),
+                 std::max(p.box[4], px + 1),
+                 std::max(p.box[5], py + 1)};
+        for (std::size_t ny = py == 0 ? 0 : py - 1; ny <= std::min(py + 1, h - 1); ++ny) {
+          for (std::size_t nx = px == 0 ? 0 : px - 1; nx <= std::min(px + 1, w - 1); ++nx) {
+            if (piece[ny * w + nx] < 0 && key(nx, ny) == k) {
+              piece[ny * w + nx] = static_cast<int>(out.size());
+              stack.push_back({nx, ny});
+            }
+          }
+        }
+      }
+      out.push_back(std::move(p));
+    }
+  }
+  std::sort(out.begin(), out.end(),
+            [](const BrutePiece& a, const BrutePiece& b) { return a.box < b.box; });
+  return out;
+}
+
+// COCO uncompressed RLE decoded (column-major counts, alternating from 0): the pixels set.
+std::set<std::pair<std::size_t, std::size_t>> decode_rle(const json& rle) {
+  const std::size_t h = rle["size"][0], w = rle["size"][1];
+  std::set<std::pair<std::size_t, std::size_t>> out;
+  std::size_t at = 0;
+  bool one = false;
+  for (const json& c : rle["counts"]) {
+    const std::size_t n = c;
+    if (one) {
+      for (std::size_t i = at; i < at + n; ++i) out.insert({i / h, i % h});
+    }
+    at += n;
+    one = !one;
+  }
+  EXPECT_EQ(at, w * h);
+  return out;
+}
+
+// COCO polygons rasterised in the box [x0, x1) x [y0, y1): the pixels whose centre is inside
+// one of them (even-odd rule); false in `inside_box` if a vertex lies outside the box.
+std::set<std::pair<std::size_t, std::size_t>> rasterise_polygons(const json& polygons,
+                                                                 const BoxRow& b,
+                                                                 bool& inside_box) {
+  std::set<std::pair<std::size_t, std::size_t>> out;
+  inside_box = true;
+  for (const json& poly : polygons) {
+    for (std::size_t i = 0; i + 1 < poly.size(); i += 2) {
+      const double x = poly[i], y = poly[i + 1];
+      if (x < double(b[2]) || x > double(b[4]) || y < double(b[3]) || y > double(b[5])) {
+        inside_box = false;
+      }
+    }
+  }
+  for (std::size_t y = b[3]; y < b[5]; ++y) {
+    for (std::size_t x = b[2]; x < b[4]; ++x) {
+      const double px = static_cast<double>(x) + 0.5, py = static_cast<double>(y) + 0.5;
+      for (const json& poly : polygons) {
+        const std::size_t n = poly.size() / 2;
+        bool inside = false;
+        for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+          const double xi = poly[2 * i], yi = poly[2 * i + 1], xj = poly[2 * j],
+                       yj = poly[2 * j + 1];
+          if ((yi > py) != (yj > py) && px < (xj - xi) * (py - yi) / (yj - yi) + xi) {
+            inside = !inside;
+          }
+        }
+        if (inside) {
+          out.insert({x, y});
+          break;
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// The text of each <tag>...</tag> in `xml`, in order.
+std::vector<std::string> xml_all(const std::string& xml, const std::string& tag) {
+  std::vector<std::string> out;
+  const std::string open = "<" + tag + ">", close = "</" + tag + ">";
+  for (std::size_t at = xml.find(open); at != std::string::npos; at = xml.find(open, at)) {
+    const std::size_t end = xml.find(close, at);
+    out.push_back(xml.substr(at + open.size(), end - at - open.size()));
+    at = end;
+  }
+  return out;
+}
+std::string xml_one(const std::string& xml, const std::string& tag) {
+  const auto all = xml_all(xml, tag);
+  EXPECT_EQ(all.size(), 1u) << tag;
+  return all.empty() ? std::string() : all[0];
+}
+
+std::string file_text(const fs::path& p) {
+  std::ifstream is(p, std::ios::binary);
+  EXPECT_TRUE(is.good()) << p;
+  return std::string(std::istreambuf_iterator<char>(is), {});
 }
 
 BoxRow box_row(const json& a) {
@@ -404,7 +541,7 @@ TEST_F(LabelsTest, RastersBoxesAndChipsAgreeWithTheTruth) {
       }
     }
     // YOLO: the same boxes, normalised.
-    std::ifstream yolo(out / "yolo" / (fs::path(image).stem().string() + ".txt"));
+    std::ifstream yolo(out / "yolo" / "labels" / (fs::path(image).stem().string() + ".txt"));
     std::size_t lines = 0;
     int c = 0;
     double xc = 0, yc = 0, w = 0, h = 0;
@@ -486,6 +623,458 @@ TEST_F(LabelsTest, ByteIdenticalForAnyThreadCount) {
   EXPECT_GT(compared, 10u);
 }
 
+// Every annotation's RLE mask (decoded here) is its piece of the instance raster, pixel for
+// pixel; its box is the mask's and its area the mask's pixels. VOC boxes are the COCO boxes in
+// VOC's 1-based inclusive numbers; a chip's box is truncated where the chip cut the piece.
+TEST_F(LabelsTest, MasksAndVocBoxesAreThoseOfTheInstancePieces) {
+  const fs::path out = dir_ / "out";
+  run("output: {labels: {coco: true, voc: true, chips: {size_px: 64, stride_px: 48}}}\n", out);
+  std::map<std::string, std::pair<Raster, Raster>> sources;
+  sources["a_waterfall.png"] = {read(out / "a_truth_class.tif"),
+                                read(out / "a_truth_instance.tif")};
+  sources["mosaic_rgb.tif"] = {read(out / "truth_mosaic_class.tif"),
+                               read(out / "truth_mosaic_instance.tif")};
+  // The annotations of one image against the pieces of its window (x0, y0, w, h).
+  std::size_t checked = 0, truncated_boxes = 0;
+  const auto check = [&](const json& anns, const std::string& voc_xml, const Raster& cls,
+                         const Raster& inst, std::size_t x0, std::size_t y0, std::size_t w,
+                         std::size_t h, bool chip) {
+    const auto pieces = brute_pieces(cls, inst, x0, y0, w, h);
+    ASSERT_EQ(anns.size(), pieces.size());
+    const std::vector<std::string> objects = xml_all(voc_xml, "object");
+    ASSERT_EQ(objects.size(), anns.size());
+    for (std::size_t i = 0; i < anns.size(); ++i) {
+      const json& a = anns[i];
+      const BoxRow b = box_row(a);
+      const auto it = std::find_if(pieces.begin(), pieces.end(),
+                                   [&](const BrutePiece& p) { return p.box == b; });
+      ASSERT_NE(it, pieces.end());
+      const auto mask = decode_rle(a["segmentation"]);
+      EXPECT_EQ(a["segmentation"]["size"], json({h, w}));
+      ASSERT_EQ(mask, it->pixels);
+      EXPECT_EQ(a["area"].get<std::size_t>(), mask.size());
+      // The box is the mask's bounding box.
+      std::size_t mx0 = w, my0 = h, mx1 = 0, my1 = 0;
+      for (const auto& [x, y] : mask) {
+        mx0 = std::min(mx0, x);
+        my0 = std::min(my0, y);
+        mx1 = std::max(mx1, x + 1);
+        my1 = std::max(my1, y + 1);
+      }
+      EXPECT_EQ((BoxRow{b[0], b[1], mx0, my0, mx1, my1}), b);
+      // Truncated: whole images where the box touches the edge; chips where a pixel of the same
+      // instance and category lies across the chip's edge next to a pixel of the piece.
+      bool cut = false;
+      if (chip) {
+        for (const auto& [x, y] : mask) {
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+              const long sx = long(x0 + x) + dx, sy = long(y0 + y) + dy;
+              if (sx < 0 || sy < 0 || sx >= long(cls.cols) || sy >= long(cls.rows)) continue;
+              const bool outside =
+                  sx < long(x0) || sy < long(y0) || sx >= long(x0 + w) || sy >= long(y0 + h);
+              const std::size_t j = std::size_t(sy) * cls.cols + std::size_t(sx);
+              if (outside && inst.values[j] == b[0] &&
+                  std::size_t(category_of(cls.values[j])) == b[1]) {
+                cut = true;
+              }
+            }
+          }
+        }
+      } else {
+        cut = b[2] == 0 || b[3] == 0 || b[4] == w || b[5] == h;
+      }
+      EXPECT_EQ(a["truncated"].get<int>(), cut ? 1 : 0);
+      truncated_boxes += cut;
+      // VOC: the same box, 1-based and inclusive.
+      const std::string& o = objects[i];
+      EXPECT_EQ(xml_one(o, "name"), b[1] == 1 ? "object" : "shadow");
+      EXPECT_EQ(std::stoul(xml_one(o, "object_id")), b[0]);
+      EXPECT_EQ(std::stoul(xml_one(o, "xmin")), b[2] + 1);
+      EXPECT_EQ(std::stoul(xml_one(o, "ymin")), b[3] + 1);
+      EXPECT_EQ(std::stoul(xml_one(o, "xmax")), b[4]);
+      EXPECT_EQ(std::stoul(xml_one(o, "ymax")), b[5]);
+      EXPECT_EQ(std::stoi(xml_one(o, "truncated")), cut ? 1 : 0);
+      EXPECT_EQ(xml_one(o, "difficult"), "0");
+      ++checked;
+    }
+  };
+  for (const std::string set : {"waterfalls", "mosaic"}) {
+    const json coco = read_json(out / (set + ".coco.json"));
+    EXPECT_TRUE(coco["licenses"].is_array());
+    EXPECT_TRUE(coco["licenses"].empty());
+    ASSERT_EQ(coco["images"].size(), 1u);
+    const json& im = coco["images"][0];
+    const auto& [cls, inst] = sources.at(im["file_name"].get<std::string>());
+    const std::string xml =
+        file_text(out / "voc" / "Annotations" /
+                  (fs::path(im["file_name"].get<std::string>()).stem().string() + ".xml"));
+    EXPECT_EQ(xml_one(xml, "filename"), im["file_name"].get<std::string>());
+    EXPECT_EQ(std::stoul(xml_one(xml, "width")), cls.cols);
+    EXPECT_EQ(std::stoul(xml_one(xml, "height")), cls.rows);
+    check(coco["annotations"], xml, cls, inst, 0, 0, cls.cols, cls.rows, false);
+  }
+  const json chips = read_json(out / "chips" / "coco.json");
+  EXPECT_TRUE(chips["licenses"].is_array());
+  std::map<int, json> chip_anns;
+  for (const json& a : chips["annotations"]) chip_anns[a["image_id"].get<int>()].push_back(a);
+  for (const json& im : chips["images"]) {
+    SCOPED_TRACE(im["file_name"].get<std::string>());
+    const auto& [cls, inst] = sources.at(im["source_image"].get<std::string>());
+    const std::string stem = fs::path(im["file_name"].get<std::string>()).stem().string();
+    const std::string xml = file_text(out / "chips" / "voc" / "Annotations" / (stem + ".xml"));
+    EXPECT_EQ(xml_one(xml, "filename"), stem + ".png");
+    EXPECT_TRUE(fs::exists(out / "chips" / xml_one(xml, "folder").substr(6) / (stem + ".png")));
+    const json anns = chip_anns.count(im["id"]) ? chip_anns[im["id"]] : json::array();
+    check(anns, xml, cls, inst, im["source_x0"], im["source_y0"], 64, 64, true);
+  }
+  EXPECT_GT(checked, 20u);
+  EXPECT_GT(truncated_boxes, 0u);
+}
+
+// Polygons (rasterised here) cover exactly their pieces; `none` leaves the masks out.
+TEST_F(LabelsTest, PolygonsCoverTheirPiecesAndNoneLeavesThemOut) {
+  run("output: {labels: {coco: true, segmentation: polygon}}\n", dir_ / "poly");
+  run("output: {labels: {coco: true, segmentation: none}}\n", dir_ / "none");
+  std::size_t checked = 0;
+  for (const auto& [set, cls_name, inst_name] :
+       {std::tuple<std::string, std::string, std::string>{"waterfalls", "a_truth_class.tif",
+                                                          "a_truth_instance.tif"},
+        {"mosaic", "truth_mosaic_class.tif", "truth_mosaic_instance.tif"}}) {
+    const Raster cls = read(dir_ / "poly" / cls_name);
+    const Raster inst = read(dir_ / "poly" / inst_name);
+    const auto pieces = brute_pieces(cls, inst);
+    const json coco = read_json(dir_ / "poly" / (set + ".coco.json"));
+    ASSERT_EQ(coco["annotations"].size(), pieces.size());
+    for (const json& a : coco["annotations"]) {
+      const BoxRow b = box_row(a);
+      const auto it = std::find_if(pieces.begin(), pieces.end(),
+                                   [&](const BrutePiece& p) { return p.box == b; });
+      ASSERT_NE(it, pieces.end());
+      bool inside_box = false;
+      EXPECT_EQ(rasterise_polygons(a["segmentation"], b, inside_box), it->pixels);
+      EXPECT_TRUE(inside_box);
+      EXPECT_EQ(a["area"].get<std::size_t>(), it->pixels.size());
+      ++checked;
+    }
+    const json bare = read_json(dir_ / "none" / (set + ".coco.json"));
+    ASSERT_EQ(bare["annotations"].size(), pieces.size());
+    for (const json& a : bare["annotations"]) EXPECT_FALSE(a.contains("segmentation"));
+  }
+  EXPECT_GT(checked, 4u);
+}
+
+// yolo/ and chips/ are Ultralytics datasets: data.yaml, images/ beside labels/ (same stems).
+TEST_F(LabelsTest, YoloIsAnUltralyticsDataset) {
+  const fs::path out = dir_ / "out";
+  run(kLabels, out);
+  for (const std::string root : {"yolo", "chips"}) {
+    const std::string yaml = file_text(out / root / "data.yaml");
+    // No `path:`: the dataset root is the file's directory, and the file is the same wherever
+    // the run is written (a dataset item is staged elsewhere, then renamed).
+    EXPECT_EQ(yaml.find("path:"), std::string::npos) << yaml;
+    EXPECT_NE(yaml.find("\ntrain: images\n"), std::string::npos);
+    EXPECT_NE(yaml.find("\nval: images\n"), std::string::npos);
+    EXPECT_NE(yaml.find("\nnames:\n  0: object\n  1: shadow\n"), std::string::npos);
+    std::size_t images = 0;
+    for (const auto& e : fs::directory_iterator(out / root / "images")) {
+      // Ultralytics: the label file is the image's path with /images/ -> /labels/, .txt.
+      std::string label = e.path().string();
+      label.replace(label.rfind("/images/"), 8, "/labels/");
+      EXPECT_TRUE(fs::exists(fs::path(label).replace_extension(".txt"))) << e.path();
+      ++images;
+    }
+    EXPECT_GT(images, 0u);
+  }
+  EXPECT_EQ(file_text(out / "yolo" / "images" / "a_waterfall.png"),
+            file_text(out / "a_waterfall.png"));
+  EXPECT_EQ(file_text(out / "yolo" / "images" / "mosaic_rgb.tif"),
+            file_text(out / "mosaic_rgb.tif"));
+}
+
+// chips/chips.jsonl places each chip: its window, pings and samples; the ground positions and
+// box coordinates agree with the scene's geometry (flat seabed 7 m below the sonar, the line
+// along grid east at north 0) and with PROJ's projection of the object positions.
+TEST_F(LabelsTest, ChipRecordsPlaceTheChips) {
+  const fs::path out = dir_ / "out";
+  run(kLabels, out);
+  const json chips = read_json(out / "chips" / "coco.json");
+  std::map<std::string, json> images;
+  for (const json& im : chips["images"]) images[im["file_name"]] = im;
+  // The mosaic's CRS, and (E0, N0) of the scene's centre (43 N, 5 E) in it.
+  GDALAllRegister();
+  auto* ds = static_cast<GDALDataset*>(GDALOpen((out / "mosaic_rgb.tif").c_str(), GA_ReadOnly));
+  ASSERT_NE(ds, nullptr);
+  OGRSpatialReference utm(*ds->GetSpatialRef());
+  GDALClose(ds);
+  OGRSpatialReference wgs84;
+  wgs84.importFromEPSG(4326);
+  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  utm.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> to_utm(
+      OGRCreateCoordinateTransformation(&wgs84, &utm));
+  std::unique_ptr<OGRCoordinateTransformation> to_geo(
+      OGRCreateCoordinateTransformation(&utm, &wgs84));
+  ASSERT_TRUE(to_utm && to_geo);
+  double e0 = 5.0, n0 = 43.0;
+  ASSERT_TRUE(to_utm->Transform(1, &e0, &n0));
+  const double dr = 25.0 / 500.0, altitude = 5.0;
+  std::ifstream is(out / "chips" / "chips.jsonl");
+  std::string line;
+  std::size_t records = 0, centres = 0, object_boxes = 0;
+  while (std::getline(is, line)) {
+    const json r = json::parse(line);
+    SCOPED_TRACE(line.substr(0, 120));
+    ++records;
+    ASSERT_TRUE(images.count(r["file"]));
+    const json& im = images[r["file"]];
+    EXPECT_EQ(r["source_image"], im["source_image"]);
+    EXPECT_EQ(r["pixel_box"], json({im["source_x0"], im["source_y0"], 64, 64}));
+    const std::size_t x0 = im["source_x0"], y0 = im["source_y0"];
+    // Lat / lon of a point against PROJ's inverse projection of its easting / northing.
+    const auto check_geo = [&](const json& p) {
+      if (p.is_null()) return;
+      double e = p["easting_m"], n = p["northing_m"];
+      ASSERT_TRUE(to_geo->Transform(1, &e, &n));
+      EXPECT_NEAR(p["lon_deg"].get<double>(), e, 1e-8);
+      EXPECT_NEAR(p["lat_deg"].get<double>(), n, 1e-8);
+    };
+    check_geo(r["centre"]);
+    for (const json& c : r["corners"]) check_geo(c);
+    if (r["source_image"] == "a_waterfall.png") {
+      EXPECT_EQ(r["line"], "a");
+      EXPECT_EQ(r["pings"], json({y0, y0 + 63}));
+      EXPECT_EQ(r["columns"], json({x0, x0 + 63}));
+      EXPECT_EQ(r.contains("port_samples"), x0 < 500);
+      EXPECT_EQ(r.contains("starboard_samples"), x0 + 64 > 500);
+      // The centre pixel's ground position: across track at the flat-seabed ground range of its
+      // sample's slant range (port = north of the line, starboard = south).
+      const std::size_t c = x0 + 32;
+      const double slant = (static_cast<double>(c < 500 ? 499 - c : c - 500) + 0.5) * dr;
+      if (r.contains("centre") && !r["centre"].is_null() && slant > altitude + 1.0) {
+        const double ground = std::sqrt(slant * slant - altitude * altitude);
+        const double north = r["centre"]["northing_m"].get<double>() - n0;
+        EXPECT_NEAR(std::abs(north), ground, 2.0 * dr);
+        EXPECT_EQ(north > 0.0, c < 500);
+        ++centres;
+      }
+      for (const json& b : r["boxes"]) {
+        const std::vector<double> across = b["across_track_slant_m"];
+        const std::vector<double> along = b["along_track_m"];
+        EXPECT_LT(across[0], across[1]);
+        EXPECT_LE(along[0], along[1]);
+        if (b["category_id"] != 1 || b["truncated"] != 0) continue;
+        // Object 3 (3 m along east around east -10, 9 m north: port, 10.3 m slant to its
+        // near top) and object 7 (2 m around east 15, 11 m south: starboard).
+        const double along_mid = 0.5 * (along[0] + along[1]);
+        if (b["object_id"] == 3) {
+          EXPECT_NEAR(along_mid, 30.0, 2.0);
+          EXPECT_LT(across[1], 0.0);
+          EXPECT_GT(across[0], -std::hypot(9.0 + 1.0, altitude) - 1.0);
+          EXPECT_LT(across[1], -std::hypot(9.0 - 1.0, altitude - 1.2) + 1.0);
+        } else {
+          EXPECT_NEAR(along_mid, 55.0, 2.0);
+          EXPECT_GT(across[0], 0.0);
+          EXPECT_GT(across[0], std::hypot(11.0 - 1.0, altitude - 1.0) - 1.0);
+          EXPECT_LT(across[1], std::hypot(11.0 + 1.0, altitude) + 1.0);
+        }
+        ++object_boxes;
+      }
+    } else {
+      for (const json& b : r["boxes"]) {
+        if (b["category_id"] != 1 || b["truncated"] != 0) continue;
+        const std::vector<double> east = b["easting_m"], north = b["northing_m"];
+        const bool three = b["object_id"] == 3;
+        const double ex = e0 + (three ? -10.0 : 15.0), ny = n0 + (three ? 9.0 : -11.0);
+        EXPECT_GT(ex, east[0] - 1.5);
+        EXPECT_LT(ex, east[1] + 1.5);
+        EXPECT_GT(ny, north[0] - 1.5);
+        EXPECT_LT(ny, north[1] + 1.5);
+        ++object_boxes;
+      }
+    }
+  }
+  EXPECT_EQ(records, chips["images"].size());
+  EXPECT_GT(centres, 0u);
+  EXPECT_GT(object_boxes, 1u);
+}
+
+// output.display_window_db: two runs 10 dB apart show a sample value with the same colour,
+// the colour of the window's mapping computed here (the display map of include/sonarsynth/
+// colormap.hpp: red = 255 x 1.25 v below v = 0.8).
+TEST_F(LabelsTest, OneDisplayWindowForEveryImage) {
+  const std::string window = "output: {display_window_db: [-60, -5], seabed_median_dbfs: ";
+  run(window + "-30}\n", dir_ / "low");
+  run(window + "-20}\n", dir_ / "high");
+  std::vector<double> medians;
+  for (const std::string run_dir : {"low", "high"}) {
+    GDALAllRegister();
+    auto* v =
+        static_cast<GDALDataset*>(GDALOpen((dir_ / run_dir / "mosaic.tif").c_str(), GA_ReadOnly));
+    auto* c = static_cast<GDALDataset*>(
+        GDALOpen((dir_ / run_dir / "mosaic_rgb.tif").c_str(), GA_ReadOnly));
+    ASSERT_TRUE(v && c);
+    const int w = v->GetRasterXSize(), h = v->GetRasterYSize();
+    std::vector<float> value(std::size_t(w) * std::size_t(h));
+    std::vector<std::uint8_t> red(value.size()), alpha(value.size());
+    ASSERT_EQ(v->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, w, h, value.data(), w, h, GDT_Float32, 0,
+                                            0, nullptr),
+              CE_None);
+    ASSERT_EQ(c->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, w, h, red.data(), w, h, GDT_Byte, 0, 0,
+                                            nullptr),
+              CE_None);
+    ASSERT_EQ(c->GetRasterBand(4)->RasterIO(GF_Read, 0, 0, w, h, alpha.data(), w, h, GDT_Byte, 0, 0,
+                                            nullptr),
+              CE_None);
+    GDALClose(v);
+    GDALClose(c);
+    const double full_scale_db = 10.0 * std::log10(32767.0);
+    std::size_t compared = 0;
+    std::vector<double> db;
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      if (alpha[i] != 255 || !(value[i] > 0.0f)) continue;
+      const double d = 10.0 * std::log10(double(value[i])) - full_scale_db;
+      db.push_back(d);
+      const double level = std::clamp((d + 60.0) / 55.0, 0.0, 1.0);
+      if (level > 0.78) continue;
+      ASSERT_NEAR(double(red[i]), std::round(255.0 * 1.25 * level), 1.0) << i;
+      ++compared;
+    }
+    EXPECT_GT(compared, 1000u);
+    std::nth_element(db.begin(), db.begin() + std::ptrdiff_t(db.size() / 2), db.end());
+    medians.push_back(db[db.size() / 2]);
+  }
+  // The two runs' levels do differ (so per-image windows would show them alike): 10 dB of
+  // amplitude are 5 of the display's 10 log10 of the amplitude samples.
+  EXPECT_GT(medians[1] - medians[0], 4.0);
+}
+
+// Chip images are windows of their source images (colormap), or the grey level of the display
+// window computed here; sample chips are the XTF samples of the window (read back from the XTF
+// file) or the mosaic's values.
+TEST_F(LabelsTest, ChipImagesAndSamplesAreWindowsOfTheirSources) {
+  const std::string chips = "coco: true, chips: {size_px: 64, stride_px: 48}";
+  run("output: {labels: {" + chips + ", chip_samples: f32}}\n", dir_ / "colour");
+  run("output: {display_window_db: [-60, -5], labels: {" + chips +
+          ", chip_color: grey, chip_samples: u16}}\n",
+      dir_ / "grey");
+  // The XTF samples of the line as a waterfall image (the file read back).
+  WaterfallOptions wo;
+  Waterfall wf(wo);
+  add_file_pings(dir_ / "colour" / "a.xtf", wf, wo);
+  const std::vector<float> xtf = wf.image();
+  const std::size_t xtf_cols = wf.cols();
+  const auto read_all = [](const fs::path& p, int band, GDALDataType type, auto& out) {
+    GDALAllRegister();
+    auto* ds = static_cast<GDALDataset*>(GDALOpen(p.c_str(), GA_ReadOnly));
+    EXPECT_NE(ds, nullptr) << p;
+    if (!ds) return std::size_t{0};
+    const int w = ds->GetRasterXSize(), h = ds->GetRasterYSize();
+    out.resize(std::size_t(w) * std::size_t(h));
+    EXPECT_EQ(ds->GetRasterBand(band)->RasterIO(GF_Read, 0, 0, w, h, out.data(), w, h, type, 0, 0,
+                                                nullptr),
+              CE_None);
+    GDALClose(ds);
+    return std::size_t(w);
+  };
+  std::size_t colour_checked = 0, grey_checked = 0;
+  for (const std::string run_dir : {"colour", "grey"}) {
+    const fs::path out = dir_ / run_dir;
+    const json coco = read_json(out / "chips" / "coco.json");
+    ASSERT_GT(coco["images"].size(), 0u);
+    std::vector<float> mosaic;
+    const std::size_t mosaic_cols = read_all(out / "mosaic.tif", 1, GDT_Float32, mosaic);
+    std::map<std::string, std::pair<std::vector<std::uint8_t>, std::size_t>> images;
+    for (const json& im : coco["images"]) {
+      SCOPED_TRACE(im["file_name"].get<std::string>());
+      const std::string source = im["source_image"];
+      const std::size_t x0 = im["source_x0"], y0 = im["source_y0"];
+      const bool waterfall = source == "a_waterfall.png";
+      ASSERT_TRUE(im.contains("samples"));
+      std::vector<float> samples;
+      read_all(out / "chips" / im["samples"].get<std::string>(), 1, GDT_Float32, samples);
+      ASSERT_EQ(samples.size(), 64u * 64u);
+      for (std::size_t y = 0; y < 64; ++y) {
+        for (std::size_t x = 0; x < 64; ++x) {
+          const float want = waterfall ? xtf[(y0 + y) * xtf_cols + x0 + x]
+                                       : mosaic[(y0 + y) * mosaic_cols + x0 + x];
+          const float got = samples[y * 64 + x];
+          if (run_dir == "colour" || std::isnan(want)) {
+            if (std::isnan(want)) {
+              ASSERT_TRUE(run_dir == "grey" ? got == 65535.0f : std::isnan(got));
+            } else {
+              ASSERT_EQ(got, want);
+            }
+          } else {
+            ASSERT_EQ(got, std::round(want));
+          }
+        }
+      }
+      if (run_dir == "colour") {
+        // The chip is the window of its source image, band for band.
+        for (int band = 1; band <= 3; ++band) {
+          std::vector<std::uint8_t> chip;
+          read_all(out / "chips" / im["file_name"].get<std::string>(), band, GDT_Byte, chip);
+          const std::string key = source + std::to_string(band);
+          if (!images.count(key)) {
+            images[key].second = read_all(out / source, band, GDT_Byte, images[key].first);
+          }
+          const auto& [whole, cols] = images[key];
+          for (std::size_t y = 0; y < 64; ++y) {
+            for (std::size_t x = 0; x < 64; ++x) {
+              ASSERT_EQ(chip[y * 64 + x], whole[(y0 + y) * cols + x0 + x]);
+            }
+          }
+        }
+        ++colour_checked;
+      } else {
+        std::vector<std::uint8_t> grey;
+        read_all(out / "chips" / im["file_name"].get<std::string>(), 1, GDT_Byte, grey);
+        const double full_scale_db = 10.0 * std::log10(32767.0);
+        for (std::size_t y = 0; y < 64; ++y) {
+          for (std::size_t x = 0; x < 64; ++x) {
+            const float v = waterfall ? xtf[(y0 + y) * xtf_cols + x0 + x]
+                                      : mosaic[(y0 + y) * mosaic_cols + x0 + x];
+            double level = 0.0;
+            if (v > 0.0f) {
+              level = std::clamp((10.0 * std::log10(double(v)) - full_scale_db + 60.0) / 55.0, 0.0,
+                                 1.0);
+            }
+            ASSERT_NEAR(double(grey[y * 64 + x]), std::isnan(v) ? 0.0 : 255.0 * level, 0.5001);
+          }
+        }
+        ++grey_checked;
+      }
+    }
+  }
+  EXPECT_GT(colour_checked, 2u);
+  EXPECT_GT(grey_checked, 2u);
+}
+
+// A waterfall decimated along track gets no boxes or chips (a note says so): the chips cut while
+// it was written are removed, and every file left in chips/ is one the run lists.
+TEST_F(LabelsTest, DecimatedWaterfallLeavesNoChips) {
+  std::ofstream(scene_) << kScene << kLabels;
+  RunOptions o;
+  o.products.waterfall_max_pixels = 1000 * 300;
+  const fs::path out = dir_ / "out";
+  const RunResult r = run_simulation(scene_, out, o);
+  EXPECT_TRUE(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& n) {
+    return n.find("a_waterfall.png: no boxes or chips") != std::string::npos;
+  }));
+  std::set<fs::path> listed(r.files.begin(), r.files.end());
+  std::size_t chips = 0;
+  for (const auto& e : fs::recursive_directory_iterator(out / "chips")) {
+    if (!e.is_regular_file()) continue;
+    EXPECT_TRUE(listed.count(e.path())) << e.path();
+    EXPECT_EQ(e.path().filename().string().rfind("a_waterfall", 0), std::string::npos) << e.path();
+    ++chips;
+  }
+  EXPECT_GT(chips, 0u);  // the mosaic's
+  const json coco = read_json(out / "waterfalls.coco.json");
+  EXPECT_TRUE(coco["images"].empty());
+}
+
 TEST_F(LabelsTest, BadSettingsNameFieldAndValue) {
   const auto message = [&](const std::string& extra) {
     try {
@@ -503,6 +1092,23 @@ TEST_F(LabelsTest, BadSettingsNameFieldAndValue) {
             std::string::npos);
   EXPECT_NE(message("output: {labels: {cocoa: true}}\n").find("cocoa"), std::string::npos);
   EXPECT_NE(message("output: {truth: false, labels: {yolo: true}}\n").find("output.truth"),
+            std::string::npos);
+  EXPECT_NE(message("output: {labels: {coco: true, segmentation: blob}}\n")
+                .find("output.labels.segmentation = 'blob'. Violated constraint: one of rle, "
+                      "polygon, none"),
+            std::string::npos);
+  EXPECT_NE(message("output: {display_window_db: [-5, -60]}\n").find("output.display_window_db = "),
+            std::string::npos);
+  EXPECT_NE(message("output: {display: linear, display_window_db: [-60, -5]}\n")
+                .find("output.display_window_db"),
+            std::string::npos);
+  EXPECT_NE(message("output: {labels: {chips: true, chip_color: sepia}}\n")
+                .find("output.labels.chip_color = 'sepia'. Violated constraint: one of grey, "
+                      "colormap"),
+            std::string::npos);
+  EXPECT_NE(message("output: {labels: {chips: true, chip_samples: u8}}\n")
+                .find("output.labels.chip_samples = 'u8'. Violated constraint: one of none, "
+                      "u16, f32"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }

@@ -49,6 +49,11 @@ struct MosaicWriteOptions {
   /// > 0: the display copy maps value / linear_full_scale linearly instead (the percentiles are
   /// unused): the founding paper's grey level, docs/paper-model.md.
   double linear_full_scale = 0.0;
+  /// true: the display copy maps 10 log10(value) from lo_db (0) to hi_db (1) instead of the
+  /// percentiles (one window for every image of a dataset, docs/labels.md).
+  bool fixed_db = false;
+  double lo_db = 0.0;
+  double hi_db = 90.0;
   /// Truth mosaic (int32 GeoTIFF on the same grid, band "object_id", nodata INT32_MIN, nearest
   /// overviews) if the image has labels. Empty = none.
   std::string labels_path;

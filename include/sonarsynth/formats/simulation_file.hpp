@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sonarsynth/scene.hpp"
@@ -40,14 +41,24 @@ struct RunLimits {
 /// output.labels: machine-learning labels besides the truth rasters (docs/labels.md). The
 /// class and instance rasters come with the truth; these are off by default.
 struct LabelOutput {
-  bool coco = false;               ///< waterfalls.coco.json, mosaic.coco.json (and chips/coco.json)
-  bool yolo = false;               ///< yolo/<image>.txt (and chips/labels/<chip>.txt)
-  bool chips = false;              ///< chips/images, chips/masks (and their boxes as asked above)
-  std::size_t chip_size_px = 256;  ///< chip side, pixels
+  /// The instance mask of each COCO annotation: COCO uncompressed RLE, polygons, or none.
+  enum class Segmentation { rle, polygon, none };
+  /// The chip images: the image's colours (colormap), or one 8-bit grey band of the display value.
+  enum class ChipColor { colormap, grey };
+  /// Raw-sample chips beside the images: none, or the sample values as uint16 or float32.
+  enum class ChipSamples { none, u16, f32 };
+  bool coco = false;  ///< waterfalls.coco.json, mosaic.coco.json (and chips/coco.json)
+  bool yolo = false;  ///< yolo/ (Ultralytics layout: data.yaml, images/, labels/; and chips/)
+  bool voc = false;   ///< voc/Annotations/<image>.xml (and chips/voc/Annotations/<chip>.xml)
+  Segmentation segmentation = Segmentation::rle;
+  ChipColor chip_color = ChipColor::colormap;
+  ChipSamples chip_samples = ChipSamples::none;
+  bool chips = false;                ///< chips/images, chips/masks (and their boxes as asked above)
+  std::size_t chip_size_px = 256;    ///< chip side, pixels
   std::size_t chip_stride_px = 256;  ///< step between chips, pixels
   /// Chips with a larger fraction of nodata pixels are skipped (all-nodata ones always).
   double chip_max_nodata_fraction = 0.5;
-  bool any() const { return coco || yolo || chips; }
+  bool any() const { return coco || yolo || voc || chips; }
 };
 
 /// What `sonarsynth simulate` runs: the scene, the simulation settings and the survey. A key left
@@ -74,6 +85,10 @@ struct SimulationSetup {
   bool display_linear = false;
   /// output.labels (docs/labels.md).
   LabelOutput labels{};
+  /// output.display_window_db: [lo, hi], 10 log10(sample / full scale) mapped to the darkest and
+  /// brightest display level of every waterfall, mosaic_rgb and chip (docs/labels.md, "One
+  /// display scale"); not given: each image's own 1st-99th percentile window.
+  std::optional<std::pair<double, double>> display_window_db{};
   /// Where the range came from, for messages: "sonar.range_m" or "--range".
   std::string range_key = "sonar.range_m";
   Survey make_survey() const;

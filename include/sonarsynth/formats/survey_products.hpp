@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +33,14 @@ struct SurveyProductOptions {
   /// > 0: the waterfalls and mosaic_rgb show value / this linearly (output.display: linear, the
   /// samples' full scale); 0: a dB window (percentiles).
   double display_linear_full_scale = 0.0;
+  /// Given (and display_linear_full_scale 0): the waterfalls and mosaic_rgb map 10 log10(value)
+  /// from first (0) to second (1), one window for every image (output.display_window_db).
+  std::optional<std::pair<double, double>> display_window_db;
+  /// Optional taps on each line's waterfall image rows and label rows as they are written (the
+  /// label sets of docs/labels.md, made in the same pass): called with the line's name on the
+  /// thread that writes the line; the taps run on that thread.
+  std::function<Waterfall::RowTap(const std::string& line)> waterfall_rows;
+  std::function<TruthWaterfall::LabelRowTap(const std::string& line)> label_rows;
   /// true: a finished line's images are written on a thread of their own while the next line
   /// accumulates; false: on the calling thread (a one-thread run: one core). Same files.
   bool background_images = true;

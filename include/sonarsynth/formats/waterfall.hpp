@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -94,11 +95,16 @@ class Waterfall {
   /// floats). Row k is the mean of pings k N .. k N + N - 1 (N = pings_per_row(); the last row
   /// the pings left), pixel by pixel over the pings that have a value there; NaN if none has.
   std::vector<float> image() const;
+  /// Sees each image row as it is written: its index, linear values (NaN = nodata), display
+  /// values in [0, 1] (NaN = nodata) and colours (1 or 3 bands, band-sequential, cols() each).
+  using RowTap = std::function<void(std::size_t row, std::span<const float> linear,
+                                    std::span<const float> display,
+                                    std::span<const std::uint8_t> colour, std::size_t bands)>;
   /// Writes PNG (name ending .png) or GeoTIFF without georeferencing (.tif/.tiff) under a
   /// temporary name, renamed when complete. Throws FormatError naming the path. The percentile
   /// scaling is robust_db_range of the whole image (read from the spool in a first pass); the
-  /// rows are then coloured and written one at a time.
-  void write(const std::string& path) const;
+  /// rows are then coloured and written one at a time, each shown to `tap` (if any) once.
+  void write(const std::string& path, const RowTap& tap = {}) const;
 
  private:
   WaterfallOptions options_;
@@ -161,9 +167,13 @@ class TruthWaterfall {
   /// (UInt32) label rasters of docs/labels.md at `class_path` and `instance_path`: the files the
   /// label waterfall of the same pings writes (formats/truth_labels.hpp), without a spool of
   /// their own.
+  /// `tap` (if any) sees each row's class and instance labels once, in order, as they are made.
+  using LabelRowTap = std::function<void(std::size_t row, std::span<const std::uint8_t> cls,
+                                         std::span<const std::uint32_t> instance)>;
   void write_with_labels(const std::string& path, const std::string& class_path,
                          const std::string& instance_path, bool overwrite,
-                         const std::vector<std::pair<std::string, std::string>>& metadata) const;
+                         const std::vector<std::pair<std::string, std::string>>& metadata,
+                         const LabelRowTap& tap = {}) const;
 
  private:
   /// Bands: class, object id (the int32's bits, so that ids stay exact for the label rasters),
