@@ -299,9 +299,14 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   // Output scaling and format.
   if (top.has("output")) {
     const Fields f = top.child("output");
-    f.only(keys_of("output", {"labels"}));
+    f.only(keys_of("output", {"labels", "mosaic"}));
     options::read_all(f, "output", setup);
     if (f.has("labels")) read_labels(f.child("labels"), setup);
+    if (f.has("mosaic")) {
+      const Fields m = f.child("mosaic");
+      m.only(keys_of("output.mosaic"));
+      options::read_all(m, "output.mosaic", setup);
+    }
   }
   // Common XTF readers take at most 8192 samples per channel: more only on request.
   if (const auto v = sample_count_violation(setup)) {

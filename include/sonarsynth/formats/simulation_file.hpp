@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/scene.hpp"
 #include "sonarsynth/simulator.hpp"
 #include "sonarsynth/survey.hpp"
@@ -50,6 +51,19 @@ struct LabelOutput {
   bool any() const { return coco || yolo || chips; }
 };
 
+/// output.mosaic: how `simulate` processes its mosaic (docs/scene-format.md), as survey software
+/// does; raw + off is the plain gridding of every seabed sample.
+struct MosaicProcessing {
+  /// blank: the first return (the slant ranges of the pulse echoed by the seabed below the
+  /// sensor) is not gridded and the nadir gap stays nodata where no other line covers it; fill:
+  /// the same, the gap then taking the first sample beyond it; raw: every seabed sample gridded,
+  /// the gap filled with the first one (the `mosaic` command's default).
+  enum class Nadir : std::uint8_t { blank, fill, raw };
+  Nadir nadir = Nadir::blank;
+  /// Across-track gain normalisation over the whole survey (docs/conversion.md).
+  GainNormalisation gain = GainNormalisation::kAngle;
+};
+
 /// What `sonarsynth simulate` runs: the scene, the simulation settings and the survey. A key left
 /// out of the scene file keeps the default of its struct member (formats/option_table.cpp
 /// declares each key once: its unit, bounds and member).
@@ -74,6 +88,8 @@ struct SimulationSetup {
   bool display_linear = false;
   /// output.labels (docs/labels.md).
   LabelOutput labels{};
+  /// output.mosaic (docs/scene-format.md).
+  MosaicProcessing mosaic_processing{};
   /// Where the range came from, for messages: "sonar.range_m" or "--range".
   std::string range_key = "sonar.range_m";
   Survey make_survey() const;
