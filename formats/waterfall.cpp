@@ -584,6 +584,19 @@ std::string stream_path(const std::filesystem::path& temp) {
 
 const std::vector<std::string> kTruthResampling = {"NEAREST", "NEAREST", "AVERAGE"};
 
+/// The creation options of the streamed file: the final file's tiles and layout, uncompressed
+/// (it is read twice, for the overviews and by the copy, which compresses once).
+std::vector<std::pair<std::string, std::string>> stream_options(
+    const std::vector<std::pair<std::string, std::string>>& final_options) {
+  std::vector<std::pair<std::string, std::string>> co;
+  for (const auto& [k, v] : final_options) {
+    if (k == "COMPRESS" || k == "PREDICTOR" || k == "ZSTD_LEVEL" || k == "ZLEVEL") continue;
+    co.emplace_back(k, v);
+  }
+  co.emplace_back("COMPRESS", "NONE");
+  return co;
+}
+
 }  // namespace
 
 void TruthWaterfall::write(const std::string& path, bool overwrite,
@@ -598,7 +611,7 @@ void TruthWaterfall::write(const std::string& path, bool overwrite,
   TruthView source(rows, TruthView::Kind::truth);
   const std::string stream = stream_path(out.temp_path());
   raster::stream_to_file(source, cols(), this->rows(), 3, GDT_Float32, "GTiff", stream,
-                         kTruthTiffOptions, truth_labels(metadata), kWho, path);
+                         stream_options(kTruthTiffOptions), truth_labels(metadata), kWho, path);
   raster::copy_adding_overviews(stream, out.temp_path().string(), kTruthResampling,
                                 kTruthTiffOptions, pixel_gcps(gcps_, cols()), kWho, path);
   out.commit();
@@ -624,16 +637,22 @@ void TruthWaterfall::write_with_labels(
                 3,
                 GDT_Float32,
                 stream_path(out.temp_path()),
-                kTruthTiffOptions,
+                stream_options(kTruthTiffOptions),
                 truth_labels(metadata),
                 path};
-  targets[1] = {&classes,        1,
-                GDT_Byte,        stream_path(class_out.temp_path()),
-                label_options(), labels::waterfall_class_labels(metadata),
+  targets[1] = {&classes,
+                1,
+                GDT_Byte,
+                stream_path(class_out.temp_path()),
+                stream_options(label_options()),
+                labels::waterfall_class_labels(metadata),
                 class_path};
-  targets[2] = {&instances,      1,
-                GDT_UInt32,      stream_path(instance_out.temp_path()),
-                label_options(), labels::waterfall_instance_labels(metadata),
+  targets[2] = {&instances,
+                1,
+                GDT_UInt32,
+                stream_path(instance_out.temp_path()),
+                stream_options(label_options()),
+                labels::waterfall_instance_labels(metadata),
                 instance_path};
   raster::stream_to_files(targets, cols(), this->rows(), "GTiff", kWho);
   // Overviews (classes and ids: nearest, so that an overview pixel's class and instance are
