@@ -48,4 +48,27 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
                          const std::string& temp_path, const char* who,
                          const std::string& final_path);
 
+/// Ground control points of a raster that is not an affine grid (a waterfall in slant range):
+/// pixel/line of the pixel's centre (col + 0.5, row + 0.5) and its easting/northing in EPSG:epsg.
+struct GroundControl {
+  int epsg = 0;
+  struct Point {
+    double pixel = 0.0, line = 0.0, easting_m = 0.0, northing_m = 0.0;
+  };
+  std::vector<Point> points;
+};
+
+/// Makes the tiled GeoTIFF `from` (written, closed) into `to` with internal overviews down to
+/// < 256 pixels (overview_factors(); none for a small image), laid out as GDAL's COG validator
+/// asks (overviews before the full resolution, COPY_SRC_OVERVIEWS): the levels are built in
+/// `from` first, band b with `resampling[b - 1]` (the last entry for further bands; NEAREST for
+/// classes and ids, AVERAGE for continuous values), then copied with `creation_options`. `gcps`
+/// (if it has points) are set on the copy. `from` is removed afterwards whatever happens.
+/// Throws FormatError("<who>: <final_path>: ...").
+void copy_adding_overviews(const std::string& from, const std::string& to,
+                           const std::vector<std::string>& resampling,
+                           const std::vector<std::pair<std::string, std::string>>& creation_options,
+                           const GroundControl& gcps, const char* who,
+                           const std::string& final_path);
+
 }  // namespace sonarsynth::raster

@@ -246,6 +246,19 @@ std::vector<Option> make_table() {
   t.push_back(
       boolean("output", "allow_more_than_8192_samples", BOOL(allow_more_than_8192_samples)));
   t.push_back(boolean("output", "jsf", BOOL(write_jsf)));
+  // output.mosaic: the processing of simulate's mosaic (docs/scene-format.md).
+  t.push_back(choice(
+      "output.mosaic", "nadir", {"blank", "fill", "raw"}, "blank, fill or raw",
+      [](const S& s) { return static_cast<double>(static_cast<int>(s.mosaic_processing.nadir)); },
+      [](S& s, double v) {
+        s.mosaic_processing.nadir = static_cast<MosaicProcessing::Nadir>(static_cast<int>(v));
+      }));
+  t.push_back(choice(
+      "output.mosaic", "gain_normalisation", {"off", "range", "angle"}, "off, range or angle",
+      [](const S& s) { return static_cast<double>(static_cast<int>(s.mosaic_processing.gain)); },
+      [](S& s, double v) {
+        s.mosaic_processing.gain = static_cast<GainNormalisation>(static_cast<int>(v));
+      }));
   // sensor effects: a level or `off`
   auto sensor_level = [](std::string_view key, std::string_view unit, double lo, double hi,
                          double (*get)(const S&), void (*set)(S&, double)) {

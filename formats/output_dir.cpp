@@ -73,8 +73,9 @@ void clean_stale(const fs::path& parent, const fs::path& final_dir) {
 }
 
 bool has_product_extension(const fs::path& p) {
-  static const std::array<const char*, 10> kExt = {".xtf",  ".jsf", ".png",  ".tif", ".tiff",
-                                                   ".yaml", ".xml", ".json", ".ovr", ".csv"};
+  static const std::array<const char*, 11> kExt = {".xtf",  ".jsf",  ".png",    ".tif",
+                                                   ".tiff", ".yaml", ".xml",    ".json",
+                                                   ".ovr",  ".csv",  ".geojson"};
   const std::string e = p.extension().string();
   for (const char* k : kExt) {
     if (e == k) return true;

@@ -57,6 +57,12 @@ std::vector<labels::LabelImage> mosaic_label_images(const std::filesystem::path&
   return {li};
 }
 
+// The slant ranges the seabed below the sensor fills with its echo: the pulse's extent (c tau / 2,
+// a chirp's compressed c / 2B) plus one sample (the sample the nadir range falls in).
+double first_return_extent_m(const SonarConfig& s) {
+  return s.pulse_window_m() + s.sample_spacing_m();
+}
+
 }  // namespace
 
 RunResult run_simulation(const std::string& scene_path, const std::filesystem::path& out_dir,
@@ -83,6 +89,12 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
         std::pair<double, double>{setup->display_window_db->first + full_scale_db,
                                   setup->display_window_db->second + full_scale_db};
   }
+  // output.mosaic: nadir blanking and gain normalisation (docs/scene-format.md).
+  const MosaicProcessing& mp = setup->mosaic_processing;
+  po.mosaic_options.nadir_fill = mp.nadir != MosaicProcessing::Nadir::blank;
+  po.mosaic_options.nadir_blank_m =
+      mp.nadir == MosaicProcessing::Nadir::raw ? 0.0 : first_return_extent_m(setup->config.sonar);
+  po.gain_normalisation = mp.gain;
 
   // Check the whole run before anything is created (formats/run_check.cpp).
   result.plan = check_simulation(scene_path, *setup,

@@ -87,6 +87,15 @@ struct Builder {
     scene.objects.add(std::move(p));
   }
 
+  // The object's entry in the target list (Scene::object_records).
+  void record(const Fields& o, std::int32_t id, const std::string& type,
+              const Eigen::Vector2d& xy_m, double heading_rad, double clearance_m, double embed,
+              const char* default_material) {
+    scene.object_records.push_back({id, o.text("name", ""), type,
+                                    o.text("material", default_material), xy_m, heading_rad,
+                                    clearance_m, embed});
+  }
+
   void add_object(const Fields& o) {
     const std::string type = o.text("type");
     const double clearance = o.number_in("clearance_m", 0.0, 0.0, 1e4);
@@ -112,6 +121,7 @@ struct Builder {
         p.half_extent_m = {0.5 * o.number_in("length_m", 0.0, 0.0, 1e5, true), radius, radius};
       }
       p.id = take_id(o);
+      record(o, p.id, type, p.centre_xy_m, p.heading_rad, clearance, embed, "steel");
       place(p, o, clearance, embed);
     } else if (type == "box" || type == "rock") {
       o.only({"type", "id", "name", "material", "position", "heading_deg", "size_m", "diameter_m",
@@ -135,6 +145,8 @@ struct Builder {
         p.half_extent_m = 0.5 * Eigen::Vector3d(s[0], s[1], s[2]);
       }
       p.id = take_id(o);
+      record(o, p.id, type, p.centre_xy_m, p.heading_rad, clearance, embed,
+             type == "box" ? "steel" : "rock");
       place(p, o, clearance, embed);
     } else if (type == "wreck") {
       o.only({"type", "id", "name", "material", "position", "heading_deg", "parts", "clearance_m",
@@ -144,6 +156,7 @@ struct Builder {
       const auto parts = o.sequence("parts");
       if (parts.empty()) o.fail("parts", "a wreck needs at least one part (a box)");
       const std::int32_t id = take_id(o);
+      record(o, id, type, centre, heading, clearance, embed, "steel");
       const Eigen::Vector2d fwd(std::sin(heading), std::cos(heading)), stbd(fwd.y(), -fwd.x());
       for (const Fields& part : parts) {
         part.only({"offset_m", "size_m", "heading_deg", "lift_m"});
@@ -190,6 +203,7 @@ struct Builder {
         o.fail_value("shape", "sphere or cylinder");
       }
       p.id = take_id(o);
+      record(o, p.id, type, p.centre_xy_m, p.heading_rad, height - radius, 0.0, "steel");
       p.place_on_seabed(scene.bathymetry, height - radius, 0.0, o.file() + ": " + o.path());
       if (p.shape == ObjectShape::kCylinder) {  // level, not draped: the seabed under its centre
         p.base_z_m = {static_cast<float>(p.base_at(0.0))};
@@ -265,8 +279,10 @@ struct Builder {
       }
     }
     for (auto& m : model.mesh.material) m = m < lut.size() ? lut[m] : fallback;
-    scene.objects.add(place_mesh(std::move(model.mesh), where, scene.bathymetry, take_id(o),
-                                 fallback, o.file() + ": " + o.path() + " (" + path + ")"));
+    const std::int32_t id = take_id(o);
+    record(o, id, "mesh", where.position_xy_m, heading, clearance, embed, "steel");
+    scene.objects.add(place_mesh(std::move(model.mesh), where, scene.bathymetry, id, fallback,
+                                 o.file() + ": " + o.path() + " (" + path + ")"));
   }
 
   // Objects from a vector layer: each feature's attributes are read as the keys of an inline

@@ -342,9 +342,14 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   // Output scaling and format.
   if (top.has("output")) {
     const Fields f = top.child("output");
-    f.only(keys_of("output", {"labels", "display_window_db"}));
+    f.only(keys_of("output", {"labels", "display_window_db", "mosaic"}));
     options::read_all(f, "output", setup);
     if (f.has("labels")) read_labels(f.child("labels"), setup.labels, setup.config.truth);
+    if (f.has("mosaic")) {
+      const Fields m = f.child("mosaic");
+      m.only(keys_of("output.mosaic"));
+      options::read_all(m, "output.mosaic", setup);
+    }
     if (f.has("display_window_db")) {
       const auto w = f.numbers("display_window_db", 2);
       if (!(w[0] < w[1]) || w[1] - w[0] > 200.0) {

@@ -53,8 +53,8 @@ class BackgroundJob {
   std::thread thread_;
 };
 
-/// A copy of the part of a rendered ping that the sinks read (samples, truth class, label and
-/// grazing angle, the pose), shared by every queue that holds it.
+/// A copy of the part of a rendered ping that the sinks read (samples, truth class, label,
+/// grazing angle and ground position, the pose), shared by every queue that holds it.
 std::shared_ptr<const RenderedPing> copy_for_sinks(const RenderedPing& ping);
 
 /// Calls the hooks of a sink on a thread of its own, in the order they were queued. At most

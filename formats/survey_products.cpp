@@ -1,13 +1,19 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/survey_products.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <functional>
+#include <limits>
 #include <span>
+#include <sstream>
 #include <tuple>
 #include <utility>
 
+#include "geo_truth.hpp"
+#include "row_spool.hpp"
 #include "sink_threads.hpp"
 #include "sonarsynth/error.hpp"
 #include "truth_labels.hpp"
@@ -54,10 +60,17 @@ class SurveyProducts::MosaicPart final : public PingSink {
         std::make_unique<MosaicGrid>(MosaicGrid::geometry_covering(lo, hi, options_.mosaic_pixel_m),
                                      options_.mosaic_options, &scene_->bathymetry);
     if (options_.mosaic_resident_bytes > 0) grid_->spill_to(dir_, options_.mosaic_resident_bytes);
+    if (options_.gain_normalisation != GainNormalisation::kOff) {
+      gain_ = std::make_unique<GainNormaliser>(options_.gain_normalisation);
+    }
   }
 
   void begin_line(std::size_t /*line*/) override {
-    if (grid_) grid_->break_line();
+    if (gain_) {
+      break_before_ = true;
+    } else if (grid_) {
+      grid_->break_line();
+    }
   }
 
   void ping(const RenderedPing& p) override {
@@ -79,15 +92,103 @@ class SurveyProducts::MosaicPart final : public PingSink {
       m.port_labels = port_codes_;
       m.starboard_labels = stbd_codes_;
     }
+    if (gain_) {
+      spool_ping(m);
+      return;
+    }
     grid_->add(m);
+  }
+
+  /// Gain normalisation: the ping's statistics counted, the ping kept in the spool (its samples
+  /// and label codes, the codes' bits as floats) for finish().
+  void spool_ping(const MosaicPing& m) {
+    gain_->add_ping(m.port, m.starboard, m.slant_range_m, m.altitude_m);
+    if (!spool_) spool_ = std::make_unique<detail::SideSpool>(dir_, 2, "mosaic spool");
+    const auto as_floats = [](std::span<const std::int32_t> codes, std::vector<float>& out) {
+      out.resize(codes.size());
+      std::memcpy(out.data(), codes.data(), codes.size() * sizeof(float));
+    };
+    as_floats(m.port_labels, port_bits_);
+    as_floats(m.starboard_labels, stbd_bits_);
+    const std::span<const float> port[2] = {m.port, port_bits_};
+    const std::span<const float> stbd[2] = {m.starboard, stbd_bits_};
+    spool_->append(port, stbd);
+    SpooledPing s;
+    s.ping = m;
+    s.ping.port = {};
+    s.ping.starboard = {};
+    s.ping.port_labels = {};
+    s.ping.starboard_labels = {};
+    s.port_n = m.port.size();
+    s.stbd_n = m.starboard.size();
+    s.labels = !m.port_labels.empty() || !m.starboard_labels.empty();
+    s.break_before = break_before_;
+    break_before_ = false;
+    spooled_.push_back(s);
+  }
+
+  /// Grids the spooled pings, each multiplied by the gains of the whole survey.
+  void grid_spooled() {
+    if (!gain_) return;
+    gain_->finish();
+    if (!spool_) return;
+    const float pads[2] = {std::numeric_limits<float>::quiet_NaN(), 0.0f};
+    detail::SideSpool::Reader reader(*spool_, pads);
+    const std::size_t side = spool_->side();
+    std::vector<float> row(2 * spool_->cols());
+    std::vector<float> port, stbd;
+    std::vector<std::int32_t> port_codes, stbd_codes;
+    for (const SpooledPing& s : spooled_) {
+      if (!reader.next(row)) throw FormatError("mosaic spool: the file ended early");
+      // Image row: port FAR -> NEAR | starboard NEAR -> FAR, band by band.
+      const float* values = row.data();
+      const float* bits = row.data() + spool_->cols();
+      port.resize(s.port_n);
+      stbd.resize(s.stbd_n);
+      port_codes.resize(s.labels ? s.port_n : 0);
+      stbd_codes.resize(s.labels ? s.stbd_n : 0);
+      for (std::size_t i = 0; i < s.port_n; ++i) {
+        port[i] = values[side - 1 - i];
+        if (s.labels) std::memcpy(&port_codes[i], &bits[side - 1 - i], sizeof(float));
+      }
+      for (std::size_t i = 0; i < s.stbd_n; ++i) {
+        stbd[i] = values[side + i];
+        if (s.labels) std::memcpy(&stbd_codes[i], &bits[side + i], sizeof(float));
+      }
+      gain_->apply(port, stbd, s.ping.slant_range_m, s.ping.altitude_m);
+      MosaicPing m = s.ping;
+      m.port = port;
+      m.starboard = stbd;
+      m.port_labels = port_codes;
+      m.starboard_labels = stbd_codes;
+      if (s.break_before) grid_->break_line();
+      grid_->add(m);
+    }
+    spool_.reset();
+    spooled_.clear();
+    spooled_.shrink_to_fit();
   }
 
   void finish() override {
     if (!grid_) return;
     const auto t0 = std::chrono::steady_clock::now();
+    grid_spooled();
     // The grid has gridded every ping: it does not read the bathymetry again.
     if (options_.after_last_bathymetry_use) options_.after_last_bathymetry_use();
     MosaicWriteOptions w = options_.write_options;
+    // The processing (docs/scene-format.md, output.mosaic), recorded when it is not the raw
+    // gridding (whose files stay as they were).
+    const MosaicOptions& mo = options_.mosaic_options;
+    if (mo.nadir_blank_m > 0.0 || options_.gain_normalisation != GainNormalisation::kOff) {
+      std::ostringstream nadir;
+      nadir << (mo.nadir_blank_m > 0.0 ? (mo.nadir_fill ? "fill" : "blank") : "raw");
+      if (mo.nadir_blank_m > 0.0) {
+        nadir << " (first return: " << mo.nadir_blank_m << " m of slant range not gridded)";
+      }
+      w.metadata.emplace_back("SONARSYNTH_MOSAIC_NADIR", nadir.str());
+      w.metadata.emplace_back("SONARSYNTH_GAIN_NORMALISATION",
+                              to_string(options_.gain_normalisation));
+    }
     w.rgb_path = (dir_ / "mosaic_rgb.tif").string();
     w.linear_full_scale = options_.display_linear_full_scale;
     if (options_.display_window_db) {
@@ -117,7 +218,10 @@ class SurveyProducts::MosaicPart final : public PingSink {
     finish_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
-  void abort() noexcept override { grid_.reset(); }
+  void abort() noexcept override {
+    grid_.reset();
+    spool_.reset();
+  }
 
   const std::vector<std::filesystem::path>& files() const { return files_; }
   double finish_s() const { return finish_s_; }
@@ -132,6 +236,19 @@ class SurveyProducts::MosaicPart final : public PingSink {
   std::vector<std::int32_t> port_codes_, stbd_codes_;
   std::vector<std::filesystem::path> files_;
   double finish_s_ = 0.0;
+  // Gain normalisation (options_.gain_normalisation): the statistics, the pings waiting in the
+  // spool and what the spool does not hold of each.
+  struct SpooledPing {
+    MosaicPing ping;  ///< without its spans
+    std::size_t port_n = 0, stbd_n = 0;
+    bool labels = false;
+    bool break_before = false;  ///< a new line starts with this ping
+  };
+  std::unique_ptr<GainNormaliser> gain_;
+  std::unique_ptr<detail::SideSpool> spool_;
+  std::vector<SpooledPing> spooled_;
+  std::vector<float> port_bits_, stbd_bits_;
+  bool break_before_ = false;
 };
 
 /// A product of one image per line: accumulated while the line renders, written on a background
@@ -248,13 +365,18 @@ class SurveyProducts::WaterfallPart final : public LinePart {
 class SurveyProducts::TruthPart final : public LinePart {
  public:
   TruthPart(std::filesystem::path dir, std::vector<std::string> names,
-            const SurveyProductOptions& options)
-      : LinePart(std::move(dir), std::move(names), options.background_images), options_(options) {}
+            const SurveyProductOptions& options, const GeoFrame& frame)
+      : LinePart(std::move(dir), std::move(names), options.background_images),
+        options_(options),
+        frame_(frame) {}
   void begin_line(std::size_t /*line*/) override {
     truth_ = std::make_shared<TruthWaterfall>(dir());
+    gcps_ = {};
+    gcps_.epsg = frame_.epsg();
   }
   void ping(const RenderedPing& p) override {
     if (truth_ && !p.port.truth_class.empty()) {
+      if (truth_->rows() % kGcpPingStep == 0) add_gcps(p, truth_->rows());
       truth_->add_ping(p.port.truth_class, p.starboard.truth_class, p.port.truth_label,
                        p.starboard.truth_label, p.port.truth_grazing_rad,
                        p.starboard.truth_grazing_rad);
@@ -267,6 +389,7 @@ class SurveyProducts::TruthPart final : public LinePart {
                                   std::string& /*note*/) override {
     std::shared_ptr<TruthWaterfall> t = std::move(truth_);
     if (!t || t->rows() == 0) return {};
+    t->set_ground_control(thinned_gcps());
     // The label rasters (docs/labels.md) next to the truth of the line, from the same spool rows.
     TruthWaterfall::LabelRowTap tap = options_.label_rows ? options_.label_rows(name) : nullptr;
     return
@@ -279,8 +402,51 @@ class SurveyProducts::TruthPart final : public LinePart {
   }
   void drop() noexcept override { truth_.reset(); }
 
+  // Ground control points of the line rasters (docs/labels.md): the truth's ground position of
+  // kGcpSamples samples a side, spread over the samples that have one, every kGcpPingStep pings;
+  // thinned to at most kGcpRows rows when the line is written.
+  static constexpr std::size_t kGcpPingStep = 16;
+  static constexpr std::size_t kGcpSamples = 8;
+  static constexpr std::size_t kGcpRows = 32;
+  void add_gcps(const RenderedPing& p, std::size_t row) {
+    for (const bool starboard : {false, true}) {
+      const SideOutput& s = starboard ? p.starboard : p.port;
+      const std::size_t n = std::min(s.truth_ground_x_m.size(), s.truth_ground_y_m.size());
+      std::vector<std::size_t> placed;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (std::isfinite(s.truth_ground_x_m[i]) && std::isfinite(s.truth_ground_y_m[i])) {
+          placed.push_back(i);
+        }
+      }
+      if (placed.empty()) continue;
+      for (std::size_t k = 0; k < kGcpSamples; ++k) {
+        const std::size_t i = placed[k * (placed.size() - 1) / (kGcpSamples - 1)];
+        const Eigen::Vector2d en =
+            frame_.projected_from_local({s.truth_ground_x_m[i], s.truth_ground_y_m[i]});
+        gcps_.points.push_back({row, starboard, i, en.x(), en.y()});
+      }
+    }
+  }
+  WaterfallGroundControl thinned_gcps() const {
+    std::vector<std::size_t> rows;
+    for (const auto& g : gcps_.points) {
+      if (rows.empty() || rows.back() != g.row) rows.push_back(g.row);
+    }
+    const std::size_t step = (rows.size() + kGcpRows - 1) / kGcpRows;
+    WaterfallGroundControl out;
+    out.epsg = gcps_.epsg;
+    for (const auto& g : gcps_.points) {
+      const auto k = static_cast<std::size_t>(std::lower_bound(rows.begin(), rows.end(), g.row) -
+                                              rows.begin());
+      if (step <= 1 || k % step == 0 || k + 1 == rows.size()) out.points.push_back(g);
+    }
+    return out;
+  }
+
   const SurveyProductOptions& options_;
+  GeoFrame frame_;
   std::shared_ptr<TruthWaterfall> truth_;
+  WaterfallGroundControl gcps_;
 };
 
 SurveyProducts::SurveyProducts(std::filesystem::path dir, std::shared_ptr<const Scene> shared_scene,
@@ -304,7 +470,13 @@ SurveyProducts::SurveyProducts(std::filesystem::path dir, std::shared_ptr<const 
   if (options_.waterfalls) {
     waterfall_ = std::make_unique<WaterfallPart>(dir, names, options_, sonar);
   }
-  if (options_.truth) truth_ = std::make_unique<TruthPart>(dir, names, options_);
+  if (options_.truth) {
+    truth_ = std::make_unique<TruthPart>(dir, names, options_, shared_scene->frame);
+  }
+  if (options_.truth) {
+    vectors_ = std::make_unique<geo_truth::GeoTruthWriter>(dir, shared_scene, names,
+                                                           options_.write_options.overwrite);
+  }
 }
 
 SurveyProducts::~SurveyProducts() = default;
@@ -314,6 +486,7 @@ std::vector<std::pair<std::string, PingSink*>> SurveyProducts::parts() {
   if (mosaic_) p.emplace_back("mosaic", mosaic_.get());
   if (waterfall_) p.emplace_back("waterfall", waterfall_.get());
   if (truth_) p.emplace_back("truth", truth_.get());
+  if (vectors_) p.emplace_back("vectors", vectors_.get());
   return p;
 }
 
@@ -364,6 +537,7 @@ std::vector<std::filesystem::path> SurveyProducts::files() const {
     }
   }
   if (mosaic_) out.insert(out.end(), mosaic_->files().begin(), mosaic_->files().end());
+  if (vectors_) out.insert(out.end(), vectors_->files().begin(), vectors_->files().end());
   return out;
 }
 

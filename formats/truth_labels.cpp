@@ -389,8 +389,11 @@ void write_mosaic_label_rasters(const std::string& class_path, const std::string
                                    "4294967295: no sample in the pixel")
                  : class_labels(metadata, "truth class" + what, "255: no sample in the pixel");
     raster::describe_dataset(*src, l, 1);
-    raster::copy_to_file(*src, "GTiff", (instance ? instance_out : class_out).temp_path().string(),
-                         kTiffOptions, kWho, path);
+    // Overviews as truth_mosaic.tif's: nearest (an overview pixel is one of its source pixels,
+    // class and instance of the same sample).
+    raster::copy_with_overviews(*src, "NEAREST", kTiffOptions,
+                                (instance ? instance_out : class_out).temp_path().string(), kWho,
+                                path);
   };
   write(false);
   write(true);

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "mosaic_blocks.hpp"
 #include "raster_util.hpp"
 #include "row_spool.hpp"
 #include "sonarsynth/display_scale.hpp"
@@ -582,6 +583,45 @@ std::vector<std::pair<std::string, std::string>> label_options() {
 
 }  // namespace
 
+namespace {
+
+/// The points of `g` as pixel/line (pixel centres) of a waterfall of `cols` columns.
+raster::GroundControl pixel_gcps(const WaterfallGroundControl& g, std::size_t cols) {
+  raster::GroundControl out;
+  out.epsg = g.epsg;
+  const std::size_t side = cols / 2;
+  for (const WaterfallGroundControl::Point& p : g.points) {
+    if (p.sample >= side) continue;
+    const std::size_t col = p.starboard ? side + p.sample : side - 1 - p.sample;
+    out.points.push_back({static_cast<double>(col) + 0.5, static_cast<double>(p.row) + 0.5,
+                          p.easting_m, p.northing_m});
+  }
+  return out;
+}
+
+/// The streamed file of a raster, next to its temporary path: overviews are added to it, then
+/// it is copied to the temporary path (raster::copy_adding_overviews).
+std::string stream_path(const std::filesystem::path& temp) {
+  return temp.string() + ".stream.tif";
+}
+
+const std::vector<std::string> kTruthResampling = {"NEAREST", "NEAREST", "AVERAGE"};
+
+/// The creation options of the streamed file: the final file's tiles and layout, uncompressed
+/// (it is read twice, for the overviews and by the copy, which compresses once).
+std::vector<std::pair<std::string, std::string>> stream_options(
+    const std::vector<std::pair<std::string, std::string>>& final_options) {
+  std::vector<std::pair<std::string, std::string>> co;
+  for (const auto& [k, v] : final_options) {
+    if (k == "COMPRESS" || k == "PREDICTOR" || k == "ZSTD_LEVEL" || k == "ZLEVEL") continue;
+    co.emplace_back(k, v);
+  }
+  co.emplace_back("COMPRESS", "NONE");
+  return co;
+}
+
+}  // namespace
+
 void TruthWaterfall::write(const std::string& path, bool overwrite,
                            const std::vector<std::pair<std::string, std::string>>& metadata) const {
   constexpr const char* kWho = "truth waterfall";
@@ -593,9 +633,11 @@ void TruthWaterfall::write(const std::string& path, bool overwrite,
   const LabelRowTap none;
   TruthSpoolRows rows(*spool_, none);
   TruthView source(rows, TruthView::Kind::truth);
-  raster::stream_to_file(source, cols(), this->rows(), 3, GDT_Float32, "GTiff",
-                         out.temp_path().string(), kTruthTiffOptions, truth_labels(metadata), kWho,
-                         path);
+  const std::string stream = stream_path(out.temp_path());
+  raster::stream_to_file(source, cols(), this->rows(), 3, GDT_Float32, "GTiff", stream,
+                         stream_options(kTruthTiffOptions), truth_labels(metadata), kWho, path);
+  raster::copy_adding_overviews(stream, out.temp_path().string(), kTruthResampling,
+                                kTruthTiffOptions, pixel_gcps(gcps_, cols()), kWho, path);
   out.commit();
 }
 
@@ -616,18 +658,37 @@ void TruthWaterfall::write_with_labels(
   TruthView classes(rows, TruthView::Kind::class_code);
   TruthView instances(rows, TruthView::Kind::instance);
   std::vector<raster::StreamTarget> targets(3);
-  targets[0] = {
-      &truth, 3, GDT_Float32, out.temp_path().string(), kTruthTiffOptions, truth_labels(metadata),
-      path};
-  targets[1] = {&classes,        1,
-                GDT_Byte,        class_out.temp_path().string(),
-                label_options(), labels::waterfall_class_labels(metadata),
+  targets[0] = {&truth,
+                3,
+                GDT_Float32,
+                stream_path(out.temp_path()),
+                stream_options(kTruthTiffOptions),
+                truth_labels(metadata),
+                path};
+  targets[1] = {&classes,
+                1,
+                GDT_Byte,
+                stream_path(class_out.temp_path()),
+                stream_options(label_options()),
+                labels::waterfall_class_labels(metadata),
                 class_path};
-  targets[2] = {&instances,      1,
-                GDT_UInt32,      instance_out.temp_path().string(),
-                label_options(), labels::waterfall_instance_labels(metadata),
+  targets[2] = {&instances,
+                1,
+                GDT_UInt32,
+                stream_path(instance_out.temp_path()),
+                stream_options(label_options()),
+                labels::waterfall_instance_labels(metadata),
                 instance_path};
   raster::stream_to_files(targets, cols(), this->rows(), "GTiff", kWho);
+  // Overviews (classes and ids: nearest, so that an overview pixel's class and instance are
+  // those of one sample; the grazing angle: average) and the ground control points.
+  const raster::GroundControl gcps = pixel_gcps(gcps_, cols());
+  raster::copy_adding_overviews(targets[0].temp_path, out.temp_path().string(), kTruthResampling,
+                                kTruthTiffOptions, gcps, kWho, path);
+  raster::copy_adding_overviews(targets[1].temp_path, class_out.temp_path().string(), {"NEAREST"},
+                                label_options(), gcps, kWho, class_path);
+  raster::copy_adding_overviews(targets[2].temp_path, instance_out.temp_path().string(),
+                                {"NEAREST"}, label_options(), gcps, kWho, instance_path);
   out.commit();
   class_out.commit();
   instance_out.commit();

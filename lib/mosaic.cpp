@@ -51,6 +51,9 @@ void MosaicOptions::validate() const {
   if (profile_subdivisions < 1) {
     bad("profile_subdivisions", profile_subdivisions, "profile_subdivisions >= 1");
   }
+  if (!(nadir_blank_m >= 0.0 && std::isfinite(nadir_blank_m))) {
+    bad("nadir_blank_m", nadir_blank_m, "nadir_blank_m >= 0");
+  }
 }
 
 MosaicGrid::MosaicGrid(GridGeometry geometry, MosaicOptions options, const HeightGrid* bathymetry)
@@ -205,8 +208,18 @@ void MosaicGrid::add_side(const MosaicPing& ping, int side, std::span<const floa
   // reaches, the next bin centre when the altitude is a bin centre (a tracked one), with a
   // margin for round-off (docs/conversion.md).
   const double dr = ping.slant_range_m / static_cast<double>(n);
+  // Blanked first return (nadir_blank_m): those samples are not placed; the fill below then
+  // reaches across the blanked slant ranges too.
+  const double blank_m = options_.nadir_blank_m;
+  if (blank_m > 0.0 && nadir_slant_m_ > 0.0) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if ((static_cast<double>(i) + 0.5) * dr >= nadir_slant_m_ + blank_m) break;
+      ground_[i] = kNaN;
+    }
+  }
+  const double reach_dr = blank_m > 0.0 ? dr + blank_m : dr;
   double nadir_reach_m = options_.nadir_fill && nadir_slant_m_ > 0.0
-                             ? 1.001 * std::sqrt((2.0 * nadir_slant_m_ + dr) * dr)
+                             ? 1.001 * std::sqrt((2.0 * nadir_slant_m_ + reach_dr) * reach_dr)
                              : -1.0;
   for (std::size_t i = 0; i < n; ++i) {
     const double g = ground_[i];

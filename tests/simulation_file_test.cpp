@@ -308,7 +308,8 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
       {"vertical_beam: {shape: gaussian, width_deg: 40}", "pulse: {type: cw, length_us: 50}", "",
        "output: {tvg: none, gain_db: 55, sample_format: u8, truth: false, quantity: intensity, "
        "detector: mean, detector_sub_samples: 2, seabed_median_dbfs: -20, "
-       "tvg_spreading_db_per_decade: 25, tvg_absorption_share: 0.5}\n"
+       "tvg_spreading_db_per_decade: 25, tvg_absorption_share: 0.5, "
+       "mosaic: {nadir: fill, gain_normalisation: off}}\n"
        "sensor: {noise_floor_dbfs: off, volume_reverberation_db: -30, shadow_fill_db: off, "
        "first_return_reflection_db: -5, first_return_rms_slope: 0.4, side_lobe_db: -25, "
        "ring_down_m: off, volume_texture_shape: 0.5, shadow_fill_texture_shape: off, "
@@ -322,7 +323,8 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
        cli},
       {"vertical_beam: {shape: paper, upper_half_width_deg: 20, lower_half_width_deg: 30}",
        "pulse: {type: chirp, bandwidth_khz: 50}", ", along_track_planes: 3",
-       "output: {sample_format: f32, gain_db: 3, allow_more_than_8192_samples: true, jsf: true}\n"
+       "output: {sample_format: f32, gain_db: 3, allow_more_than_8192_samples: true, jsf: true, "
+       "mosaic: {nadir: raw, gain_normalisation: range}}\n"
        "sensor: {noise_floor_dbfs: -50, volume_reverberation_db: off, shadow_fill_db: -20, "
        "first_return_reflection_db: off, ring_down_m: 0.5}",
        "survey:\n  depth_m: 25\n", fast},
@@ -420,6 +422,8 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
       EXPECT_TRUE(same(u, w)) << u << " vs " << w;
     }
     EXPECT_EQ(x.truth, y.truth);
+    EXPECT_EQ(a.mosaic_processing.nadir, b.mosaic_processing.nadir);
+    EXPECT_EQ(a.mosaic_processing.gain, b.mosaic_processing.gain);
     EXPECT_EQ(a.sample_format, b.sample_format);
     EXPECT_EQ(a.write_jsf, b.write_jsf);
     EXPECT_EQ(a.limits.max_pings, b.limits.max_pings);

@@ -52,6 +52,11 @@ struct MosaicOptions {
   /// of staying nodata. Only where the first seabed sample is that close (a seabed rising away
   /// from nadir, seen first off to the side, is left as it is).
   bool nadir_fill = true;
+  /// Nadir blanking (docs/scene-format.md, `output.mosaic.nadir`): the samples whose slant range
+  /// is below the seabed's at nadir plus this many metres (the first return: the pulse echoed by
+  /// the seabed below the sensor) are not gridded, >= 0; 0 = none (the water column is never
+  /// gridded). With nadir_fill the gap then takes the first sample beyond it.
+  double nadir_blank_m = 0.0;
   double max_ping_gap_m = 5.0;      ///< > 0
   double max_ping_turn_rad = 0.35;  ///< > 0 (20 degrees)
   /// Subdivisions of each grid cell of the bathymetry profile (HeightGrid::profile), >= 1.

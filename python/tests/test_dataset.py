@@ -88,8 +88,8 @@ def test_python_run_equals_the_cli(spec, tmp_path, cli):
                    check=True)
     py, cl = digests(tmp_path / "py"), digests(tmp_path / "cli")
     # scene, XTF, waterfall, truth, truth class and instance labels, effective.yaml, item.json,
-    # marker
-    assert len(py) == 4 * 9
+    # marker, and the truth vectors (targets, tracks, coverage GeoJSON)
+    assert len(py) == 4 * 12
     assert py == cl
     assert ((tmp_path / "py" / "manifest.jsonl").read_bytes() ==
             (tmp_path / "cli" / "manifest.jsonl").read_bytes())

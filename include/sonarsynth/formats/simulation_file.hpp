@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/scene.hpp"
 #include "sonarsynth/simulator.hpp"
 #include "sonarsynth/survey.hpp"
@@ -61,6 +62,19 @@ struct LabelOutput {
   bool any() const { return coco || yolo || voc || chips; }
 };
 
+/// output.mosaic: how `simulate` processes its mosaic (docs/scene-format.md), as survey software
+/// does; raw + off is the plain gridding of every seabed sample.
+struct MosaicProcessing {
+  /// blank: the first return (the slant ranges of the pulse echoed by the seabed below the
+  /// sensor) is not gridded and the nadir gap stays nodata where no other line covers it; fill:
+  /// the same, the gap then taking the first sample beyond it; raw: every seabed sample gridded,
+  /// the gap filled with the first one (the `mosaic` command's default).
+  enum class Nadir : std::uint8_t { blank, fill, raw };
+  Nadir nadir = Nadir::blank;
+  /// Across-track gain normalisation over the whole survey (docs/conversion.md).
+  GainNormalisation gain = GainNormalisation::kAngle;
+};
+
 /// What `sonarsynth simulate` runs: the scene, the simulation settings and the survey. A key left
 /// out of the scene file keeps the default of its struct member (formats/option_table.cpp
 /// declares each key once: its unit, bounds and member).
@@ -89,6 +103,8 @@ struct SimulationSetup {
   /// brightest display level of every waterfall, mosaic_rgb and chip (docs/labels.md, "One
   /// display scale"); not given: each image's own 1st-99th percentile window.
   std::optional<std::pair<double, double>> display_window_db{};
+  /// output.mosaic (docs/scene-format.md).
+  MosaicProcessing mosaic_processing{};
   /// Where the range came from, for messages: "sonar.range_m" or "--range".
   std::string range_key = "sonar.range_m";
   Survey make_survey() const;

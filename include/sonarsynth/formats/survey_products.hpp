@@ -9,12 +9,16 @@
 #include <utility>
 #include <vector>
 
+#include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/formats/mosaic_writer.hpp"
 #include "sonarsynth/formats/waterfall.hpp"
 #include "sonarsynth/mosaic.hpp"
 #include "sonarsynth/simulator.hpp"
 
 namespace sonarsynth {
+namespace geo_truth {
+class GeoTruthWriter;
+}
 
 /// What `simulate` derives from the rendered pings besides the XTF files.
 struct SurveyProductOptions {
@@ -25,6 +29,11 @@ struct SurveyProductOptions {
   /// Largest waterfall image (pixels); a longer line is decimated along track to fit.
   std::size_t waterfall_max_pixels = WaterfallOptions{}.max_pixels;
   MosaicOptions mosaic_options;
+  /// Across-track gain normalisation of the mosaic (docs/conversion.md, the `mosaic` command's
+  /// --gain-normalisation): off grids each ping as it comes; range or angle keep the pings in a
+  /// temporary file in the output directory (8 bytes a sample) while the statistics of the whole
+  /// survey accumulate, and grid them, normalised, in finish().
+  GainNormalisation gain_normalisation = GainNormalisation::kOff;
   /// Mosaic accumulators held in memory while the survey runs; the tiles used least recently
   /// beyond this go to a temporary file in the output directory (MosaicGrid::spill_to), so that
   /// memory does not grow with the survey. 0 = all in memory.
@@ -81,7 +90,8 @@ class SurveyProducts : public PingSink {
   void finish() override;
   void abort() noexcept override;
 
-  /// The enabled products as independent sinks, with a name: "mosaic", "waterfall", "truth".
+  /// The enabled products as independent sinks, with a name: "mosaic", "waterfall", "truth",
+  /// "vectors" (with the truth: targets.geojson, tracks.geojson, coverage.geojson).
   /// Each receives every call in order; together they do what this sink does.
   std::vector<std::pair<std::string, PingSink*>> parts();
   /// Wall time of writing the mosaic files, seconds.
@@ -90,7 +100,7 @@ class SurveyProducts : public PingSink {
   /// "truth images" (after finish()).
   std::vector<std::pair<std::string, double>> writer_cpu_s() const;
   /// Files written (after finish()): per line its waterfall then its truth waterfall, then the
-  /// mosaic files.
+  /// mosaic files, then the truth vectors.
   std::vector<std::filesystem::path> files() const;
   /// What the user should know about the products (e.g. a waterfall decimated along track).
   std::vector<std::string> notes() const;
@@ -104,6 +114,7 @@ class SurveyProducts : public PingSink {
   std::unique_ptr<MosaicPart> mosaic_;
   std::unique_ptr<LinePart> waterfall_;
   std::unique_ptr<LinePart> truth_;
+  std::unique_ptr<geo_truth::GeoTruthWriter> vectors_;
 };
 
 }  // namespace sonarsynth

@@ -146,6 +146,22 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
 /// band). Written as a float32 GeoTIFF without georeferencing (ids exact below 2^24), the codes
 /// in metadata items SONARSYNTH_CLASS_CODES and SONARSYNTH_OBJECT_ID_CODES. Rows are spooled to an
 /// unnamed temporary file in `spool_dir` like those of Waterfall (12 bytes per sample).
+/// Ground control points of a truth waterfall (docs/labels.md, "Georeferencing the line
+/// rasters"): where samples of some rows lie on the seabed, in EPSG:epsg (the scene's UTM zone).
+/// The rasters stay in slant-range geometry, not an affine grid: the points let a GIS place them
+/// approximately (a polynomial or thin-plate warp through them).
+struct WaterfallGroundControl {
+  int epsg = 0;
+  struct Point {
+    std::size_t row = 0;     ///< ping (image row)
+    bool starboard = false;  ///< side
+    std::size_t sample = 0;  ///< sample of the side, NEAR -> FAR
+    double easting_m = 0.0;
+    double northing_m = 0.0;
+  };
+  std::vector<Point> points;
+};
+
 class TruthWaterfall {
  public:
   /// `spool_dir` empty = the system's temporary directory. Throws FormatError if the spool file
@@ -160,6 +176,11 @@ class TruthWaterfall {
                 std::span<const float> port_grazing_rad, std::span<const float> stbd_grazing_rad);
   std::size_t rows() const;
   std::size_t cols() const;
+  /// Ground control points written into the rasters by write() and write_with_labels() (none
+  /// by default). Every file also gets internal overviews when larger than 256 pixels a side
+  /// (nearest for classes and ids, average for the grazing angle), laid out as GDAL's COG
+  /// validator asks.
+  void set_ground_control(WaterfallGroundControl gcps) { gcps_ = std::move(gcps); }
   /// `metadata`: items written before the writer's own (e.g. the run's run_metadata()).
   void write(const std::string& path, bool overwrite = false,
              const std::vector<std::pair<std::string, std::string>>& metadata = {}) const;
@@ -179,6 +200,7 @@ class TruthWaterfall {
   /// Bands: class, object id (the int32's bits, so that ids stay exact for the label rasters),
   /// grazing (deg).
   std::unique_ptr<detail::SideSpool> spool_;
+  WaterfallGroundControl gcps_;
 };
 
 }  // namespace sonarsynth
