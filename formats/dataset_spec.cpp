@@ -761,7 +761,15 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
   check_item_constraints(s);
   if (top.has("run")) {
     const Fields r = top.child("run");
-    r.only({"quality", "products", "split"});
+    r.only({"quality", "products", "split", "display_window_db"});
+    if (r.given("display_window_db")) {
+      const std::vector<double> w = r.numbers("display_window_db", 2);
+      if (!(w[0] < w[1]) || w[1] - w[0] > 200.0 || w[0] < -300.0 || w[1] > 100.0) {
+        r.fail_value("display_window_db",
+                     "[lo, hi] with -300 <= lo < hi <= 100 and hi - lo <= 200 (dB)");
+      }
+      s.display_window_db = {w[0], w[1]};
+    }
     s.quality = r.text("quality", s.quality);
     if (s.quality != "fast" && s.quality != "default" && s.quality != "high") {
       r.fail_value("quality", "one of fast, default, high");
@@ -994,9 +1002,11 @@ DatasetItemScene dataset_item_scene(const DatasetSpec& s, std::size_t index) {
   y << w.knob_lines("sonar", "  ");
   y << "noise:\n  model: " << w.name("noise.model", s.noise_model, kNoiseModel)
     << "\n  snr_db: " << w.draw("noise.snr_db", s.snr_db, kSnr, 2) << "\n";
-  const std::string output = w.knob_lines("output", "  ") +
-                             (s.labels_yaml.empty() ? "" : "  labels: " + s.labels_yaml + "\n");
-  if (!output.empty()) y << "output:\n" << output;
+  // One display window for every image of the dataset (docs/dataset.md, "One display scale").
+  y << "output:\n"
+    << w.knob_lines("output", "  ") << "  display_window_db: [" << fx(s.display_window_db[0], 2)
+    << ", " << fx(s.display_window_db[1], 2) << "]\n"
+    << (s.labels_yaml.empty() ? "" : "  labels: " + s.labels_yaml + "\n");
   item.yaml = y.str();
   return item;
 }

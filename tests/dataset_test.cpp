@@ -367,6 +367,21 @@ TEST(DatasetSpec, LabelsTakeTheSceneFilesBlockAndGoIntoEveryItemsScene) {
   EXPECT_FALSE(setup.labels.yolo);
   EXPECT_TRUE(setup.labels.chips);
   EXPECT_EQ(setup.labels.chip_size_px, 32u);
+  // One display window for every item: the default, or run.display_window_db.
+  ASSERT_TRUE(setup.display_window_db);
+  EXPECT_EQ(*setup.display_window_db, (std::pair<double, double>{-24.0, 0.0}));
+  const DatasetSpec windowed = load_dataset_spec_from_string(
+      replaced(tiny_spec(3), "run: {quality: fast}", "run: {display_window_db: [-30, -5]}"),
+      "w.yaml");
+  for (std::size_t i = 0; i < 3; ++i) {
+    const SimulationSetup si = load_simulation_from_string(dataset_item_scene(windowed, i).yaml,
+                                                           "item.yaml", fs::temp_directory_path());
+    EXPECT_EQ(*si.display_window_db, (std::pair<double, double>{-30.0, -5.0}));
+  }
+  EXPECT_NE(spec_error(
+                replaced(tiny_spec(3), "run: {quality: fast}", "run: {display_window_db: [0, -5]}"))
+                .find("bad.yaml: run.display_window_db"),
+            std::string::npos);
   // The errors of the scene reader, at the spec's key.
   const std::string e1 = spec_error(
       replaced(tiny_spec(3), "run: {quality: fast}", "run: {products: {labels: {cocoa: true}}}"));

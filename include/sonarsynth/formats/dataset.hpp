@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -97,6 +98,11 @@ struct DatasetSpec {
   /// written into every item's scene file as it was given ("" = no labels).
   std::string labels_yaml;
   LabelOutput labels;  ///< run.products.labels as read
+  /// run.display_window_db: the display window of every waterfall, mosaic_rgb and chip of the
+  /// dataset, 10 log10(sample / full scale) (output.display_window_db of the item scenes,
+  /// docs/labels.md), so that a grey level means the same in every item. The default spans the
+  /// 1st-99th percentiles of an image of the default gain (seabed median -8 dBFS).
+  std::array<double, 2> display_window_db{-24.0, 0.0};
   /// run.split: the fractions of the items in train, val and test (each >= 0, sum 1); all
   /// images and chips of an item belong to the item's split. Not given: no split.
   bool split = false;
