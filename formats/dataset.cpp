@@ -497,7 +497,9 @@ class AnnotationMerger {
       } else if (relp.parent_path().filename() == "images") {
         images_.push_back({split, path, relp.parent_path().parent_path().generic_string()});
       } else if (relp.extension() == ".xml") {
-        voc_[{set_of(parent), split}] += path + "\n";
+        // Whole images (voc/Annotations) are the set "images"; chips (chips/voc/...) "chips".
+        const std::string set = set_of(parent) == "voc" ? "images" : set_of(parent);
+        voc_[{set, split}] += path + "\n";
       }
     }
   }
