@@ -369,7 +369,7 @@ TEST(DatasetSpec, LabelsTakeTheSceneFilesBlockAndGoIntoEveryItemsScene) {
   EXPECT_EQ(setup.labels.chip_size_px, 32u);
   // One display window for every item: the default, or run.display_window_db.
   ASSERT_TRUE(setup.display_window_db);
-  EXPECT_EQ(*setup.display_window_db, (std::pair<double, double>{-24.0, 0.0}));
+  EXPECT_EQ(*setup.display_window_db, (std::pair<double, double>{-28.0, 0.0}));
   const DatasetSpec windowed = load_dataset_spec_from_string(
       replaced(tiny_spec(3), "run: {quality: fast}", "run: {display_window_db: [-30, -5]}"),
       "w.yaml");

@@ -100,9 +100,9 @@ struct DatasetSpec {
   LabelOutput labels;  ///< run.products.labels as read
   /// run.display_window_db: the display window of every waterfall, mosaic_rgb and chip of the
   /// dataset, 10 log10(sample / full scale) (output.display_window_db of the item scenes,
-  /// docs/labels.md), so that a grey level means the same in every item. The default spans the
-  /// 1st-99th percentiles of an image of the default gain (seabed median -8 dBFS).
-  std::array<double, 2> display_window_db{-24.0, 0.0};
+  /// docs/labels.md), so that a grey level means the same in every item. The default is about
+  /// the 1st-99th percentile window of the waterfall of an item (docs/dataset.md).
+  std::array<double, 2> display_window_db{-28.0, 0.0};
   /// run.split: the fractions of the items in train, val and test (each >= 0, sum 1); all
   /// images and chips of an item belong to the item's split. Not given: no split.
   bool split = false;
