@@ -23,6 +23,13 @@ using nlohmann::json;
 using test::read_text;
 using test::snapshot;
 
+// The number after `<tag>` at `from` in `xml` (VOC: one value per tag).
+std::size_t xml_number(const std::string& xml, const std::string& tag, std::size_t from) {
+  const std::size_t at = xml.find("<" + tag + ">", from);
+  EXPECT_NE(at, std::string::npos) << tag;
+  return at == std::string::npos ? 0 : std::stoul(xml.substr(at + tag.size() + 2));
+}
+
 // Small items (a 4 m line, 10 m range, 128 samples) with objects in every one, so that a
 // few hundred items render in seconds.
 std::string spec_text(std::size_t count) {
@@ -43,7 +50,8 @@ run:
   products:
     waterfalls: true
     truth: true
-    labels: {coco: true, yolo: true, chips: {size_px: 32, stride_px: 32, max_nodata_fraction: 0.9}}
+    labels: {coco: true, yolo: true, voc: true,
+             chips: {size_px: 32, stride_px: 32, max_nodata_fraction: 0.9}}
   split: {train: 0.8, val: 0.1, test: 0.1}
 )";
 }
@@ -110,7 +118,11 @@ TEST_F(DatasetLabels, TwoHundredItemsMergeSplitRepeatAndGrow) {
                                                             y, x + w, y + h});
       }
       std::set<std::size_t> seen_items;
+      std::map<std::string, std::vector<test::BoxRow>> coco_of_file;  // for the VOC check
       for (const auto& im : coco["images"]) {
+        auto boxes = by_image[im["id"].get<long long>()];
+        std::sort(boxes.begin(), boxes.end());
+        coco_of_file[im["file_name"].get<std::string>()] = boxes;
         const std::string file = im["file_name"];
         EXPECT_TRUE(fs::exists(d / file)) << file;
         for (const auto& [key, value] : im.items()) {
@@ -132,6 +144,33 @@ TEST_F(DatasetLabels, TwoHundredItemsMergeSplitRepeatAndGrow) {
       }
       if (set == "waterfalls") {
         EXPECT_EQ(seen_items, items) << split;
+      } else {
+        // Pascal VOC: the split's list names every chip's XML; its boxes (1-based, inclusive)
+        // are the chip's COCO boxes.
+        std::istringstream list(read_text(d / ("voc_chips_" + split + ".txt")));
+        std::string xml_path;
+        std::size_t xml_files = 0;
+        while (std::getline(list, xml_path)) {
+          ++xml_files;
+          const std::string xml = read_text(d / xml_path);
+          const std::size_t name_at = xml.find("<filename>") + 10;
+          const std::string image = xml.substr(name_at, xml.find("</filename>") - name_at);
+          const std::string item_dir = xml_path.substr(0, std::string("items/000000").size());
+          const std::string key = item_dir + "/chips/images/" + image;
+          ASSERT_EQ(coco_of_file.count(key), 1u) << xml_path;
+          std::vector<test::BoxRow> voc;
+          for (std::size_t at = xml.find("<object>"); at != std::string::npos;
+               at = xml.find("<object>", at + 1)) {
+            const std::size_t name = xml.find("<name>", at) + 6;
+            voc.push_back({xml_number(xml, "object_id", at),
+                           xml.compare(name, 6, "object") == 0 ? std::size_t{1} : std::size_t{2},
+                           xml_number(xml, "xmin", at) - 1, xml_number(xml, "ymin", at) - 1,
+                           xml_number(xml, "xmax", at), xml_number(xml, "ymax", at)});
+          }
+          std::sort(voc.begin(), voc.end());
+          EXPECT_EQ(voc, coco_of_file[key]) << xml_path;
+        }
+        EXPECT_EQ(xml_files, coco["images"].size()) << split;
       }
     }
   }
