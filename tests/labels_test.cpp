@@ -26,6 +26,7 @@
 
 #include "../formats/label_sets.hpp"
 #include "../formats/truth_labels.hpp"
+#include "label_check_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/run_simulation.hpp"
 #include "sonarsynth/formats/waterfall.hpp"
@@ -57,95 +58,12 @@ sonar: {frequency_khz: 600, range_m: 25, samples: 500}
 const char* const kLabels =
     "output: {labels: {coco: true, yolo: true, chips: {size_px: 64, stride_px: 48}}}\n";
 
-struct Raster {
-  std::size_t cols = 0, rows = 0;
-  std::vector<std::uint32_t> values;  // any band type, read as UInt32
-  bool has_nodata = false;
-  double nodata = 0.0;
-  GDALDataType type = GDT_Unknown;
-  std::map<std::string, std::string> band_items;
-};
-
+using Raster = test::LabelRaster;
+using test::BoxRow;
+using test::brute_boxes;
+using test::category_of;
 Raster read(const fs::path& path) {
-  GDALAllRegister();
-  auto* ds = static_cast<GDALDataset*>(GDALOpen(path.c_str(), GA_ReadOnly));
-  EXPECT_NE(ds, nullptr) << path;
-  Raster r;
-  if (!ds) return r;
-  r.cols = static_cast<std::size_t>(ds->GetRasterXSize());
-  r.rows = static_cast<std::size_t>(ds->GetRasterYSize());
-  GDALRasterBand* b = ds->GetRasterBand(1);
-  int ok = 0;
-  r.nodata = b->GetNoDataValue(&ok);
-  r.has_nodata = ok != 0;
-  r.type = b->GetRasterDataType();
-  r.values.resize(r.cols * r.rows);
-  EXPECT_EQ(b->RasterIO(GF_Read, 0, 0, static_cast<int>(r.cols), static_cast<int>(r.rows),
-                        r.values.data(), static_cast<int>(r.cols), static_cast<int>(r.rows),
-                        GDT_UInt32, 0, 0, nullptr),
-            CE_None);
-  if (char** md = b->GetMetadata()) {
-    for (char** p = md; *p; ++p) {
-      const std::string kv = *p;
-      const auto eq = kv.find('=');
-      r.band_items[kv.substr(0, eq)] = kv.substr(eq + 1);
-    }
-  }
-  GDALClose(ds);
-  return r;
-}
-
-// The boxes of the 8-connected pieces of every (instance, category), found by a flood fill over
-// the pixels of a window: {instance, category, x0, y0, x1, y1} relative to the window, sorted.
-using BoxRow = std::array<std::size_t, 6>;
-int category_of(std::uint32_t cls) {
-  return cls == 2 ? 1 : cls == 3 ? 2 : 0;
-}
-std::vector<BoxRow> brute_boxes(const Raster& cls, const Raster& inst, std::size_t x0 = 0,
-                                std::size_t y0 = 0, std::size_t w = 0, std::size_t h = 0) {
-  if (w == 0) {
-    w = cls.cols;
-    h = cls.rows;
-  }
-  auto key = [&](std::size_t x, std::size_t y) {
-    const std::size_t i = (y0 + y) * cls.cols + x0 + x;
-    const std::uint32_t k = inst.values[i];
-    const int c = category_of(cls.values[i]);
-    if (k == labels::kInstanceNodata || c == 0) return std::pair<std::uint32_t, int>{0, 0};
-    return std::pair<std::uint32_t, int>{k, c};
-  };
-  std::vector<char> seen(w * h, 0);
-  std::vector<BoxRow> out;
-  for (std::size_t y = 0; y < h; ++y) {
-    for (std::size_t x = 0; x < w; ++x) {
-      const auto k = key(x, y);
-      if (k.first == 0 || seen[y * w + x]) continue;
-      BoxRow b = {k.first, static_cast<std::size_t>(k.second), x, y, x + 1, y + 1};
-      std::vector<std::pair<std::size_t, std::size_t>> stack = {{x, y}};
-      seen[y * w + x] = 1;
-      while (!stack.empty()) {
-        const auto [px, py] = stack.back();
-        stack.pop_back();
-        b = {b[0],
-             b[1],
-             std::min(b[2], px),
-             std::min(b[3], py),
-             std::max(b[4], px + 1),
-             std::max(b[5], py + 1)};
-        for (std::size_t ny = py == 0 ? 0 : py - 1; ny <= std::min(py + 1, h - 1); ++ny) {
-          for (std::size_t nx = px == 0 ? 0 : px - 1; nx <= std::min(px + 1, w - 1); ++nx) {
-            if (!seen[ny * w + nx] && key(nx, ny) == k) {
-              seen[ny * w + nx] = 1;
-              stack.push_back({nx, ny});
-            }
-          }
-        }
-      }
-      out.push_back(b);
-    }
-  }
-  std::sort(out.begin(), out.end());
-  return out;
+  return test::read_label_raster(path);
 }
 
 // The 8-connected pieces of a window with their pixels (x, y relative to the window), in the

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "../formats/truth_labels.hpp"
+#include "label_check_util.hpp"
 #include "sonarsynth/beam_profile.hpp"
 #include "sonarsynth/formats/run_simulation.hpp"
 #include "sonarsynth/formats/simulation_file.hpp"
@@ -285,26 +286,9 @@ output:
   labels: {coco: true}
 )";
 
-struct Raster {
-  std::size_t cols = 0, rows = 0;
-  std::vector<std::uint32_t> values;
-};
-
+using Raster = test::LabelRaster;
 Raster read(const fs::path& path) {
-  GDALAllRegister();
-  auto* ds = static_cast<GDALDataset*>(GDALOpen(path.c_str(), GA_ReadOnly));
-  EXPECT_NE(ds, nullptr) << path;
-  Raster r;
-  if (!ds) return r;
-  r.cols = static_cast<std::size_t>(ds->GetRasterXSize());
-  r.rows = static_cast<std::size_t>(ds->GetRasterYSize());
-  r.values.resize(r.cols * r.rows);
-  EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(
-                GF_Read, 0, 0, static_cast<int>(r.cols), static_cast<int>(r.rows), r.values.data(),
-                static_cast<int>(r.cols), static_cast<int>(r.rows), GDT_UInt32, 0, 0, nullptr),
-            CE_None);
-  GDALClose(ds);
-  return r;
+  return test::read_label_raster(path);
 }
 
 TEST(ShadowAttribution, SceneShadowsAllHaveTheirObjectAndTheBoxsExtent) {
