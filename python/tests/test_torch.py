@@ -6,7 +6,10 @@
 import collections
 import json
 import os
+import pathlib
+import re
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -286,3 +289,18 @@ def test_stream_split_and_argument_errors(spec_path):
         ", chips: {size_px: 64, stride_px: 64}", ""), "no-chips.yaml")
     with pytest.raises(FileNotFoundError, match=r"item 2 has no chips/coco\.json"):
         next(iter(st.SonarStream(no_chips, indices=[2])))
+
+
+def test_the_example_runs(spec_path, tmp_path):
+    example = (pathlib.Path(__file__).resolve().parents[2] / "examples" / "python" /
+               "torch_dataloader.py")
+    r = subprocess.run([sys.executable, str(example), "--spec", str(spec_path), "--dataset",
+                        str(tmp_path / "d"), "--items", "2", "--stream-items", "2"],
+                       check=True, capture_output=True, text=True, env=os.environ)
+    spec = sonarsynth.DatasetSpec.from_file(str(spec_path))
+    train_items = sum(spec.item_split(i) == "train" for i in range(2))
+    assert train_items > 0
+    assert re.search(r"map-style, 2 workers: \d+ batches, \d+ images of %d items" % train_items,
+                     r.stdout), r.stdout
+    assert re.search(r"on the fly, 2 workers: \d+ batches, \d+ images of 2 items", r.stdout)
+    assert "worker k of 2 renders [[2], [3]]" in r.stdout
