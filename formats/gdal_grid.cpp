@@ -136,36 +136,18 @@ LoadedGrid read_aligned(const std::string& path, GDALDataset* ds, GDALRasterBand
   const bool use_nodata = has_nodata != 0 && !std::isnan(nodata);
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   const float sign = options.depth_positive_down ? -1.0f : 1.0f;
+  // Nodata markers, declared or not (no height: is_height), become holes.
   std::size_t valid = 0;
-  // Heights beyond the deepest ocean and the highest land (|h| > 12,000 m: +-inf, 1e38 and the
-  // like) are undeclared nodata markers, not seabed (docs/scene-format.md, "Bathymetry").
-  constexpr float kMaxAbsHeight_m = 12000.0f;
   for (float& h : heights) {
-    if (!(std::abs(h) <= kMaxAbsHeight_m) || (use_nodata && h == nodata_f)) {
+    if (!is_height(h) || (use_nodata && h == nodata_f)) {
       h = kNaN;
     } else {
       h *= sign;
       ++valid;
     }
   }
-  if (valid == 0) fail(kReader, path, "every node is nodata (no valid height in the grid)");
-  // The bilinear surface needs at least one cell whose 4 nodes are valid.
-  bool has_cell = false;
-  for (std::size_t r = 0; r + 1 < g.rows && !has_cell; ++r) {
-    const float* a = heights.data() + r * g.cols;
-    const float* b = a + g.cols;
-    for (std::size_t c = 0; c + 1 < g.cols; ++c) {
-      if (!std::isnan(a[c]) && !std::isnan(a[c + 1]) && !std::isnan(b[c]) &&
-          !std::isnan(b[c + 1])) {
-        has_cell = true;
-        break;
-      }
-    }
-  }
-  if (!has_cell) {
-    fail(kReader, path,
-         std::to_string(valid) + " valid nodes but no 2 x 2 block of valid nodes (no seabed cell)");
-  }
+  if (const std::string problem = seabed_grid_problem(g, heights); !problem.empty())
+    fail(kReader, path, problem);
   return LoadedGrid{frame, HeightGrid(g, std::move(heights)), "", "", false, valid};
 }
 

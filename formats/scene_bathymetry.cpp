@@ -199,6 +199,11 @@ Scene load(const Fields& top, const std::string& path, const fs::path& base_dir,
     }
     built->bathymetry.set_interpolation(interpolation);
   }
+  // The rule of the survey check (docs/scene-format.md, "Checks before the run"), for the whole
+  // grid: a seabed with no node below sea level can carry no survey line.
+  const auto [lo, hi] = built->bathymetry.height_range();
+  if (const std::string problem = seabed_above_sea_level_problem(lo, hi); !problem.empty())
+    b.fail("", problem + " (see bathymetry.depth_positive_down)");
   return std::move(*built);
 }
 

@@ -545,8 +545,7 @@ Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path
   std::optional<Scene> built(scene_bathymetry::load(top, path, base_dir, options));
   Scene& scene = *built;
   scene.name = top.text("name", fs::path(path).stem().string());
-  const Eigen::Vector4d bb = scene.bathymetry.bounds();
-  Builder builder{scene, base_dir, {0.5 * (bb[0] + bb[2]), 0.5 * (bb[1] + bb[3])}, {}, 1};
+  Builder builder{scene, base_dir, scene.bathymetry.centre_xy_m(), {}, 1};
 
   // Materials: the built-in table, overridden or extended.
   for (const Fields& m : top.sequence("materials")) {

@@ -237,6 +237,28 @@ LabelOutput read_label_output(const Fields& f, bool truth) {
 }
 }  // namespace yaml
 
+void check_survey_line(const Scene& scene, const SurveyLine& line, const std::string& name) {
+  const Eigen::Vector2d centre = scene.bathymetry.centre_xy_m();
+  for (std::size_t k = 0; k < line.waypoints_xy_m.size(); ++k) {
+    const Eigen::Vector2d& w = line.waypoints_xy_m[k];
+    const double offset_m = (w - centre).cwiseAbs().maxCoeff();
+    if (w.allFinite() && offset_m <= kMaxWaypointOffsetM) continue;
+    std::ostringstream os;
+    os.precision(10);
+    os << name << ": survey line '" << line.name << "' waypoint " << k << " = (" << w.x() << ", "
+       << w.y() << ") m";
+    if (w.allFinite()) {
+      os << " is " << offset_m
+         << " m from the bathymetry grid's centre. Violated constraint: <= " << kMaxWaypointOffsetM
+         << " m";
+    } else {
+      os << ". Violated constraint: finite x and y";
+    }
+    os << " (waypoints counted from 0)";
+    throw InputError(os.str());
+  }
+}
+
 Survey SimulationSetup::make_survey() const {
   return Survey(lines, vehicle, config.sonar.effective_ping_period_s(), start_time, config.seed);
 }
@@ -250,8 +272,7 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   const Fields top(doc, path, "");
   Scene& scene = setup.scene;
   SimulationConfig& cfg = setup.config;
-  const Eigen::Vector4d bb = scene.bathymetry.bounds();
-  const Eigen::Vector2d centre(0.5 * (bb[0] + bb[2]), 0.5 * (bb[1] + bb[3]));
+  const Eigen::Vector2d centre = scene.bathymetry.centre_xy_m();
   options::read(top, options::at("seed"), setup);
   if (overrides.seed) cfg.seed = *overrides.seed;
 

@@ -26,8 +26,13 @@ GeoFrame::GeoFrame(int zone, bool northp, double origin_easting_m, double origin
 GeoFrame GeoFrame::around(const Geodetic& centre) {
   const double lat = deg_from_rad(centre.lat_rad);
   const double lon = deg_from_rad(centre.lon_rad);
-  if (!(std::abs(lat) <= 90.0) || !std::isfinite(lon)) {
-    throw InputError("geo frame: latitude " + std::to_string(lat) + " deg is out of range");
+  if (!(std::abs(lat) <= 90.0)) {
+    throw InputError("geo frame: lat_deg = " + std::to_string(lat) +
+                     ". Violated constraint: -90 <= lat_deg <= 90");
+  }
+  if (!std::isfinite(lon)) {
+    throw InputError("geo frame: lon_deg = " + std::to_string(lon) +
+                     ". Violated constraint: finite");
   }
   int zone = 0;
   bool northp = true;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -60,16 +61,46 @@ void extend(double* f, std::size_t stride, const bool has[4]) {
 void GridGeometry::validate(const char* what) const {
   auto fail = [&](const std::string& msg) { throw InputError(std::string(what) + ": " + msg); };
   if (!(std::isfinite(dx_m) && dx_m > 0.0)) {
-    fail("cell size x = " + std::to_string(dx_m) + " m. Violated constraint: cell size > 0");
+    fail("cell size x: dx_m = " + std::to_string(dx_m) +
+         ". Violated constraint: cell size > 0 and finite");
   }
   if (!(std::isfinite(dy_m) && dy_m != 0.0)) {
-    fail("cell size y = " + std::to_string(dy_m) + " m. Violated constraint: cell size != 0");
+    fail("cell size y: dy_m = " + std::to_string(dy_m) +
+         ". Violated constraint: cell size != 0 and finite");
   }
-  if (!std::isfinite(x0_m) || !std::isfinite(y0_m)) fail("origin is not finite");
+  if (!std::isfinite(x0_m))
+    fail("x0_m = " + std::to_string(x0_m) + ". Violated constraint: finite");
+  if (!std::isfinite(y0_m))
+    fail("y0_m = " + std::to_string(y0_m) + ". Violated constraint: finite");
   if (cols < 2 || rows < 2) {
     fail("grid of " + std::to_string(cols) + " x " + std::to_string(rows) +
          " nodes. Violated constraint: at least 2 x 2 nodes");
   }
+}
+
+std::string seabed_grid_problem(const GridGeometry& g, const std::vector<float>& heights_m) {
+  // The surface needs at least one cell whose 4 nodes are valid.
+  for (std::size_t r = 0; r + 1 < g.rows; ++r) {
+    const float* a = heights_m.data() + r * g.cols;
+    const float* b = a + g.cols;
+    for (std::size_t c = 0; c + 1 < g.cols; ++c) {
+      if (a[c] == a[c] && a[c + 1] == a[c + 1] && b[c] == b[c] && b[c + 1] == b[c + 1]) return "";
+    }
+  }
+  const auto valid = static_cast<std::size_t>(
+      std::count_if(heights_m.begin(), heights_m.end(), [](float z) { return z == z; }));
+  if (valid == 0) return "every node is nodata (no valid height in the grid)";
+  return std::to_string(valid) + " valid nodes but no 2 x 2 block of valid nodes (no seabed cell)";
+}
+
+std::string seabed_above_sea_level_problem(double lo_m, double hi_m) {
+  if (!(lo_m > 0.0)) return "";
+  char buf[160];
+  std::snprintf(buf, sizeof buf,
+                "the seabed is above sea level everywhere (heights %.4g .. %.4g m)", lo_m, hi_m);
+  return std::string(buf) +
+         ". Violated constraint: bathymetry heights < 0 somewhere (the sea surface is height 0, "
+         "heights are elevations, up positive)";
 }
 
 Eigen::Vector3d HeightSample::normal() const {

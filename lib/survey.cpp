@@ -136,6 +136,14 @@ Survey::Survey(std::vector<SurveyLine> lines, VehicleConfig vehicle, double ping
                        std::to_string(l.waypoints_xy_m.size()) +
                        " waypoints. Violated constraint: >= 2 waypoints");
     }
+    for (std::size_t k = 0; k < l.waypoints_xy_m.size(); ++k) {
+      const Eigen::Vector2d& w = l.waypoints_xy_m[k];
+      if (!w.allFinite()) {
+        throw InputError("survey: line '" + l.name + "' waypoint " + std::to_string(k) + " = (" +
+                         std::to_string(w.x()) + ", " + std::to_string(w.y()) +
+                         ") m. Violated constraint: finite x and y (waypoints counted from 0)");
+      }
+    }
     std::vector<double> cum{0.0};
     for (std::size_t k = 1; k < l.waypoints_xy_m.size(); ++k) {
       const double d = (l.waypoints_xy_m[k] - l.waypoints_xy_m[k - 1]).norm();

@@ -90,5 +90,24 @@ TEST(GeoFrame, RejectsBadZone) {
   EXPECT_THROW(GeoFrame(61, true, 0, 0), InputError);
 }
 
+TEST(GeoFrame, AroundNamesTheBadCoordinate) {
+  const auto message = [](double lat_deg, double lon_deg) {
+    try {
+      (void)GeoFrame::around({rad_from_deg(lat_deg), rad_from_deg(lon_deg), 0.0});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message(57.0, INFINITY).find("lon_deg = inf. Violated constraint: finite"),
+            std::string::npos)
+      << message(57.0, INFINITY);
+  EXPECT_EQ(message(57.0, INFINITY).find("lat_deg"), std::string::npos);
+  EXPECT_EQ(message(57.0, INFINITY).find("latitude"), std::string::npos);
+  EXPECT_NE(message(57.0, NAN).find("lon_deg = nan"), std::string::npos);
+  EXPECT_NE(message(95.0, 5.0).find("lat_deg = 95"), std::string::npos);
+  EXPECT_EQ(message(-90.0, 5.0), "");
+}
+
 }  // namespace
 }  // namespace sonarsynth

@@ -155,5 +155,46 @@ TEST(HeightGrid, RejectsBadGeometry) {
   EXPECT_THROW(HeightGrid(GridGeometry{0, 0, 1.0, -1.0, 1, 5}, std::vector<float>(5)), InputError);
 }
 
+TEST(HeightGrid, BadGeometryNamesTheField) {
+  try {
+    GridGeometry{0, 0, 1.0, 0.0, 2, 2}.validate("grid");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("grid: cell size y: dy_m = 0"), std::string::npos)
+        << e.what();
+  }
+  try {
+    GridGeometry{std::nan(""), 0, 1.0, -1.0, 2, 2}.validate("grid");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("grid: x0_m = nan"), std::string::npos) << e.what();
+  }
+}
+
+TEST(HeightGrid, SeabedRulesOfEveryGrid) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const GridGeometry g{0, 0, 1.0, -1.0, 3, 3};
+  EXPECT_NE(seabed_grid_problem(g, std::vector<float>(9, nan)).find("every node is nodata"),
+            std::string::npos);
+  // A checkerboard: 5 valid nodes, no cell with 4.
+  const std::vector<float> board = {-1, nan, -1, nan, -1, nan, -1, nan, -1};
+  EXPECT_NE(seabed_grid_problem(g, board).find("5 valid nodes but no 2 x 2 block"),
+            std::string::npos);
+  // One valid cell in the last corner is enough.
+  EXPECT_EQ(seabed_grid_problem(g, {nan, nan, nan, nan, -1, -1, nan, -1, -1}), "");
+  // Heights beyond the deepest ocean and the highest land are no heights.
+  EXPECT_TRUE(is_height(-12000.0f));
+  EXPECT_FALSE(is_height(12000.5f));
+  EXPECT_FALSE(is_height(std::numeric_limits<float>::infinity()));
+  EXPECT_FALSE(is_height(nan));
+  // Wholly above sea level is refused; one node at or below it is enough.
+  EXPECT_NE(seabed_above_sea_level_problem(50.0, 60.0)
+                .find("above sea level everywhere (heights "
+                      "50 .. 60 m)"),
+            std::string::npos);
+  EXPECT_EQ(seabed_above_sea_level_problem(0.0, 60.0), "");
+  EXPECT_EQ(seabed_above_sea_level_problem(-20.0, 60.0), "");
+}
+
 }  // namespace
 }  // namespace sonarsynth

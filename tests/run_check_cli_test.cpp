@@ -211,10 +211,18 @@ TEST_F(RunCheck, DepthBelowTheSeabedIsRefused) {
 }
 
 TEST_F(RunCheck, ASeabedAboveSeaLevelIsRefused) {
-  write_tif(dir_ / "dry.tif", 100, 100, std::vector<float>(100 * 100, 5.0f));
+  // Dry under the line, 20 m deep in the southern fifth of the grid: the line is refused.
+  std::vector<float> heights(100 * 100, 5.0f);
+  std::fill(heights.begin() + 80 * 100, heights.end(), -20.0f);
+  write_tif(dir_ / "dry.tif", 100, 100, heights);
   SceneText s;
   s.bathymetry = "file: dry.tif";
   expect_refused(s, {"survey line 'a': the seabed is above sea level (height up to 5 m)"});
+  // Dry everywhere: no line could be surveyed, so the scene itself is refused.
+  write_tif(dir_ / "dry.tif", 100, 100, std::vector<float>(100 * 100, 5.0f));
+  expect_refused(s, {"scene.yaml", "bathymetry",
+                     "the seabed is above sea level everywhere "
+                     "(heights 5 .. 5 m). Violated constraint: bathymetry heights < 0 somewhere"});
 }
 
 TEST_F(RunCheck, RangeShorterThanTheAltitudeIsRefusedNamingKeyOrFlag) {

@@ -604,5 +604,32 @@ TEST(Samples, EverySampleLoadsAsASimulation) {
   EXPECT_DOUBLE_EQ(seascan.config.sonar.frequency_hz, 600e3);
 }
 
+TEST_F(SimulationFile, LinesBuiltInCodeFollowTheWaypointRule) {
+  const SimulationSetup s =
+      load_simulation(write("scene.yaml", std::string(kScene) + "survey: {lines: [{waypoints: "
+                                                                "[{east_m: 0, north_m: 0}, "
+                                                                "{east_m: 9, north_m: 0}]}]}\n"));
+  const Eigen::Vector2d c = s.scene.bathymetry.centre_xy_m();
+  const auto message = [&](const SurveyLine& l) {
+    try {
+      check_survey_line(s.scene, l, "code");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  // The scene file's line, in the local frame, passes; east_m/north_m are from the grid's centre.
+  EXPECT_EQ(message(s.lines.at(0)), "");
+  EXPECT_NEAR((s.lines[0].waypoints_xy_m[1] - c).x(), 9.0, 1e-9);
+  EXPECT_NE(message({"l", {c, {NAN, 0.0}}})
+                .find("code: survey line 'l' waypoint 1 = (nan, 0) m. "
+                      "Violated constraint: finite x and y"),
+            std::string::npos)
+      << message({"l", {c, {NAN, 0.0}}});
+  EXPECT_NE(message({"l", {c, c + Eigen::Vector2d(0.0, 2e6)}}).find("is 2000000 m from the"),
+            std::string::npos)
+      << message({"l", {c, c + Eigen::Vector2d(0.0, 2e6)}});
+}
+
 }  // namespace
 }  // namespace sonarsynth

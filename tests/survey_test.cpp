@@ -176,5 +176,20 @@ TEST(SurveyMotion, ValidationNamesTheKey) {
   }
 }
 
+TEST(SurveyLines, ANonFiniteWaypointIsNamedWithItsValue) {
+  for (const double bad : {std::nan(""), double{INFINITY}}) {
+    SurveyLine l{"a", {{0.0, 0.0}, {10.0, 0.0}, {bad, 5.0}}};
+    try {
+      Survey s({l}, VehicleConfig{}, 0.1, UtcTime{}, 1);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("line 'a' waypoint 2 = ("), std::string::npos) << m;
+      EXPECT_NE(m.find(std::isnan(bad) ? "nan" : "inf"), std::string::npos) << m;
+      EXPECT_EQ(m.find("repeats"), std::string::npos) << m;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sonarsynth

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace sonarsynth {
@@ -27,6 +29,24 @@ struct GridGeometry {
   /// Throws InputError unless spacing is finite and non-zero and the grid has >= 2 x 2 nodes.
   void validate(const char* what) const;
 };
+
+/// Heights beyond the deepest ocean and the highest land, metres: a node whose |height| exceeds
+/// it (+-inf, 1e38 and the like) is an undeclared nodata marker, a hole, not seabed
+/// (docs/scene-format.md, "Bathymetry").
+inline constexpr float kMaxAbsHeight_m = 12000.0f;
+/// Whether `h` is a height (|h| <= kMaxAbsHeight_m) rather than a hole or nodata marker.
+inline bool is_height(float h) {
+  return std::abs(h) <= kMaxAbsHeight_m;
+}
+
+/// Why `heights_m` (row-major over `g`, NaN = hole) cannot be a seabed, or "" if it can: no valid
+/// node, or no cell whose 4 nodes are valid (the surface needs one). The same rule for grids
+/// read from files and built in code.
+std::string seabed_grid_problem(const GridGeometry& g, const std::vector<float>& heights_m);
+
+/// Why the valid heights `lo` .. `hi` (metres, up positive, the sea surface at 0) cannot be a
+/// seabed, or "": a seabed wholly above sea level (lo > 0) has no water over it.
+std::string seabed_above_sea_level_problem(double lo_m, double hi_m);
 
 /// How a HeightGrid's surface runs between its nodes (docs/physics.md, "Seabed interpolation").
 enum class Interpolation {
@@ -105,6 +125,12 @@ class HeightGrid {
 
   /// Bounds of the node area in the local frame: (min x, min y, max x, max y).
   Eigen::Vector4d bounds() const;
+  /// Centre of the node area in the local frame, metres: the origin of the scene file's
+  /// positions (`east_m`/`north_m`, docs/scene-format.md "Positions").
+  Eigen::Vector2d centre_xy_m() const {
+    const Eigen::Vector4d b = bounds();
+    return {0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])};
+  }
   /// Minimum and maximum of the valid heights (NaN, NaN if there are none).
   std::pair<double, double> height_range() const;
   std::size_t count_valid() const;

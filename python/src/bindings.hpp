@@ -4,6 +4,8 @@
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+// Every path argument is a std::filesystem::path: pybind11's caster takes str and os.PathLike.
+#include <pybind11/stl/filesystem.h>
 
 #include <cstdint>
 #include <memory>
@@ -58,6 +60,7 @@ class PySimulation {
 
 void bind_options(py::module_& m, py::class_<PySimulation>& cls);
 void bind_simulation(py::module_& m, py::class_<PySimulation>& cls);
+void bind_frame(py::module_& m, py::class_<PySimulation>& cls);
 void bind_render(py::module_& m, py::class_<PySimulation>& cls);
 void bind_files(py::module_& m);
 void bind_dataset(py::module_& m);

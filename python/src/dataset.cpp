@@ -35,7 +35,10 @@ void bind_dataset(py::module_& m) {
       "A dataset spec (docs/dataset.md): N scenes drawn from distributions. Load it with "
       "DatasetSpec.from_file or DatasetSpec.from_yaml; errors are ValueError naming the file, "
       "the field and the value. Picklable (by its text), for Dask.")
-      .def_static("from_file", &load_dataset_spec, py::arg("path"), "Reads a spec file.")
+      .def_static(
+          "from_file",
+          [](const std::filesystem::path& path) { return load_dataset_spec(path.string()); },
+          py::arg("path"), "Reads a spec file (str or os.PathLike).")
       .def_static("from_yaml", &load_dataset_spec_from_string, py::arg("text"),
                   py::arg("name") = "spec.yaml",
                   "Reads a spec from YAML text; `name` stands for the file in messages.")

@@ -2,6 +2,7 @@
 // Files: run_simulation (a survey to XTF/JSF files and products) and XTF or JSF into numpy.
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -26,31 +27,40 @@ py::array owned(std::vector<T>&& v, std::vector<py::ssize_t> shape) {
   return py::array_t<T>(shape, held->data(), owner);
 }
 
-// Rows of one side, concatenated; rows shorter than the widest are padded with NaN at the end.
+// The samples of one side, ping after ping, without padding: the memory is the file's samples
+// (4 bytes each) whatever the ping lengths.
 struct Rows {
   std::vector<float> data;
-  std::vector<std::size_t> lengths;
-  std::size_t width = 0;
+  std::vector<std::uint32_t> lengths;
   void add(const std::vector<float>& row) {
-    if (row.size() > width && !lengths.empty()) widen(row.size());
-    if (lengths.empty()) width = row.size();
     data.insert(data.end(), row.begin(), row.end());
-    data.resize(lengths.size() * width + width, std::numeric_limits<float>::quiet_NaN());
-    lengths.push_back(row.size());
+    lengths.push_back(static_cast<std::uint32_t>(row.size()));
   }
-  void widen(std::size_t w) {
-    std::vector<float> d(lengths.size() * w, std::numeric_limits<float>::quiet_NaN());
-    for (std::size_t r = 0; r < lengths.size(); ++r) {
-      std::copy_n(data.begin() + static_cast<std::ptrdiff_t>(r * width), width,
-                  d.begin() + static_cast<std::ptrdiff_t>(r * w));
+  // (pings, samples) if every ping has the same length, else a list of 1-D arrays, one per ping,
+  // that view one buffer (docs/python.md, "Files").
+  py::object arrays() && {
+    const auto n = static_cast<py::ssize_t>(lengths.size());
+    const bool equal = std::all_of(lengths.begin(), lengths.end(),
+                                   [&](std::uint32_t l) { return l == lengths.front(); });
+    if (equal) {
+      const py::ssize_t width = n == 0 ? 0 : lengths.front();
+      return owned(std::move(data), {n, width});
     }
-    data = std::move(d);
-    width = w;
+    const auto total = static_cast<py::ssize_t>(data.size());
+    const py::array flat = owned(std::move(data), {total});
+    py::list out(static_cast<std::size_t>(n));
+    py::ssize_t start = 0;
+    for (py::ssize_t i = 0; i < n; ++i) {
+      const py::ssize_t end = start + lengths[static_cast<std::size_t>(i)];
+      out[static_cast<std::size_t>(i)] = flat[py::slice(start, end, 1)];
+      start = end;
+    }
+    return out;
   }
 };
 
 // The pings of an XTF or JSF file as numpy arrays; `expected` refuses the other format.
-py::dict read_sidescan(const std::string& path, std::optional<SonarFileFormat> expected) {
+py::dict read_sidescan(const std::filesystem::path& path, std::optional<SonarFileFormat> expected) {
   Rows port, stbd;
   std::vector<std::int64_t> time_us;
   std::vector<std::uint32_t> ping_number;
@@ -62,7 +72,7 @@ py::dict read_sidescan(const std::string& path, std::optional<SonarFileFormat> e
   {
     py::gil_scoped_release release;
     if (expected && detect_sonar_file_format(path) != *expected) {
-      throw FormatError(path + ": not " +
+      throw FormatError(path.string() + ": not " +
                         (*expected == SonarFileFormat::kJsf ? "a JSF" : "an XTF") +
                         " file (read_sonar reads either)");
     }
@@ -97,8 +107,10 @@ py::dict read_sidescan(const std::string& path, std::optional<SonarFileFormat> e
   const auto n = static_cast<py::ssize_t>(time_us.size());
   py::dict d;
   d["format"] = format == SonarFileFormat::kJsf ? "jsf" : "xtf";
-  d["port"] = owned(std::move(port.data), {n, static_cast<py::ssize_t>(port.width)});
-  d["starboard"] = owned(std::move(stbd.data), {n, static_cast<py::ssize_t>(stbd.width)});
+  d["port_sample_count"] = owned(std::vector<std::uint32_t>(port.lengths), {n});
+  d["starboard_sample_count"] = owned(std::vector<std::uint32_t>(stbd.lengths), {n});
+  d["port"] = std::move(port).arrays();
+  d["starboard"] = std::move(stbd).arrays();
   d["time_utc_us"] = owned(std::move(time_us), {n});
   d["ping_number"] = owned(std::move(ping_number), {n});
   d["sensor_lat_deg"] = owned(std::move(lat), {n});
@@ -125,7 +137,7 @@ py::dict read_sidescan(const std::string& path, std::optional<SonarFileFormat> e
 void bind_files(py::module_& m) {
   m.def(
       "run_simulation",
-      [](const std::string& scene_path, const std::string& out_dir,
+      [](const std::filesystem::path& scene_path, const std::filesystem::path& out_dir,
          std::optional<std::uint64_t> seed, std::optional<double> range_m,
          std::optional<std::size_t> samples, std::optional<unsigned> threads,
          std::optional<std::string> quality, bool overwrite, bool mosaic, bool waterfalls,
@@ -150,7 +162,7 @@ void bind_files(py::module_& m) {
         RunResult r;
         {
           py::gil_scoped_release release;
-          r = run_simulation(scene_path, out_dir, o);
+          r = run_simulation(scene_path.string(), out_dir, o);
         }
         py::dict d;
         py::list files;
@@ -185,11 +197,14 @@ void bind_files(py::module_& m) {
 
   // XTF, JSF or either (detected from the file's first bytes): the same arrays.
   const auto reader = [](std::optional<SonarFileFormat> expected) {
-    return [expected](const std::string& path) { return read_sidescan(path, expected); };
+    return [expected](const std::filesystem::path& path) { return read_sidescan(path, expected); };
   };
   const std::string arrays =
-      "port and starboard (pings, samples) float32, NEAR -> FAR (a shorter row is padded with "
-      "NaN at the end), and per ping time_utc_us (microseconds since 1970 UTC), ping_number, "
+      "port and starboard float32 samples, NEAR -> FAR: a (pings, samples) array when every "
+      "ping of the side has the same number of samples, else a list of 1-D arrays, one per "
+      "ping (never padded); port_sample_count / starboard_sample_count (pings,) give each "
+      "ping's length either way; and per ping time_utc_us (microseconds since 1970 UTC), "
+      "ping_number, "
       "sensor_lat_deg / sensor_lon_deg and ship_lat_deg / ship_lon_deg (WGS 84, degrees), "
       "heading_rad (true, clockwise from north), pitch_rad (+ nose up), roll_rad (+ starboard "
       "down), heave_m (+ up), altitude_m, depth_m (+ down), speed_m_s, sound_speed_m_s, "

@@ -42,6 +42,7 @@ PYBIND11_MODULE(sonarsynth, m) {
       "set(); render with render_ping / render_poses.");
   sonarsynth::python::bind_options(m, cls);
   sonarsynth::python::bind_simulation(m, cls);
+  sonarsynth::python::bind_frame(m, cls);
   sonarsynth::python::bind_render(m, cls);
   sonarsynth::python::bind_files(m);
   sonarsynth::python::bind_dataset(m);

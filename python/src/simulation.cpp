@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 
@@ -119,15 +120,16 @@ std::shared_ptr<const Simulator> PySimulation::simulator() {
 void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
   cls.def_static(
       "from_file",
-      [](const std::string& path, std::optional<std::uint64_t> seed, std::optional<double> range_m,
-         std::optional<std::size_t> samples, std::optional<std::string> quality) {
+      [](const std::filesystem::path& path, std::optional<std::uint64_t> seed,
+         std::optional<double> range_m, std::optional<std::size_t> samples,
+         std::optional<std::string> quality) {
         const SimulationOverrides o = overrides_of(seed, range_m, samples, quality);
         std::optional<SimulationSetup> s;
         {
           py::gil_scoped_release release;
-          s.emplace(load_simulation(path, o));
+          s.emplace(load_simulation(path.string(), o));
         }
-        return PySimulation(std::move(*s), path);
+        return PySimulation(std::move(*s), path.string());
       },
       py::arg("path"), py::kw_only(), py::arg("seed") = py::none(), py::arg("range_m") = py::none(),
       py::arg("samples") = py::none(), py::arg("quality") = py::none(),
@@ -138,7 +140,7 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       "value.");
   cls.def_static(
       "from_yaml",
-      [](const std::string& text, const std::string& name, const std::string& base_dir,
+      [](const std::string& text, const std::string& name, const std::filesystem::path& base_dir,
          std::optional<std::uint64_t> seed) {
         SimulationOverrides o;
         o.seed = seed;
@@ -158,18 +160,38 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       [](py::array_t<float, py::array::c_style | py::array::forcecast> heights_m, double x0_m,
          double y0_m, double dx_m, double dy_m, double lat_deg, double lon_deg,
          const std::string& name) {
-        if (heights_m.ndim() != 2)
-          throw InputError("heights_m: a 2-D array (rows, cols) is needed");
+        // The checks of a scene file's grid (formats/gdal_grid.cpp) and of its seabed
+        // (formats/scene_bathymetry.cpp), with the arguments' names.
+        const std::string what = name + ": from_heights";
+        if (heights_m.ndim() != 2) {
+          throw InputError(what + ": heights_m has " + std::to_string(heights_m.ndim()) +
+                           " dimensions. Violated constraint: a 2-D array (rows, cols)");
+        }
         GridGeometry g{x0_m,
                        y0_m,
                        dx_m,
                        dy_m,
                        static_cast<std::size_t>(heights_m.shape(1)),
                        static_cast<std::size_t>(heights_m.shape(0))};
-        g.validate("heights_m");
+        g.validate(what.c_str());
         std::vector<float> h(heights_m.data(), heights_m.data() + heights_m.size());
-        Scene scene(GeoFrame::around(Geodetic{lat_deg * kRadPerDeg, lon_deg * kRadPerDeg, 0.0}));
+        for (float& z : h) {
+          if (!is_height(z)) z = std::numeric_limits<float>::quiet_NaN();
+        }
+        if (const std::string problem = seabed_grid_problem(g, h); !problem.empty())
+          throw InputError(what + ": heights_m: " + problem);
+        std::optional<Scene> built;
+        try {
+          built.emplace(
+              GeoFrame::around(Geodetic{lat_deg * kRadPerDeg, lon_deg * kRadPerDeg, 0.0}));
+        } catch (const InputError& e) {
+          throw InputError(what + ": " + e.what());
+        }
+        Scene& scene = *built;
         scene.bathymetry = HeightGrid(g, std::move(h));
+        const auto [lo, hi] = scene.bathymetry.height_range();
+        if (const std::string problem = seabed_above_sea_level_problem(lo, hi); !problem.empty())
+          throw InputError(what + ": heights_m: " + problem);
         scene.name = name;
         scene.objects.build_index();
         return PySimulation(SimulationSetup{.scene = std::move(scene)}, name);
@@ -178,8 +200,12 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       py::arg("dx_m") = 1.0, py::arg("dy_m") = -1.0, py::arg("lat_deg"), py::arg("lon_deg"),
       py::arg("name") = "python",
       "Builds a scene in code: seabed elevations `heights_m` (rows, cols; metres, up positive, "
-      "NaN = hole), node (col, row) at x = x0_m + col dx_m, y = y0_m + row dy_m in the local "
-      "frame (metres; dy_m < 0 = north-up), the frame's UTM zone around (lat_deg, lon_deg). "
+      "NaN = hole, as is any |height| > 12000 m), node (col, row) at x = x0_m + col dx_m, y = "
+      "y0_m + row dy_m in the local frame (metres; dy_m < 0 = north-up). The local frame: the "
+      "UTM/UPS zone of (lat_deg, lon_deg), origin at its projection rounded to whole "
+      "kilometres (scene_frame gives it; docs/python.md \"The local frame\"). Refused "
+      "(ValueError): no 2 x 2 block of valid nodes, a seabed wholly above sea level, "
+      "non-finite or zero spacing, lat_deg outside [-90, 90], a non-finite lon_deg. "
       "Default materials (sand everywhere), no objects, no survey lines; every option at the "
       "scene file's default. `name` stands for the file in messages.");
 
@@ -322,17 +348,25 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       "add_line",
       [](PySimulation& s, const std::string& line_name,
          py::array_t<double, py::array::c_style | py::array::forcecast> waypoints_xy_m) {
+        const std::string what = s.name + ": survey line '" + line_name + "'";
         if (waypoints_xy_m.ndim() != 2 || waypoints_xy_m.shape(1) != 2) {
-          throw InputError(s.name + ": survey line " + line_name +
-                           ": waypoints_xy_m must be an (n, 2) array");
+          std::string shape;
+          for (py::ssize_t d = 0; d < waypoints_xy_m.ndim(); ++d)
+            shape += (d ? ", " : "") + std::to_string(waypoints_xy_m.shape(d));
+          throw InputError(what + ": waypoints_xy_m has shape (" + shape +
+                           "). Violated constraint: shape (n, 2), n >= 2");
         }
         SurveyLine l{line_name, {}};
         const auto w = waypoints_xy_m.unchecked<2>();
         for (py::ssize_t i = 0; i < w.shape(0); ++i)
           l.waypoints_xy_m.emplace_back(w(i, 0), w(i, 1));
+        check_survey_line(*s.scene, l, s.name);
         s.setup.lines.push_back(std::move(l));
         try {
           (void)s.setup.make_survey();
+        } catch (const InputError& e) {
+          s.setup.lines.pop_back();
+          throw InputError(s.name + ": " + e.what());
         } catch (...) {
           s.setup.lines.pop_back();
           throw;
@@ -340,8 +374,10 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
         s.invalidate();
       },
       py::arg("name"), py::arg("waypoints_xy_m"),
-      "Adds a survey line: waypoints (n, 2) in the local frame, metres, followed at "
-      "survey.speed_m_s.");
+      "Adds a survey line: waypoints (n, 2), n >= 2, in the local frame, metres (a scene file's "
+      "east_m/north_m: scene_frame.local_from_scene), followed at survey.speed_m_s. Refused "
+      "(ValueError naming the waypoint): a non-finite waypoint, one more than 1e6 m from the "
+      "grid's centre, a repeated one.");
 
   cls.def(
       "survey_poses",
@@ -431,15 +467,6 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       py::arg("name"),
       "Index of a material of the scene's table by name (the built-in mud, sand, gravel, rock, "
       "steel, concrete, or the scene file's own), for add_object and add_mesh.");
-  cls.def(
-      "local_from_geodetic",
-      [](const PySimulation& s, double lat_deg, double lon_deg) {
-        const Eigen::Vector2d xy = s.scene->frame.local_from_geodetic(
-            Geodetic{lat_deg * kRadPerDeg, lon_deg * kRadPerDeg, 0.0});
-        return py::make_tuple(xy.x(), xy.y());
-      },
-      py::arg("lat_deg"), py::arg("lon_deg"),
-      "Local (x, y) in metres of a WGS 84 position given in degrees.");
 }
 
 }  // namespace sonarsynth::python

@@ -120,6 +120,11 @@ SimulationSetup load_simulation_from_string(const std::string& yaml_text, const 
                                             const std::filesystem::path& base_dir,
                                             const SimulationOverrides& overrides = {});
 
+/// Throws InputError "<name>: survey line '<line>' waypoint <k> = (x, y) m ..." unless every
+/// waypoint of `line` (local frame, metres) is finite and within 1e6 m of the bathymetry grid's
+/// centre along each axis: the rule of a scene file's waypoints, for lines built in code.
+void check_survey_line(const Scene& scene, const SurveyLine& line, const std::string& name);
+
 /// The constraints that tie several keys together, each as "the constraint violated" or nothing:
 /// a scene file is checked against them as it is read (its messages name the file and line),
 /// a setup built in code by check_cross_keys() before it renders.
