@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "sonarsynth/ping_sink.hpp"
@@ -67,6 +68,24 @@ struct RenderTimings {
   std::uint64_t window_samples = 0;
 };
 
+/// The caller's buffers that Simulator::render_batch fills: arrays of shape (pings, 2, samples)
+/// in C order (ping, side 0 = port / 1 = starboard, sample NEAR -> FAR; samples =
+/// SonarConfig::samples_per_channel), the fields of SideOutput. `samples` is required,
+/// `clean_samples` exactly when SimulationConfig::clean_samples is on, the five truth arrays
+/// exactly when SimulationConfig::truth is on; `saturated` and `invalid` (shape (pings, 2)) may
+/// be null.
+struct BatchOutput {
+  float* samples = nullptr;
+  float* clean_samples = nullptr;
+  SampleClass* truth_class = nullptr;
+  std::int32_t* object_id = nullptr;  ///< SideOutput::truth_label
+  float* grazing_rad = nullptr;
+  double* ground_x_m = nullptr;
+  double* ground_y_m = nullptr;
+  std::uint32_t* saturated = nullptr;
+  std::uint32_t* invalid = nullptr;
+};
+
 /// Renders pings of a survey over a scene. Construction derives the global calibration
 /// (absorption, gain, noise level) once; render_ping() is then a pure function of the pose and
 /// its noise key (PingPose::ping_index).
@@ -97,6 +116,20 @@ class Simulator {
   /// next automatic noise key (see PingPose), stored in out.pose.ping_index.
   void render_ping(const PingPose& pose, Workspace& ws, RenderedPing& out,
                    RenderTimings* timings = nullptr) const;
+
+  /// Renders `count` poses into `out` on `threads` threads (0: config().threads; 0 there: the
+  /// hardware's), pose i = pose_at(i) (called from several threads: it must be thread-safe).
+  /// Every pose is checked first (check_pose, and its noise key PingPose::ping_index must be
+  /// set), so a bad pose throws InputError naming "<who>[i]" before anything is rendered. Each
+  /// ping is a pure function of its pose and noise key: the output does not depend on the
+  /// thread count nor on how the poses are split into batches (equal, bit for bit, to
+  /// render_ping of each pose).
+  void render_batch(std::size_t count, const std::function<PingPose(std::size_t)>& pose_at,
+                    const BatchOutput& out, unsigned threads = 0,
+                    const std::string& who = "poses") const;
+  /// As above, over a list of poses.
+  void render_batch(const std::vector<PingPose>& poses, const BatchOutput& out,
+                    unsigned threads = 0, const std::string& who = "poses") const;
 
   /// Renders every ping of `survey` on `config.threads` threads and hands them to `sink` in
   /// order, with the lifecycle documented on PingSink (begin ... finish, or abort on an
