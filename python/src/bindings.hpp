@@ -4,6 +4,7 @@
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cstdint>
 #include <memory>
@@ -55,6 +56,11 @@ class PySimulation {
  private:
   std::shared_ptr<const Simulator> sim_;
 };
+
+/// The YAML a scene file would hold for `value`: Python's repr of a number (shortest round
+/// trip, so the double read back is the same), true/false, a string or os.PathLike as its text,
+/// a dict as a map and a sequence (list, tuple, 1-D array) as a list. Defined in options.cpp.
+YAML::Node yaml_value(const py::handle& value);
 
 void bind_options(py::module_& m, py::class_<PySimulation>& cls);
 void bind_simulation(py::module_& m, py::class_<PySimulation>& cls);
