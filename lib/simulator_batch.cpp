@@ -2,7 +2,6 @@
 // Simulator::render_batch: poses rendered on worker threads into the caller's arrays.
 #include <algorithm>
 #include <atomic>
-#include <cstring>
 #include <exception>
 #include <string>
 
@@ -11,34 +10,6 @@
 #include "worker_threads.hpp"
 
 namespace sonarsynth {
-
-namespace {
-
-// Copies one side's vector into its slot of a (pings, 2, samples) array.
-template <class T, class V>
-void put(T* dst, std::size_t slot, std::size_t samples, const V& v) {
-  if (v.size() != samples) {
-    throw Error("render_batch: a side of " + std::to_string(v.size()) + " samples, not " +
-                std::to_string(samples));
-  }
-  std::memcpy(dst + slot * samples, v.data(), samples * sizeof(T));
-}
-
-void store(const BatchOutput& out, std::size_t slot, std::size_t samples, const SideOutput& s) {
-  put(out.samples, slot, samples, s.samples);
-  if (out.clean_samples) put(out.clean_samples, slot, samples, s.clean_samples);
-  if (out.truth_class) {
-    put(out.truth_class, slot, samples, s.truth_class);
-    put(out.object_id, slot, samples, s.truth_label);
-    put(out.grazing_rad, slot, samples, s.truth_grazing_rad);
-    put(out.ground_x_m, slot, samples, s.truth_ground_x_m);
-    put(out.ground_y_m, slot, samples, s.truth_ground_y_m);
-  }
-  if (out.saturated) out.saturated[slot] = s.saturated;
-  if (out.invalid) out.invalid[slot] = s.invalid;
-}
-
-}  // namespace
 
 void Simulator::render_batch(const std::vector<PingPose>& poses, const BatchOutput& out,
                              unsigned threads, const std::string& who) const {
@@ -76,7 +47,7 @@ void Simulator::render_batch(std::size_t count, const std::function<PingPose(std
   }
   if (count == 0) return;
 
-  const std::size_t samples = config_.sonar.samples_per_channel;
+  const std::size_t samples = side_samples();
   const unsigned requested = static_cast<unsigned>(std::min<std::size_t>(
       detail::worker_thread_count(threads > 0 ? threads : config_.threads), count));
   std::atomic<std::size_t> next{0};
@@ -85,13 +56,39 @@ void Simulator::render_batch(std::size_t count, const std::function<PingPose(std
   // for any thread count or schedule.
   const auto work = [&](unsigned t) {
     try {
-      WorkspacePtr ws = make_workspace();
-      RenderedPing ping;
-      for (std::size_t i = next.fetch_add(1); i < count; i = next.fetch_add(1)) {
-        render_ping(pose_at(i), *ws, ping);
-        store(out, 2 * i, samples, ping.port);
-        store(out, 2 * i + 1, samples, ping.starboard);
+      WorkspacePtr ws;
+      {
+        const std::lock_guard lock(spare_mutex_);
+        if (!spare_workspaces_.empty()) {
+          ws = std::move(spare_workspaces_.back());
+          spare_workspaces_.pop_back();
+        }
       }
+      if (!ws) ws = make_workspace();
+      std::uint32_t unused[4] = {};
+      for (std::size_t i = next.fetch_add(1); i < count; i = next.fetch_add(1)) {
+        const PingPose pose = pose_at(i);
+        SideSpans sides[2];
+        for (std::size_t k = 0; k < 2; ++k) {
+          const std::size_t slot = 2 * i + k, at = slot * samples;
+          SideSpans& o = sides[k];
+          o.samples = out.samples + at;
+          if (out.clean_samples) o.clean_samples = out.clean_samples + at;
+          if (out.truth_class) {
+            o.truth_class = out.truth_class + at;
+            o.truth_label = out.object_id + at;
+            o.truth_grazing_rad = out.grazing_rad + at;
+            o.truth_ground_x_m = out.ground_x_m + at;
+            o.truth_ground_y_m = out.ground_y_m + at;
+          }
+          o.saturated = out.saturated ? out.saturated + slot : &unused[2 * k];
+          o.invalid = out.invalid ? out.invalid + slot : &unused[2 * k + 1];
+        }
+        // Straight into the caller's slots: render_ping's output, without its copy.
+        render_sides(pose, *pose.ping_index, *ws, sides[0], sides[1], nullptr);
+      }
+      const std::lock_guard lock(spare_mutex_);
+      spare_workspaces_.push_back(std::move(ws));
     } catch (...) {
       if (!errors[t]) errors[t] = std::current_exception();
       next.store(count);  // the others stop claiming poses
