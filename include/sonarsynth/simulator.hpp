@@ -124,7 +124,8 @@ class Simulator {
   /// set), so a bad pose throws InputError naming "<who>[i]" before anything is rendered. Each
   /// ping is a pure function of its pose and noise key: the output does not depend on the
   /// thread count nor on how the poses are split into batches (equal, bit for bit, to
-  /// render_ping of each pose).
+  /// render_ping of each pose). The pings are rendered straight into `out` (no copy), and the
+  /// threads' workspaces are kept for the next call (one per thread of the largest call).
   void render_batch(std::size_t count, const std::function<PingPose(std::size_t)>& pose_at,
                     const BatchOutput& out, unsigned threads = 0,
                     const std::string& who = "poses") const;
