@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/survey.hpp"
 
 namespace sonarsynth::options {
 namespace {
@@ -308,9 +309,9 @@ std::vector<Option> make_table() {
   t.push_back(real("survey", "layback_m", "m", 0, 1e4, false, PLAIN(vehicle.layback_m)));
   t.push_back(real("survey", "turn_time_s", "s", -kInf, kInf, false, PLAIN(vehicle.turn_time_s)));
   t.push_back(real("survey", "turn_radius_m", "m", 0, 1e5, false, PLAIN(vehicle.turn_radius_m)));
-  t.push_back(real("survey.disturbance", "roll_deg", "deg", 0, 89, false,
+  t.push_back(real("survey.disturbance", "roll_deg", "deg", 0, kMaxAttitudeDeg, false,
                    DEG(vehicle.disturbance.roll_amplitude_rad)));
-  t.push_back(real("survey.disturbance", "pitch_deg", "deg", 0, 89, false,
+  t.push_back(real("survey.disturbance", "pitch_deg", "deg", 0, kMaxAttitudeDeg, false,
                    DEG(vehicle.disturbance.pitch_amplitude_rad)));
   t.push_back(real("survey.disturbance", "yaw_deg", "deg", 0, 180, false,
                    DEG(vehicle.disturbance.yaw_amplitude_rad)));

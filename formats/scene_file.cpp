@@ -14,6 +14,7 @@
 
 #include "mesh_file.hpp"
 #include "scene_bathymetry.hpp"
+#include "scene_objects.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
 #include "yaml_fields.hpp"
@@ -595,6 +596,33 @@ Scene build_scene(const YAML::Node& doc, const std::string& path, const fs::path
 }
 
 }  // namespace
+
+void add_scene_object(Scene& scene, const yaml::Fields& entry, const fs::path& base_dir) {
+  const Eigen::Vector4d bb = scene.bathymetry.bounds();
+  Builder builder{scene, base_dir, {0.5 * (bb[0] + bb[2]), 0.5 * (bb[1] + bb[3])}, {}, 1};
+  for (const ObjectPrimitive& p : scene.objects.primitives()) builder.used_ids.insert(p.id);
+  for (const ObjectRecord& r : scene.object_records) builder.used_ids.insert(r.id);
+  // As in a file: the next automatic id is one above the largest taken so far.
+  if (!builder.used_ids.empty()) builder.next_id = *builder.used_ids.rbegin() + 1;
+  // A refused entry (a wreck's third part, a layer's fifth feature) leaves the objects as they
+  // were.
+  ObjectSet objects = scene.objects;
+  std::vector<ObjectRecord> records = scene.object_records;
+  try {
+    yaml::with_file_errors(entry.file(), [&] {
+      if (entry.has("file") && entry.text("type", "") != "mesh") {
+        builder.add_object_layer(entry);
+      } else {
+        builder.add_object(entry);
+      }
+    });
+  } catch (...) {
+    scene.objects = std::move(objects);
+    scene.object_records = std::move(records);
+    throw;
+  }
+  scene.objects.build_index();
+}
 
 Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
   return yaml::with_file_errors(path, [&] {

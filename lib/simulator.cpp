@@ -243,10 +243,9 @@ Simulator::WorkspacePtr Simulator::make_workspace() const {
   return ws;
 }
 
-void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& out,
-                         std::uint32_t& saturated, std::uint32_t& invalid) const {
+void Simulator::quantise(const Workspace& ws, bool scaled, float* out, std::uint32_t& saturated,
+                         std::uint32_t& invalid) const {
   const std::size_t n = cal_->side.samples;
-  out.resize(n);
   const double maxv = cal_->quantizer.max_value;
   const bool round = cal_->quantizer.round_to_integer;
   const bool amplitude = cal_->sensor.amplitude;
@@ -257,8 +256,7 @@ void Simulator::quantise(const Workspace& ws, bool scaled, std::vector<float>& o
   const double ring = cal_->sensor.ring_down_m / cal_->side.sample_spacing_m - 0.5;
   const std::size_t ring_samples =
       ring > 0.0 ? std::min(n, static_cast<std::size_t>(std::ceil(ring))) : 0;
-  std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(ring_samples),
-            static_cast<float>(maxv));
+  std::fill(out, out + ring_samples, static_cast<float>(maxv));
   for (std::size_t i = ring_samples; i < n; ++i) {
     double v = scaled ? ws.accum[i] : ws.accum[i] * ws.tvg_gain[i];
     if (amplitude) v = std::sqrt(v);
@@ -289,7 +287,7 @@ double Simulator::per_ping_max_scale(const PingPose& pose, Workspace& ws) const 
 }
 
 void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key, bool starboard,
-                                   Workspace& ws, SideOutput& out, RenderTimings* timings,
+                                   Workspace& ws, const SideSpans& out, RenderTimings* timings,
                                    double scale) const {
   const std::size_t n = cal_->side.samples;
   const auto now = [timings] { return timings != nullptr ? Clock::now() : Clock::time_point{}; };
@@ -318,8 +316,6 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
   if (config_.clean_samples) {
     std::uint32_t unused_saturated = 0, unused_invalid = 0;
     quantise(ws, false, out.clean_samples, unused_saturated, unused_invalid);
-  } else {
-    out.clean_samples.clear();
   }
   bool scaled = false;  // accum already in output units (TVG and gain applied)
   if (nc.model == NoiseConfig::Model::kPaper) {
@@ -406,14 +402,13 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
   }
 
   // TVG and quantisation (precomputed per-sample gain).
-  quantise(ws, scaled, out.samples, out.saturated, out.invalid);
+  quantise(ws, scaled, out.samples, *out.saturated, *out.invalid);
 
   if (config_.truth) {
-    out.truth_class.assign(e.truth_class.begin(), e.truth_class.end());
-    out.truth_label.assign(e.truth_label.begin(), e.truth_label.end());
-    out.truth_grazing_rad.resize(n);
-    out.truth_ground_x_m.resize(n);
-    out.truth_ground_y_m.resize(n);
+    std::copy(e.truth_class.begin(), e.truth_class.begin() + static_cast<std::ptrdiff_t>(n),
+              out.truth_class);
+    std::copy(e.truth_label.begin(), e.truth_label.begin() + static_cast<std::ptrdiff_t>(n),
+              out.truth_label);
     const double nx = nadir.x(), ny = nadir.y();
     const double dx = central_dir.x(), dy = central_dir.y();
     for (std::size_t i = 0; i < n; ++i) {
@@ -434,11 +429,49 @@ void Simulator::render_ping(const PingPose& pose, Workspace& ws, RenderedPing& o
     out.pose.ping_index = kAutomaticKeyBase | automatic_keys_.fetch_add(1);
   }
   const std::uint64_t key = *out.pose.ping_index;
+  render_sides(pose, key, ws, spans_of(out.port), spans_of(out.starboard), timings);
+}
+
+std::size_t Simulator::side_samples() const {
+  return cal_->side.samples;
+}
+
+Simulator::SideSpans Simulator::spans_of(SideOutput& s) const {
+  const std::size_t n = cal_->side.samples;
+  SideSpans o;
+  s.samples.resize(n);
+  o.samples = s.samples.data();
+  if (config_.clean_samples) {
+    s.clean_samples.resize(n);
+    o.clean_samples = s.clean_samples.data();
+  } else {
+    s.clean_samples.clear();
+  }
+  if (config_.truth) {
+    s.truth_class.resize(n);
+    s.truth_label.resize(n);
+    s.truth_grazing_rad.resize(n);
+    s.truth_ground_x_m.resize(n);
+    s.truth_ground_y_m.resize(n);
+    o.truth_class = s.truth_class.data();
+    o.truth_label = s.truth_label.data();
+    o.truth_grazing_rad = s.truth_grazing_rad.data();
+    o.truth_ground_x_m = s.truth_ground_x_m.data();
+    o.truth_ground_y_m = s.truth_ground_y_m.data();
+  }
+  o.saturated = &s.saturated;
+  o.invalid = &s.invalid;
+  return o;
+}
+
+void Simulator::render_sides(const PingPose& pose, std::uint64_t key, Workspace& ws,
+                             const SideSpans& port, const SideSpans& starboard,
+                             RenderTimings* timings) const {
   const double scale = config_.output.normalise == OutputScaling::Normalise::per_ping_max
                            ? per_ping_max_scale(pose, ws)
                            : 1.0;
-  render_side_output(pose, key, false, ws, out.port, timings, scale);
-  render_side_output(pose, key, true, ws, out.starboard, timings, scale);
+  render_side_output(pose, key, false, ws, port, timings, scale);
+  render_side_output(pose, key, true, ws, starboard, timings, scale);
 }
 
 }  // namespace sonarsynth

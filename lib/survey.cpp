@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
+#include <utility>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
@@ -279,6 +282,78 @@ PingPose sensor_pose(const Eigen::Vector3d& position_m, double heading_rad, doub
   p.roll_rad = roll_rad;
   p.altitude_m = position_m.z() - seabed.height_m(position_m.x(), position_m.y());  // NaN off grid
   return p;
+}
+
+}  // namespace sonarsynth
+
+namespace sonarsynth {
+
+namespace {
+
+// A number in a message: up to 10 significant digits ("nan", "inf", "-1020", "1.5").
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::string pose_error(const PingPose& pose, const HeightGrid& seabed,
+                       const PoseFieldNames& names) {
+  const auto bad = [](const char* field, double v, const std::string& constraint) {
+    return std::string(field) + " = " + number_text(v) + ". Violated constraint: " + constraint;
+  };
+  const std::pair<const char*, double> finite[] = {{names.x, pose.sensor_xy_m.x()},
+                                                   {names.y, pose.sensor_xy_m.y()},
+                                                   {names.z, pose.sensor_z_m},
+                                                   {names.heading, pose.heading_rad}};
+  for (const auto& [field, v] : finite) {
+    if (!std::isfinite(v)) return bad(field, v, "a finite number");
+  }
+  const double max_rad = rad_from_deg(kMaxAttitudeDeg);
+  const std::string attitude = " <= " + number_text(max_rad) + " rad (" +
+                               number_text(kMaxAttitudeDeg) +
+                               " deg, the bound of the scene "
+                               "file's survey.disturbance)";
+  if (!(std::abs(pose.pitch_rad) <= max_rad)) {
+    return bad(names.pitch, pose.pitch_rad, std::string("|") + names.pitch + "|" + attitude);
+  }
+  if (!(std::abs(pose.roll_rad) <= max_rad)) {
+    return bad(names.roll, pose.roll_rad, std::string("|") + names.roll + "|" + attitude);
+  }
+  if (std::isinf(pose.altitude_m)) {
+    return bad("altitude_m", pose.altitude_m, "a finite number, or NaN (unknown)");
+  }
+  if (std::isinf(pose.along_track_m)) {
+    return bad("along_track_m", pose.along_track_m, "a finite number, or NaN (unknown)");
+  }
+  if (!(std::isfinite(pose.speed_m_s) && pose.speed_m_s >= 0.0)) {
+    return bad("speed_m_s", pose.speed_m_s, "speed_m_s >= 0 (finite)");
+  }
+  const double x = pose.sensor_xy_m.x(), y = pose.sensor_xy_m.y();
+  const double h = seabed.height_m(x, y);
+  if (std::isnan(h)) return {};  // off the grid or over a hole: no seabed to check against
+  const std::string at = " at (" + std::string(names.x) + ", " + names.y + ") = (" +
+                         number_text(x) + ", " + number_text(y) + ")";
+  if (!(pose.sensor_z_m - h > 0.0)) {
+    return bad(names.z, pose.sensor_z_m,
+               std::string(names.z) + " > " + number_text(h) + " m, the seabed height" + at +
+                   " (the sensor above the seabed: altitude " + number_text(pose.sensor_z_m - h) +
+                   " m)");
+  }
+  if (pose.sensor_z_m > 0.0) {
+    return bad(names.z, pose.sensor_z_m,
+               std::string(names.z) + " <= 0 (the sensor below the sea surface, height 0; seabed " +
+                   number_text(h) + " m" + at + ")");
+  }
+  return {};
+}
+
+void check_pose(const PingPose& pose, const HeightGrid& seabed, const std::string& who,
+                const PoseFieldNames& names) {
+  const std::string e = pose_error(pose, seabed, names);
+  if (!e.empty()) throw InputError(who + ": " + e);
 }
 
 }  // namespace sonarsynth

@@ -7,6 +7,8 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <mutex>
+#include <string>
 #include <vector>
 
 #include "sonarsynth/ping_sink.hpp"
@@ -67,6 +69,24 @@ struct RenderTimings {
   std::uint64_t window_samples = 0;
 };
 
+/// The caller's buffers that Simulator::render_batch fills: arrays of shape (pings, 2, samples)
+/// in C order (ping, side 0 = port / 1 = starboard, sample NEAR -> FAR; samples =
+/// SonarConfig::samples_per_channel), the fields of SideOutput. `samples` is required,
+/// `clean_samples` exactly when SimulationConfig::clean_samples is on, the five truth arrays
+/// exactly when SimulationConfig::truth is on; `saturated` and `invalid` (shape (pings, 2)) may
+/// be null.
+struct BatchOutput {
+  float* samples = nullptr;
+  float* clean_samples = nullptr;
+  SampleClass* truth_class = nullptr;
+  std::int32_t* object_id = nullptr;  ///< SideOutput::truth_label
+  float* grazing_rad = nullptr;
+  double* ground_x_m = nullptr;
+  double* ground_y_m = nullptr;
+  std::uint32_t* saturated = nullptr;
+  std::uint32_t* invalid = nullptr;
+};
+
 /// Renders pings of a survey over a scene. Construction derives the global calibration
 /// (absorption, gain, noise level) once; render_ping() is then a pure function of the pose and
 /// its noise key (PingPose::ping_index).
@@ -98,6 +118,21 @@ class Simulator {
   void render_ping(const PingPose& pose, Workspace& ws, RenderedPing& out,
                    RenderTimings* timings = nullptr) const;
 
+  /// Renders `count` poses into `out` on `threads` threads (0: config().threads; 0 there: the
+  /// hardware's), pose i = pose_at(i) (called from several threads: it must be thread-safe).
+  /// Every pose is checked first (check_pose, and its noise key PingPose::ping_index must be
+  /// set), so a bad pose throws InputError naming "<who>[i]" before anything is rendered. Each
+  /// ping is a pure function of its pose and noise key: the output does not depend on the
+  /// thread count nor on how the poses are split into batches (equal, bit for bit, to
+  /// render_ping of each pose). The pings are rendered straight into `out` (no copy), and the
+  /// threads' workspaces are kept for the next call (one per thread of the largest call).
+  void render_batch(std::size_t count, const std::function<PingPose(std::size_t)>& pose_at,
+                    const BatchOutput& out, unsigned threads = 0,
+                    const std::string& who = "poses") const;
+  /// As above, over a list of poses.
+  void render_batch(const std::vector<PingPose>& poses, const BatchOutput& out,
+                    unsigned threads = 0, const std::string& who = "poses") const;
+
   /// Renders every ping of `survey` on `config.threads` threads and hands them to `sink` in
   /// order, with the lifecycle documented on PingSink (begin ... finish, or abort on an
   /// exception, which is then rethrown). `progress(done, total)` is called from the calling
@@ -119,16 +154,38 @@ class Simulator {
  private:
   RenderTimings run_pings(const Survey& survey, PingSink& sink,
                           const std::function<void(std::uint64_t, std::uint64_t)>& progress) const;
+  /// Where one side's output goes: arrays of SonarConfig::samples_per_channel values, the
+  /// fields of SideOutput (clean_samples null unless SimulationConfig::clean_samples, the truth
+  /// null unless SimulationConfig::truth). render_ping points them into its SideOutput,
+  /// render_batch into the caller's slots (no copy).
+  struct SideSpans {
+    float* samples = nullptr;
+    float* clean_samples = nullptr;
+    SampleClass* truth_class = nullptr;
+    std::int32_t* truth_label = nullptr;
+    float* truth_grazing_rad = nullptr;
+    double* truth_ground_x_m = nullptr;
+    double* truth_ground_y_m = nullptr;
+    std::uint32_t* saturated = nullptr;
+    std::uint32_t* invalid = nullptr;
+  };
+  /// Sizes `s`'s vectors for the configuration and points spans at them.
+  SideSpans spans_of(SideOutput& s) const;
+  /// Samples per side of the renderer (SonarConfig::samples_per_channel).
+  std::size_t side_samples() const;
+  /// Renders both sides of the ping at `pose` with noise key `key` into `port` and `starboard`.
+  void render_sides(const PingPose& pose, std::uint64_t key, Workspace& ws, const SideSpans& port,
+                    const SideSpans& starboard, RenderTimings* timings) const;
   /// `scale` multiplies the noise-free intensities before the noise (OutputScaling::normalise).
   void render_side_output(const PingPose& pose, std::uint64_t noise_key, bool starboard,
-                          Workspace& ws, SideOutput& out, RenderTimings* timings,
+                          Workspace& ws, const SideSpans& out, RenderTimings* timings,
                           double scale = 1.0) const;
   /// max_value / (largest noise-free sample after TVG and gain over both sides of the ping), or
   /// 1 for a ping without echo: the factor of OutputScaling::Normalise::per_ping_max.
   double per_ping_max_scale(const PingPose& pose, Workspace& ws) const;
   /// TVG x gain (unless `scaled`), clamping and rounding of ws.accum into `out`; counts
   /// saturated and non-finite samples.
-  void quantise(const Workspace& ws, bool scaled, std::vector<float>& out, std::uint32_t& saturated,
+  void quantise(const Workspace& ws, bool scaled, float* out, std::uint32_t& saturated,
                 std::uint32_t& invalid) const;
   /// Sums the planes' noise-free intensities of one side into ws.accum; the echo is left
   /// holding the central plane (rendered last, with truth if `truth`). With `refine`, a side
@@ -158,6 +215,10 @@ class Simulator {
   void apply_object_truth(Workspace& ws) const;
 
   std::shared_ptr<const Scene> scene_;
+  /// Workspaces render_batch lends its threads, kept from call to call with their buffers
+  /// grown (a fresh one costs its first pings their allocations and page faults).
+  mutable std::mutex spare_mutex_;
+  mutable std::vector<WorkspacePtr> spare_workspaces_;
   /// Automatic noise keys handed out so far (PingPose::ping_index unset).
   mutable std::atomic<std::uint64_t> automatic_keys_{0};
   SimulationConfig config_;

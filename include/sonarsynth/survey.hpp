@@ -123,6 +123,36 @@ PingPose sensor_pose(const Eigen::Vector3d& position_m, double heading_rad, doub
                      double roll_rad, const HeightGrid& seabed,
                      std::optional<std::uint64_t> noise_key = std::nullopt);
 
+/// The largest pitch and roll of a pose, degrees: the bound of a scene file's
+/// survey.disturbance.pitch_deg and roll_deg (whose sum of sinusoids peaks at most there).
+inline constexpr double kMaxAttitudeDeg = 89.0;
+
+/// The names check_pose() gives the checked fields in its messages (by default those of PingPose
+/// and of the Python module's POSE_DTYPE).
+struct PoseFieldNames {
+  const char* x = "sensor_x_m";
+  const char* y = "sensor_y_m";
+  const char* z = "sensor_z_m";
+  const char* heading = "heading_rad";
+  const char* pitch = "pitch_rad";
+  const char* roll = "roll_rad";
+};
+
+/// What is wrong with a pose given to a renderer from outside a survey, or "" if nothing. The
+/// rules (docs/python.md "Pose checks"): position, heading, pitch and roll finite; |pitch| and
+/// |roll| <= kMaxAttitudeDeg; altitude_m and along_track_m finite or NaN (unknown), speed_m_s
+/// finite and >= 0. Where `seabed` has a height h at the sensor's (x, y), the sensor must lie
+/// above it and not above the sea surface, 0 < sensor_z_m - h and sensor_z_m <= 0, the rule of a
+/// scene file's survey lines; off the grid or over a hole there is no seabed to check against
+/// (a survey renders such pings without seabed). The message names the field, the value and the
+/// allowed range: "sensor_z_m = -1020 ... Violated constraint: ...".
+std::string pose_error(const PingPose& pose, const HeightGrid& seabed,
+                       const PoseFieldNames& names = {});
+
+/// Throws InputError("<who>: <pose_error>") if pose_error() finds something.
+void check_pose(const PingPose& pose, const HeightGrid& seabed, const std::string& who,
+                const PoseFieldNames& names = {});
+
 /// A survey: lines, the vehicle, the ping timing. Poses are a pure function of the ping index,
 /// so pings can be rendered in any order or in parallel.
 class Survey {

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 // Every path argument is a std::filesystem::path: pybind11's caster takes str and os.PathLike.
 #include <pybind11/stl/filesystem.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cstdint>
 #include <memory>
@@ -57,6 +58,11 @@ class PySimulation {
  private:
   std::shared_ptr<const Simulator> sim_;
 };
+
+/// The YAML a scene file would hold for `value`: Python's repr of a number (shortest round
+/// trip, so the double read back is the same), true/false, a string or os.PathLike as its text,
+/// a dict as a map and a sequence (list, tuple, 1-D array) as a list. Defined in options.cpp.
+YAML::Node yaml_value(const py::handle& value);
 
 void bind_options(py::module_& m, py::class_<PySimulation>& cls);
 void bind_simulation(py::module_& m, py::class_<PySimulation>& cls);

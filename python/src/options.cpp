@@ -17,29 +17,40 @@
 
 namespace sonarsynth::python {
 
-namespace {
-
-// The text a scene file would hold for `value`: Python's repr of a float (shortest round trip,
-// so the double read back is the same), true/false, an int's digits, a string as is.
 YAML::Node yaml_value(const py::handle& value) {
   if (value.is_none()) return YAML::Node(YAML::NodeType::Null);
   if (py::isinstance<py::bool_>(value)) return YAML::Node(value.cast<bool>() ? "true" : "false");
   if (py::isinstance<py::str>(value)) return YAML::Node(value.cast<std::string>());
-  if (py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value) ||
-      py::hasattr(value, "__float__")) {
+  if (py::hasattr(value, "__fspath__")) {  // os.PathLike: its path text
+    return YAML::Node(py::module_::import("os").attr("fspath")(value).cast<std::string>());
+  }
+  const bool array = py::isinstance<py::array>(value) && value.cast<py::array>().ndim() > 0;
+  if (!array && (py::isinstance<py::int_>(value) || py::isinstance<py::float_>(value) ||
+                 py::hasattr(value, "__float__"))) {
     // numpy scalars: their Python equivalent (item()) first.
     const py::object v = py::hasattr(value, "item") ? value.attr("item")()
                                                     : py::reinterpret_borrow<py::object>(value);
     return YAML::Node(py::repr(v).cast<std::string>());
   }
+  if (py::isinstance<py::dict>(value)) {
+    YAML::Node map(YAML::NodeType::Map);
+    map.SetStyle(YAML::EmitterStyle::Flow);  // messages show {a: 1} as a file would
+    for (const auto& [k, v] : value.cast<py::dict>()) {
+      map[py::str(k).cast<std::string>()] = yaml_value(v);
+    }
+    return map;
+  }
   if (py::isinstance<py::sequence>(value)) {
     YAML::Node seq(YAML::NodeType::Sequence);
+    seq.SetStyle(YAML::EmitterStyle::Flow);  // messages show [1, 2] as a file would
     for (const py::handle item : value) seq.push_back(yaml_value(item));
     return seq;
   }
   throw InputError("cannot take a " + py::repr(py::type::of(value)).cast<std::string>() +
-                   " as an option value");
+                   " as a scene-file value");
 }
+
+namespace {
 
 // The keys a scene file accepts in `section` (as simulation_file.cpp's only() checks).
 std::set<std::string> known_keys(const std::string& section) {

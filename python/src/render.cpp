@@ -4,12 +4,8 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
-#include <atomic>
-#include <cstring>
-#include <exception>
-#include <mutex>
 #include <string>
-#include <thread>
+#include <vector>
 
 #include "bindings.hpp"
 #include "sonarsynth/error.hpp"
@@ -41,21 +37,58 @@ py::dict side_dict(const SideOutput& s, const py::capsule& owner) {
   return d;
 }
 
-// The output arrays of a batch: (pings, 2 sides, samples), side 0 port, 1 starboard.
+// `poses` as a 1-D C-contiguous POSE_DTYPE array: the array itself, or a copy field by field
+// (by name) of a structured array that has every field of POSE_DTYPE. Anything else, a list of
+// numbers above all (numpy would cast each number into every field of a pose), is a TypeError
+// or ValueError naming the argument, the dtype expected and what was given.
+py::array_t<PoseRecord> pose_array(const py::object& poses, const char* fn) {
+  const py::dtype want = py::dtype::of<PoseRecord>();
+  const std::string expect = std::string(fn) +
+                             ": poses must be a 1-D numpy structured array of "
+                             "sonarsynth.POSE_DTYPE (from survey_poses() or make_poses())";
+  if (!py::isinstance<py::array>(poses)) {
+    throw py::type_error(expect + "; got " +
+                         py::str(py::type::of(poses).attr("__name__")).cast<std::string>());
+  }
+  py::array a = poses.cast<py::array>();
+  const py::object names = a.dtype().attr("names");
+  if (names.is_none()) {
+    throw py::type_error(expect + "; got an array of dtype " +
+                         py::str(a.dtype()).cast<std::string>() + " (no fields)");
+  }
+  if (a.ndim() != 1) {
+    std::string shape;
+    for (py::ssize_t k = 0; k < a.ndim(); ++k) {
+      shape += (k ? ", " : "") + std::to_string(a.shape(k));
+    }
+    throw InputError(expect + "; got an array of shape (" + shape + ")");
+  }
+  if (a.dtype().is(want)) {
+    return py::array_t<PoseRecord, py::array::c_style | py::array::forcecast>::ensure(a);
+  }
+  std::string missing;
+  const py::tuple have = names.cast<py::tuple>();
+  for (const py::handle f : want.attr("names").cast<py::tuple>()) {
+    if (!have.contains(f)) missing += (missing.empty() ? "" : ", ") + f.cast<std::string>();
+  }
+  if (!missing.empty()) {
+    throw InputError(expect + "; got a structured array without the fields " + missing);
+  }
+  py::array_t<PoseRecord> copy(a.shape(0));
+  for (const py::handle f : want.attr("names").cast<py::tuple>()) copy[f] = a[f];
+  return copy;
+}
+
+// The output arrays of a batch: (pings, 2 sides, samples), side 0 port, 1 starboard; the
+// Simulator's render_batch fills them through `buffers` (pointers taken with the GIL held).
 struct Batch {
-  std::size_t n = 0, samples = 0;
   bool truth = false, clean = false;
   py::array_t<float> samples_arr, clean_arr, grazing;
   py::array_t<std::uint8_t> truth_class;
   py::array_t<std::int32_t> object_id;
   py::array_t<double> ground_x, ground_y;
   py::array_t<std::uint32_t> saturated, invalid;
-  // Raw pointers, taken with the GIL held.
-  float *p_samples = nullptr, *p_clean = nullptr, *p_grazing = nullptr;
-  std::uint8_t* p_class = nullptr;
-  std::int32_t* p_id = nullptr;
-  double *p_gx = nullptr, *p_gy = nullptr;
-  std::uint32_t *p_sat = nullptr, *p_inv = nullptr;
+  BatchOutput buffers;
 
   // A new array of `shape`, or out[key] (a previous result) if `out` is given: checked to be a
   // writeable C-contiguous array of the right type and shape, filled in place.
@@ -79,15 +112,15 @@ struct Batch {
     return a.cast<py::array_t<T>>();
   }
 
-  Batch(std::size_t pings, std::size_t s, bool t, bool c, const py::object& out)
-      : n(pings), samples(s), truth(t), clean(c) {
-    const std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(n), 2,
+  Batch(std::size_t pings, std::size_t samples, bool t, bool c, const py::object& out)
+      : truth(t), clean(c) {
+    const std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(pings), 2,
                                          static_cast<py::ssize_t>(samples)};
     samples_arr = take<float>(out, "samples", shape);
-    p_samples = samples_arr.mutable_data();
+    buffers.samples = samples_arr.mutable_data();
     if (clean) {
       clean_arr = take<float>(out, "clean_samples", shape);
-      p_clean = clean_arr.mutable_data();
+      buffers.clean_samples = clean_arr.mutable_data();
     }
     if (truth) {
       truth_class = take<std::uint8_t>(out, "truth_class", shape);
@@ -95,42 +128,18 @@ struct Batch {
       grazing = take<float>(out, "grazing_rad", shape);
       ground_x = take<double>(out, "ground_x_m", shape);
       ground_y = take<double>(out, "ground_y_m", shape);
-      p_class = truth_class.mutable_data();
-      p_id = object_id.mutable_data();
-      p_grazing = grazing.mutable_data();
-      p_gx = ground_x.mutable_data();
-      p_gy = ground_y.mutable_data();
+      static_assert(sizeof(SampleClass) == sizeof(std::uint8_t));
+      buffers.truth_class = reinterpret_cast<SampleClass*>(truth_class.mutable_data());
+      buffers.object_id = object_id.mutable_data();
+      buffers.grazing_rad = grazing.mutable_data();
+      buffers.ground_x_m = ground_x.mutable_data();
+      buffers.ground_y_m = ground_y.mutable_data();
     }
-    const std::vector<py::ssize_t> counts{static_cast<py::ssize_t>(n), 2};
+    const std::vector<py::ssize_t> counts{static_cast<py::ssize_t>(pings), 2};
     saturated = take<std::uint32_t>(out, "saturated", counts);
     invalid = take<std::uint32_t>(out, "invalid", counts);
-    p_sat = saturated.mutable_data();
-    p_inv = invalid.mutable_data();
-  }
-
-  template <class T, class V>
-  void put(T* dst, std::size_t slot, const V& v) const {
-    if (v.size() != samples) {
-      throw Error("render_poses: a side of " + std::to_string(v.size()) + " samples, not " +
-                  std::to_string(samples));
-    }
-    std::memcpy(dst + slot * samples, v.data(), samples * sizeof(T));
-  }
-
-  // Copies one side of ping `i` into its slot (called without the GIL; slots are disjoint).
-  void store(std::size_t i, int side, const SideOutput& s) const {
-    const std::size_t slot = 2 * i + static_cast<std::size_t>(side);
-    put(p_samples, slot, s.samples);
-    if (clean) put(p_clean, slot, s.clean_samples);
-    if (truth) {
-      put(p_class, slot, s.truth_class);
-      put(p_id, slot, s.truth_label);
-      put(p_grazing, slot, s.truth_grazing_rad);
-      put(p_gx, slot, s.truth_ground_x_m);
-      put(p_gy, slot, s.truth_ground_y_m);
-    }
-    p_sat[slot] = s.saturated;
-    p_inv[slot] = s.invalid;
+    buffers.saturated = saturated.mutable_data();
+    buffers.invalid = invalid.mutable_data();
   }
 
   py::dict result() const {
@@ -158,21 +167,23 @@ void bind_render(py::module_&, py::class_<PySimulation>& cls) {
       [](PySimulation& s, double x_m, double y_m, double z_m, double heading_rad, double pitch_rad,
          double roll_rad, std::optional<std::uint64_t> noise_key) {
         const std::shared_ptr<const Simulator> sim = s.simulator();
+        const PingPose pose = sensor_pose({x_m, y_m, z_m}, heading_rad, pitch_rad, roll_rad,
+                                          sim->scene().bathymetry, noise_key);
+        check_pose(pose, sim->scene().bathymetry, "render_ping",
+                   {"x_m", "y_m", "z_m", "heading_rad", "pitch_rad", "roll_rad"});
         auto* ping = new RenderedPing;
         py::capsule owner(ping, [](void* p) { delete static_cast<RenderedPing*>(p); });
         {
           py::gil_scoped_release release;
-          const PingPose pose = sensor_pose({x_m, y_m, z_m}, heading_rad, pitch_rad, roll_rad,
-                                            sim->scene().bathymetry, noise_key);
           auto ws = sim->make_workspace();
           sim->render_ping(pose, *ws, *ping);
         }
         py::dict d;
         d["port"] = side_dict(ping->port, owner);
         d["starboard"] = side_dict(ping->starboard, owner);
-        py::array_t<PoseRecord> pose(1);
-        pose.mutable_data()[0] = record_of(ping->pose);
-        d["pose"] = pose;
+        py::array_t<PoseRecord> rendered_pose(1);
+        rendered_pose.mutable_data()[0] = record_of(ping->pose);
+        d["pose"] = rendered_pose;
         return d;
       },
       py::arg("x_m"), py::arg("y_m"), py::arg("z_m"), py::arg("heading_rad") = 0.0,
@@ -185,51 +196,23 @@ void bind_render(py::module_&, py::class_<PySimulation>& cls) {
       "(float32, output units after TVG and quantisation), clean_samples (noise-free, if "
       "clean_samples is on), truth_class (uint8, SAMPLE_CLASSES), object_id (int32: object id, "
       "0 seabed, -1 none), grazing_rad (float32, NaN where no seabed), ground_x_m / ground_y_m "
-      "(float64, local frame, NaN where none), saturated and invalid counts.");
+      "(float64, local frame, NaN where none), saturated and invalid counts. The pose is "
+      "checked as render_poses checks its poses (ValueError naming the argument).");
 
   cls.def(
       "render_poses",
-      [](PySimulation& s, const py::array_t<PoseRecord, py::array::c_style>& poses,
-         unsigned threads, const py::object& out) {
-        if (poses.ndim() != 1)
-          throw InputError("render_poses: poses must be a 1-D POSE_DTYPE array");
+      [](PySimulation& s, const py::object& poses_arg, unsigned threads, const py::object& out) {
+        const py::array_t<PoseRecord> poses = pose_array(poses_arg, "render_poses");
         const std::shared_ptr<const Simulator> sim = s.simulator();
         const SimulationConfig& cfg = sim->config();
-        const std::size_t n = static_cast<std::size_t>(poses.shape(0));
+        const auto n = static_cast<std::size_t>(poses.shape(0));
         Batch batch(n, cfg.sonar.samples_per_channel, cfg.truth, cfg.clean_samples, out);
         const PoseRecord* in = poses.data();
-        if (threads == 0) threads = cfg.threads;
-        if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-        threads =
-            static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(n, 1)));
         {
           py::gil_scoped_release release;
-          std::atomic<std::size_t> next{0};
-          std::exception_ptr error;
-          std::mutex error_mutex;
-          const auto work = [&] {
-            try {
-              auto ws = sim->make_workspace();
-              RenderedPing ping;
-              for (std::size_t i = next++; i < n; i = next++) {
-                sim->render_ping(pose_of(in[i]), *ws, ping);
-                batch.store(i, 0, ping.port);
-                batch.store(i, 1, ping.starboard);
-              }
-            } catch (...) {
-              const std::lock_guard lock(error_mutex);
-              if (!error) error = std::current_exception();
-              next = n;
-            }
-          };
-          if (threads <= 1) {
-            work();
-          } else {
-            std::vector<std::thread> pool;
-            for (unsigned t = 0; t < threads; ++t) pool.emplace_back(work);
-            for (std::thread& t : pool) t.join();
-          }
-          if (error) std::rethrow_exception(error);
+          sim->render_batch(
+              n, [in](std::size_t i) { return pose_of(in[i]); }, batch.buffers, threads,
+              "render_poses: poses");
         }
         return batch.result();
       },
@@ -240,9 +223,12 @@ void bind_render(py::module_&, py::class_<PySimulation>& cls) {
       "1 = starboard, samples NEAR -> FAR, allocated once and filled in place: samples, "
       "clean_samples (if on), truth_class, object_id, grazing_rad, ground_x_m, ground_y_m (as "
       "render_ping), and saturated / invalid counts of shape (pings, 2). out: a previous result "
-      "for as many "
-      "poses, whose arrays are filled again in place and returned (no allocation: the fastest "
-      "way to render batch after batch).");
+      "for as many poses, whose arrays are filled again in place and returned (no allocation: "
+      "the fastest way to render batch after batch). Every pose is checked before any is "
+      "rendered (docs/python.md \"Pose checks\"): a non-finite position or heading, |pitch| or "
+      "|roll| beyond 89 deg, a sensor under the seabed or above the sea surface raise ValueError "
+      "naming poses[i], the field, the value and the allowed range; poses that are not a "
+      "POSE_DTYPE array raise TypeError / ValueError.");
 }
 
 }  // namespace sonarsynth::python

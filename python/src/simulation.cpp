@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <numbers>
 #include <optional>
 
 #include "bindings.hpp"
+#include "scene_objects.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/scene_file.hpp"
 #include "sonarsynth/scene_object.hpp"
@@ -211,44 +213,50 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
 
   cls.def(
       "add_object",
-      [](PySimulation& s, const std::string& shape, std::int32_t id, double centre_x_m,
-         double centre_y_m, std::array<double, 3> half_extent_m, double heading_rad,
-         std::uint16_t material, double clearance_m, double embed_fraction) {
-        ObjectPrimitive p;
-        if (shape == "cylinder") {
-          p.shape = ObjectShape::kCylinder;
-        } else if (shape == "box") {
-          p.shape = ObjectShape::kBox;
-        } else if (shape == "ellipsoid") {
-          p.shape = ObjectShape::kEllipsoid;
-        } else {
-          throw InputError(s.name + ": object shape = '" + shape +
-                           "'. Violated constraint: cylinder, box or ellipsoid");
+      [](PySimulation& s, const py::args& args, const py::kwargs& keys) {
+        // The entry of a scene file's `objects` list: add_object(type, **keys) or
+        // add_object({...}, **keys).
+        py::dict entry;
+        if (args.size() == 1 && py::isinstance<py::dict>(args[0])) {
+          entry = py::dict(args[0].cast<py::dict>());
+        } else if (args.size() == 1 && py::isinstance<py::str>(args[0])) {
+          entry["type"] = args[0];
+        } else if (!args.empty()) {
+          throw py::type_error(
+              "add_object takes the object's type and the scene file's keys by name "
+              "(docs/scene-format.md \"Objects\"), e.g. add_object('box', id=4, "
+              "position={'east_m': 10, 'north_m': 0}, size_m=[2, 2, 1]); got " +
+              std::to_string(args.size()) + " positional arguments");
         }
-        p.id = id;
-        p.material = material;
-        p.centre_xy_m = {centre_x_m, centre_y_m};
-        p.heading_rad = heading_rad;
-        p.half_extent_m = {half_extent_m[0], half_extent_m[1], half_extent_m[2]};
-        const std::string what = s.name + ": object " + std::to_string(id);
-        if (material >= s.scene->materials.size()) {
-          throw InputError(what + ": material = " + std::to_string(material) +
-                           ". Violated constraint: < " + std::to_string(s.scene->materials.size()));
+        for (const auto& [k, v] : keys) entry[k] = v;
+        // A material index (material_index()) stands for its name.
+        if (entry.contains("material") && !py::isinstance<py::str>(entry["material"]) &&
+            py::hasattr(entry["material"], "__index__")) {
+          const auto m = py::int_(entry["material"]).cast<long long>();
+          const std::size_t n = s.scene->materials.size();
+          if (m < 0 || static_cast<std::size_t>(m) >= n) {
+            throw InputError(s.name + ": add_object.material = " + std::to_string(m) +
+                             ". Violated constraint: a material name, or an index >= 0 and < " +
+                             std::to_string(n));
+          }
+          entry["material"] = s.scene->materials[static_cast<std::uint16_t>(m)].name;
         }
-        p.validate(what);
+        const yaml::Fields f(yaml_value(entry), s.name, "add_object");
         Scene& scene = s.mutable_scene();
-        p.place_on_seabed(scene.bathymetry, clearance_m, embed_fraction, what);
-        scene.objects.add(std::move(p));
-        scene.objects.build_index();
+        add_scene_object(scene, f, std::filesystem::current_path());
       },
-      py::arg("shape"), py::arg("id"), py::arg("centre_x_m"), py::arg("centre_y_m"),
-      py::arg("half_extent_m"), py::kw_only(), py::arg("heading_rad") = 0.0,
-      py::arg("material") = 0, py::arg("clearance_m") = 0.0, py::arg("embed_fraction") = 0.0,
-      "Adds an object resting on the seabed: shape 'cylinder' (a pipe; half_extent_m = (half "
-      "length, radius, radius)), 'box' or 'ellipsoid' (a rock); id > 0 (its label in the truth); "
-      "centre in the local frame (metres); half sizes (u, v, z) in metres; heading_rad = azimuth "
-      "of the body u axis clockwise from grid north; material = index into the scene's material "
-      "table; clearance_m lifts it (a free span), embed_fraction in [0, 1) sinks it.");
+      "Adds an object as an entry of a scene file's `objects` list would, with the same types, "
+      "keys, units, defaults, checks and messages (docs/scene-format.md \"Objects\"): "
+      "add_object(type, **keys) or add_object(entry_dict). Types: 'pipe' / 'cylinder' "
+      "(position + length_m + heading_deg, or start + end; diameter_m), 'box' (size_m = [length, "
+      "width, height]), 'rock' (size_m or diameter_m), 'wreck' (parts), 'moored' (shape, "
+      "diameter_m, height_m), 'mesh' (file, scale, up_axis, face_materials). Common keys: id "
+      "(> 0, unique; default: one above the largest), name, material (a name, or an index of "
+      "material_index()), heading_deg, clearance_m, embed. A position is {'east_m': e, "
+      "'north_m': n} in metres from the centre of the bathymetry grid (the scene file's form; "
+      "that centre is the middle of bounds_m in the local frame) or {'lat_deg': .., 'lon_deg': "
+      "..}. Relative file paths are relative to the current directory. A bad key or value "
+      "raises ValueError naming add_object.<key>, the value and the allowed range.");
   cls.def(
       "add_mesh",
       [](PySimulation& s, std::int32_t id,
@@ -404,19 +412,42 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
          const py::array_t<double, py::array::forcecast>& heading_rad,
          const py::array_t<double, py::array::forcecast>& pitch_rad,
          const py::array_t<double, py::array::forcecast>& roll_rad, std::uint64_t first_noise_key) {
+        // Every array 1-D (or a scalar) of one length n, or of length 1 (broadcast).
+        const std::pair<const char*, const py::array_t<double, py::array::forcecast>*> args[] = {
+            {"x_m", &x_m},
+            {"y_m", &y_m},
+            {"z_m", &z_m},
+            {"heading_rad", &heading_rad},
+            {"pitch_rad", &pitch_rad},
+            {"roll_rad", &roll_rad}};
         py::ssize_t n = 1;
-        for (const auto* a : {&x_m, &y_m, &z_m, &heading_rad, &pitch_rad, &roll_rad}) {
-          if (a->size() != 1 && n != 1 && a->size() != n) {
-            throw InputError("make_poses: arrays of different lengths");
+        const char* n_from = nullptr;
+        for (const auto& [name, a] : args) {
+          if (a->ndim() > 1) {
+            throw InputError(std::string("make_poses: ") + name + " has " +
+                             std::to_string(a->ndim()) +
+                             " dimensions. Violated constraint: a number or a 1-D array");
           }
-          if (a->size() != 1) n = a->size();
+          if (a->size() == 1) continue;
+          if (n_from && a->size() != n) {
+            throw InputError(std::string("make_poses: ") + name + " has " +
+                             std::to_string(a->size()) + " values, " + n_from + " has " +
+                             std::to_string(n) +
+                             ". Violated constraint: arrays of one length (or single values, "
+                             "used for every pose)");
+          }
+          n = a->size();
+          n_from = name;
         }
         py::array_t<PoseRecord> out(n);
         PoseRecord* r = out.mutable_data();
         for (py::ssize_t i = 0; i < n; ++i) {
-          r[i] = record_of(sensor_pose({at(x_m, i), at(y_m, i), at(z_m, i)}, at(heading_rad, i),
-                                       at(pitch_rad, i), at(roll_rad, i), s.scene->bathymetry,
-                                       first_noise_key + static_cast<std::uint64_t>(i)));
+          const PingPose p = sensor_pose({at(x_m, i), at(y_m, i), at(z_m, i)}, at(heading_rad, i),
+                                         at(pitch_rad, i), at(roll_rad, i), s.scene->bathymetry,
+                                         first_noise_key + static_cast<std::uint64_t>(i));
+          check_pose(p, s.scene->bathymetry, "make_poses: pose " + std::to_string(i),
+                     {"x_m", "y_m", "z_m", "heading_rad", "pitch_rad", "roll_rad"});
+          r[i] = record_of(p);
         }
         return out;
       },
@@ -425,7 +456,8 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       "Poses outside a survey (POSE_DTYPE): sensor positions in the local frame (metres, z on "
       "the bathymetry's datum, up positive), heading clockwise from grid north, pitch + nose "
       "up, roll + starboard down (radians); scalars broadcast. The altitude is taken from the "
-      "seabed; pose i gets noise key first_noise_key + i.");
+      "seabed; pose i gets noise key first_noise_key + i. Arrays of different lengths and "
+      "poses that render_poses would refuse raise ValueError naming the argument.");
 
   cls.def_property_readonly(
       "name", [](const PySimulation& s) { return s.scene->name; }, "The scene's name.");

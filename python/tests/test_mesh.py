@@ -1,6 +1,8 @@
 # SPDX-License-Identifier: MIT
 # Mesh objects built in code (Simulation.add_mesh): a mesh cube renders as the analytic box,
 # and bad meshes are refused with the object named.
+import math
+
 import numpy as np
 import pytest
 
@@ -33,14 +35,16 @@ def flat(name):
     return sim
 
 
-@pytest.mark.parametrize("heading_rad,clearance_m", [(0.0, 0.0), (0.5, 0.0), (1.2, 0.7)])
-def test_mesh_cube_renders_as_the_analytic_box(heading_rad, clearance_m):
+@pytest.mark.parametrize("heading_deg,clearance_m", [(0.0, 0.0), (30.0, 0.0), (70.0, 0.7)])
+def test_mesh_cube_renders_as_the_analytic_box(heading_deg, clearance_m):
     box, mesh = flat("box"), flat("mesh")
     # A smooth material: the built-in steel's roughness subdivides the two sections differently.
     steel = box.material_index("rock")
     assert steel == mesh.material_index("rock")
-    box.add_object("box", 4, 12.0, 1.0, (2.5, 1.0, 0.75), heading_rad=heading_rad,
-                   material=steel, clearance_m=clearance_m)
+    # The grid is centred on the local origin: east_m/north_m are the local x/y.
+    box.add_object("box", id=4, position={"east_m": 12.0, "north_m": 1.0}, size_m=[5, 2, 1.5],
+                   heading_deg=heading_deg, material="rock", clearance_m=clearance_m)
+    heading_rad = heading_deg * (math.pi / 180.0)  # as the scene-file reader converts it
     v, t = cube(2.5, 1.0, 0.75)
     mesh.add_mesh(4, v, t, x_m=12.0, y_m=1.0, heading_rad=heading_rad, material=steel,
                   clearance_m=clearance_m)

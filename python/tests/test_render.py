@@ -54,7 +54,7 @@ def test_flat_seabed_built_in_code_truth_is_analytic():
                                              lat_deg=43.0, lon_deg=5.0)
     sim.set({"sonar": {"range_m": 30, "samples": 600}, "seed": 3})
     # A box 10 m to starboard of a sensor heading north: starboard = +x.
-    sim.add_object("box", 4, 10.0, 0.0, (1.0, 1.0, 0.5))
+    sim.add_object("box", id=4, position={"east_m": 10.0, "north_m": 0.0}, size_m=[2, 2, 1])
     ping = sim.render_ping(0.0, 0.0, -depth_m + altitude_m, 0.0, noise_key=1)
     for side in ["port", "starboard"]:
         s = ping[side]
@@ -79,8 +79,9 @@ def test_flat_seabed_built_in_code_truth_is_analytic():
 def test_builder_errors_are_value_errors():
     sim = sonarsynth.Simulation.from_heights(np.zeros((10, 10), np.float32), lat_deg=0.5,
                                              lon_deg=3.0, name="built")
-    with pytest.raises(ValueError, match="built: object shape = 'cone'"):
-        sim.add_object("cone", 1, 0.0, 0.0, (1, 1, 1))
+    with pytest.raises(ValueError, match="built: add_object.type = 'cone'. Violated constraint: "
+                                         "one of pipe, cylinder, box, rock, wreck, moored, mesh"):
+        sim.add_object("cone", id=1, position={"east_m": 0, "north_m": 0}, size_m=[1, 1, 1])
     with pytest.raises(ValueError, match="survey.lines"):
         sim.survey_poses()
 
