@@ -667,7 +667,10 @@ class AnnotationMerger {
 }  // namespace
 
 void write_dataset_manifest(const DatasetSpec& spec, const fs::path& dir) {
-  std::ostringstream manifest;
+  // Written line by line into its temporary file: a dataset of 10^6 items never holds its
+  // manifest in memory.
+  AtomicOutput manifest_file(dir / "manifest.jsonl", true);
+  std::ofstream manifest(manifest_file.temp_path(), std::ios::binary | std::ios::trunc);
   std::size_t done = 0, failed = 0, pending = 0;
   std::uint64_t pings = 0;
   std::map<std::string, long long> objects;
@@ -706,7 +709,9 @@ void write_dataset_manifest(const DatasetSpec& spec, const fs::path& dir) {
     j.erase("file_records");  // in item.json; the manifest keeps one line per item short
     manifest << j.dump() << "\n";
   }
-  write_atomically(dir / "manifest.jsonl", manifest.str());
+  manifest.close();
+  if (!manifest) throw FormatError((dir / "manifest.jsonl").string() + ": cannot write");
+  manifest_file.commit();
   json summary;
   summary["name"] = spec.name;
   summary["seed"] = spec.seed;
