@@ -119,6 +119,26 @@ WORKER_CONFIG = {
     "distributed.scheduler.work-stealing": False,
 }
 
+# Dask's debugging logs (task transitions, read by `story()`; results sent), bounded but long:
+# 100,000 entries on the scheduler and on each worker (hard-coded there in Dask 2022.12), several
+# per item, so the memory of a run grew with its items up to some 10^5 items (docs/dataset.md,
+# Dask). A LocalCluster of ours keeps the last LOG_LENGTH entries of each.
+LOG_LENGTH = 5000
+LOG_CONFIG = {"distributed.scheduler.transition-log-length": LOG_LENGTH}
+
+
+def _shorten_worker_log(dask_worker):
+    """A worker's logs of transitions (WorkerState.log in Dask 2022.12) and of results sent
+    (Worker.transfer_outgoing_log: one entry per item whose result the client fetched) cut to
+    LOG_LENGTH entries."""
+    from collections import deque
+    for owner, name in ((getattr(dask_worker, "state", None), "log"),
+                        (dask_worker, "transfer_outgoing_log"),
+                        (dask_worker, "transfer_incoming_log")):
+        log = getattr(owner, name, None)
+        if isinstance(log, deque) and (log.maxlen is None or log.maxlen > LOG_LENGTH):
+            setattr(owner, name, deque(log, maxlen=LOG_LENGTH))
+
 
 def local_cluster(n_workers, processes=False, dashboard=True):
     """A LocalCluster of ``n_workers`` single-threaded workers with WORKER_CONFIG.
@@ -129,6 +149,7 @@ def local_cluster(n_workers, processes=False, dashboard=True):
     item against 0.09 s with worker processes (docs/dataset.md, Benchmarks). A crash of the C++
     code (not an exception: those are retried) ends the whole run, which is resumable.
     processes=True: one worker process per worker, each under a nanny (the config is handed on).
+    Dask's transition logs are cut to their last LOG_LENGTH entries (memory, see LOG_LENGTH).
     dashboard: True (default) serves Dask's dashboard on a free port (":0", every interface, as
     Dask's own default ":8787" does; a free port so that clusters side by side never clash);
     False: none (no page served); a string: that address (e.g. "localhost:8787"). Its link:
@@ -136,7 +157,7 @@ def local_cluster(n_workers, processes=False, dashboard=True):
     """
     import dask
     from dask.distributed import LocalCluster
-    config = dict(WORKER_CONFIG)
+    config = dict(WORKER_CONFIG, **LOG_CONFIG)
     on = dashboard is not False and dashboard is not None
     if on:
         options = {"dashboard_address": ":0" if dashboard is True else str(dashboard)}
@@ -150,6 +171,13 @@ def local_cluster(n_workers, processes=False, dashboard=True):
         cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=processes,
                                **options)
     cluster.sonarsynth_dashboard = on
+    if processes:
+        from dask.distributed import Client
+        with Client(cluster) as client:
+            client.run(_shorten_worker_log)
+    else:
+        for worker in cluster.workers.values():
+            _shorten_worker_log(worker)
     return cluster
 
 

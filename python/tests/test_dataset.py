@@ -376,8 +376,10 @@ def count_tasks_item(spec, out_dir, index, threads):
 
 
 def test_submission_is_bounded_by_the_window(tmp_path):
-    # 2,000 trivial items, a window of 8: the scheduler never holds more than 8 item tasks
-    # (before: all 2,000 at once). Counted from inside the items, on the scheduler itself.
+    # 2,000 trivial items, a window of 8: generate holds at most 8 futures, and the scheduler,
+    # counted from inside the items, holds at most those and the one or two collected a moment
+    # before, whose release Dask sends asynchronously (measured: 8 or 9 in ten runs). Before:
+    # all 2,000 at once.
     from dask.distributed import Client
     spec = sonarsynth.DatasetSpec.from_yaml(TINY.replace("count: 4", "count: 2000"), "tiny.yaml")
     cluster = sonarsynth_dask.local_cluster(2, dashboard=False)
@@ -392,7 +394,7 @@ def test_submission_is_bounded_by_the_window(tmp_path):
         cluster.close()
     assert r["done"] == 2000 and r["failed"] == 0 and "items" not in r
     assert WINDOW_PROBE["calls"] == 2000
-    assert 2 < WINDOW_PROBE["max_tasks"] <= 8, WINDOW_PROBE["max_tasks"]
+    assert 2 < WINDOW_PROBE["max_tasks"] <= 8 + 2, WINDOW_PROBE["max_tasks"]
 
 
 def test_keep_items_and_the_dashboard_of_the_local_cluster(spec, tmp_path):
