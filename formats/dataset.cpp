@@ -175,6 +175,12 @@ json record_json(const DatasetItemResult& r) {
   return j;
 }
 
+// failed/<index>.json of a failed item (`r.status` "failed"): the one writer of the format that
+// write_dataset_manifest() reads.
+void write_failure_record(const fs::path& dir, const DatasetItemResult& r) {
+  write_atomically(failure_record(dir, r.index), record_json(r).dump() + "\n");
+}
+
 DatasetItemResult result_from_json(const json& j) {
   DatasetItemResult r;
   r.index = j.at("index").get<std::size_t>();
@@ -367,7 +373,7 @@ DatasetItemResult run_dataset_item(const DatasetSpec& spec, const fs::path& dir,
     std::error_code ec;
     if (fs::is_directory(dir / "failed", ec)) {
       try {
-        write_atomically(failure_record(dir, index), record_json(r).dump() + "\n");
+        write_failure_record(dir, r);
       } catch (const std::exception&) {
         // The exception below reports the failure anyway.
       }
@@ -379,6 +385,26 @@ DatasetItemResult run_dataset_item(const DatasetSpec& spec, const fs::path& dir,
   r.repaired = repaired;
   r.seconds = elapsed();
   return r;
+}
+
+void record_dataset_failure(const DatasetSpec& spec, const fs::path& dir, std::size_t index,
+                            const std::string& error) {
+  if (index >= spec.count) {
+    throw InputError(spec.file + ": failed item " + std::to_string(index) +
+                     ". Violated constraint: index < count = " + std::to_string(spec.count));
+  }
+  std::error_code ec;
+  fs::create_directories(dir / "failed", ec);
+  if (ec) {
+    throw FormatError((dir / "failed").string() + ": cannot create the directory (" + ec.message() +
+                      ")");
+  }
+  DatasetItemResult r;
+  r.index = index;
+  r.seed = dataset_item_seed(spec, index);
+  r.status = "failed";
+  r.error = error;
+  write_failure_record(dir, r);
 }
 
 std::pair<std::size_t, std::size_t> parse_shard(const std::string& text, const std::string& what) {
@@ -641,7 +667,10 @@ class AnnotationMerger {
 }  // namespace
 
 void write_dataset_manifest(const DatasetSpec& spec, const fs::path& dir) {
-  std::ostringstream manifest;
+  // Written line by line into its temporary file: a dataset of 10^6 items never holds its
+  // manifest in memory.
+  AtomicOutput manifest_file(dir / "manifest.jsonl", true);
+  std::ofstream manifest(manifest_file.temp_path(), std::ios::binary | std::ios::trunc);
   std::size_t done = 0, failed = 0, pending = 0;
   std::uint64_t pings = 0;
   std::map<std::string, long long> objects;
@@ -680,7 +709,9 @@ void write_dataset_manifest(const DatasetSpec& spec, const fs::path& dir) {
     j.erase("file_records");  // in item.json; the manifest keeps one line per item short
     manifest << j.dump() << "\n";
   }
-  write_atomically(dir / "manifest.jsonl", manifest.str());
+  manifest.close();
+  if (!manifest) throw FormatError((dir / "manifest.jsonl").string() + ": cannot write");
+  manifest_file.commit();
   json summary;
   summary["name"] = spec.name;
   summary["seed"] = spec.seed;

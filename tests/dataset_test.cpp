@@ -293,6 +293,21 @@ TEST_F(DatasetRun, FailedItemsAreRecordedWithIndexAndSeed) {
   const auto summary = nlohmann::json::parse(read_text(dir_ / "d" / "summary.json"));
   EXPECT_EQ(summary["failed"], 2);
   EXPECT_EQ(summary["failures"][1]["index"], 1);
+
+  // The same failure recorded by record_dataset_failure (a runner of its own) in another
+  // directory: the same record, byte for byte, and the same manifest line.
+  const std::string error = j["error"].get<std::string>();
+  prepare_dataset_dir(s, dir_ / "e");
+  record_dataset_failure(s, dir_ / "e", 1, error);
+  EXPECT_EQ(read_text(dir_ / "e" / "failed" / "000001.json"),
+            read_text(dir_ / "d" / "failed" / "000001.json"));
+  write_dataset_manifest(s, dir_ / "e");
+  std::istringstream me(read_text(dir_ / "e" / "manifest.jsonl"));
+  std::string line_e;
+  std::getline(me, line_e);
+  std::getline(me, line_e);
+  EXPECT_EQ(line_e, line);
+  EXPECT_THROW(record_dataset_failure(s, dir_ / "e", 2, error), InputError);
 }
 
 TEST_F(DatasetRun, CommandLine) {

@@ -137,6 +137,13 @@ void bind_dataset(py::module_& m) {
       "dataset` does), recording a failed item and going on, then writes manifest.jsonl and "
       "summary.json (and the dataset-level annotation files). progress(done, total, item) is "
       "called after each item. Returns {items, done, skipped, failed, repaired, seconds}.");
+  m.def("record_dataset_failure", &record_dataset_failure, py::arg("spec"), py::arg("dir"),
+        py::arg("index"), py::arg("error"),
+        "Records item `index` as failed with `error` in `dir`/failed/<index>.json, atomically: "
+        "the record run_dataset_item writes for a failed item (index, seed, seed_text, status, "
+        "error), which write_dataset_manifest reads and a later run of the item removes. For "
+        "runners of their own (sonarsynth_dask) whose item failed outside run_dataset_item. "
+        "ValueError for an index beyond count.");
   m.def("write_dataset_manifest", &write_dataset_manifest, py::arg("spec"), py::arg("dir"),
         "Rewrites manifest.jsonl and summary.json from the items' records in `dir`.");
 }

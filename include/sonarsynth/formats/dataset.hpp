@@ -189,6 +189,15 @@ void prepare_dataset_dir(const DatasetSpec& spec, const std::filesystem::path& d
 DatasetItemResult run_dataset_item(const DatasetSpec& spec, const std::filesystem::path& dir,
                                    std::size_t index, unsigned threads = 0, bool verify = false);
 
+/// Records item `index` (< spec.count) as failed with `error` in `dir/failed/<index>.json`,
+/// atomically: {index, seed, seed_text, status: failed, error}, the record run_dataset_item()
+/// writes for a failed item and write_dataset_manifest() reads (docs/dataset.md). For a runner
+/// other than run_dataset() (sonarsynth_dask) whose item failed outside run_dataset_item(): a
+/// worker lost, an exception of its own. Creates `dir/failed` if needed; throws InputError for
+/// an index beyond count, FormatError if the record cannot be written.
+void record_dataset_failure(const DatasetSpec& spec, const std::filesystem::path& dir,
+                            std::size_t index, const std::string& error);
+
 /// Options of run_dataset().
 struct DatasetRunOptions {
   unsigned threads = 0;         ///< per item; 0 = all cores
@@ -213,12 +222,13 @@ struct DatasetRunResult {
 /// Parses "K/N" (0 <= K < N) for --shard; throws InputError naming `what`.
 std::pair<std::size_t, std::size_t> parse_shard(const std::string& text, const std::string& what);
 
-/// Runs this shard's items one after the other (a failed item is recorded and the run goes on),
-/// then writes the manifest (write_dataset_manifest).
 /// Parses "A:B" (0 <= A < B, either may be left out: ":B", "A:") for --items into [A, B); throws
 /// InputError naming `what`.
 std::pair<std::size_t, std::size_t> parse_item_range(const std::string& text,
                                                      const std::string& what);
+
+/// Runs this shard's items one after the other (a failed item is recorded and the run goes on),
+/// then writes the manifest (write_dataset_manifest).
 
 DatasetRunResult run_dataset(const DatasetSpec& spec, const std::filesystem::path& dir,
                              const DatasetRunOptions& options = {});
