@@ -9,7 +9,7 @@
 namespace py = pybind11;
 using sonarsynth::python::PoseRecord;
 
-PYBIND11_MODULE(sonarsynth, m) {
+PYBIND11_MODULE(_sonarsynth, m) {
   m.doc() =
       "Synthetic side-scan sonar: load or build a scene, configure it with the scene file's "
       "option names, render pings into numpy arrays, run surveys to XTF files and read XTF "
