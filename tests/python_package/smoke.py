@@ -96,8 +96,64 @@ def check_stubs_found_by_mypy(args):
     print("mypy --strict: the installed stubs found and used")
 
 
+# Two tiny items (a 12 m line, 10 m range, 200 samples a side) with 64 px grey chips and COCO
+# labels, no split.
+TORCH_SPEC = """\
+name: smoke-torch
+seed: 5
+count: 2
+location: {lat_deg: 43.0, lon_deg: 5.0}
+seabed: {depth_m: [10, 14], cell_m: 0.5, material: {sand: 1}}
+objects:
+  count: [2, 3]
+  across_track_m: [2, 8]
+  types: {box: {length_m: [1, 3], width_m: [0.5, 1], height_m: [0.4, 1]}}
+survey: {line_length_m: 12, altitude_m: [3, 5], speed_m_s: 3}
+sonar: {preset: seascan-hds-600, range_m: 10, samples: 200}
+run:
+  products:
+    labels: {coco: true, chips: {size_px: 64, stride_px: 64}, chip_color: grey}
+"""
+
+
+def check_torch_dataloader(args):
+    """A DataLoader with 2 workers iterates a dataset generated through the installed package:
+    every image of the COCO file once, each target's boxes those of the COCO file."""
+    import json
+
+    import torch.utils.data
+
+    import sonarsynth
+    import sonarsynth_torch
+
+    with tempfile.TemporaryDirectory() as tmp:
+        root = pathlib.Path(tmp) / "dataset"
+        spec = sonarsynth.DatasetSpec.from_yaml(TORCH_SPEC, "smoke-torch.yaml")
+        sonarsynth.run_dataset(spec, root)
+        data = sonarsynth_torch.SonarDetectionDataset(root, set="chips", split=None)
+        loader = torch.utils.data.DataLoader(data, batch_size=4, num_workers=2,
+                                             collate_fn=sonarsynth_torch.collate_fn)
+        coco = json.loads((root / "annotations" / "chips.coco.json").read_text())
+        boxes_by_image = {}
+        for a in coco["annotations"]:
+            x, y, w, h = a["bbox"]
+            boxes_by_image.setdefault(a["image_id"], []).append([x, y, x + w, y + h])
+        seen = []
+        for images, targets in loader:
+            for image, target in zip(images, targets):
+                assert image.dtype == torch.float32 and image.shape[0] == 1, image.shape
+                image_id = int(target["image_id"])
+                seen.append(image_id)
+                expected = sorted(boxes_by_image.get(image_id, []))
+                got = sorted(target["boxes"].tolist())
+                assert np.allclose(got, expected) if expected else not got, (image_id, got)
+        assert sorted(seen) == sorted(im["id"] for im in coco["images"]), seen
+        assert coco["annotations"], "the smoke dataset has no boxes"
+    print(f"DataLoader, 2 workers: {len(seen)} images, {len(coco['annotations'])} boxes")
+
+
 CHECKS = [check_import, check_version, check_read_xtf_path, check_render,
-          check_stubs_found_by_mypy]
+          check_stubs_found_by_mypy, check_torch_dataloader]
 
 
 def main():
