@@ -46,7 +46,7 @@ def cluster_run(spec, out, workers, processes):
     warm = subset(spec, workers)
     sonarsynth_dask.generate(warm, out + "-warm", client=client, progress=False)
     t0 = time.monotonic()
-    r = sonarsynth_dask.generate(spec, out, client=client, progress=False)
+    r = sonarsynth_dask.generate(spec, out, client=client, progress=False, keep_items=True)
     dt = time.monotonic() - t0
     client.close()
     cluster.close()
