@@ -317,5 +317,23 @@ TEST_F(TrustCli, MosaicOptionErrorsAreNamedAndWriteNothing) {
   expect_scene_error(scene(), {"COMPRESS=NOPE", "COG driver"}, "--co COMPRESS=NOPE");
 }
 
+// `--version` names the vector kernels' instruction set; SONARSYNTH_SIMD caps it, and a value
+// outside the list is a named error (exit 1), never a silent fallback.
+TEST_F(TrustCli, VersionNamesTheVectorKernelsAndTheirCap) {
+  ::unsetenv("SONARSYNTH_SIMD");
+  const test::CliResult plain = test::run_cli("--version", dir_);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_NE(plain.out.find("vector kernels: "), std::string::npos) << plain.out;
+  ::setenv("SONARSYNTH_SIMD", "scalar", 1);
+  const test::CliResult scalar = test::run_cli("--version", dir_);
+  EXPECT_EQ(scalar.exit_code, 0) << scalar.err;
+  EXPECT_NE(scalar.out.find("vector kernels: scalar"), std::string::npos) << scalar.out;
+  ::setenv("SONARSYNTH_SIMD", "sse9", 1);
+  const test::CliResult bad = test::run_cli("--version", dir_);
+  ::unsetenv("SONARSYNTH_SIMD");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("SONARSYNTH_SIMD = 'sse9'"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace sonarsynth

@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "interrupt.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/simd.hpp"
 #include "sonarsynth/version.hpp"
 
 namespace sc = sonarsynth::cli;
@@ -55,7 +56,16 @@ void print_usage(std::ostream& os) {
 
 namespace sonarsynth::cli {
 int run_version(const std::vector<std::string>& /*args*/) {
+  try {
+    sonarsynth::simd::configure_from_environment();
+  } catch (const sonarsynth::Error& e) {
+    std::cerr << "sonarsynth --version: error: " << e.what() << "\n";
+    return 1;
+  }
   std::cout << "sonarsynth " << sonarsynth::kVersion << "\n";
+  // The instruction set the vector kernels run (SONARSYNTH_SIMD caps it; docs/benchmarks.md).
+  std::cout << "vector kernels: "
+            << sonarsynth::simd::target_name(sonarsynth::simd::active_target()) << "\n";
   return 0;
 }
 }  // namespace sonarsynth::cli
