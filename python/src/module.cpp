@@ -2,8 +2,11 @@
 // The Python module `sonarsynth` (docs/python.md).
 #include <pybind11/pybind11.h>
 
+#include <string>
+
 #include "bindings.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/simd.hpp"
 #include "sonarsynth/version.hpp"
 
 namespace py = pybind11;
@@ -27,6 +30,24 @@ PYBIND11_MODULE(_sonarsynth, m) {
       PyErr_SetString(PyExc_ValueError, e.what());
     }
   });
+
+  // The vector kernels' instruction set (the CLI's SONARSYNTH_SIMD, docs/benchmarks.md).
+  sonarsynth::simd::configure_from_environment();
+  m.def(
+      "simd_target",
+      []() {
+        return std::string(sonarsynth::simd::target_name(sonarsynth::simd::active_target()));
+      },
+      "The instruction set the vector kernels run now: 'avx512', 'avx2' or 'scalar'.");
+  m.def(
+      "set_simd_target",
+      [](const std::string& name) {
+        sonarsynth::simd::set_target(sonarsynth::simd::parse_target(name, "set_simd_target"));
+      },
+      py::arg("name"),
+      "Caps the vector kernels at 'avx512', 'avx2' or 'scalar' ('auto': the best the CPU runs), "
+      "for the whole process; how far the paths agree is stated in docs/benchmarks.md. A target "
+      "the CPU lacks raises ValueError.");
 
   PYBIND11_NUMPY_DTYPE(PoseRecord, line, ping_in_line, ping_index, time_utc_us, sensor_x_m,
                        sensor_y_m, sensor_z_m, reference_x_m, reference_y_m, heading_rad, pitch_rad,

@@ -6,6 +6,8 @@ import re
 import subprocess
 import sys
 
+import pytest
+
 import sonarsynth
 
 
@@ -38,3 +40,17 @@ def test_package_re_exports_the_extension():
     assert public and all(getattr(sonarsynth, n) is getattr(ext, n) for n in public)
     assert sonarsynth.__doc__ == ext.__doc__
     assert sonarsynth.Simulation.__module__ == "sonarsynth._sonarsynth"
+
+
+def test_simd_target_can_be_capped_and_restored():
+    best = sonarsynth.simd_target()
+    assert best in ("avx512", "avx2", "scalar")
+    try:
+        sonarsynth.set_simd_target("scalar")
+        assert sonarsynth.simd_target() == "scalar"
+        with pytest.raises(ValueError, match="set_simd_target = 'sse9'"):
+            sonarsynth.set_simd_target("sse9")
+        assert sonarsynth.simd_target() == "scalar"
+    finally:
+        sonarsynth.set_simd_target("auto")
+    assert sonarsynth.simd_target() == best
