@@ -460,21 +460,16 @@ void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, in
   }
   const auto nl = static_cast<std::size_t>(looks);
   out.resize(samples * nl);
-  table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples, f.array_length_m);
-  const NormalTable& normal = NormalTable::get();
-  const lattice::Weights& weights = lattice::Weights::get();
-  const std::uint64_t line = lattice::line_word(f);
-  for (std::size_t i = 0; i < samples; ++i) {
-    lattice::Sample ls;
-    if (!lattice::sample_at(f, table, line, weights, i, ls)) {
-      for (std::size_t j = 0; j < nl; ++j) {
-        out[j * samples + i] = std::numeric_limits<double>::quiet_NaN();
-      }
-      continue;
-    }
-    for (std::size_t j = 0; j < nl; ++j) {
-      out[j * samples + i] =
-          lattice::look_power(ls, static_cast<std::uint64_t>(first_look) + j, normal);
+  lattice::look_sums(f, table, samples, first_look, looks, table.re, table.im, table.norm);
+  const std::size_t stride = lattice::padded(samples);
+  for (std::size_t j = 0; j < nl; ++j) {
+    const float* re = table.re.data() + j * stride;
+    const float* im = table.im.data() + j * stride;
+    double* o = out.data() + j * samples;
+    for (std::size_t i = 0; i < samples; ++i) {
+      const auto dre = static_cast<double>(re[i]), dim = static_cast<double>(im[i]);
+      // NaN where the lattice does not apply (norm NaN).
+      o[i] = (dre * dre + dim * dim) * table.norm[i];
     }
   }
 }
@@ -649,20 +644,20 @@ void detect_filtered(const SensorModel& m, const SpeckleNoise& speckle,
   // The lattice's complex field of every look (NaN where it does not apply).
   if (field != nullptr) {
     s.field.resize(2 * n * nl);
-    s.along_track.prepare(field->sample_spacing_m, field->beam_3db_rad, n, field->array_length_m);
-    const lattice::Weights& weights = lattice::Weights::get();
-    const std::uint64_t line = lattice::line_word(*field);
+    AlongTrackTable& t = s.along_track;
+    lattice::look_sums(*field, t, n, 0, looks, t.re, t.im, t.norm);
+    const std::size_t stride = lattice::padded(n);
     for (std::size_t i = 0; i < n; ++i) {
-      lattice::Sample ls{};
-      const bool have =
-          s.base[i] > 0.0 && lattice::sample_at(*field, s.along_track, line, weights, i, ls);
-      for (std::size_t j = 0; j < nl; ++j) {
-        double* z = s.field.data() + 2 * (j * n + i);
-        if (have) {
-          lattice::look_field(ls, j, normal, z[0], z[1]);
-        } else {
-          z[0] = kNaN;
-        }
+      // sqrt(norm) scales the sum to unit mean power; NaN where the lattice does not apply.
+      t.norm[i] = s.base[i] > 0.0 ? std::sqrt(t.norm[i]) : kNaN;
+    }
+    for (std::size_t j = 0; j < nl; ++j) {
+      const float* re = t.re.data() + j * stride;
+      const float* im = t.im.data() + j * stride;
+      double* z = s.field.data() + 2 * j * n;
+      for (std::size_t i = 0; i < n; ++i) {
+        z[2 * i] = static_cast<double>(re[i]) * t.norm[i];
+        z[2 * i + 1] = static_cast<double>(im[i]) * t.norm[i];
       }
     }
   }

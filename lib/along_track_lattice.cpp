@@ -1,0 +1,221 @@
+// SPDX-License-Identifier: MIT
+// The along-track speckle lattice's kernel (docs/physics.md §1.6): per block of samples, per
+// look, the three scatterers nearest the ping — keyed counter-hash words, Box-Muller by
+// arithmetic — summed with their weights, in float vectors across samples. Compiled per target
+// (AVX-512, AVX2, portable scalar) and chosen at run time (lib/simd.cpp).
+#include "sonarsynth/along_track_lattice.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "sonarsynth/simd.hpp"
+
+// clang-format off
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "lib/along_track_lattice.cpp"
+#include <hwy/foreach_target.h>
+#include <hwy/highway.h>
+#include <hwy/contrib/math/math-inl.h>
+#include "sonarsynth/counter_hash-inl.hpp"
+// clang-format on
+
+HWY_BEFORE_NAMESPACE();
+namespace sonarsynth::lattice::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+namespace chv = sonarsynth::counter_hash::HWY_NAMESPACE;
+
+// -ln u for normal u in (0, 1): u = 2^e m with m in [sqrt(1/2), sqrt(2)), ln m = t - t^2 / 2 +
+// t^3 P(t) (t = m - 1; P the degree-8 minimax polynomial of Cephes' logf, relative error
+// ~1e-7), no division.
+template <class DF>
+HWY_INLINE hn::Vec<DF> NegLog(DF df, hn::Vec<DF> u) {
+  const hn::RebindToSigned<DF> di;
+  const auto bits = hn::Sub(hn::BitCast(di, u), hn::Set(di, 0x3f3504f3));
+  const auto e = hn::ConvertTo(df, hn::ShiftRight<23>(bits));
+  const auto m =
+      hn::BitCast(df, hn::Add(hn::And(bits, hn::Set(di, 0x007fffff)), hn::Set(di, 0x3f3504f3)));
+  const auto t = hn::Sub(m, hn::Set(df, 1.0f));
+  auto p = hn::MulAdd(t, hn::Set(df, 7.0376836292e-2f), hn::Set(df, -1.1514610310e-1f));
+  p = hn::MulAdd(t, p, hn::Set(df, 1.1676998740e-1f));
+  p = hn::MulAdd(t, p, hn::Set(df, -1.2420140846e-1f));
+  p = hn::MulAdd(t, p, hn::Set(df, 1.4249322787e-1f));
+  p = hn::MulAdd(t, p, hn::Set(df, -1.6668057665e-1f));
+  p = hn::MulAdd(t, p, hn::Set(df, 2.0000714765e-1f));
+  p = hn::MulAdd(t, p, hn::Set(df, -2.4999993993e-1f));
+  p = hn::MulAdd(t, p, hn::Set(df, 3.3333331174e-1f));
+  const auto t2 = hn::Mul(t, t);
+  const auto lnm = hn::Add(t, hn::MulAdd(hn::Mul(t2, t), p, hn::Mul(t2, hn::Set(df, -0.5f))));
+  return hn::NegMulSub(e, hn::Set(df, 0.69314718055994531f), lnm);
+}
+
+// The scatterer of look word w, as scatterer_reference: r = sqrt(-ln u1) (NegLog) times
+// `scale` = 1 / sqrt(2 mean_neg_log_midpoints()); the phase phi = q pi/2 + pi/4 + x from the word's
+// top two bits q and the next 10 (x in (-pi/4, pi/4)); cos and sin of pi/4 + x from Taylor
+// polynomials of x (truncation below 3e-8 and 3e-7), then turned by q quarter turns (a swap and
+// signs).
+template <class DF, class DU>
+HWY_INLINE void Scatterer(DF df, DU du, hn::Vec<DU> w, hn::Vec<DF> scale, hn::Vec<DF>& zr,
+                          hn::Vec<DF>& zi) {
+  const hn::RebindToSigned<DU> di;
+  const auto u1 = hn::MulAdd(hn::ConvertTo(df, hn::BitCast(di, hn::And(w, hn::Set(du, 0xfffffU)))),
+                             hn::Set(df, 0x1p-20f), hn::Set(df, 0x1p-21f));
+  constexpr float kCell = static_cast<float>(1.5707963267948966 * 0x1p-10);
+  const auto x = hn::MulAdd(
+      hn::ConvertTo(df, hn::BitCast(di, hn::And(hn::ShiftRight<20>(w), hn::Set(du, 0x3ffU)))),
+      hn::Set(df, kCell), hn::Set(df, 0.5f * kCell - 0.78539816339744831f));
+  const auto x2 = hn::Mul(x, x);
+  auto sp = hn::MulAdd(x2, hn::Set(df, -1.0f / 5040.0f), hn::Set(df, 1.0f / 120.0f));
+  sp = hn::MulAdd(x2, sp, hn::Set(df, -1.0f / 6.0f));
+  const auto sn = hn::MulAdd(hn::Mul(x, x2), sp, x);
+  auto cp = hn::MulAdd(x2, hn::Set(df, 1.0f / 40320.0f), hn::Set(df, -1.0f / 720.0f));
+  cp = hn::MulAdd(x2, cp, hn::Set(df, 1.0f / 24.0f));
+  cp = hn::MulAdd(x2, cp, hn::Set(df, -0.5f));
+  const auto cs = hn::MulAdd(x2, cp, hn::Set(df, 1.0f));
+  // (cos x - sin x, cos x + sin x) / sqrt(2) = (cos, sin)(pi/4 + x).
+  const auto rr = hn::Mul(hn::Sqrt(NegLog(df, u1)), scale);
+  const auto c = hn::Mul(hn::Sub(cs, sn), rr);
+  const auto sv = hn::Mul(hn::Add(cs, sn), rr);
+  // Quarter turns q (bits 31 and 30 of w): (c, s), (-s, c), (-c, -s), (s, -c).
+  const auto swap = hn::RebindMask(
+      df, hn::MaskFromVec(hn::BroadcastSignBit(hn::BitCast(di, hn::ShiftLeft<1>(w)))));
+  const auto sign = hn::Set(du, 0x80000000U);
+  const auto a = hn::IfThenElse(swap, sv, c);
+  const auto b = hn::IfThenElse(swap, c, sv);
+  zr = hn::Xor(a, hn::BitCast(df, hn::And(hn::Xor(w, hn::ShiftLeft<1>(w)), sign)));
+  zi = hn::Xor(b, hn::BitCast(df, hn::And(w, sign)));
+}
+
+void LatticeBlock(const BlockArgs& a) {
+  const hn::ScalableTag<float> df;
+  const hn::RebindToUnsigned<decltype(df)> du;
+  const hn::RebindToSigned<decltype(df)> di;
+  using VF = hn::Vec<decltype(df)>;
+  const std::size_t lanes = hn::Lanes(df);
+  Geometry& g = *a.g;
+  const counter_hash::Stream& s = a.stream;
+  const auto scale = hn::Set(df, a.magnitude_scale);
+  for (std::size_t i = 0; i < a.n; i += lanes) {
+    // The key words of the three scatterers (shared by the looks) and their weights.
+    hn::Vec<decltype(du)> key[kKept];
+    VF w[kKept];
+    const auto d0 = hn::Load(df, g.d0 + i);
+    const auto lo = hn::Load(du, g.lo + i);
+    const auto hi = hn::Load(du, g.hi + i);
+    for (int k = 0; k < kKept; ++k) {
+      auto lo_k = lo, hi_k = hi;
+      if (k > 0) {
+        // Key of m_first + k: the low half plus k, the high half plus kHighMul where the low
+        // half wrapped (lo + k < k unsigned: compared as signed with the top bits flipped).
+        lo_k = hn::Add(lo, hn::Set(du, static_cast<std::uint32_t>(k)));
+        const auto flipped = hn::BitCast(di, hn::Xor(lo_k, hn::Set(du, 0x80000000U)));
+        const auto carry =
+            hn::Lt(flipped, hn::Set(di, std::numeric_limits<std::int32_t>::min() + k));
+        hi_k = hn::Add(
+            hi, hn::BitCast(du, hn::IfThenElseZero(
+                                    carry, hn::Set(di, static_cast<std::int32_t>(kHighMul)))));
+      }
+      key[k] = chv::key_word(du, s, lo_k, hi_k);
+      const auto d = hn::Add(d0, hn::Set(df, static_cast<float>(k)));
+      w[k] = hn::Exp(df, hn::Mul(hn::Set(df, -1.125f), hn::Mul(d, d)));
+    }
+    // 1 / sum w^2: each sample's normalisation to unit mean power (the scatterers have unit
+    // power).
+    const auto w2 = hn::MulAdd(w[2], w[2], hn::MulAdd(w[1], w[1], hn::Mul(w[0], w[0])));
+    hn::Store(hn::Div(hn::Set(df, 1.0f), w2), df, g.inv_w2 + i);
+    for (int j = 0; j < a.looks; ++j) {
+      const std::uint32_t look = a.first_look + static_cast<std::uint32_t>(j);
+      VF re = hn::Zero(df), im = hn::Zero(df);
+      for (int k = 0; k < kKept; ++k) {
+        VF zr, zi;
+        Scatterer(df, du, chv::draw(du, s, key[k], look), scale, zr, zi);
+        re = hn::MulAdd(w[k], zr, re);
+        im = hn::MulAdd(w[k], zi, im);
+      }
+      hn::StoreU(re, df, a.re + static_cast<std::size_t>(j) * a.stride + i);
+      hn::StoreU(im, df, a.im + static_cast<std::size_t>(j) * a.stride + i);
+    }
+  }
+}
+
+}  // namespace sonarsynth::lattice::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace sonarsynth::lattice {
+
+HWY_EXPORT(LatticeBlock);
+
+void block_geometry(const AlongTrackField& f, const AlongTrackTable& table, std::size_t i0,
+                    std::size_t count, Geometry& g) {
+  for (std::size_t t = 0; t < kBlock; ++t) {
+    const std::size_t i = i0 + t;
+    std::int64_t first = 0;
+    double d0 = 0.0;
+    bool valid = false;
+    if (t < count) {
+      const double sw = table.sw[i];
+      // u = along-track position in lattice steps of 1.5 sw (sw = r theta / sqrt(8 ln 2)).
+      const double u = f.along_track_m * table.inv_step[i];
+      // The lattice applies from the first return, where consecutive pings are at most 2.5
+      // footprints (r beta_eff = 1.77 sw) apart (correlation > 1e-4), and where the lattice
+      // index fits an integer (not a degenerate beam or position).
+      valid = !(i < f.first_sample || f.ping_spacing_m > 4.43 * sw || !(std::abs(u) < 1e15));
+      if (valid) {
+        auto m0 = static_cast<std::int64_t>(u);  // floor(u), |u| < 1e15
+        if (static_cast<double>(m0) > u) --m0;
+        // The three scatterers nearest u: m0 - 1 .. m0 + 1 below frac = u - m0 = 1/2, else
+        // m0 .. m0 + 2 (the fourth of the Gaussian's span carries at most 0.55 % of the weight
+        // power).
+        first = u - static_cast<double>(m0) < 0.5 ? m0 - 1 : m0;
+        d0 = static_cast<double>(first) - u;
+      }
+    }
+    g.lo[t] = key_lo(first);
+    g.hi[t] = key_hi(i, first);
+    g.d0[t] = static_cast<float>(d0);
+    g.valid[t] = valid;
+  }
+}
+
+void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t samples,
+               int first_look, int looks, std::vector<float>& re, std::vector<float>& im,
+               std::vector<double>& norm) {
+  simd::configure_from_environment();
+  table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples, f.array_length_m);
+  const std::size_t stride = padded(samples);
+  const auto nl = static_cast<std::size_t>(looks);
+  re.resize(nl * stride);
+  im.resize(nl * stride);
+  norm.resize(stride);
+  // 1 / sqrt(2 mean_neg_log_midpoints()): the 1 / sqrt(2) of the phase's rotation by pi/4
+  // (Scatterer).
+  static const auto magnitude_scale =
+      static_cast<float>(1.0 / std::sqrt(2.0 * mean_neg_log_midpoints()));
+  Geometry g;
+  BlockArgs a{};
+  a.g = &g;
+  a.stream = line_stream(line_word(f));
+  a.first_look = static_cast<std::uint32_t>(first_look);
+  a.looks = looks;
+  a.stride = stride;
+  a.magnitude_scale = magnitude_scale;
+  for (std::size_t i0 = 0; i0 < samples; i0 += kBlock) {
+    const std::size_t count = std::min(kBlock, samples - i0);
+    block_geometry(f, table, i0, count, g);
+    a.n = std::min(kBlock, (count + 15) / 16 * 16);
+    a.re = re.data() + i0;
+    a.im = im.data() + i0;
+    HWY_DYNAMIC_DISPATCH(LatticeBlock)(a);
+    for (std::size_t t = 0; t < count; ++t) {
+      norm[i0 + t] =
+          g.valid[t] ? static_cast<double>(g.inv_w2[t]) : std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+}
+
+}  // namespace sonarsynth::lattice
+#endif  // HWY_ONCE
