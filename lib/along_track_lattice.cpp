@@ -149,8 +149,9 @@ namespace sonarsynth::lattice {
 
 HWY_EXPORT(LatticeBlock);
 
-void block_geometry(const AlongTrackField& f, const AlongTrackTable& table, std::size_t i0,
-                    std::size_t count, Geometry& g) {
+std::size_t block_geometry(const AlongTrackField& f, const AlongTrackTable& table, std::size_t i0,
+                           std::size_t count, const double* need, Geometry& g) {
+  std::size_t applied = 0;
   for (std::size_t t = 0; t < kBlock; ++t) {
     const std::size_t i = i0 + t;
     std::int64_t first = 0;
@@ -163,7 +164,8 @@ void block_geometry(const AlongTrackField& f, const AlongTrackTable& table, std:
       // The lattice applies from the first return, where consecutive pings are at most 2.5
       // footprints (r beta_eff = 1.77 sw) apart (correlation > 1e-4), and where the lattice
       // index fits an integer (not a degenerate beam or position).
-      valid = !(i < f.first_sample || f.ping_spacing_m > 4.43 * sw || !(std::abs(u) < 1e15));
+      valid = !(i < f.first_sample || f.ping_spacing_m > 4.43 * sw || !(std::abs(u) < 1e15)) &&
+              (need == nullptr || need[i] > 0.0);
       if (valid) {
         auto m0 = static_cast<std::int64_t>(u);  // floor(u), |u| < 1e15
         if (static_cast<double>(m0) > u) --m0;
@@ -178,12 +180,14 @@ void block_geometry(const AlongTrackField& f, const AlongTrackTable& table, std:
     g.hi[t] = key_hi(i, first);
     g.d0[t] = static_cast<float>(d0);
     g.valid[t] = valid;
+    applied += valid ? 1 : 0;
   }
+  return applied;
 }
 
 void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t samples,
                int first_look, int looks, std::vector<float>& re, std::vector<float>& im,
-               std::vector<double>& norm) {
+               std::vector<double>& norm, const double* need) {
   simd::configure_from_environment();
   table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples, f.array_length_m);
   const std::size_t stride = padded(samples);
@@ -203,9 +207,16 @@ void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t sam
   a.looks = looks;
   a.stride = stride;
   a.magnitude_scale = magnitude_scale;
+  // Pings further apart than 2.5 footprints at every range (or no sample past the first
+  // return): the lattice applies nowhere.
+  const bool none = f.ping_spacing_m > 4.43 * table.sw_max || f.first_sample >= samples;
   for (std::size_t i0 = 0; i0 < samples; i0 += kBlock) {
     const std::size_t count = std::min(kBlock, samples - i0);
-    block_geometry(f, table, i0, count, g);
+    if (none || block_geometry(f, table, i0, count, need, g) == 0) {
+      std::fill_n(norm.begin() + static_cast<std::ptrdiff_t>(i0), count,
+                  std::numeric_limits<double>::quiet_NaN());
+      continue;
+    }
     a.n = std::min(kBlock, (count + 15) / 16 * 16);
     a.re = re.data() + i0;
     a.im = im.data() + i0;

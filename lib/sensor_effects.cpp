@@ -425,6 +425,7 @@ void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t sam
   array_length_m = array_m;
   sw.resize(samples);
   inv_step.resize(samples);
+  sw_max = 0.0;
   const double inv_sqrt_8ln2 = 1.0 / std::sqrt(8.0 * std::log(2.0));
   // Translated aperture (docs/physics.md §1.6): the co-array of a transmitter and a receiver of
   // length D has width D / sqrt(24) (the variance of the mean of two uniform positions).
@@ -436,6 +437,7 @@ void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t sam
     const double far = r * beam_rad * inv_sqrt_8ln2;
     sw[i] = aperture ? 1.0 / std::sqrt(inv_sc2 + 1.0 / (far * far + d2)) : far;
     inv_step[i] = 1.0 / (lattice::kStep * sw[i]);
+    sw_max = i == 0 || std::isnan(sw[i]) || sw[i] > sw_max ? sw[i] : sw_max;
   }
 }
 
@@ -645,12 +647,11 @@ void detect_filtered(const SensorModel& m, const SpeckleNoise& speckle,
   if (field != nullptr) {
     s.field.resize(2 * n * nl);
     AlongTrackTable& t = s.along_track;
-    lattice::look_sums(*field, t, n, 0, looks, t.re, t.im, t.norm);
+    // Only where the textured mean is positive (no speckle work in shadows).
+    lattice::look_sums(*field, t, n, 0, looks, t.re, t.im, t.norm, s.base.data());
     const std::size_t stride = lattice::padded(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      // sqrt(norm) scales the sum to unit mean power; NaN where the lattice does not apply.
-      t.norm[i] = s.base[i] > 0.0 ? std::sqrt(t.norm[i]) : kNaN;
-    }
+    // sqrt(norm) scales the sum to unit mean power; NaN where the lattice does not apply.
+    for (std::size_t i = 0; i < n; ++i) t.norm[i] = std::sqrt(t.norm[i]);
     for (std::size_t j = 0; j < nl; ++j) {
       const float* re = t.re.data() + j * stride;
       const float* im = t.im.data() + j * stride;

@@ -105,17 +105,20 @@ struct BlockArgs {
 };
 
 // Fills `g` for samples i0 .. i0 + count - 1 (count <= kBlock; the rest of the block padded as
-// where the lattice does not apply).
-void block_geometry(const AlongTrackField& f, const AlongTrackTable& table, std::size_t i0,
-                    std::size_t count, Geometry& g);
+// where the lattice does not apply), the lattice applying only where need[i] > 0 if `need` is
+// given; returns the number of samples where it applies.
+std::size_t block_geometry(const AlongTrackField& f, const AlongTrackTable& table, std::size_t i0,
+                           std::size_t count, const double* need, Geometry& g);
 
 // The unnormalised complex sums sum_k w_k z_k of looks first_look .. first_look + looks - 1 of
 // `samples` samples of a ping side: look j's in re/im[j * stride + i], stride = samples rounded
-// up to kBlock; norm[i] the normalisation (NaN where the lattice does not apply). On the SIMD
-// target of simd::active_target() (after simd::configure_from_environment()).
+// up to kBlock; norm[i] the normalisation (NaN where the lattice does not apply, or need[i] <= 0
+// if `need` is given: there re and im are left as they were). Blocks where it applies nowhere
+// cost no kernel call. On the SIMD target of simd::active_target() (after
+// simd::configure_from_environment()).
 void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t samples,
                int first_look, int looks, std::vector<float>& re, std::vector<float>& im,
-               std::vector<double>& norm);
+               std::vector<double>& norm, const double* need = nullptr);
 
 // The stride of look_sums' outputs.
 constexpr std::size_t padded(std::size_t samples) {
