@@ -89,6 +89,51 @@ HWY_INLINE void Scatterer(DF df, DU du, hn::Vec<DU> w, hn::Vec<DF> scale, hn::Ve
   zi = hn::Xor(b, hn::BitCast(df, hn::And(w, sign)));
 }
 
+// The geometry of a block (f64 vectors): u = s / (1.5 sw) the ping's position in lattice
+// steps; the lattice applies from the first return, where consecutive pings are at most 2.5
+// footprints (r beta_eff = 1.77 sw) apart (correlation > 1e-4), where |u| < 1e15 (not a
+// degenerate beam or position) and the need is positive. The three scatterers nearest u:
+// m0 - 1 .. m0 + 1 below frac = u - m0 = 1/2, else m0 .. m0 + 2 (m0 = floor u; the next carries
+// at most 0.55 % of the weight power). Returns the number of samples where it applies.
+std::size_t GeometryBlock(const GeometryArgs& a) {
+  const hn::ScalableTag<double> dd;
+  const hn::Rebind<std::int32_t, decltype(dd)> di;
+  const hn::Rebind<std::uint32_t, decltype(dd)> du;
+  const hn::Rebind<float, decltype(dd)> df;
+  const std::size_t lanes = hn::Lanes(dd);
+  Geometry& g = *a.g;
+  std::size_t applied = 0;
+  const auto along = hn::Set(dd, a.along_track_m);
+  const auto spacing = hn::Set(dd, a.ping_spacing_m);
+  const auto zero = hn::Zero(dd);
+  for (std::size_t t = 0; t < a.n; t += lanes) {
+    const auto index = hn::Iota(dd, static_cast<double>(a.i0 + t));
+    const auto u = hn::Mul(along, hn::LoadU(dd, a.inv_step + t));
+    auto valid = hn::And(hn::Ge(index, hn::Set(dd, a.first_sample)),
+                         hn::Lt(hn::Abs(u), hn::Set(dd, 1e15)));
+    valid = hn::AndNot(hn::Gt(spacing, hn::Mul(hn::Set(dd, 4.43), hn::LoadU(dd, a.sw + t))), valid);
+    if (a.need != nullptr) valid = hn::And(valid, hn::Gt(hn::LoadU(dd, a.need + t), zero));
+    applied += hn::CountTrue(dd, valid);
+    const auto uv = hn::IfThenElseZero(valid, u);
+    const auto m0 = hn::Floor(uv);
+    const auto first =
+        hn::Sub(m0, hn::IfThenElseZero(hn::Lt(hn::Sub(uv, m0), hn::Set(dd, 0.5)), hn::Set(dd, 1.0)));
+    const auto d0 = hn::IfThenElse(valid, hn::Sub(first, uv),
+                                   hn::Set(dd, std::numeric_limits<double>::quiet_NaN()));
+    hn::StoreU(hn::DemoteTo(df, d0), df, g.d0 + t);
+    // first = high 2^32 + low, low in [0, 2^32) (|first| < 2^50: exact in double).
+    const auto high = hn::Floor(hn::Mul(first, hn::Set(dd, 0x1p-32)));
+    const auto low = hn::Sub(first, hn::Mul(high, hn::Set(dd, 0x1p32)));
+    const auto lo = hn::Xor(hn::BitCast(du, hn::DemoteTo(di, hn::Sub(low, hn::Set(dd, 0x1p31)))),
+                            hn::Set(du, 0x80000000U));
+    const auto hi32 = hn::BitCast(du, hn::DemoteTo(di, high));
+    const auto index_u = hn::Iota(du, static_cast<std::uint32_t>(a.i0 + t));
+    hn::StoreU(lo, du, g.lo + t);
+    hn::StoreU(hn::Add(index_u, hn::Mul(hi32, hn::Set(du, kHighMul))), du, g.hi + t);
+  }
+  return applied;
+}
+
 void LatticeBlock(const BlockArgs& a) {
   const hn::ScalableTag<float> df;
   const hn::RebindToUnsigned<decltype(df)> du;
@@ -102,7 +147,9 @@ void LatticeBlock(const BlockArgs& a) {
     // The key words of the three scatterers (shared by the looks) and their weights.
     hn::Vec<decltype(du)> key[kKept];
     VF w[kKept];
-    const auto d0 = hn::Load(df, g.d0 + i);
+    const auto d0_or_nan = hn::Load(df, g.d0 + i);
+    const auto valid = hn::Not(hn::IsNaN(d0_or_nan));
+    const auto d0 = hn::IfThenElseZero(valid, d0_or_nan);
     const auto lo = hn::Load(du, g.lo + i);
     const auto hi = hn::Load(du, g.hi + i);
     for (int k = 0; k < kKept; ++k) {
@@ -125,7 +172,9 @@ void LatticeBlock(const BlockArgs& a) {
     // 1 / sum w^2: each sample's normalisation to unit mean power (the scatterers have unit
     // power).
     const auto w2 = hn::MulAdd(w[2], w[2], hn::MulAdd(w[1], w[1], hn::Mul(w[0], w[0])));
-    hn::Store(hn::Div(hn::Set(df, 1.0f), w2), df, g.inv_w2 + i);
+    hn::Store(hn::IfThenElse(valid, hn::Div(hn::Set(df, 1.0f), w2),
+                             hn::Set(df, std::numeric_limits<float>::quiet_NaN())),
+              df, g.inv_w2 + i);
     for (int j = 0; j < a.looks; ++j) {
       const std::uint32_t look = a.first_look + static_cast<std::uint32_t>(j);
       VF re = hn::Zero(df), im = hn::Zero(df);
@@ -147,43 +196,8 @@ HWY_AFTER_NAMESPACE();
 #if HWY_ONCE
 namespace sonarsynth::lattice {
 
+HWY_EXPORT(GeometryBlock);
 HWY_EXPORT(LatticeBlock);
-
-std::size_t block_geometry(const AlongTrackField& f, const AlongTrackTable& table, std::size_t i0,
-                           std::size_t count, const double* need, Geometry& g) {
-  std::size_t applied = 0;
-  for (std::size_t t = 0; t < kBlock; ++t) {
-    const std::size_t i = i0 + t;
-    std::int64_t first = 0;
-    double d0 = 0.0;
-    bool valid = false;
-    if (t < count) {
-      const double sw = table.sw[i];
-      // u = along-track position in lattice steps of 1.5 sw (sw = r theta / sqrt(8 ln 2)).
-      const double u = f.along_track_m * table.inv_step[i];
-      // The lattice applies from the first return, where consecutive pings are at most 2.5
-      // footprints (r beta_eff = 1.77 sw) apart (correlation > 1e-4), and where the lattice
-      // index fits an integer (not a degenerate beam or position).
-      valid = !(i < f.first_sample || f.ping_spacing_m > 4.43 * sw || !(std::abs(u) < 1e15)) &&
-              (need == nullptr || need[i] > 0.0);
-      if (valid) {
-        auto m0 = static_cast<std::int64_t>(u);  // floor(u), |u| < 1e15
-        if (static_cast<double>(m0) > u) --m0;
-        // The three scatterers nearest u: m0 - 1 .. m0 + 1 below frac = u - m0 = 1/2, else
-        // m0 .. m0 + 2 (the fourth of the Gaussian's span carries at most 0.55 % of the weight
-        // power).
-        first = u - static_cast<double>(m0) < 0.5 ? m0 - 1 : m0;
-        d0 = static_cast<double>(first) - u;
-      }
-    }
-    g.lo[t] = key_lo(first);
-    g.hi[t] = key_hi(i, first);
-    g.d0[t] = static_cast<float>(d0);
-    g.valid[t] = valid;
-    applied += valid ? 1 : 0;
-  }
-  return applied;
-}
 
 void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t samples,
                int first_look, int looks, std::vector<float>& re, std::vector<float>& im,
@@ -210,21 +224,42 @@ void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t sam
   // Pings further apart than 2.5 footprints at every range (or no sample past the first
   // return): the lattice applies nowhere.
   const bool none = f.ping_spacing_m > 4.43 * table.sw_max || f.first_sample >= samples;
+  GeometryArgs ga{};
+  ga.g = &g;
+  ga.along_track_m = f.along_track_m;
+  ga.ping_spacing_m = f.ping_spacing_m;
+  ga.first_sample = static_cast<double>(f.first_sample);
+  // The last block's inputs, padded (where the lattice does not apply).
+  std::vector<double>& pad = table.pad;
   for (std::size_t i0 = 0; i0 < samples; i0 += kBlock) {
     const std::size_t count = std::min(kBlock, samples - i0);
-    if (none || block_geometry(f, table, i0, count, need, g) == 0) {
+    const std::size_t n = std::min(kBlock, (count + 15) / 16 * 16);
+    ga.i0 = i0;
+    ga.n = n;
+    ga.inv_step = table.inv_step.data() + i0;
+    ga.sw = table.sw.data() + i0;
+    ga.need = need != nullptr ? need + i0 : nullptr;
+    if (n > count && !none) {
+      pad.assign(3 * n, std::numeric_limits<double>::quiet_NaN());
+      std::copy_n(ga.inv_step, count, pad.begin());
+      std::copy_n(ga.sw, count, pad.begin() + static_cast<std::ptrdiff_t>(n));
+      ga.inv_step = pad.data();
+      ga.sw = pad.data() + n;
+      if (need != nullptr) {
+        std::copy_n(ga.need, count, pad.begin() + static_cast<std::ptrdiff_t>(2 * n));
+        ga.need = pad.data() + 2 * n;
+      }
+    }
+    if (none || HWY_DYNAMIC_DISPATCH(GeometryBlock)(ga) == 0) {
       std::fill_n(norm.begin() + static_cast<std::ptrdiff_t>(i0), count,
                   std::numeric_limits<double>::quiet_NaN());
       continue;
     }
-    a.n = std::min(kBlock, (count + 15) / 16 * 16);
+    a.n = n;
     a.re = re.data() + i0;
     a.im = im.data() + i0;
     HWY_DYNAMIC_DISPATCH(LatticeBlock)(a);
-    for (std::size_t t = 0; t < count; ++t) {
-      norm[i0 + t] =
-          g.valid[t] ? static_cast<double>(g.inv_w2[t]) : std::numeric_limits<double>::quiet_NaN();
-    }
+    for (std::size_t t = 0; t < count; ++t) norm[i0 + t] = static_cast<double>(g.inv_w2[t]);
   }
 }
 

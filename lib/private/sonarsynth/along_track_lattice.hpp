@@ -77,16 +77,27 @@ inline void scatterer_reference(std::uint32_t w, double& re, double& im) {
 }
 
 // The geometry of one block of samples, shared by the looks: the key of the first kept
-// scatterer, its offset d0 = m_first - u from the ping (in lattice steps, in [-1.5, -0.5];
-// scatterer k is d0 + k away), and whether the lattice applies (not below the first return,
-// pings at most 2.5 footprints apart, a sane beam and position; elsewhere d0 = 0 and the key
-// that of m = 0).
+// scatterer, and its offset d0 = m_first - u from the ping (in lattice steps, in [-1.5, -0.5];
+// scatterer k is d0 + k away); d0 NaN where the lattice does not apply (below the first return,
+// pings more than 2.5 footprints apart, a degenerate beam or position, or need <= 0; there the
+// key is that of m = 0).
 struct Geometry {
   alignas(64) std::uint32_t lo[kBlock];
   alignas(64) std::uint32_t hi[kBlock];
   alignas(64) float d0[kBlock];
-  alignas(64) float inv_w2[kBlock];  // written by the kernel: 1 / sum_k w_k^2
-  bool valid[kBlock];
+  alignas(64) float inv_w2[kBlock];  // written by the kernel: 1 / sum_k w_k^2, NaN where d0 is
+};
+
+// What the geometry kernel (GeometryBlock) reads: per sample of the block (from sample i0, n
+// samples, a multiple of the widest lane count) 1 / (lattice step) and sw, and the need (null:
+// none); the ping's position and spacing, the first return's sample.
+struct GeometryArgs {
+  const double* inv_step;
+  const double* sw;
+  const double* need;
+  std::size_t i0, n;
+  double along_track_m, ping_spacing_m, first_sample;
+  Geometry* g;
 };
 
 // What the kernel (LatticeBlock) reads and writes: the block's geometry (inv_w2 written), the
@@ -103,12 +114,6 @@ struct BlockArgs {
   std::size_t stride;
   float magnitude_scale;
 };
-
-// Fills `g` for samples i0 .. i0 + count - 1 (count <= kBlock; the rest of the block padded as
-// where the lattice does not apply), the lattice applying only where need[i] > 0 if `need` is
-// given; returns the number of samples where it applies.
-std::size_t block_geometry(const AlongTrackField& f, const AlongTrackTable& table, std::size_t i0,
-                           std::size_t count, const double* need, Geometry& g);
 
 // The unnormalised complex sums sum_k w_k z_k of looks first_look .. first_look + looks - 1 of
 // `samples` samples of a ping side: look j's in re/im[j * stride + i], stride = samples rounded

@@ -121,7 +121,7 @@ struct AlongTrackTable {
   std::vector<double> inv_step;  ///< 1 / (lattice step) per sample
   double sw_max = 0.0;           ///< the largest sw (0 without samples; NaN if any is NaN)
   std::vector<float> re, im;
-  std::vector<double> norm;
+  std::vector<double> norm, pad;
   void prepare(double sample_spacing_m, double beam_3db_rad, std::size_t samples,
                double array_length_m = 0.0);
 };
