@@ -88,7 +88,7 @@ void kernel_field(const AlongTrackField& f, std::size_t samples, int looks, std:
 }
 
 // Every SIMD path the CPU runs equals the double reference within 3e-6 per component (float
-// sums of three terms, polynomial log, sin and cos: measured 8e-7), plus 5e-15 |u| (the
+// sums of three terms, polynomial log, sin and cos: measured up to 6.4e-7), plus 5e-15 |u| (the
 // ping's position u in lattice steps, rounded in double differently here: up to 1.1e-5 at
 // u ~ 2^32), where the lattice applies and only there; AVX2 and AVX-512 give the same bits. The
 // ping positions put the lattice index across 0 (negative keys) and across 2^32 (the carry into the
