@@ -199,9 +199,9 @@ namespace sonarsynth::lattice {
 HWY_EXPORT(GeometryBlock);
 HWY_EXPORT(LatticeBlock);
 
-void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t samples,
-               int first_look, int looks, std::vector<float>& re, std::vector<float>& im,
-               std::vector<double>& norm, const double* need) {
+std::size_t look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t samples,
+                      int first_look, int looks, std::vector<float>& re, std::vector<float>& im,
+                      std::vector<double>& norm, const double* need) {
   simd::configure_from_environment();
   table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples, f.array_length_m);
   const std::size_t stride = padded(samples);
@@ -231,6 +231,7 @@ void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t sam
   ga.first_sample = static_cast<double>(f.first_sample);
   // The last block's inputs, padded (where the lattice does not apply).
   std::vector<double>& pad = table.pad;
+  std::size_t applied = 0;
   for (std::size_t i0 = 0; i0 < samples; i0 += kBlock) {
     const std::size_t count = std::min(kBlock, samples - i0);
     const std::size_t n = std::min(kBlock, (count + 15) / 16 * 16);
@@ -250,7 +251,9 @@ void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t sam
         ga.need = pad.data() + 2 * n;
       }
     }
-    if (none || HWY_DYNAMIC_DISPATCH(GeometryBlock)(ga) == 0) {
+    const std::size_t block_applied = none ? 0 : HWY_DYNAMIC_DISPATCH(GeometryBlock)(ga);
+    applied += block_applied;
+    if (block_applied == 0) {
       std::fill_n(norm.begin() + static_cast<std::ptrdiff_t>(i0), count,
                   std::numeric_limits<double>::quiet_NaN());
       continue;
@@ -261,6 +264,7 @@ void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t sam
     HWY_DYNAMIC_DISPATCH(LatticeBlock)(a);
     for (std::size_t t = 0; t < count; ++t) norm[i0 + t] = static_cast<double>(g.inv_w2[t]);
   }
+  return applied;
 }
 
 }  // namespace sonarsynth::lattice

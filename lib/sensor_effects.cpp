@@ -643,22 +643,23 @@ void detect_filtered(const SensorModel& m, const SpeckleNoise& speckle,
   const bool thermal = half_n > 0.0, floor = m.floor_power > 0.0;
   const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
   constexpr double kInvSqrt2 = 0.70710678118654752440;
-  // The lattice's complex field of every look (NaN where it does not apply).
-  if (field != nullptr) {
+  // The lattice's complex field of every look (NaN where it does not apply), where the textured
+  // mean is positive (no speckle work in shadows); none if it applies nowhere.
+  AlongTrackTable& at = s.along_track;
+  const bool lattice_on = field != nullptr && lattice::look_sums(*field, at, n, 0, looks, at.re,
+                                                                 at.im, at.norm, s.base.data()) > 0;
+  if (lattice_on) {
     s.field.resize(2 * n * nl);
-    AlongTrackTable& t = s.along_track;
-    // Only where the textured mean is positive (no speckle work in shadows).
-    lattice::look_sums(*field, t, n, 0, looks, t.re, t.im, t.norm, s.base.data());
     const std::size_t stride = lattice::padded(n);
     // sqrt(norm) scales the sum to unit mean power; NaN where the lattice does not apply.
-    for (std::size_t i = 0; i < n; ++i) t.norm[i] = std::sqrt(t.norm[i]);
+    for (std::size_t i = 0; i < n; ++i) at.norm[i] = std::sqrt(at.norm[i]);
     for (std::size_t j = 0; j < nl; ++j) {
-      const float* re = t.re.data() + j * stride;
-      const float* im = t.im.data() + j * stride;
+      const float* re = at.re.data() + j * stride;
+      const float* im = at.im.data() + j * stride;
       double* z = s.field.data() + 2 * j * n;
       for (std::size_t i = 0; i < n; ++i) {
-        z[2 * i] = static_cast<double>(re[i]) * t.norm[i];
-        z[2 * i + 1] = static_cast<double>(im[i]) * t.norm[i];
+        z[2 * i] = static_cast<double>(re[i]) * at.norm[i];
+        z[2 * i + 1] = static_cast<double>(im[i]) * at.norm[i];
       }
     }
   }
@@ -678,7 +679,7 @@ void detect_filtered(const SensorModel& m, const SpeckleNoise& speckle,
       double zr = 0.0, zi = 0.0;
       const double b = s.base[i];
       if (b > 0.0) {
-        const double* f = field != nullptr ? s.field.data() + 2 * (j * n + i) : nullptr;
+        const double* f = lattice_on ? s.field.data() + 2 * (j * n + i) : nullptr;
         if (f != nullptr && !std::isnan(f[0])) {
           zr = f[0];
           zi = f[1];

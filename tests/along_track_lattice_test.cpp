@@ -221,4 +221,40 @@ TEST(AlongTrackLattice, CorrelationAlongTrackMatchesTheThreeScattererForm) {
   }
 }
 
+// Where the lattice applies: nowhere when the pings are more than 2.5 footprints apart at every
+// range (no kernel work, all NaN), and only where `need` is positive when given (elsewhere NaN,
+// the other samples unchanged).
+TEST(AlongTrackLattice, AppliesOnlyWherePingsOverlapAndWhereNeeded) {
+  const std::size_t samples = 700;
+  AlongTrackField f = test_field(12.5);
+  AlongTrackTable table;
+  const std::size_t all =
+      lattice::look_sums(f, table, samples, 0, 2, table.re, table.im, table.norm);
+  const std::vector<double> norm_all(table.norm.begin(), table.norm.end());
+  const std::vector<float> re_all(table.re.begin(), table.re.end());
+  std::size_t finite = 0;
+  for (std::size_t i = 0; i < samples; ++i) finite += std::isnan(norm_all[i]) ? 0 : 1;
+  EXPECT_EQ(all, finite);
+  EXPECT_GT(all, samples / 2);
+  std::vector<double> need(samples);
+  for (std::size_t i = 0; i < samples; ++i) need[i] = i % 3 == 0 ? 0.0 : 1.0;
+  const std::size_t needed =
+      lattice::look_sums(f, table, samples, 0, 2, table.re, table.im, table.norm, need.data());
+  std::size_t expected = 0;
+  for (std::size_t i = 0; i < samples; ++i) {
+    if (need[i] > 0.0 && !std::isnan(norm_all[i])) {
+      ++expected;
+      EXPECT_EQ(table.norm[i], norm_all[i]) << i;
+      EXPECT_EQ(table.re[i], re_all[i]) << i;
+    } else {
+      EXPECT_TRUE(std::isnan(table.norm[i])) << i;
+    }
+  }
+  EXPECT_EQ(needed, expected);
+  // The largest footprint at 700 samples: sw = 14 m 0.01 / sqrt(8 ln 2) = 0.059 m.
+  f.ping_spacing_m = 4.43 * far_width(f, samples - 1) * 1.01;
+  EXPECT_EQ(lattice::look_sums(f, table, samples, 0, 2, table.re, table.im, table.norm), 0U);
+  for (std::size_t i = 0; i < samples; ++i) EXPECT_TRUE(std::isnan(table.norm[i])) << i;
+}
+
 }  // namespace

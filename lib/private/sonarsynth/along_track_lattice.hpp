@@ -120,10 +120,10 @@ struct BlockArgs {
 // up to kBlock; norm[i] the normalisation (NaN where the lattice does not apply, or need[i] <= 0
 // if `need` is given: there re and im are left as they were). Blocks where it applies nowhere
 // cost no kernel call. On the SIMD target of simd::active_target() (after
-// simd::configure_from_environment()).
-void look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t samples,
-               int first_look, int looks, std::vector<float>& re, std::vector<float>& im,
-               std::vector<double>& norm, const double* need = nullptr);
+// simd::configure_from_environment()). Returns the number of samples where the lattice applies.
+std::size_t look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t samples,
+                      int first_look, int looks, std::vector<float>& re, std::vector<float>& im,
+                      std::vector<double>& norm, const double* need = nullptr);
 
 // The stride of look_sums' outputs.
 constexpr std::size_t padded(std::size_t samples) {
