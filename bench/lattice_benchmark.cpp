@@ -4,8 +4,8 @@
 // the paper scene's sonar (400 kHz, 0.5 deg beam, translated aperture, 2 x 4096 samples at 75 m,
 // 2 m/s at 10 pings/s). The path is SONARSYNTH_SIMD's (scalar, avx2, avx512; default the best).
 //
-// Usage: lattice_benchmark [--pings N] [--reps R] [--looks L] [--stride K] [--spacing-m D]
-// --stride K: the table sees every K-th ping (as a thread does when K threads share the pings).
+// Usage: lattice_benchmark [--pings N] [--reps R] [--looks L] [--spacing-m D]
+// (the pings D apart; at D > 0.34 m the lattice applies nowhere).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -25,7 +25,7 @@ double thread_cpu_s() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int pings = 400, reps = 7, looks = 3, stride = 1;
+  int pings = 400, reps = 7, looks = 3;
   double spacing_m = 0.2;
   for (int a = 1; a < argc; ++a) {
     const std::string s = argv[a];
@@ -36,8 +36,6 @@ int main(int argc, char** argv) {
       reps = std::stoi(next());
     } else if (s == "--looks") {
       looks = std::stoi(next());
-    } else if (s == "--stride") {
-      stride = std::max(1, std::stoi(next()));
     } else if (s == "--spacing-m") {
       spacing_m = std::stod(next());
     }
@@ -58,7 +56,7 @@ int main(int argc, char** argv) {
     sonarsynth::AlongTrackTable table;
     const double t0 = thread_cpu_s();
     for (int p = 0; p < pings; ++p) {
-      f.along_track_m = 100.0 + spacing_m * static_cast<double>(p * stride);
+      f.along_track_m = 100.0 + spacing_m * static_cast<double>(p);
       sonarsynth::along_track_speckle_looks(f, samples, 0, looks, table, out);
       sink += out[samples / 2];
     }
@@ -66,9 +64,9 @@ int main(int argc, char** argv) {
   }
   std::sort(times.begin(), times.end());
   std::printf(
-      "lattice %s: %d looks, stride %d, spacing %g m: %.2f ns/sample (median of %d; min %.2f)"
+      "lattice %s: %d looks, spacing %g m: %.2f ns/sample (median of %d; min %.2f)"
       " [%g]\n",
       std::string(sonarsynth::simd::target_name(sonarsynth::simd::active_target())).c_str(), looks,
-      stride, spacing_m, 1e9 * times[times.size() / 2], reps, 1e9 * times[0], sink);
+      spacing_m, 1e9 * times[times.size() / 2], reps, 1e9 * times[0], sink);
   return 0;
 }
