@@ -7,7 +7,9 @@
 //
 // Usage: ping_benchmark [scene.yaml] [--runs N] [--threads a,b,...] [--length-m L] [--no-truth]
 //                       [--noise none|paper|speckle] [--planes K] [--dump FILE]
-// --planes fixes the along-track plane count (default: automatic).
+//                       [--beam-deg B]
+// --planes fixes the along-track plane count (default: automatic). --beam-deg sets the horizontal
+// beam (default 1 deg; at 0.5 deg the along-track speckle lattice applies, pings 0.2 m apart).
 // --dump writes every ping of the last run (samples, truth class, label, grazing angle) as raw
 // little-endian arrays, for bit-level comparison of two builds.
 #include <algorithm>
@@ -89,6 +91,8 @@ int run(int argc, char** argv) {
       length_m = std::stod(next());
     } else if (a == "--no-truth") {
       cfg.truth = false;
+    } else if (a == "--beam-deg") {  // horizontal beam (0.5: the along-track lattice applies)
+      cfg.sonar.horizontal_beam_width_rad = std::stod(next()) * (3.14159265358979323846 / 180.0);
     } else if (a == "--planes") {
       cfg.quality.along_track_planes = std::stoi(next());
     } else if (a == "--float") {  // unrounded samples (for the accuracy of --dump)

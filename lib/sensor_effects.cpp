@@ -425,6 +425,7 @@ void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t sam
   array_length_m = array_m;
   sw.resize(samples);
   inv_step.resize(samples);
+  sw_max = 0.0;
   const double inv_sqrt_8ln2 = 1.0 / std::sqrt(8.0 * std::log(2.0));
   // Translated aperture (docs/physics.md §1.6): the co-array of a transmitter and a receiver of
   // length D has width D / sqrt(24) (the variance of the mean of two uniform positions).
@@ -436,6 +437,7 @@ void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t sam
     const double far = r * beam_rad * inv_sqrt_8ln2;
     sw[i] = aperture ? 1.0 / std::sqrt(inv_sc2 + 1.0 / (far * far + d2)) : far;
     inv_step[i] = 1.0 / (lattice::kStep * sw[i]);
+    sw_max = i == 0 || std::isnan(sw[i]) || sw[i] > sw_max ? sw[i] : sw_max;
   }
 }
 
@@ -460,21 +462,16 @@ void along_track_speckle_looks(const AlongTrackField& f, std::size_t samples, in
   }
   const auto nl = static_cast<std::size_t>(looks);
   out.resize(samples * nl);
-  table.prepare(f.sample_spacing_m, f.beam_3db_rad, samples, f.array_length_m);
-  const NormalTable& normal = NormalTable::get();
-  const lattice::Weights& weights = lattice::Weights::get();
-  const std::uint64_t line = lattice::line_word(f);
-  for (std::size_t i = 0; i < samples; ++i) {
-    lattice::Sample ls;
-    if (!lattice::sample_at(f, table, line, weights, i, ls)) {
-      for (std::size_t j = 0; j < nl; ++j) {
-        out[j * samples + i] = std::numeric_limits<double>::quiet_NaN();
-      }
-      continue;
-    }
-    for (std::size_t j = 0; j < nl; ++j) {
-      out[j * samples + i] =
-          lattice::look_power(ls, static_cast<std::uint64_t>(first_look) + j, normal);
+  lattice::look_sums(f, table, samples, first_look, looks, table.re, table.im, table.norm);
+  const std::size_t stride = lattice::padded(samples);
+  for (std::size_t j = 0; j < nl; ++j) {
+    const float* re = table.re.data() + j * stride;
+    const float* im = table.im.data() + j * stride;
+    double* o = out.data() + j * samples;
+    for (std::size_t i = 0; i < samples; ++i) {
+      const auto dre = static_cast<double>(re[i]), dim = static_cast<double>(im[i]);
+      // NaN where the lattice does not apply (norm NaN).
+      o[i] = (dre * dre + dim * dim) * table.norm[i];
     }
   }
 }
@@ -646,23 +643,23 @@ void detect_filtered(const SensorModel& m, const SpeckleNoise& speckle,
   const bool thermal = half_n > 0.0, floor = m.floor_power > 0.0;
   const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
   constexpr double kInvSqrt2 = 0.70710678118654752440;
-  // The lattice's complex field of every look (NaN where it does not apply).
-  if (field != nullptr) {
+  // The lattice's complex field of every look (NaN where it does not apply), where the textured
+  // mean is positive (no speckle work in shadows); none if it applies nowhere.
+  AlongTrackTable& at = s.along_track;
+  const bool lattice_on = field != nullptr && lattice::look_sums(*field, at, n, 0, looks, at.re,
+                                                                 at.im, at.norm, s.base.data()) > 0;
+  if (lattice_on) {
     s.field.resize(2 * n * nl);
-    s.along_track.prepare(field->sample_spacing_m, field->beam_3db_rad, n, field->array_length_m);
-    const lattice::Weights& weights = lattice::Weights::get();
-    const std::uint64_t line = lattice::line_word(*field);
-    for (std::size_t i = 0; i < n; ++i) {
-      lattice::Sample ls{};
-      const bool have =
-          s.base[i] > 0.0 && lattice::sample_at(*field, s.along_track, line, weights, i, ls);
-      for (std::size_t j = 0; j < nl; ++j) {
-        double* z = s.field.data() + 2 * (j * n + i);
-        if (have) {
-          lattice::look_field(ls, j, normal, z[0], z[1]);
-        } else {
-          z[0] = kNaN;
-        }
+    const std::size_t stride = lattice::padded(n);
+    // sqrt(norm) scales the sum to unit mean power; NaN where the lattice does not apply.
+    for (std::size_t i = 0; i < n; ++i) at.norm[i] = std::sqrt(at.norm[i]);
+    for (std::size_t j = 0; j < nl; ++j) {
+      const float* re = at.re.data() + j * stride;
+      const float* im = at.im.data() + j * stride;
+      double* z = s.field.data() + 2 * j * n;
+      for (std::size_t i = 0; i < n; ++i) {
+        z[2 * i] = static_cast<double>(re[i]) * at.norm[i];
+        z[2 * i + 1] = static_cast<double>(im[i]) * at.norm[i];
       }
     }
   }
@@ -682,7 +679,7 @@ void detect_filtered(const SensorModel& m, const SpeckleNoise& speckle,
       double zr = 0.0, zi = 0.0;
       const double b = s.base[i];
       if (b > 0.0) {
-        const double* f = field != nullptr ? s.field.data() + 2 * (j * n + i) : nullptr;
+        const double* f = lattice_on ? s.field.data() + 2 * (j * n + i) : nullptr;
         if (f != nullptr && !std::isnan(f[0])) {
           zr = f[0];
           zi = f[1];

@@ -1,13 +1,17 @@
 // SPDX-License-Identifier: MIT
-// The along-track scatterer lattice of along_track_speckle (docs/physics.md §1.6), per sample:
-// what the looks of a sample share (sample_at) and one look's power (look_power), for
-// along_track_speckle_looks and any pass that needs the lattice one sample at a time.
+// The along-track scatterer lattice of along_track_speckle (docs/physics.md §1.6): the geometry
+// of a block of samples (the three scatterers nearest the ping, their weights and keys), the
+// scatterers themselves (a keyed counter hash and Box-Muller by arithmetic), and the vector
+// kernel that sums them per look (lib/along_track_lattice.cpp, AVX-512, AVX2 or the portable
+// scalar target).
 #pragma once
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
+#include "sonarsynth/counter_hash.hpp"
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/sensor_effects.hpp"
 
@@ -17,138 +21,113 @@ namespace sonarsynth::lattice {
 constexpr double kStep = 1.5;
 // Salt of the along-track scatterer lattice.
 constexpr std::uint64_t kFieldSalt = 0xa10e7a0c5ca77e45ULL;
-// Look l adds l 2^56 to the pair index of its keyed words.
 constexpr int kMaxLooks = 256;
-constexpr std::uint64_t kLookStride = std::uint64_t{1} << 56;
-
-// The lattice weights w_k(frac) = exp(-1.125 (k - 1 - frac)^2), k = 0 .. 3 (the two-way
-// amplitude pattern at the scatterers around the ping, frac in [0, 1) the ping's position
-// between lattice points), tabulated at frac = j / kSteps and interpolated linearly:
-// |w''| <= 2.25, so the error is below 2.25 / (8 kSteps^2) = 4.3e-6 (the sample is normalised by
-// the interpolated sum of w^2, so its mean stays exactly 1).
-class Weights {
- public:
-  static constexpr int kSteps = 256;
-  static const Weights& get() {
-    static const Weights table;
-    return table;
-  }
-  // The four weights at `frac`.
-  void at(double frac, double w[4]) const {
-    const double x = frac * kSteps;
-    auto j = static_cast<int>(x);
-    j = j < 0 ? 0 : (j >= kSteps ? kSteps - 1 : j);
-    const double t = x - j;
-    const double* a = w_[j];
-    const double* b = w_[j + 1];
-    for (int k = 0; k < 4; ++k) w[k] = a[k] + t * (b[k] - a[k]);
-  }
-
- private:
-  Weights() {
-    for (int j = 0; j <= kSteps; ++j) {
-      const double frac = static_cast<double>(j) / kSteps;
-      for (int k = 0; k < 4; ++k) {
-        const double d = k - 1 - frac;
-        w_[j][k] = std::exp(-1.125 * d * d);
-      }
-    }
-  }
-  double w_[kSteps + 1][4];
-};
-
-// What the looks of one sample share: the weights (as float), the normalisation, the sample's
-// range-cell word, the first scatterer pair and its parity.
-struct Sample {
-  float wf[4];
-  double inv_2w2;
-  std::uint64_t cell, pair0;
-  unsigned shift;  // 32 when the first scatterer is the high half of its pair's word, else 0
-};
+// Scatterers summed per sample: the three nearest the ping (the next carries at most 0.55 % of
+// the weight power, docs/physics.md §1.6).
+constexpr int kKept = 3;
+// Samples per block of the kernel (a multiple of every target's lane count).
+constexpr std::size_t kBlock = 256;
+// Odd multiplier folding the high half of a lattice index into the scatterer's key.
+constexpr std::uint32_t kHighMul = 0x9e3779b9U;
 
 // The keyed word of the lattice line (survey line and side).
 inline std::uint64_t line_word(const AlongTrackField& f) {
   return hash_combine(splitmix64(f.seed ^ kFieldSalt), f.key);
 }
 
-// Sample i's shared part; false where the speckle is drawn independently instead: below the
-// first return, where consecutive pings are more than 2.5 footprints (r beta_eff = 1.77 sw)
-// apart (correlation < 1e-4), and where the lattice index would not fit an integer (a
-// degenerate beam or position).
-inline bool sample_at(const AlongTrackField& f, const AlongTrackTable& table, std::uint64_t line,
-                      const Weights& weights, std::size_t i, Sample& s) {
-  const double sw = table.sw[i];
-  // u = along-track position in lattice steps of 1.5 sw (sw = r theta / sqrt(8 ln 2)).
-  const double u = f.along_track_m * table.inv_step[i];
-  if (i < f.first_sample || f.ping_spacing_m > 4.43 * sw || !(std::abs(u) < 1e15)) return false;
-  // Lattice step 1.5 sw: the lattice sum reproduces the continuous one to ~1e-4 (Poisson
-  // summation, 2 exp(-2 pi^2 / 1.5^2)); four scatterers span the weights above e^-4.5.
-  auto m0 = static_cast<std::int64_t>(u);  // floor(u), |u| < 1e15
-  if (static_cast<double>(m0) > u) --m0;
-  const double frac = u - static_cast<double>(m0);
-  double w[4];
-  weights.at(frac, w);
-  // The sum in float (relative rounding ~1e-7, far below the speckle's own spread), normalised
-  // in double by 1 / (2 sum w^2) of the same float weights (the scatterers
-  // (g1 + i g2) / sqrt(2) have unit power), so the mean stays exactly 1.
-  double w2 = 0.0;
-  for (int k = 0; k < 4; ++k) {
-    s.wf[k] = static_cast<float>(w[k]);
-    w2 += static_cast<double>(s.wf[k]) * static_cast<double>(s.wf[k]);
-  }
-  s.inv_2w2 = 0.5 / w2;
-  const std::int64_t first = m0 - 1;
-  s.shift = static_cast<unsigned>(first & 1) * 32;
-  // The keyed word of (sample i, look, pair p of scatterers m = 2p, 2p + 1) is
-  // wyrand_stream(cell, p + look 2^56), cell = splitmix_stream(line, i): |p| < 2^49, so (p, look)
-  // pairs are distinct for look < 2^8.
-  s.cell = splitmix_stream(line, static_cast<std::uint64_t>(i));
-  s.pair0 = static_cast<std::uint64_t>(first >> 1);
-  return true;
+// The counter-hash stream of a line's scatterers.
+inline counter_hash::Stream line_stream(std::uint64_t line) {
+  return counter_hash::Stream::of(line);
 }
 
-// The unnormalised complex sum of `look` at the sample. Scatterer m (lattice index m0 - 1 + k):
-// g1 from the low 16 bits of one half of the word of the pair m >> 1, g2 from its high 16 bits
-// (NormalTable): two words per sample, three when m0 - 1 is odd. The four scatterers' halves
-// are the 128 bits of the words from bit `shift` on.
-inline void look_sum(const Sample& s, std::uint64_t look, const NormalTable& normal, float& re,
-                     float& im) {
-  const std::uint64_t p0 = s.pair0 + look * kLookStride;
-  const std::uint64_t h0 = wyrand_stream(s.cell, p0);
-  const std::uint64_t h1 = wyrand_stream(s.cell, p0 + 1);
-  const std::uint64_t h2 = s.shift != 0 ? wyrand_stream(s.cell, p0 + 2) : 0;
-  const std::uint64_t keep = std::uint64_t{0} - (s.shift >> 5);  // all ones when shifted
-  const std::uint64_t lo = (h0 >> s.shift) | ((h1 << 32) & keep);
-  const std::uint64_t hi = (h1 >> s.shift) | ((h2 << 32) & keep);
-  const auto half = [&](int k) {
-    return static_cast<std::uint32_t>((k < 2 ? lo : hi) >> (32 * (k & 1)));
-  };
-  re = 0.0f;
-  im = 0.0f;
-  for (int k = 0; k < 4; ++k) {
-    const std::uint32_t b = half(k);
-    re += s.wf[k] * normal(b);
-    im += s.wf[k] * normal(b >> 16);
-  }
+// The key of scatterer m of sample i: the low half of m, and the sample index plus an odd
+// multiple of the high half of m (distinct m of one sample never share a key; scatterer m + k's
+// key is the low half plus k, the high half plus kHighMul on a carry).
+inline std::uint32_t key_lo(std::int64_t m) {
+  return static_cast<std::uint32_t>(static_cast<std::uint64_t>(m));
+}
+inline std::uint32_t key_hi(std::size_t i, std::int64_t m) {
+  return static_cast<std::uint32_t>(i) +
+         static_cast<std::uint32_t>(static_cast<std::uint64_t>(m) >> 32) * kHighMul;
 }
 
-// The unit-mean speckle power of `look` at the sample.
-inline double look_power(const Sample& s, std::uint64_t look, const NormalTable& normal) {
-  float re, im;
-  look_sum(s, look, normal, re, im);
-  const auto dre = static_cast<double>(re), dim = static_cast<double>(im);
-  return (dre * dre + dim * dim) * s.inv_2w2;
+// The scatterers' words: the key word of scatterer m of sample i (key_word of the line's stream,
+// shared by the looks), and look j's word of it (draw number j).
+// Magnitude: the low 20 bits of the look's word give u1, the midpoint of one of 2^20 equal
+// cells of (0, 1); |z|^2 = -ln(u1) / M is exponential of mean exactly 1 (M, this function, the
+// mean of -ln over the 2^20 midpoints: 1 - 3.3e-7; the tail beyond 14.6 is cut, probability
+// 5e-7). Phase: the top 12 bits, the midpoint of one of 4096 equal cells of
+// (0, 2 pi).
+inline double mean_neg_log_midpoints() {
+  const double n = 0x1p20;
+  // -(1/N) sum_k ln((k + 1/2) / N) = ln N - (ln Gamma(N + 1/2) - ln Gamma(1/2)) / N.
+  return std::log(n) - (std::lgamma(n + 0.5) - std::lgamma(0.5)) / n;
 }
 
-// The same look as a complex field of unit mean power (re^2 + im^2 = look_power), for the range
-// filter of the sensor stage, which needs the phase too.
-inline void look_field(const Sample& s, std::uint64_t look, const NormalTable& normal, double& re,
-                       double& im) {
-  float fre, fim;
-  look_sum(s, look, normal, fre, fim);
-  const double g = std::sqrt(s.inv_2w2);
-  re = static_cast<double>(fre) * g;
-  im = static_cast<double>(fim) * g;
+// Scatterer of look word `w`, the reference in double with std:: maths: a unit circular
+// Gaussian sqrt(-ln u1 / M) e^(i phi) (Box-Muller, M = mean_neg_log_midpoints()). The kernel
+// computes the same in float: -ln by a polynomial, cos and sin of the phase by quadrant (its top
+// two bits) and polynomials on (-pi/4, pi/4).
+inline void scatterer_reference(std::uint32_t w, double& re, double& im) {
+  const double u1 = (static_cast<double>(w & 0xfffffU) + 0.5) * 0x1p-20;
+  const double phi = (static_cast<double>(w >> 20) + 0.5) * (6.283185307179586 * 0x1p-12);
+  const double r = std::sqrt(-std::log(u1) / mean_neg_log_midpoints());
+  re = r * std::cos(phi);
+  im = r * std::sin(phi);
+}
+
+// The geometry of one block of samples, shared by the looks: the key of the first kept
+// scatterer, and its offset d0 = m_first - u from the ping (in lattice steps, in [-1.5, -0.5];
+// scatterer k is d0 + k away); d0 NaN where the lattice does not apply (below the first return,
+// pings more than 2.5 footprints apart, a degenerate beam or position, or need <= 0; there the
+// key is that of m = 0).
+struct Geometry {
+  alignas(64) std::uint32_t lo[kBlock];
+  alignas(64) std::uint32_t hi[kBlock];
+  alignas(64) float d0[kBlock];
+  alignas(64) float inv_w2[kBlock];  // written by the kernel: 1 / sum_k w_k^2, NaN where d0 is
+};
+
+// What the geometry kernel (GeometryBlock) reads: per sample of the block (from sample i0, n
+// samples, a multiple of the widest lane count) 1 / (lattice step) and sw, and the need (null:
+// none); the ping's position and spacing, the first return's sample.
+struct GeometryArgs {
+  const double* inv_step;
+  const double* sw;
+  const double* need;
+  std::size_t i0, n;
+  double along_track_m, ping_spacing_m, first_sample;
+  Geometry* g;
+};
+
+// What the kernel (LatticeBlock) reads and writes: the block's geometry (inv_w2 written), the
+// line's stream, the looks (first_look ..), the outputs (re, im of look j at j * stride), and
+// 1 / sqrt(2 mean_neg_log_midpoints()).
+struct BlockArgs {
+  Geometry* g;
+  std::size_t n;  // samples of the block, rounded up to the widest lane count
+  counter_hash::Stream stream;
+  std::uint32_t first_look;
+  int looks;
+  float* re;
+  float* im;
+  std::size_t stride;
+  float magnitude_scale;
+};
+
+// The unnormalised complex sums sum_k w_k z_k of looks first_look .. first_look + looks - 1 of
+// `samples` samples of a ping side: look j's in re/im[j * stride + i], stride = samples rounded
+// up to kBlock; norm[i] the normalisation (NaN where the lattice does not apply, or need[i] <= 0
+// if `need` is given: there re and im are left as they were). Blocks where it applies nowhere
+// cost no kernel call. On the SIMD target of simd::active_target() (after
+// simd::configure_from_environment()). Returns the number of samples where the lattice applies.
+std::size_t look_sums(const AlongTrackField& f, AlongTrackTable& table, std::size_t samples,
+                      int first_look, int looks, std::vector<float>& re, std::vector<float>& im,
+                      std::vector<double>& norm, const double* need = nullptr);
+
+// The stride of look_sums' outputs.
+constexpr std::size_t padded(std::size_t samples) {
+  return (samples + kBlock - 1) / kBlock * kBlock;
 }
 
 }  // namespace sonarsynth::lattice

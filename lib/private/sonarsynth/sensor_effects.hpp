@@ -113,11 +113,15 @@ struct AlongTrackField {
   double array_length_m = 0.0;
 };
 /// Per-run factors of along_track_speckle that depend on the sample index only (the lattice
-/// step and footprint per range), rebuilt when the spacing, beam or sample count change.
+/// step and footprint per range), rebuilt when the spacing, beam or sample count change, and
+/// the lattice's buffers.
 struct AlongTrackTable {
   double sample_spacing_m = 0.0, beam_3db_rad = 0.0, array_length_m = 0.0;
   std::vector<double> sw;        ///< lattice width per sample (AlongTrackField::array_length_m)
   std::vector<double> inv_step;  ///< 1 / (lattice step) per sample
+  double sw_max = 0.0;           ///< the largest sw (0 without samples; NaN if any is NaN)
+  std::vector<float> re, im;
+  std::vector<double> norm, pad;
   void prepare(double sample_spacing_m, double beam_3db_rad, std::size_t samples,
                double array_length_m = 0.0);
 };
