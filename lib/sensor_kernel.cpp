@@ -218,6 +218,60 @@ void detect_impl(const DetectorArgs& a, counter_hash::Stream ss, counter_hash::S
   }
 }
 
+// The quantiser (QuantiseArgs), in double: the same operations as its scalar form in the
+// same order, so every target gives the same bits.
+void quantise_impl(const QuantiseArgs& q, float* out, std::uint32_t* counts) {
+  const hn::ScalableTag<double> dd;
+  const hn::Rebind<float, decltype(dd)> dfh;
+  const std::size_t Ld = hn::Lanes(dd);
+  std::uint32_t saturated = 0, invalid = 0;
+  const auto maxv = hn::Set(dd, q.max_value);
+  const auto zero = hn::Zero(dd);
+  const auto half = hn::Set(dd, 0.5);
+  const auto one = hn::Set(dd, 1.0);
+  const auto big = hn::Set(dd, 0x1p52);
+  std::size_t i = q.first;
+  for (; i + Ld <= q.n; i += Ld) {
+    auto v = hn::LoadU(dd, q.power + i);
+    if (q.gain != nullptr) v = hn::Mul(v, hn::LoadU(dd, q.gain + i));
+    if (q.amplitude) v = hn::Sqrt(v);
+    const auto bad = hn::Not(hn::IsFinite(v));
+    const auto sat = hn::AndNot(bad, hn::Ge(v, maxv));
+    invalid += static_cast<std::uint32_t>(hn::CountTrue(dd, bad));
+    saturated += static_cast<std::uint32_t>(hn::CountTrue(dd, sat));
+    v = hn::IfThenElse(sat, maxv, v);
+    v = hn::IfThenZeroElse(hn::Or(bad, hn::Lt(v, zero)), v);
+    if (q.round) {
+      // round half away from zero of v in [0, 2^52): trunc(v) + (v - trunc(v) >= 1/2), exact.
+      const auto t = hn::Trunc(v);
+      const auto r = hn::Add(t, hn::IfThenElseZero(hn::Ge(hn::Sub(v, t), half), one));
+      v = hn::IfThenElse(hn::Lt(v, big), r, v);
+    }
+    hn::StoreU(hn::DemoteTo(dfh, v), dfh, out + i);
+  }
+  for (; i < q.n; ++i) {
+    double v = q.power[i];
+    if (q.gain != nullptr) v *= q.gain[i];
+    if (q.amplitude) v = std::sqrt(v);
+    if (!std::isfinite(v)) {
+      v = 0.0;
+      ++invalid;
+    } else if (v >= q.max_value) {
+      v = q.max_value;
+      ++saturated;
+    } else if (v < 0.0) {
+      v = 0.0;
+    }
+    if (q.round && v < 0x1p52) {
+      const double t = std::trunc(v);
+      v = t + static_cast<double>(v - t >= 0.5);
+    }
+    out[i] = static_cast<float>(v);
+  }
+  counts[0] = saturated;
+  counts[1] = invalid;
+}
+
 }  // namespace sonarsynth::sensor_kernel::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
@@ -225,6 +279,7 @@ HWY_AFTER_NAMESPACE();
 namespace sonarsynth::sensor_kernel {
 
 HWY_EXPORT(detect_impl);
+HWY_EXPORT(quantise_impl);
 
 namespace {
 // Salts of the two streams (distinct from every other keyed stream of the run seed).
@@ -242,6 +297,14 @@ counter_hash::Stream noise_stream(std::uint64_t seed) {
 void detect(const DetectorArgs& a) {
   simd::configure_from_environment();
   HWY_DYNAMIC_DISPATCH(detect_impl)(a, speckle_stream(a.seed), noise_stream(a.seed));
+}
+
+void quantise(const QuantiseArgs& q, float* out, std::uint32_t& saturated, std::uint32_t& invalid) {
+  simd::configure_from_environment();
+  std::uint32_t counts[2] = {0, 0};
+  HWY_DYNAMIC_DISPATCH(quantise_impl)(q, out, counts);
+  saturated = counts[0];
+  invalid = counts[1];
 }
 
 }  // namespace sonarsynth::sensor_kernel

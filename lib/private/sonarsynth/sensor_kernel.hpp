@@ -49,4 +49,18 @@ struct DetectorArgs {
 /// float32 on the dispatched target (simd::configure_from_environment applied first).
 void detect(const DetectorArgs& a);
 
+/// The quantiser of samples first .. n - 1 of `power` (docs/physics.md §1.10): v = power
+/// (times gain when not null), its square root for amplitude output; not finite -> 0 (counted
+/// invalid), >= max_value -> max_value (counted saturated), < 0 -> 0; rounded half away from
+/// zero when `round`. Vectorised in double: the same bits on every target.
+struct QuantiseArgs {
+  const double* power = nullptr;
+  const double* gain = nullptr;
+  std::size_t first = 0, n = 0;
+  bool amplitude = true;
+  bool round = true;
+  double max_value = 0.0;
+};
+void quantise(const QuantiseArgs& q, float* out, std::uint32_t& saturated, std::uint32_t& invalid);
+
 }  // namespace sonarsynth::sensor_kernel
