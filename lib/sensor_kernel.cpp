@@ -92,7 +92,9 @@ void detect_impl(const DetectorArgs& a, counter_hash::Stream ss, counter_hash::S
         if (std::isfinite(v)) top = std::max(top, v);
       }
     }
-    const int e = top > 0.0 ? std::ilogb(top) : 0;
+    // An even exponent: the square roots of the mean detector scale exactly too, so that a
+    // sample's output does not depend on the other samples of its block.
+    const int e = top > 0.0 ? std::ilogb(top) & ~1 : 0;
     const double scale = std::ldexp(1.0, -e), unscale = std::ldexp(1.0, e);
     const auto scale_v = hn::Set(dd, scale);
     auto any_v = hn::Zero(dd);  // max of base gain where not NaN: > 0 if any mean > 0
