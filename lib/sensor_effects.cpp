@@ -504,14 +504,16 @@ void textured_mean(const SpeckleNoise& speckle, std::span<const std::uint64_t> k
       base[i] = io[i];
       continue;
     }
-    if (!have_last || keys[i] != last_key || nu != last_nu) {
-      if (table == nullptr || nu != table_nu) {
-        table = nu <= UnitGammaTable::kMaxShape ? &UnitGammaTable::get(nu) : nullptr;
-        table_nu = nu;
-      }
-      const std::uint64_t hk = splitmix_stream(seed_s, keys[i]);
-      t = table != nullptr ? (*table)(high32_midpoint(hk << 32))
-                           : keyed_gamma(nu, speckle.seed, keys[i], kStreamTexture) / nu;
+    if (nu != table_nu) {
+      table = nu <= UnitGammaTable::kMaxShape ? &UnitGammaTable::get(nu) : nullptr;
+      table_nu = nu;
+    }
+    if (table != nullptr) {
+      // Drawn per sample, no test of the previous key: the keys change every sample or two,
+      // and that test's mispredictions cost more than the draw.
+      t = (*table)(high32_midpoint(splitmix_stream(seed_s, keys[i]) << 32));
+    } else if (!have_last || keys[i] != last_key || nu != last_nu) {
+      t = keyed_gamma(nu, speckle.seed, keys[i], kStreamTexture) / nu;
       have_last = true;
       last_key = keys[i];
       last_nu = nu;
