@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The detector stage's vector kernel (sonarsynth/sensor_kernel.hpp): compiled once per target
-// through hwy/foreach_target.h (AVX-512, AVX2, EMU128), chosen at run time.
+// through hwy/foreach_target.h (AVX-512, AVX2 and the portable scalar target), chosen at run time.
 #include "sonarsynth/sensor_kernel.hpp"
 
 #include <algorithm>

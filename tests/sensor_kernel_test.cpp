@@ -287,7 +287,7 @@ std::vector<std::vector<double>> all_modes() {
 }
 
 // AVX-512 and AVX2 run the same float operations lane for lane (FMA both): identical bits. The
-// scalar path (EMU128) multiplies and adds separately: each operation rounds once more, a few
+// scalar path (HWY_SCALAR) multiplies and adds separately: each operation rounds once more, a few
 // float ulps (2^-24 = 6e-8 each) over the chain of log, square root and sums; the bound 2e-6 of
 // the sample's scale (its mean power plus the noise powers) holds with room.
 TEST(SensorKernel, SimdPathsAgree) {
