@@ -23,7 +23,7 @@ namespace sonarsynth::sensor_kernel::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 namespace ch = sonarsynth::counter_hash::HWY_NAMESPACE;
 
-// Samples per block: the block's float and word arrays (6 x 2 KiB) stay in L1 over the looks.
+// Samples per block: the block's float and word arrays (8 x 2 KiB) stay in L1 over the looks.
 constexpr std::size_t kBlock = 512;
 
 // -ln u of a word, u = uniform_open(w) in (0, 1) (a normal float, >= 2^-25): Exp(1), at most
