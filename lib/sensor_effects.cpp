@@ -14,6 +14,7 @@
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/noise.hpp"
 #include "sonarsynth/render_math.hpp"
+#include "sonarsynth/sensor_kernel.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -500,14 +501,16 @@ void textured_mean(const SpeckleNoise& speckle, std::span<const std::uint64_t> k
       base[i] = io[i];
       continue;
     }
-    if (!have_last || keys[i] != last_key || nu != last_nu) {
-      if (table == nullptr || nu != table_nu) {
-        table = nu <= UnitGammaTable::kMaxShape ? &UnitGammaTable::get(nu) : nullptr;
-        table_nu = nu;
-      }
-      const std::uint64_t hk = splitmix_stream(seed_s, keys[i]);
-      t = table != nullptr ? (*table)(high32_midpoint(hk << 32))
-                           : keyed_gamma(nu, speckle.seed, keys[i], kStreamTexture) / nu;
+    if (nu != table_nu) {
+      table = nu <= UnitGammaTable::kMaxShape ? &UnitGammaTable::get(nu) : nullptr;
+      table_nu = nu;
+    }
+    if (table != nullptr) {
+      // Drawn per sample, no test of the previous key: the keys change every sample or two,
+      // and that test's mispredictions cost more than the draw.
+      t = (*table)(high32_midpoint(splitmix_stream(seed_s, keys[i]) << 32));
+    } else if (!have_last || keys[i] != last_key || nu != last_nu) {
+      t = keyed_gamma(nu, speckle.seed, keys[i], kStreamTexture) / nu;
       have_last = true;
       last_key = keys[i];
       last_nu = nu;
@@ -560,65 +563,6 @@ void detect_speckle_exact(const SensorModel& m, const SpeckleNoise& speckle,
     for (std::size_t i = 0; i < n; ++i) io[i] = (s.combined[i] * inv) * (s.combined[i] * inv);
   } else {
     std::copy(s.combined.begin(), s.combined.end(), io.begin());
-  }
-}
-
-// What every look of detect_speckle's fused pass reads and writes.
-struct DetectorLoop {
-  const std::uint64_t* keys;
-  const std::uint64_t* noise_keys;
-  const double* base;
-  const double* gain;
-  double* out;
-  std::size_t n;
-  const UnitGammaTable* exp1;
-  const NormalTable* normal;
-  double n_power, half_n, sqrt_half_n, floor_power;
-};
-
-// One look of detect_speckle over all samples. The loop is instantiated per along-track field
-// (kField) and per detector step (kMode: 0 first look of max / one look, p; 1 first look of mean,
-// sqrt p; 2 later look of max, max; 3 later look of mean, + sqrt p), so that the loop carries
-// no test of them; the operations are those of the one general loop, in the same order.
-template <bool kField, int kMode>
-void detector_look(const DetectorLoop& d, const double* f, std::uint64_t seed_s,
-                   std::uint64_t seed_n) {
-  const UnitGammaTable& exp1 = *d.exp1;
-  const NormalTable& normal = *d.normal;
-  const bool thermal = d.n_power > 0.0, floor = d.floor_power > 0.0;
-  // Frozen speckle E_s of the last key (runs of samples in one seabed cell share it).
-  std::uint64_t last_key = 0;
-  double last_es = 0.0;
-  bool have_last = false;
-  for (std::size_t i = 0; i < d.n; ++i) {
-    double a = d.base[i];
-    if (a > 0.0) {
-      if (kField && !std::isnan(f[i])) {
-        a *= f[i];
-      } else {
-        if (!have_last || d.keys[i] != last_key) {
-          last_es = exp1(high32_midpoint(splitmix_stream(seed_s, d.keys[i])));
-          last_key = d.keys[i];
-          have_last = true;
-        }
-        a *= last_es;
-      }
-    }
-    // One keyed word per sample and look: its high half the thermal noise, its low half the
-    // receiver noise.
-    const std::uint64_t hn = wyrand_stream(seed_n, d.noise_keys[i]);
-    if (thermal) a = add_thermal_noise(a, d.half_n, d.sqrt_half_n, hn, normal);
-    double p = a * d.gain[i];
-    if (floor) p += d.floor_power * exp1_from_low_half(hn, normal);
-    if constexpr (kMode == 0) {
-      d.out[i] = p;
-    } else if constexpr (kMode == 1) {
-      d.out[i] = std::sqrt(p);
-    } else if constexpr (kMode == 2) {
-      d.out[i] = std::max(d.out[i], p);
-    } else {
-      d.out[i] += std::sqrt(p);
-    }
   }
 }
 
@@ -755,68 +699,31 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
     detect_speckle_exact(m, speckle, keys, noise_keys, texture_nu, out_gain, field, s, io);
     return;
   }
-  // One pass per look over the samples (no copies, no per-look key arrays): the keyed words of
-  // look j come from seeds of its own (look_seed), the texture is drawn once for all looks.
+  // The texture is drawn once for all looks (scalar, runs of one key share a draw); then the
+  // fused vector pass of sensor_kernel.hpp (frozen speckle, thermal and floor noise, gain and
+  // detector per block of samples).
   const int looks = std::max(1, m.sub_samples);
-  const UnitGammaTable& exp1 = UnitGammaTable::get(1.0);
-  const NormalTable& normal = NormalTable::get();
-  const double n_power = speckle.thermal_noise_power;
-  const double half_n = 0.5 * n_power, sqrt_half_n = std::sqrt(half_n);
-  const double floor_power = m.floor_power;
-  const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
   s.base.resize(n);
   textured_mean(speckle, keys, texture_nu, io, s.base);
   if (!m.range_taps.empty()) {
     detect_filtered(m, speckle, keys, noise_keys, out_gain, field, s, io);
     return;
   }
-  // io is read once (into base) and then holds the detector's running combination.
-  double* out = io.data();
   if (field != nullptr) along_track_speckle_looks(*field, n, 0, looks, s.along_track, s.field);
-  const DetectorLoop loop{
-      keys.data(), noise_keys.data(), s.base.data(), out_gain.data(), out,         n,
-      &exp1,       &normal,           n_power,       half_n,          sqrt_half_n, floor_power};
-  for (int j = 0; j < looks; ++j) {
-    const double* f = field != nullptr ? s.field.data() + static_cast<std::size_t>(j) * n : nullptr;
-    const std::uint64_t seed_s = look_seed(speckle_seed(speckle.seed), j);
-    const std::uint64_t seed_n = look_seed(thermal_seed(speckle.seed), j);
-    const int mode = (j == 0 ? 0 : 2) + (max_detector ? 0 : 1);
-    if (f != nullptr) {
-      switch (mode) {
-        case 0:
-          detector_look<true, 0>(loop, f, seed_s, seed_n);
-          break;
-        case 1:
-          detector_look<true, 1>(loop, f, seed_s, seed_n);
-          break;
-        case 2:
-          detector_look<true, 2>(loop, f, seed_s, seed_n);
-          break;
-        default:
-          detector_look<true, 3>(loop, f, seed_s, seed_n);
-          break;
-      }
-    } else {
-      switch (mode) {
-        case 0:
-          detector_look<false, 0>(loop, f, seed_s, seed_n);
-          break;
-        case 1:
-          detector_look<false, 1>(loop, f, seed_s, seed_n);
-          break;
-        case 2:
-          detector_look<false, 2>(loop, f, seed_s, seed_n);
-          break;
-        default:
-          detector_look<false, 3>(loop, f, seed_s, seed_n);
-          break;
-      }
-    }
-  }
-  if (!max_detector) {
-    const double inv = 1.0 / static_cast<double>(looks);
-    for (std::size_t i = 0; i < n; ++i) out[i] = (out[i] * inv) * (out[i] * inv);
-  }
+  sensor_kernel::DetectorArgs a;
+  a.keys = keys.data();
+  a.noise_keys = noise_keys.data();
+  a.base = s.base.data();
+  a.gain = out_gain.data();
+  a.field = field != nullptr ? s.field.data() : nullptr;
+  a.out = io.data();
+  a.n = n;
+  a.looks = looks;
+  a.max_detector = looks == 1 || m.detector == DetectorMode::max;
+  a.thermal_power = speckle.thermal_noise_power;
+  a.floor_power = m.floor_power;
+  a.seed = speckle.seed;
+  sensor_kernel::detect(a);
 }
 
 double detected_median_of_unit_mean(const SensorModel& m, double nu, std::uint64_t seed) {

@@ -14,6 +14,7 @@
 #include "sonarsynth/render_side.hpp"
 #include "sonarsynth/scene_profile.hpp"
 #include "sonarsynth/sensor_effects.hpp"
+#include "sonarsynth/sensor_kernel.hpp"
 #include "sonarsynth/simulator_state.hpp"
 #include "sonarsynth/tvg.hpp"
 
@@ -68,15 +69,6 @@ std::uint64_t ground_cell_key(std::int64_t ix, std::int64_t iy, std::int64_t iz)
 inline std::int64_t floor_to_int(double x) {
   const auto i = static_cast<std::int64_t>(x);
   return static_cast<double>(i) > x ? i - 1 : i;
-}
-
-// std::round (half away from zero) of v in [0, 2^52) without a libm call: the fractional part
-// v - trunc(v) is exact, so comparing it with 1/2 reproduces round() bit for bit. Branch-free
-// (t + 0 or t + 1, both exact): the comparison is a coin toss on speckled samples, and a
-// mispredicted branch per sample cost more than the rest of the quantiser.
-inline double round_nonnegative(double v) {
-  const double t = static_cast<double>(static_cast<std::int64_t>(v));
-  return t + static_cast<double>(v - t >= 0.5);
 }
 
 }  // namespace
@@ -257,22 +249,15 @@ void Simulator::quantise(const Workspace& ws, bool scaled, float* out, std::uint
   const std::size_t ring_samples =
       ring > 0.0 ? std::min(n, static_cast<std::size_t>(std::ceil(ring))) : 0;
   std::fill(out, out + ring_samples, static_cast<float>(maxv));
-  for (std::size_t i = ring_samples; i < n; ++i) {
-    double v = scaled ? ws.accum[i] : ws.accum[i] * ws.tvg_gain[i];
-    if (amplitude) v = std::sqrt(v);
-    if (!std::isfinite(v)) {
-      v = 0.0;
-      ++invalid;
-    } else if (v >= maxv) {
-      v = maxv;
-      ++saturated;
-    } else if (v < 0.0) {
-      v = 0.0;
-    }
-    // v >= 2^52 is an integer already.
-    if (round && v < 0x1p52) v = round_nonnegative(v);
-    out[i] = static_cast<float>(v);
-  }
+  sensor_kernel::QuantiseArgs q;
+  q.power = ws.accum.data();
+  q.gain = scaled ? nullptr : ws.tvg_gain.data();
+  q.first = ring_samples;
+  q.n = n;
+  q.amplitude = amplitude;
+  q.round = round;
+  q.max_value = maxv;
+  sensor_kernel::quantise(q, out, saturated, invalid);
 }
 
 double Simulator::per_ping_max_scale(const PingPose& pose, Workspace& ws) const {

@@ -145,13 +145,16 @@ struct DetectorScratch {
 };
 
 /// Speckle, receiver noise and detection: `io` holds the mean intensity before TVG on entry and
-/// the detected output power on return. Per sub-sample j < m.sub_samples: the speckle of
-/// apply_speckle_noise with the keyed words of look j, times out_gain, plus exponential receiver
-/// noise of mean m.floor_power keyed by (noise_keys, j); the looks are combined by the detector
-/// on the envelope (max, or the square of the mean envelope). Look 0 draws exactly what
-/// apply_speckle_noise draws for `keys` and `noise_keys`; look j > 0 the same with seeds of its
-/// own. The texture (keyed by `keys`) is the seabed patch's: all looks share it. With `field`,
-/// the frozen speckle of each look is along_track_speckle where it is not NaN.
+/// the detected output power on return. Per sub-sample (look) j < m.sub_samples: the speckle of
+/// apply_speckle_noise's distribution (frozen Exp(1) power keyed by `keys`, thermal noise added
+/// before detection keyed by `noise_keys`), times out_gain, plus exponential receiver noise of
+/// mean m.floor_power keyed by (noise_keys, j); the looks are combined by the detector on the
+/// envelope (max, or the square of the mean envelope). The default sampler draws them in the
+/// vector kernel of sensor_kernel.hpp (counter-hash words of their own, docs/physics.md §1.6);
+/// with the range filter, and with SpeckleSampler::exact (apply_speckle_noise per look, looks
+/// j > 0 with seeds of their own), as before. The texture (keyed by `keys`) is the seabed
+/// patch's: all looks share it. With `field`, the frozen speckle of each look is
+/// along_track_speckle where it is not NaN.
 void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
                     std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
                     std::span<const double> texture_nu, std::span<const double> out_gain,
