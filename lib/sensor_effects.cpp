@@ -436,7 +436,8 @@ void AlongTrackTable::prepare(double spacing_m, double beam_rad, std::size_t sam
   for (std::size_t i = 0; i < samples; ++i) {
     const double r = (static_cast<double>(i) + 0.5) * spacing_m;
     const double far = r * beam_rad * inv_sqrt_8ln2;
-    sw[i] = aperture ? 1.0 / std::sqrt(inv_sc2 + 1.0 / (far * far + d2)) : far;
+    sw[i] = lattice::kWidthFactor *
+            (aperture ? 1.0 / std::sqrt(inv_sc2 + 1.0 / (far * far + d2)) : far);
     inv_step[i] = 1.0 / (lattice::kStep * sw[i]);
     sw_max = i == 0 || std::isnan(sw[i]) || sw[i] > sw_max ? sw[i] : sw_max;
   }

@@ -21,10 +21,11 @@ namespace {
 using namespace sonarsynth;
 namespace simd = sonarsynth::simd;
 
-// The far-field lattice width of sample i (array_length_m = 0): r theta / sqrt(8 ln 2).
+// The far-field lattice width of sample i (array_length_m = 0): r theta / sqrt(8 ln 2), times
+// the three-scatterer lattice's width factor.
 double far_width(const AlongTrackField& f, std::size_t i) {
-  return (static_cast<double>(i) + 0.5) * f.sample_spacing_m * f.beam_3db_rad /
-         std::sqrt(8.0 * std::log(2.0));
+  return lattice::kWidthFactor * (static_cast<double>(i) + 0.5) * f.sample_spacing_m *
+         f.beam_3db_rad / std::sqrt(8.0 * std::log(2.0));
 }
 
 // Look `look` of sample i as the kernel's definition reads (docs/physics.md §1.6), in double:
@@ -155,8 +156,9 @@ TEST(AlongTrackLattice, ScattererPowerHasUnitMean) {
 // Intensity correlation of pings d apart (one look, many samples and ping pairs) against the
 // closed form of the three-scatterer lattice, |sum_m w_m w'_m|^2 / (sum w^2 sum w'^2) averaged
 // over the ping's offset u in the lattice (computed here), within 4 standard errors; and that
-// form within 0.021 of the continuous one exp(-d^2 / (2 sw^2)) (the dropped scatterer carries at
-// most 0.55 % of the weight power).
+// form, with the weights kWidthFactor wider than the footprint's sw, within 0.006 of the
+// continuous one exp(-d^2 / (2 sw^2)) (0.021 below it at d = 1.5 sw without the factor: the
+// dropped scatterer carries at most 0.55 % of the weight power).
 TEST(AlongTrackLattice, CorrelationAlongTrackMatchesTheThreeScattererForm) {
   const auto three = [](double u) {
     const double m0 = std::floor(u);
@@ -215,10 +217,13 @@ TEST(AlongTrackLattice, CorrelationAlongTrackMatchesTheThreeScattererForm) {
     // E (S - 1)^4 - 1); the samples and the pairs are independent.
     const double se = std::sqrt(8.0 / static_cast<double>(n));
     EXPECT_NEAR(measured, expected, 4.0 * se) << d_sw;
-    const double closed = form(d_sw / 1.5);
-    EXPECT_NEAR(closed, std::exp(-0.5 * d_sw * d_sw), 0.021) << d_sw;
-    EXPECT_LT(closed, std::exp(-0.5 * d_sw * d_sw)) << d_sw;
   }
+  for (const double d_sw : {0.5, 1.0, 1.5, 2.0, 3.0}) {  // d in units of the footprint's sw
+    const double continuous = std::exp(-0.5 * d_sw * d_sw);
+    EXPECT_NEAR(form(d_sw / (1.5 * lattice::kWidthFactor)), continuous, 0.006) << d_sw;
+  }
+  // Without the factor, 0.021 below at d = 1.5 sw.
+  EXPECT_LT(form(1.0), std::exp(-0.5 * 1.5 * 1.5) - 0.018) << "the factor is needed";
 }
 
 // Where the lattice applies: nowhere when the pings are more than 2.5 footprints apart at every
