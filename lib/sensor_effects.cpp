@@ -14,6 +14,7 @@
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/noise.hpp"
 #include "sonarsynth/render_math.hpp"
+#include "sonarsynth/sensor_mean_simd.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -244,6 +245,29 @@ SensorMeanTables::SensorMeanTables(const SensorModel& m, const SideParams& side,
       fill[i] = m.fill_power * m.tvg_deficit(r) / ref / out_gain[i];
     }
   }
+  // The patch textures' range geometry (sample i at ur = (i + 1/2) dr / patch: node floor(ur),
+  // weight ur - floor(ur)), where there are at most about as many patches as samples.
+  const auto cells_of = [&](double range_m, TextureCells& t) {
+    const double inv_patch = dr / range_m;
+    const double count = static_cast<double>(n);
+    if (n == 0 || !(inv_patch * count < 1e15) ||
+        !(std::floor((count - 0.5) * inv_patch) + 2.0 <= count + 2.0)) {
+      return;
+    }
+    t.cell.resize(n);
+    t.weight.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double ur = (static_cast<double>(i) + 0.5) * inv_patch;
+      const double fr = std::floor(ur);
+      t.cell[i] = static_cast<std::int64_t>(fr);
+      t.weight[i] = ur - fr;
+    }
+  };
+  if (m.volume_power > 0.0 && m.volume_texture_nu > 0.0) {
+    cells_of(m.volume_patch_range_m, volume_cells);
+  }
+  if (m.fill_power > 0.0 && m.fill_texture_nu > 0.0) cells_of(m.fill_patch_range_m, fill_cells);
+  texture_nodes.reserve(n + 2);
 }
 
 namespace {
@@ -404,7 +428,7 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, SensorM
         hash_combine(splitmix64(m.patch_seed ^ 0x9a7c4e5fULL), patch->line_side);
     const auto add_textured = [&](const std::vector<double>& level, std::size_t from,
                                   std::size_t to, double nu, double along_m, double range_m,
-                                  std::uint64_t salt) {
+                                  std::uint64_t salt, const SensorMeanTables::TextureCells& g) {
       if (!(nu > 0.0)) {
         for (std::size_t i = from; i < to; ++i) mean[i] += level[i];
         return;
@@ -424,30 +448,33 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, SensorM
       const std::uint64_t stream = base ^ salt;
       const std::uint64_t row0 = splitmix_stream(stream, a0);
       const std::uint64_t row1 = splitmix_stream(stream, a0 + 1);
-      // The node values of rows a0 and a0 + 1 are kept in the tables between pings (a patch
-      // spans several pings): computed at their first read. Only where a row's range patches
-      // are at most about the samples (else the rows would outgrow the record).
-      const double cells_d = std::floor((static_cast<double>(to) - 0.5) * inv_patch) + 2.0;
-      const bool keep = to > from && cells_d <= static_cast<double>(n) + 2.0;
-      double* n0 = nullptr;
-      double* n1 = nullptr;
-      if (keep) {
-        const auto cells = static_cast<std::size_t>(cells_d);
-        n0 = texture_row(tables, stream, a0, cells, n + 2);
-        n1 = texture_row(tables, stream, a0 + 1, cells, n + 2);
-      }
-      const auto value = [&](double* row_nodes, std::uint64_t row, std::uint64_t c) {
-        if (row_nodes == nullptr) return t(high32_midpoint(splitmix_stream(row, c) << 32));
-        double& v = row_nodes[c];
-        if (std::isnan(v)) v = t(high32_midpoint(splitmix_stream(row, c) << 32));
-        return v;
+      const auto value = [&](std::uint64_t row, std::uint64_t c) {
+        return t(high32_midpoint(splitmix_stream(row, c) << 32));
       };
+      if (to > from && g.cell.size() >= to) {
+        // The node values of rows a0 and a0 + 1, kept in the tables between pings (a patch spans
+        // several pings), blended at the ping's along-track position for the range patches of
+        // [from, to); then one vector pass over the samples.
+        const auto c0 = static_cast<std::size_t>(g.cell[from]);
+        const auto c1 = static_cast<std::size_t>(g.cell[to - 1]) + 2;
+        double* n0 = texture_row(tables, stream, a0, c1, n + 2);
+        double* n1 = texture_row(tables, stream, a0 + 1, c1, n + 2);
+        for (std::size_t c = c0; c < c1; ++c) {
+          if (std::isnan(n0[c])) n0[c] = value(row0, c);
+          if (std::isnan(n1[c])) n1[c] = value(row1, c);
+        }
+        tables.texture_nodes.resize(std::max(tables.texture_nodes.size(), c1));
+        double* nodes = tables.texture_nodes.data();
+        sensor_mean::blend_rows(n0, n1, wa, c0, c1, nodes);
+        sensor_mean::add_textured(level.data(), g.cell.data(), g.weight.data(), nodes, from, to,
+                                  mean.data());
+        return;
+      }
+      // Patches finer than the samples: the nodes each sample needs, as it needs them.
       // Patch values at the nodes (a, c) x (along_m, range_m), bilinear between them: no
       // patch edges in the image.
       const auto node = [&](std::uint64_t c) {
-        const double t0 = value(n0, row0, c);
-        const double t1 = value(n1, row1, c);
-        return (1.0 - wa) * t0 + wa * t1;
+        return (1.0 - wa) * value(row0, c) + wa * value(row1, c);
       };
       std::uint64_t last_cell = 0;
       bool have = false;
@@ -474,10 +501,10 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, SensorM
       }
     };
     add_textured(tables.volume, 0, nv, m.volume_texture_nu, m.volume_patch_along_m,
-                 m.volume_patch_range_m, 0x51);
+                 m.volume_patch_range_m, 0x51, tables.volume_cells);
     if (first < nf) {
       add_textured(tables.fill, first, nf, m.fill_texture_nu, m.fill_patch_along_m,
-                   m.fill_patch_range_m, 0xf1);
+                   m.fill_patch_range_m, 0xf1, tables.fill_cells);
     }
   }
   if (!have_altitude || !(m.first_return_rho > 0.0)) return;

@@ -99,6 +99,13 @@ struct SensorMeanTables {
   };
   std::vector<TextureRow> texture_rows;
   std::uint64_t texture_clock = 0;
+  /// Per-run range geometry of a patch texture: per sample its range patch (node) index and the
+  /// weight of the next node (empty when off, or when the patches are finer than the samples).
+  struct TextureCells {
+    std::vector<std::int64_t> cell;
+    std::vector<double> weight;
+  } volume_cells, fill_cells;
+  std::vector<double> texture_nodes;  ///< the nodes at a ping's along-track position (scratch)
   SensorMeanTables() = default;
   SensorMeanTables(const SensorModel& m, const SideParams& side, std::span<const double> out_gain);
 };
