@@ -46,6 +46,12 @@ HWY_INLINE hn::Vec<D> splitmix64(D d, hn::Vec<D> x) {
 
 void ping_keys(std::uint64_t h, const std::uint64_t* sample_hash, std::size_t n,
                std::uint64_t* keys) {
+#if HWY_TARGET == HWY_SCALAR || HWY_TARGET == HWY_EMU128
+  // The portable targets: the scalar loop.
+  for (std::size_t i = 0; i < n; ++i) {
+    keys[i] = kPingSampleKeyBit | (sonarsynth::splitmix64(h ^ sample_hash[i]) >> 1);
+  }
+#else
   const hn::ScalableTag<std::uint64_t> d;
   const std::size_t lanes = hn::Lanes(d);
   const auto vh = hn::Set(d, h);
@@ -55,13 +61,34 @@ void ping_keys(std::uint64_t h, const std::uint64_t* sample_hash, std::size_t n,
     const auto k = splitmix64(d, hn::Xor(vh, hn::LoadU(d, sample_hash + i)));
     hn::StoreU(hn::Or(bit, hn::ShiftRight<1>(k)), d, keys + i);
   }
-  for (; i < n; ++i)
+  for (; i < n; ++i) {
     keys[i] = kPingSampleKeyBit | (sonarsynth::splitmix64(h ^ sample_hash[i]) >> 1);
+  }
+#endif
 }
 
 void ground_cell_keys(const CellFrame& f, const SampleClass* cls, const double* gy,
                       const double* gz, const std::uint64_t* noise_keys, std::size_t n,
                       std::uint64_t* keys) {
+#if HWY_TARGET == HWY_SCALAR || HWY_TARGET == HWY_EMU128
+  // The portable targets: the scalar loop (runs of samples in one cell share its key).
+  Cell last;
+  std::uint64_t last_key = 0;
+  bool have_last = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (cls[i] != SampleClass::seabed && cls[i] != SampleClass::object) {
+      keys[i] = noise_keys[i];
+      continue;
+    }
+    const Cell c = cell_at(f, gy[i], gz[i]);
+    if (!have_last || !(c == last)) {
+      last_key = ground_cell_key(c.ix, c.iy, c.iz);
+      last = c;
+      have_last = true;
+    }
+    keys[i] = last_key;
+  }
+#else
   const hn::ScalableTag<double> dd;
   const hn::RebindToUnsigned<decltype(dd)> du;
   const hn::Rebind<std::uint32_t, decltype(du)> du32;
@@ -121,6 +148,7 @@ void ground_cell_keys(const CellFrame& f, const SampleClass* cls, const double* 
     const bool ground_i = cls[i] == SampleClass::seabed || cls[i] == SampleClass::object;
     keys[i] = ground_i ? ground_cell_key_at(f, gy[i], gz[i]) : noise_keys[i];
   }
+#endif
 }
 
 }  // namespace sonarsynth::sample_keys::HWY_NAMESPACE

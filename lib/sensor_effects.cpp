@@ -272,12 +272,14 @@ SensorMeanTables::SensorMeanTables(const SensorModel& m, const SideParams& side,
 
 namespace {
 
-// The node values of texture `stream`'s along-track row `along` (at least `cells` of them, NaN
-// until read): the tables' row if they keep it, else the least recently used row, cleared.
-// `capacity` (>= cells) is reserved for every row at the first call.
-// Rows a ping side reads are at most 2 per texture: 8 rows serve both textures of both sides.
-double* texture_row(SensorMeanTables& tables, std::uint64_t stream, std::uint64_t along,
-                    std::size_t cells, std::size_t capacity) {
+// The node values of texture `stream`'s along-track row `along` (row word `row`, unit-mean
+// Gamma table t) over the range patches [c0, c1): the tables' row if they keep it, else the
+// least recently used row, recomputed. A row holds one contiguous range of computed nodes and
+// computes only those it lacks. Rows a ping side reads are at most 2 per texture: 8 rows serve
+// both textures of both sides. `capacity` (>= c1) is reserved for every row at the first call.
+const double* texture_row(SensorMeanTables& tables, std::uint64_t stream, std::uint64_t along,
+                          std::uint64_t row, const UnitGammaTable& t, std::size_t c0,
+                          std::size_t c1, std::size_t capacity) {
   constexpr std::size_t kRows = 8;
   if (tables.texture_rows.size() != kRows) {
     tables.texture_rows.resize(kRows);
@@ -292,16 +294,26 @@ double* texture_row(SensorMeanTables& tables, std::uint64_t stream, std::uint64_
     }
     if (!r.used || (pick->used && r.last_use < pick->last_use)) pick = &r;
   }
-  if (!(pick->used && pick->stream == stream && pick->along == along)) {
-    pick->used = true;
-    pick->stream = stream;
-    pick->along = along;
-    pick->nodes.assign(cells, kNaN);
-  } else if (pick->nodes.size() < cells) {
-    pick->nodes.resize(cells, kNaN);
+  SensorMeanTables::TextureRow& r = *pick;
+  if (!(r.used && r.stream == stream && r.along == along)) {
+    r.used = true;
+    r.stream = stream;
+    r.along = along;
+    r.lo = r.hi = c0;
   }
-  pick->last_use = tables.texture_clock;
-  return pick->nodes.data();
+  r.last_use = tables.texture_clock;
+  if (r.nodes.size() < c1) r.nodes.resize(c1);
+  const auto compute = [&](std::size_t from, std::size_t to) {
+    for (std::size_t c = from; c < to; ++c) {
+      r.nodes[c] = t(high32_midpoint(splitmix_stream(row, c) << 32));
+    }
+  };
+  // Extend [lo, hi) to cover [c0, c1) (and any gap between them).
+  if (c0 < r.lo) compute(c0, r.lo);
+  if (c1 > r.hi) compute(r.hi, c1);
+  r.lo = std::min(r.lo, c0);
+  r.hi = std::max(r.hi, c1);
+  return r.nodes.data();
 }
 
 // The first bottom return of `altitude_m` into r (its cache entry): per bin from the first return
@@ -457,12 +469,8 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, SensorM
         // [from, to); then one vector pass over the samples.
         const auto c0 = static_cast<std::size_t>(g.cell[from]);
         const auto c1 = static_cast<std::size_t>(g.cell[to - 1]) + 2;
-        double* n0 = texture_row(tables, stream, a0, c1, n + 2);
-        double* n1 = texture_row(tables, stream, a0 + 1, c1, n + 2);
-        for (std::size_t c = c0; c < c1; ++c) {
-          if (std::isnan(n0[c])) n0[c] = value(row0, c);
-          if (std::isnan(n1[c])) n1[c] = value(row1, c);
-        }
+        const double* n0 = texture_row(tables, stream, a0, row0, t, c0, c1, n + 2);
+        const double* n1 = texture_row(tables, stream, a0 + 1, row1, t, c0, c1, n + 2);
         tables.texture_nodes.resize(std::max(tables.texture_nodes.size(), c1));
         double* nodes = tables.texture_nodes.data();
         sensor_mean::blend_rows(n0, n1, wa, c0, c1, nodes);

@@ -19,12 +19,13 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 void add_textured(const double* level, const std::int64_t* cell, const double* wr,
                   const double* nodes, std::size_t from, std::size_t to, double* mean) {
+  std::size_t i = from;
+#if HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128  // the portable targets: scalar loop
   const hn::ScalableTag<double> d;
   const hn::RebindToSigned<decltype(d)> di;
   const std::size_t lanes = hn::Lanes(d);
   const auto one = hn::Set(d, 1.0), hide = hn::Set(d, 1000.0);
   const auto next = hn::Set(di, 1);
-  std::size_t i = from;
   for (; i + lanes <= to; i += lanes) {
     const auto m = hn::LoadU(d, mean + i);
     const auto l = hn::LoadU(d, level + i);
@@ -36,6 +37,7 @@ void add_textured(const double* level, const std::int64_t* cell, const double* w
     const auto term = hn::IfThenElse(hn::Gt(m, hn::Mul(hide, l)), l, hn::Mul(l, tex));
     hn::StoreU(hn::Add(m, term), d, mean + i);
   }
+#endif
   for (; i < to; ++i) {
     if (mean[i] > 1000.0 * level[i]) {
       mean[i] += level[i];

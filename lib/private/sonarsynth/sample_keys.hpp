@@ -57,8 +57,12 @@ void ground_cell_keys(const CellFrame& f, const SampleClass* cls, const double* 
                       const double* gz, const std::uint64_t* noise_keys, std::size_t n,
                       std::uint64_t* keys);
 
-/// The scalar reference of ground_cell_keys (one sample).
-inline std::uint64_t ground_cell_key_at(const CellFrame& f, double gy, double gz) {
+/// The seabed cell (ix, iy, iz) of a sample: the floors of its position over the cell size.
+struct Cell {
+  std::int64_t ix = 0, iy = 0, iz = 0;
+  bool operator==(const Cell&) const = default;
+};
+inline Cell cell_at(const CellFrame& f, double gy, double gz) {
   const double qx = (f.nx + gy * f.dx) * f.inv_cell, qy = (f.ny + gy * f.dy) * f.inv_cell;
   const double qz = gz * f.inv_cell;
   // floor as int64 for |q| < 2^62 (truncation, minus one for negative non-integers); beyond,
@@ -68,7 +72,13 @@ inline std::uint64_t ground_cell_key_at(const CellFrame& f, double gy, double gz
     const auto i = static_cast<std::int64_t>(x);
     return static_cast<double>(i) > x ? i - 1 : i;
   };
-  return ground_cell_key(floor_to_int(qx), floor_to_int(qy), floor_to_int(qz));
+  return {floor_to_int(qx), floor_to_int(qy), floor_to_int(qz)};
+}
+
+/// The scalar reference of ground_cell_keys (one sample).
+inline std::uint64_t ground_cell_key_at(const CellFrame& f, double gy, double gz) {
+  const Cell c = cell_at(f, gy, gz);
+  return ground_cell_key(c.ix, c.iy, c.iz);
 }
 
 }  // namespace sonarsynth::sample_keys

@@ -90,11 +90,12 @@ struct SensorMeanTables {
     std::size_t samples = 0, first = 0;
     std::vector<double> values;
   } first_return;
-  /// A row of a patch texture's node values: texture (row word) of along-track patch `along`,
-  /// value per range patch, NaN until first read.
+  /// A row of a patch texture's node values: texture `stream`, along-track patch `along`, the
+  /// value per range patch computed for patches [lo, hi).
   struct TextureRow {
     std::uint64_t stream = 0, along = 0, last_use = 0;
     bool used = false;
+    std::size_t lo = 0, hi = 0;
     std::vector<double> nodes;
   };
   std::vector<TextureRow> texture_rows;
