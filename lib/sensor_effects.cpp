@@ -15,6 +15,7 @@
 #include "sonarsynth/noise.hpp"
 #include "sonarsynth/render_math.hpp"
 #include "sonarsynth/sensor_kernel.hpp"
+#include "sonarsynth/sensor_mean_simd.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -245,18 +246,180 @@ SensorMeanTables::SensorMeanTables(const SensorModel& m, const SideParams& side,
       fill[i] = m.fill_power * m.tvg_deficit(r) / ref / out_gain[i];
     }
   }
+  // The patch textures' range geometry (sample i at ur = (i + 1/2) dr / patch: node floor(ur),
+  // weight ur - floor(ur)), where there are at most about as many patches as samples.
+  const auto cells_of = [&](double range_m, TextureCells& t) {
+    const double inv_patch = dr / range_m;
+    const double count = static_cast<double>(n);
+    if (n == 0 || !(inv_patch * count < 1e15) ||
+        !(std::floor((count - 0.5) * inv_patch) + 2.0 <= count + 2.0)) {
+      return;
+    }
+    t.cell.resize(n);
+    t.weight.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double ur = (static_cast<double>(i) + 0.5) * inv_patch;
+      const double fr = std::floor(ur);
+      t.cell[i] = static_cast<std::int64_t>(fr);
+      t.weight[i] = ur - fr;
+    }
+  };
+  if (m.volume_power > 0.0 && m.volume_texture_nu > 0.0) {
+    cells_of(m.volume_patch_range_m, volume_cells);
+  }
+  if (m.fill_power > 0.0 && m.fill_texture_nu > 0.0) cells_of(m.fill_patch_range_m, fill_cells);
+  texture_nodes.reserve(n + 2);
 }
+
+namespace {
+
+// The node values of texture `stream`'s along-track row `along` (row word `row`, unit-mean
+// Gamma table t) over the range patches [c0, c1): the tables' row if they keep it, else the
+// least recently used row, recomputed. A row holds one contiguous range of computed nodes and
+// computes only those it lacks. Rows a ping side reads are at most 2 per texture: 8 rows serve
+// both textures of both sides. `capacity` (>= c1) is reserved for every row at the first call.
+const double* texture_row(SensorMeanTables& tables, std::uint64_t stream, std::uint64_t along,
+                          std::uint64_t row, const UnitGammaTable& t, std::size_t c0,
+                          std::size_t c1, std::size_t capacity) {
+  constexpr std::size_t kRows = 8;
+  if (tables.texture_rows.size() != kRows) {
+    tables.texture_rows.resize(kRows);
+    for (auto& r : tables.texture_rows) r.nodes.reserve(capacity);  // no allocation per ping
+  }
+  ++tables.texture_clock;
+  SensorMeanTables::TextureRow* pick = &tables.texture_rows[0];
+  for (auto& r : tables.texture_rows) {
+    if (r.used && r.stream == stream && r.along == along) {
+      pick = &r;
+      break;
+    }
+    if (!r.used || (pick->used && r.last_use < pick->last_use)) pick = &r;
+  }
+  SensorMeanTables::TextureRow& r = *pick;
+  if (!(r.used && r.stream == stream && r.along == along)) {
+    r.used = true;
+    r.stream = stream;
+    r.along = along;
+    r.lo = r.hi = c0;
+  }
+  r.last_use = tables.texture_clock;
+  if (r.nodes.size() < c1) r.nodes.resize(c1);
+  const auto compute = [&](std::size_t from, std::size_t to) {
+    for (std::size_t c = from; c < to; ++c) {
+      r.nodes[c] = t(high32_midpoint(splitmix_stream(row, c) << 32));
+    }
+  };
+  // Extend [lo, hi) to cover [c0, c1) (and any gap between them).
+  if (c0 < r.lo) compute(c0, r.lo);
+  if (c1 > r.hi) compute(r.hi, c1);
+  r.lo = std::min(r.lo, c0);
+  r.hi = std::max(r.hi, c1);
+  return r.nodes.data();
+}
+
+// The first bottom return of `altitude_m` into r (its cache entry): per bin from the first return
+// on, the per-bin integral in across-track distance (NaN where nothing is added).
+void first_return_bins(const SensorModel& m, const SideParams& side, double altitude_m,
+                       double axis_depression_rad, std::size_t n,
+                       SensorMeanTables::FirstReturn& out) {
+  const double dr = side.sample_spacing_m;
+  out.altitude_m = altitude_m;
+  out.axis_depression_rad = axis_depression_rad;
+  out.samples = n;
+  out.first = static_cast<std::size_t>(std::floor(altitude_m / dr));
+  out.values.clear();
+  out.values.reserve(n);  // once: no allocation per altitude
+  const double h = altitude_m, h2 = h * h;
+  const double kappa = 2.0 * side.absorption_db_per_m * std::log(10.0) / 10.0;
+  // sigma = lobe.peak sec^4 exp(-lobe.exponent(tan^2)) (backscatter.hpp).
+  const KirchhoffLobe lobe = KirchhoffLobe::make(m.first_return_rho, m.first_return_rms_slope);
+  const double coef = side.calibration_k * side.beta_eff_rad * lobe.peak;
+  // sigma < e^-20 (2e-9) of its peak beyond tan^2 theta = 40 s^2, orders of magnitude below
+  // the diffuse seabed of the same bins: stop there.
+  constexpr double kFirstReturnCutExponent = 20.0;
+  const double tan2_max = kFirstReturnCutExponent / lobe.inv_2s2;
+  const double y_kink =
+      side_lobe_crossing_y(side.vertical_beam, m.side_lobe_two_way, h, axis_depression_rad);
+  // One exp() per point: sigma's exp(-tan^2 / 2 s^2), the absorption and, for a Gaussian beam
+  // (two-way b^2 = exp(-gc off^2), docs/physics.md §1.3), max(b^2, floor) as
+  // exp(max(-gc off^2, ln floor)) share one exponent.
+  const bool gaussian = side.vertical_beam.shape == VerticalBeamShape::gaussian;
+  const double w3 = side.vertical_beam.width_3db_rad;
+  const double gc = gaussian ? 8.0 * std::log(2.0) / (w3 * w3) : 0.0;
+  const double ln_floor = std::log(m.side_lobe_two_way);  // -inf without a floor
+  const double inv_h2 = 1.0 / h2;
+  const double slope_h = m.first_return_rms_slope * h;
+  for (std::size_t i = out.first; i < n; ++i) {
+    const double r0 = static_cast<double>(i) * dr, r1 = r0 + dr;
+    const double y0 = r0 > h ? std::sqrt(r0 * r0 - h2) : 0.0;
+    if (y0 * y0 > tan2_max * h2) break;
+    const double y1 = std::sqrt(std::max(0.0, r1 * r1 - h2));
+    const double dy = y1 - y0;
+    if (!(dy > 0.0)) {
+      out.values.push_back(kNaN);
+      continue;
+    }
+    // Depression atan2(h, y) = theta_c + atan(x), x = h (yc - y) / (yc y + h^2) the angle from
+    // the bin's middle yc (both rays in the first quadrant): one atan2 per bin, the truncated
+    // atan series of render_math per point where |x| < 0.1 on the whole bin (x is monotone
+    // in y, so its ends bound it), atan2 otherwise.
+    const double yc = 0.5 * (y0 + y1);
+    const double theta_c = std::atan2(h, yc);
+    const double x_end = std::max(std::abs(h * (yc - y0) / (yc * y0 + h2)),
+                                  std::abs(h * (yc - y1) / (yc * y1 + h2)));
+    const int terms = x_end < 0.1 ? render_math::atan_terms(x_end) : 0;
+    // The beam term max(b^2, side lobe) has a kink where the main lobe meets the floor: a
+    // split point of the rule.
+    double sum = 0.0;
+    const double cut = y_kink > y0 && y_kink < y1 ? y_kink : y1;
+    // Bins narrow against their distance from nadir and the lobe's width s h (far from the
+    // sensor): the integrand is smooth on them, and 2-point Gauss–Legendre (error ~ (dy /
+    // scale)^4 / 4320 relative, below 1e-9 here) does what 4 points do at half the cost.
+    const bool smooth = cut == y1 && dy < 0.02 * y0 && dy < 0.02 * slope_h;
+    const double* gx = smooth ? kG2x : kGx;
+    const double* gw = smooth ? kG2w : kGw;
+    const int points = smooth ? 2 : 4;
+    for (const auto& [a, b] : {std::pair{y0, cut}, std::pair{cut, y1}}) {
+      const double w = b - a;
+      if (!(w > 0.0)) continue;
+      for (int g = 0; g < points; ++g) {
+        const double y = a + gx[g] * w;
+        const double y2 = y * y;
+        const double r2 = y2 + h2, r = std::sqrt(r2);
+        const double sec2 = r2 * inv_h2;  // 1 / cos^2
+        double theta;
+        if (terms > 0) {
+          const double x = h * (yc - y) / (yc * y + h2);
+          theta = theta_c + x * render_math::atan_poly(x * x, terms);
+        } else {
+          theta = std::atan2(h, y);
+        }
+        const double off = theta - axis_depression_rad;
+        double expo = -lobe.exponent(y2 * inv_h2) - kappa * r;
+        double v = sec2 * sec2 * (side.spreading ? 1.0 / (r2 * r) : r);
+        if (gaussian) {
+          expo += std::max(-gc * off * off, ln_floor);
+        } else {
+          v *= std::max(side.vertical_beam.two_way(off), m.side_lobe_two_way);
+        }
+        sum += gw[g] * w * v * render_math::exp_table(expo);
+      }
+    }
+    out.values.push_back(coef * sum);
+  }
+}
+
+}  // namespace
 
 void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double altitude_m,
                            double axis_depression_rad, std::span<const double> out_gain,
                            std::span<double> mean) {
-  add_sensor_mean_terms(m, side, SensorMeanTables(m, side, out_gain), altitude_m,
-                        axis_depression_rad, mean);
+  SensorMeanTables tables(m, side, out_gain);
+  add_sensor_mean_terms(m, side, tables, altitude_m, axis_depression_rad, mean);
 }
 
-void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
-                           const SensorMeanTables& tables, double altitude_m,
-                           double axis_depression_rad, std::span<double> mean,
+void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, SensorMeanTables& tables,
+                           double altitude_m, double axis_depression_rad, std::span<double> mean,
                            const PatchKey* patch) {
   const std::size_t n = mean.size();
   const double dr = side.sample_spacing_m;
@@ -278,7 +441,7 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
         hash_combine(splitmix64(m.patch_seed ^ 0x9a7c4e5fULL), patch->line_side);
     const auto add_textured = [&](const std::vector<double>& level, std::size_t from,
                                   std::size_t to, double nu, double along_m, double range_m,
-                                  std::uint64_t salt) {
+                                  std::uint64_t salt, const SensorMeanTables::TextureCells& g) {
       if (!(nu > 0.0)) {
         for (std::size_t i = from; i < to; ++i) mean[i] += level[i];
         return;
@@ -295,14 +458,32 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
       const double fa = std::floor(ua);
       const double wa = ua - fa;
       const auto a0 = static_cast<std::uint64_t>(static_cast<std::int64_t>(fa));
-      const std::uint64_t row0 = splitmix_stream(base ^ salt, a0);
-      const std::uint64_t row1 = splitmix_stream(base ^ salt, a0 + 1);
+      const std::uint64_t stream = base ^ salt;
+      const std::uint64_t row0 = splitmix_stream(stream, a0);
+      const std::uint64_t row1 = splitmix_stream(stream, a0 + 1);
+      const auto value = [&](std::uint64_t row, std::uint64_t c) {
+        return t(high32_midpoint(splitmix_stream(row, c) << 32));
+      };
+      if (to > from && g.cell.size() >= to) {
+        // The node values of rows a0 and a0 + 1, kept in the tables between pings (a patch spans
+        // several pings), blended at the ping's along-track position for the range patches of
+        // [from, to); then one vector pass over the samples.
+        const auto c0 = static_cast<std::size_t>(g.cell[from]);
+        const auto c1 = static_cast<std::size_t>(g.cell[to - 1]) + 2;
+        const double* n0 = texture_row(tables, stream, a0, row0, t, c0, c1, n + 2);
+        const double* n1 = texture_row(tables, stream, a0 + 1, row1, t, c0, c1, n + 2);
+        tables.texture_nodes.resize(std::max(tables.texture_nodes.size(), c1));
+        double* nodes = tables.texture_nodes.data();
+        sensor_mean::blend_rows(n0, n1, wa, c0, c1, nodes);
+        sensor_mean::add_textured(level.data(), g.cell.data(), g.weight.data(), nodes, from, to,
+                                  mean.data());
+        return;
+      }
+      // Patches finer than the samples: the nodes each sample needs, as it needs them.
       // Patch values at the nodes (a, c) x (along_m, range_m), bilinear between them: no
       // patch edges in the image.
       const auto node = [&](std::uint64_t c) {
-        const double t0 = t(high32_midpoint(splitmix_stream(row0, c) << 32));
-        const double t1 = t(high32_midpoint(splitmix_stream(row1, c) << 32));
-        return (1.0 - wa) * t0 + wa * t1;
+        return (1.0 - wa) * value(row0, c) + wa * value(row1, c);
       };
       std::uint64_t last_cell = 0;
       bool have = false;
@@ -329,89 +510,22 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
       }
     };
     add_textured(tables.volume, 0, nv, m.volume_texture_nu, m.volume_patch_along_m,
-                 m.volume_patch_range_m, 0x51);
+                 m.volume_patch_range_m, 0x51, tables.volume_cells);
     if (first < nf) {
       add_textured(tables.fill, first, nf, m.fill_texture_nu, m.fill_patch_along_m,
-                   m.fill_patch_range_m, 0xf1);
+                   m.fill_patch_range_m, 0xf1, tables.fill_cells);
     }
   }
-  if (!have_altitude) return;
-  if (m.first_return_rho > 0.0) {
-    const double h = altitude_m, h2 = h * h;
-    const double kappa = 2.0 * side.absorption_db_per_m * std::log(10.0) / 10.0;
-    // sigma = lobe.peak sec^4 exp(-lobe.exponent(tan^2)) (backscatter.hpp).
-    const KirchhoffLobe lobe = KirchhoffLobe::make(m.first_return_rho, m.first_return_rms_slope);
-    const double coef = side.calibration_k * side.beta_eff_rad * lobe.peak;
-    // sigma < e^-20 (2e-9) of its peak beyond tan^2 theta = 40 s^2, orders of magnitude below
-    // the diffuse seabed of the same bins: stop there.
-    constexpr double kFirstReturnCutExponent = 20.0;
-    const double tan2_max = kFirstReturnCutExponent / lobe.inv_2s2;
-    const double y_kink =
-        side_lobe_crossing_y(side.vertical_beam, m.side_lobe_two_way, h, axis_depression_rad);
-    // One exp() per point: sigma's exp(-tan^2 / 2 s^2), the absorption and, for a Gaussian beam
-    // (two-way b^2 = exp(-gc off^2), docs/physics.md §1.3), max(b^2, floor) as
-    // exp(max(-gc off^2, ln floor)) share one exponent.
-    const bool gaussian = side.vertical_beam.shape == VerticalBeamShape::gaussian;
-    const double w3 = side.vertical_beam.width_3db_rad;
-    const double gc = gaussian ? 8.0 * std::log(2.0) / (w3 * w3) : 0.0;
-    const double ln_floor = std::log(m.side_lobe_two_way);  // -inf without a floor
-    const double inv_h2 = 1.0 / h2;
-    const double slope_h = m.first_return_rms_slope * h;
-    for (std::size_t i = first; i < n; ++i) {
-      const double r0 = static_cast<double>(i) * dr, r1 = r0 + dr;
-      const double y0 = r0 > h ? std::sqrt(r0 * r0 - h2) : 0.0;
-      if (y0 * y0 > tan2_max * h2) break;
-      const double y1 = std::sqrt(std::max(0.0, r1 * r1 - h2));
-      const double dy = y1 - y0;
-      if (!(dy > 0.0)) continue;
-      // Depression atan2(h, y) = theta_c + atan(x), x = h (yc - y) / (yc y + h^2) the angle from
-      // the bin's middle yc (both rays in the first quadrant): one atan2 per bin, the truncated
-      // atan series of render_math per point where |x| < 0.1 on the whole bin (x is monotone
-      // in y, so its ends bound it), atan2 otherwise.
-      const double yc = 0.5 * (y0 + y1);
-      const double theta_c = std::atan2(h, yc);
-      const double x_end = std::max(std::abs(h * (yc - y0) / (yc * y0 + h2)),
-                                    std::abs(h * (yc - y1) / (yc * y1 + h2)));
-      const int terms = x_end < 0.1 ? render_math::atan_terms(x_end) : 0;
-      // The beam term max(b^2, side lobe) has a kink where the main lobe meets the floor: a
-      // split point of the rule.
-      double sum = 0.0;
-      const double cut = y_kink > y0 && y_kink < y1 ? y_kink : y1;
-      // Bins narrow against their distance from nadir and the lobe's width s h (far from the
-      // sensor): the integrand is smooth on them, and 2-point Gauss–Legendre (error ~ (dy /
-      // scale)^4 / 4320 relative, below 1e-9 here) does what 4 points do at half the cost.
-      const bool smooth = cut == y1 && dy < 0.02 * y0 && dy < 0.02 * slope_h;
-      const double* gx = smooth ? kG2x : kGx;
-      const double* gw = smooth ? kG2w : kGw;
-      const int points = smooth ? 2 : 4;
-      for (const auto& [a, b] : {std::pair{y0, cut}, std::pair{cut, y1}}) {
-        const double w = b - a;
-        if (!(w > 0.0)) continue;
-        for (int g = 0; g < points; ++g) {
-          const double y = a + gx[g] * w;
-          const double y2 = y * y;
-          const double r2 = y2 + h2, r = std::sqrt(r2);
-          const double sec2 = r2 * inv_h2;  // 1 / cos^2
-          double theta;
-          if (terms > 0) {
-            const double x = h * (yc - y) / (yc * y + h2);
-            theta = theta_c + x * render_math::atan_poly(x * x, terms);
-          } else {
-            theta = std::atan2(h, y);
-          }
-          const double off = theta - axis_depression_rad;
-          double expo = -lobe.exponent(y2 * inv_h2) - kappa * r;
-          double v = sec2 * sec2 * (side.spreading ? 1.0 / (r2 * r) : r);
-          if (gaussian) {
-            expo += std::max(-gc * off * off, ln_floor);
-          } else {
-            v *= std::max(side.vertical_beam.two_way(off), m.side_lobe_two_way);
-          }
-          sum += gw[g] * w * v * render_math::exp_table(expo);
-        }
-      }
-      mean[i] += coef * sum;
-    }
+  if (!have_altitude || !(m.first_return_rho > 0.0)) return;
+  // The first return depends on the altitude (and the beam's depression) alone: recomputed when
+  // they change, else the last ping's.
+  SensorMeanTables::FirstReturn& fr = tables.first_return;
+  if (!(fr.altitude_m == altitude_m && fr.axis_depression_rad == axis_depression_rad &&
+        fr.samples == n)) {
+    first_return_bins(m, side, altitude_m, axis_depression_rad, n, fr);
+  }
+  for (std::size_t k = 0; k < fr.values.size(); ++k) {
+    if (!std::isnan(fr.values[k])) mean[fr.first + k] += fr.values[k];
   }
 }
 

@@ -12,6 +12,7 @@
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/noise.hpp"
 #include "sonarsynth/render_side.hpp"
+#include "sonarsynth/sample_keys.hpp"
 #include "sonarsynth/scene_profile.hpp"
 #include "sonarsynth/sensor_effects.hpp"
 #include "sonarsynth/sensor_kernel.hpp"
@@ -26,49 +27,13 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Keys of samples without a seabed contributor carry this bit so they never collide with
-// ground-cell keys.
-constexpr std::uint64_t kPingSampleKeyBit = 1ULL << 63;
-
 // Key of (ping, side, sample) = bit | hash_combine(hash_combine(ping, side), sample) >> 1, with
 // the (ping, side) part hoisted out of the loop and splitmix64(sample) precomputed:
 // hash_combine(h, i) = splitmix64(h ^ splitmix64(i)) (same values as the nested form).
 void ping_sample_keys(std::uint64_t ping, bool starboard, const std::vector<std::uint64_t>& sh,
                       std::vector<std::uint64_t>& keys) {
-  const std::uint64_t h = hash_combine(ping, starboard ? 1 : 0);
   keys.resize(sh.size());
-  for (std::size_t i = 0; i < sh.size(); ++i) {
-    keys[i] = kPingSampleKeyBit | (splitmix64(h ^ sh[i]) >> 1);
-  }
-}
-
-// Key of the seabed cell (ix, iy, iz): the three indices packed into 23 + 23 + 16 bits when
-// they fit (+-2^22 and +-2^15 cells: +-210 km and +-1.6 km at 5 cm), scrambled by a bijection of
-// the 62-bit integers (odd multiplies and xor-shifts mod 2^62, the pattern of splitmix64) and
-// tagged with bit 62: distinct cells in that range never share a key, at two multiplies
-// instead of four mixes; beyond it the chained hash of the three (bit 62 clear). Bit 63 is clear:
-// never a (ping, sample) key.
-std::uint64_t ground_cell_key(std::int64_t ix, std::int64_t iy, std::int64_t iz) {
-  constexpr std::int64_t kXy = std::int64_t{1} << 22, kZ = std::int64_t{1} << 15;
-  constexpr std::uint64_t kMask62 = (std::uint64_t{1} << 62) - 1;
-  const auto ux = static_cast<std::uint64_t>(ix), uy = static_cast<std::uint64_t>(iy),
-             uz = static_cast<std::uint64_t>(iz);
-  if (ix >= -kXy && ix < kXy && iy >= -kXy && iy < kXy && iz >= -kZ && iz < kZ) {
-    std::uint64_t x = ((ux & 0x7fffffULL) << 39) | ((uy & 0x7fffffULL) << 16) | (uz & 0xffffULL);
-    x = (x * 0xbf58476d1ce4e5b9ULL) & kMask62;
-    x ^= x >> 31;
-    x = (x * 0x94d049bb133111ebULL) & kMask62;
-    x ^= x >> 29;
-    return (std::uint64_t{1} << 62) | x;
-  }
-  return (kMask62 & hash_combine(hash_combine(ux, uy), uz));
-}
-
-// floor(x) as int64 for finite |x| < 2^63 without a libm call (identical to std::floor there):
-// truncation, minus one for negative non-integers.
-inline std::int64_t floor_to_int(double x) {
-  const auto i = static_cast<std::int64_t>(x);
-  return static_cast<double>(i) > x ? i - 1 : i;
+  sample_keys::ping_keys(hash_combine(ping, starboard ? 1 : 0), sh.data(), sh.size(), keys.data());
 }
 
 }  // namespace
@@ -324,42 +289,24 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
     // Neighbouring samples often fall in the same cell: its key is then reused (same value).
     const double cell =
         nc.freeze_cell_m > 0 ? nc.freeze_cell_m : config_.sonar.range_resolution_m();
-    const double inv_cell = 1.0 / cell;  // one division per side instead of three per sample
-    const double nx = nadir.x(), ny = nadir.y();
-    const double dx = central_dir.x(), dy = central_dir.y();
     ws.keys.resize(n);
+    sample_keys::CellFrame frame;
+    frame.nx = nadir.x();
+    frame.ny = nadir.y();
+    frame.dx = central_dir.x();
+    frame.dy = central_dir.y();
+    frame.inv_cell = 1.0 / cell;  // one division per side instead of three per sample
+    sample_keys::ground_cell_keys(frame, e.truth_class.data(), e.truth_ground_y_m.data(),
+                                  e.truth_ground_z_m.data(), ws.noise_keys.data(), n,
+                                  ws.keys.data());
     ws.nu.resize(nc.texture ? n : 0);  // every entry written below (no memset per side)
-    bool have_last = false;
-    std::int64_t lx = 0, ly = 0, lz = 0;
-    std::uint64_t last_key = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      const SampleClass cls = e.truth_class[i];
-      if (cls == SampleClass::seabed || cls == SampleClass::object) {
-        const double gy = e.truth_ground_y_m[i];
-        const double qx = (nx + gy * dx) * inv_cell, qy = (ny + gy * dy) * inv_cell;
-        const double qz = e.truth_ground_z_m[i] * inv_cell;
-        std::int64_t ix, iy, iz;
-        if (std::abs(qx) < 0x1p62 && std::abs(qy) < 0x1p62 && std::abs(qz) < 0x1p62) {
-          ix = floor_to_int(qx);
-          iy = floor_to_int(qy);
-          iz = floor_to_int(qz);
-        } else {
-          ix = static_cast<std::int64_t>(std::floor(qx));
-          iy = static_cast<std::int64_t>(std::floor(qy));
-          iz = static_cast<std::int64_t>(std::floor(qz));
-        }
-        if (!have_last || ix != lx || iy != ly || iz != lz) {
-          last_key = ground_cell_key(ix, iy, iz);
-          lx = ix;
-          ly = iy;
-          lz = iz;
-          have_last = true;
-        }
-        ws.keys[i] = last_key;
-        if (nc.texture) ws.nu[i] = cal_->side.materials[e.truth_material[i]].texture_shape_nu;
-      } else {
-        ws.keys[i] = ws.noise_keys[i];
-        if (nc.texture) ws.nu[i] = 0.0;
+    if (nc.texture) {
+      const std::vector<Material>& materials = cal_->side.materials;
+      for (std::size_t i = 0; i < n; ++i) {
+        const SampleClass cls = e.truth_class[i];
+        ws.nu[i] = cls == SampleClass::seabed || cls == SampleClass::object
+                       ? materials[e.truth_material[i]].texture_shape_nu
+                       : 0.0;
       }
     }
     SpeckleNoise sn;

@@ -55,19 +55,25 @@ RenderTimings Simulator::run_pings(
                                         std::vector<RenderedPing>(std::min(block, total))};
   std::vector<std::exception_ptr> errors(requested_threads);
 
-  // The block being rendered: pings [first, first + count) into pings[buf]. Each ping is claimed
-  // through an atomic counter (dynamic load balance) and stored at its own index; every ping is
-  // a pure function of its index, so the output is the same for any thread count or schedule.
+  // The block being rendered: pings [first, first + count) into pings[buf]. Runs of `run`
+  // consecutive pings are claimed through an atomic counter (dynamic load balance; consecutive
+  // pings on one thread reuse what its workspace keeps between pings) and each ping is stored at
+  // its own index; every ping is a pure function of its index (what a workspace keeps gives the
+  // values it would compute), so the output is the same for any thread count or schedule.
   struct Job {
-    std::uint64_t first = 0, count = 0;
+    std::uint64_t first = 0, count = 0, run = 1;
     int buf = 0;
     std::atomic<std::uint64_t> next{0};
   } job;
   auto work = [&](unsigned t) {
     try {
-      for (std::uint64_t i = job.next.fetch_add(1); i < job.count; i = job.next.fetch_add(1)) {
-        render_ping(survey.pose(job.first + i, scene_->bathymetry), *workspaces[t],
-                    pings[job.buf][i], &timings[t]);
+      for (std::uint64_t i0 = job.next.fetch_add(job.run); i0 < job.count;
+           i0 = job.next.fetch_add(job.run)) {
+        const std::uint64_t i1 = std::min(job.count, i0 + job.run);
+        for (std::uint64_t i = i0; i < i1; ++i) {
+          render_ping(survey.pose(job.first + i, scene_->bathymetry), *workspaces[t],
+                      pings[job.buf][i], &timings[t]);
+        }
       }
     } catch (...) {
       if (!errors[t]) errors[t] = std::current_exception();
@@ -87,6 +93,8 @@ RenderTimings Simulator::run_pings(
   auto start = [&](std::uint64_t first, int buf) {
     job.first = first;  // the helpers are idle between finish() and start()
     job.count = std::min(block, total - first);
+    // About four runs per thread and block: long enough to keep state, short enough to balance.
+    job.run = std::max<std::uint64_t>(1, job.count / (4ULL * requested_threads));
     job.buf = buf;
     job.next.store(0);
     pool.start();

@@ -263,6 +263,46 @@ TEST(SensorEffects, FirstBottomReturnMatchesAnIndependentQuadratureAndStartsAtTh
   EXPECT_GT(double{on.starboard.samples[first]}, 5.0 * off.starboard.samples[first]);
 }
 
+TEST(SensorEffects, TermsKeptBetweenPingsEqualThoseOfAFreshWorkspace) {
+  // A workspace keeps the first return of the last altitude and the patch textures' rows between
+  // pings: pings rendered in one workspace, in an order that revisits altitudes and along-track
+  // patches and jumps back, must equal each ping rendered alone in a fresh workspace, bit for bit.
+  const auto scene = scene_with(true);
+  SimulationConfig c = base_config();
+  c.noise.model = NoiseConfig::Model::kNone;
+  c.output.quantity = SampleQuantity::intensity;
+  c.output.round_to_integer = false;
+  c.sensor.volume_reverberation_db = -20.0;
+  c.sensor.shadow_fill_db = -15.0;
+  c.sensor.first_return_reflection_db = -10.0;
+  c.sensor.volume_texture_shape = 0.5;
+  c.sensor.shadow_fill_texture_shape = 0.3;
+  c.sensor.volume_patch_along_track_m = 0.3;
+  c.sensor.volume_patch_range_m = 0.1;
+  const Simulator sim(scene, c, kAltitude);
+  const double altitudes[] = {10.0, 10.0, 10.0, 9.5, 9.5, 10.0, 11.0, 10.0, 10.0, 9.5};
+  const double along[] = {0.0, 0.1, 0.2, 0.3, 0.45, 0.1, 5.0, 0.05, 0.55, 0.6};
+  auto kept = sim.make_workspace();
+  std::size_t compared = 0;
+  for (std::size_t k = 0; k < std::size(along); ++k) {
+    PingPose pose = sensor_pose(Eigen::Vector3d(0.0, along[k], kSeabedZ + altitudes[k]), 0.0, 0.0,
+                                0.0, scene->bathymetry, k + 1);
+    pose.along_track_m = along[k];
+    RenderedPing a;
+    sim.render_ping(pose, *kept, a);
+    const RenderedPing b = render(sim, pose);
+    for (const auto& [x, y] :
+         {std::pair{&a.port, &b.port}, std::pair{&a.starboard, &b.starboard}}) {
+      ASSERT_EQ(x->samples.size(), y->samples.size());
+      for (std::size_t i = 0; i < x->samples.size(); ++i) {
+        ASSERT_EQ(x->samples[i], y->samples[i]) << "ping " << k << " sample " << i;
+        compared += x->samples[i] > 0.0f;
+      }
+    }
+  }
+  EXPECT_GT(compared, 10000u);
+}
+
 TEST(SensorEffects, SpeckleCorrelatesAlongTrackAsTheFootprintsOverlap) {
   // Pings 0.25 m apart along a straight track; the footprint L = r beta_eff (docs/physics.md
   // §1.6) grows with range from 0.6 to 1.5 times the spacing. The Gaussian beam gives

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -73,9 +74,39 @@ void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, double 
                            std::span<double> mean);
 
 /// The range-only factors of add_sensor_mean_terms, once per run: volume reverberation and
-/// shadow fill per sample, already divided by out_gain (empty when off).
+/// shadow fill per sample, already divided by out_gain (empty when off). Also what the calls
+/// keep between pings (one SensorMeanTables per thread, used with the model and side it was
+/// built for): the first return of the last altitude, and the patch textures' rows of node
+/// values (consecutive pings of a side read the same along-track rows). The cached values are
+/// those the computation gives, so the output does not depend on which pings a thread rendered
+/// before.
 struct SensorMeanTables {
   std::vector<double> volume, fill;
+  /// The first return at (altitude_m, axis_depression_rad) for `samples` samples: bin
+  /// first + k gets values[k] (NaN: nothing added).
+  struct FirstReturn {
+    double altitude_m = std::numeric_limits<double>::quiet_NaN();
+    double axis_depression_rad = std::numeric_limits<double>::quiet_NaN();
+    std::size_t samples = 0, first = 0;
+    std::vector<double> values;
+  } first_return;
+  /// A row of a patch texture's node values: texture `stream`, along-track patch `along`, the
+  /// value per range patch computed for patches [lo, hi).
+  struct TextureRow {
+    std::uint64_t stream = 0, along = 0, last_use = 0;
+    bool used = false;
+    std::size_t lo = 0, hi = 0;
+    std::vector<double> nodes;
+  };
+  std::vector<TextureRow> texture_rows;
+  std::uint64_t texture_clock = 0;
+  /// Per-run range geometry of a patch texture: per sample its range patch (node) index and the
+  /// weight of the next node (empty when off, or when the patches are finer than the samples).
+  struct TextureCells {
+    std::vector<std::int64_t> cell;
+    std::vector<double> weight;
+  } volume_cells, fill_cells;
+  std::vector<double> texture_nodes;  ///< the nodes at a ping's along-track position (scratch)
   SensorMeanTables() = default;
   SensorMeanTables(const SensorModel& m, const SideParams& side, std::span<const double> out_gain);
 };
@@ -85,11 +116,11 @@ struct PatchKey {
   std::uint64_t line_side = 0;
   double along_track_m = 0.0;
 };
-/// The same with the tables (identical values): no division per sample and ping. With `patch`
-/// and a texture shape, the volume and fill terms take their patch textures.
-void add_sensor_mean_terms(const SensorModel& m, const SideParams& side,
-                           const SensorMeanTables& tables, double altitude_m,
-                           double axis_depression_rad, std::span<double> mean,
+/// The same with the tables (identical values): no division per sample and ping, and the first
+/// return and texture rows reused from earlier calls where they apply. With `patch` and a texture
+/// shape, the volume and fill terms take their patch textures.
+void add_sensor_mean_terms(const SensorModel& m, const SideParams& side, SensorMeanTables& tables,
+                           double altitude_m, double axis_depression_rad, std::span<double> mean,
                            const PatchKey* patch = nullptr);
 
 /// The speckle field of one side of one ping from scatterers frozen per range cell along the
