@@ -14,6 +14,7 @@
 #include "sonarsynth/render_facet.hpp"
 #include "sonarsynth/render_math.hpp"
 #include "sonarsynth/render_sections.hpp"
+#include "sonarsynth/simd.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -159,8 +160,6 @@ void render_sections(const BeamProfile& prof, const SideParams& par, const Grid&
 template <bool kTruth, class Grid>
 bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, SideEcho& out) {
   auto& w = out.workspace;
-  const Workspace ws{w.fine_energy.data(), w.best_energy.data(), w.best_facet.data(),
-                     w.best_y_m.data(), w.best_dz_m.data()};
   const VerticalBeamShape shape = par.vertical_beam.shape;
   const double w3 = par.vertical_beam.width_3db_rad;
   // Two-way Gaussian: (exp(-4 ln2 (off/W)^2))^2 = exp(-8 ln2 off^2 / W^2), docs/physics.md §1.3.
@@ -185,6 +184,26 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     in.lit_lo = -par.vertical_beam.upper_half_width_rad;
     in.lit_hi = par.vertical_beam.lower_half_width_rad;
   }
+  // The vector kernel for the beams it evaluates (render_facet::Workspace::kernel).
+  render_kernel::PieceArgs kernel{};
+  kernel.dr = grid.dr;
+  kernel.split_f = split_width(grid);
+  kernel.axis_rad = in.axis_rad;
+  kernel.gauss_coef = in.gauss_coef;
+  kernel.kappa_per_m = in.kappa_per_m;
+  kernel.spreading = in.spreading;
+  kernel.paper = in.paper;
+  kernel.paper_upper_rad = in.paper_upper_rad;
+  kernel.paper_lower_rad = in.paper_lower_rad;
+  kernel.gauss_points = in.rule->n;
+  kernel.gauss_x = in.rule->x;
+  kernel.gauss_w = in.rule->w;
+  // The scalar target keeps the scalar gauss_sum: the reference the vector paths are tested
+  // against (Highway's EMU128 copy of the kernel would be slower than it).
+  const bool vector =
+      (in.beam == nullptr || in.paper) && simd::active_target() != simd::Target::scalar;
+  const Workspace ws{w.fine_energy.data(), w.best_energy.data(), w.best_facet.data(),
+                     w.best_y_m.data(),    w.best_dz_m.data(),   vector ? &kernel : nullptr};
   const double hs = prof.sensor_z_m;
   const double r_max = grid.edge(grid.n);
   const double kb = par.calibration_k * par.beta_eff_rad;
@@ -505,6 +524,7 @@ void render_impl(const BeamProfile& prof, const SideParams& par, SideEcho& out) 
 }  // namespace
 
 void render_side(const BeamProfile& profile, const SideParams& params, SideEcho& out) {
+  simd::configure_from_environment();
   params.validate();
   validate_beam_profile(profile, params.materials.size(), "render_side");
   if (params.truth) {
