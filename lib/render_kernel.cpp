@@ -75,10 +75,13 @@ HWY_INLINE V bin_edge(D d, V j, const PieceArgs& a) {
                         hn::Mul(k, dr));
 }
 
-std::size_t render_bins(const PieceArgs& a, std::ptrdiff_t j_lo, std::ptrdiff_t j_hi,
-                        double* HWY_RESTRICT energy, double* HWY_RESTRICT e_out,
-                        double* HWY_RESTRICT my_out, double* HWY_RESTRICT mz_out,
-                        double* HWY_RESTRICT lo_out, double* HWY_RESTRICT hi_out) {
+// render_bins; kFast: the default set-up (2-point rule, spreading, Gaussian beam, the atan
+// series on the facet), its tests folded at compile time and its points unrolled.
+template <bool kFast>
+HWY_INLINE std::size_t bins(const PieceArgs& a, std::ptrdiff_t j_lo, std::ptrdiff_t j_hi,
+                            double* HWY_RESTRICT energy, double* HWY_RESTRICT e_out,
+                            double* HWY_RESTRICT my_out, double* HWY_RESTRICT mz_out,
+                            double* HWY_RESTRICT lo_out, double* HWY_RESTRICT hi_out) {
   const hn::ScalableTag<double> d;
   using V = hn::Vec<decltype(d)>;
   const auto lanes = static_cast<std::ptrdiff_t>(hn::Lanes(d));
@@ -94,10 +97,14 @@ std::size_t render_bins(const PieceArgs& a, std::ptrdiff_t j_lo, std::ptrdiff_t 
   const V kappa = hn::Set(d, a.kappa_per_m);
   const V upper = hn::Set(d, a.paper_upper_rad), lower = hn::Set(d, a.paper_lower_rad);
   const V j_s0 = hn::Set(d, static_cast<double>(a.j_s0));
-  const bool angle = a.gauss_coef > 0.0 || a.paper;
-  const bool expo_on = a.gauss_coef > 0.0 || a.kappa_per_m > 0.0;
+  const bool gauss = kFast || a.gauss_coef > 0.0;
+  const bool paper = !kFast && a.paper;
+  const bool angle = gauss || paper;
+  const bool spreading = kFast || a.spreading;
+  const bool expo_on = gauss || a.kappa_per_m > 0.0;
   const bool rising = a.branch > 0.0;
-  const bool series = angle && a.series_terms > 0;
+  const bool series = kFast || (angle && a.series_terms > 0);
+  const int points = kFast ? 2 : a.gauss_points;
   const V theta_off = hn::Set(d, a.theta_off), cross = hn::Set(d, a.cross);
   const V w2 = hn::Set(d, a.w2), wu = hn::Set(d, a.wu);
   // Facet::root clamped to the piece.
@@ -127,14 +134,14 @@ std::size_t render_bins(const PieceArgs& a, std::ptrdiff_t j_lo, std::ptrdiff_t 
     const V rmid2 = hn::MulAdd(my, my, hn::Mul(mz, mz));
     const auto too_long = hn::And(nonempty, hn::Not(hn::Le(hn::Mul(dl, dl), hn::Mul(lim2, rmid2))));
     V sum = zero;
-    for (int g = 0; g < a.gauss_points; ++g) {
+    for (int g = 0; g < points; ++g) {
       const V t = hn::MulAdd(hn::Set(d, a.gauss_x[g]), dq, lo);
       const V py = hn::MulAdd(t, uy, ay), dz = hn::MulAdd(t, uz, az);
       const V r2 = hn::MulAdd(py, py, hn::Mul(dz, dz));
       const auto at_sensor = hn::Not(hn::Gt(r2, zero));
       const V safe_r2 = hn::IfThenElse(at_sensor, one, r2);
       const V r = hn::Sqrt(safe_r2);
-      const V den = a.spreading ? hn::Mul(hn::Mul(safe_r2, safe_r2), r) : r;
+      const V den = spreading ? hn::Mul(hn::Mul(safe_r2, safe_r2), r) : r;
       V val, off = zero;
       if (series) {
         // One division for both quotients: 1 / (den den_x).
@@ -154,7 +161,7 @@ std::size_t render_bins(const PieceArgs& a, std::ptrdiff_t j_lo, std::ptrdiff_t 
       }
       V expo = zero;
       if (angle) {
-        if (a.gauss_coef > 0.0) {
+        if (gauss) {
           expo = hn::Neg(hn::Mul(hn::Mul(gc, off), off));
         } else {
           const V u = hn::Div(off, hn::IfThenElse(hn::Lt(off, zero), upper, lower));
@@ -183,6 +190,40 @@ std::size_t render_bins(const PieceArgs& a, std::ptrdiff_t j_lo, std::ptrdiff_t 
   return left;
 }
 
+std::size_t render_bins(const PieceArgs& a, std::ptrdiff_t j_lo, std::ptrdiff_t j_hi,
+                        double* HWY_RESTRICT energy, double* HWY_RESTRICT e_out,
+                        double* HWY_RESTRICT my_out, double* HWY_RESTRICT mz_out,
+                        double* HWY_RESTRICT lo_out, double* HWY_RESTRICT hi_out) {
+  if (a.gauss_points == 2 && a.spreading && a.gauss_coef > 0.0 && !a.paper && a.series_terms > 0) {
+    return bins<true>(a, j_lo, j_hi, energy, e_out, my_out, mz_out, lo_out, hi_out);
+  }
+  return bins<false>(a, j_lo, j_hi, energy, e_out, my_out, mz_out, lo_out, hi_out);
+}
+
+void grazing_angles(const double* HWY_RESTRICT y, const double* HWY_RESTRICT dz,
+                    double* HWY_RESTRICT g, std::size_t n) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const std::size_t lanes = hn::Lanes(d);
+  const V zero = hn::Zero(d);
+  const V pi = hn::Set(d, 3.14159265358979323846), two_pi = hn::Set(d, 6.28318530717958647693);
+  const V half_pi = hn::Set(d, 1.57079632679489661923);
+  for (std::size_t i = 0; i < n; i += lanes) {
+    const auto in = hn::FirstN(d, n - i);
+    const V py = hn::MaskedLoad(in, d, y + i), z = hn::MaskedLoad(in, d, dz + i);
+    const V alpha = hn::MaskedLoad(in, d, g + i);
+    // theta + alpha in (-2 pi, 2 pi]: reduce to (-pi, pi], then fold.
+    V a = hn::Add(atan2(d, hn::Neg(z), py), alpha);
+    a = hn::IfThenElse(hn::Gt(a, pi), hn::Sub(a, two_pi), a);
+    a = hn::IfThenElse(hn::Le(a, hn::Neg(pi)), hn::Add(a, two_pi), a);
+    a = hn::IfThenElse(hn::Gt(a, half_pi), hn::Sub(pi, a), a);
+    a = hn::IfThenElse(hn::Lt(a, zero), zero, a);
+    a = hn::IfThenElseZero(hn::Gt(hn::MulAdd(py, py, hn::Mul(z, z)), zero), a);
+    const auto none = hn::Ne(alpha, alpha);
+    hn::BlendedStore(a, hn::AndNot(none, in), d, g + i);
+  }
+}
+
 }  // namespace sonarsynth::render_kernel::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
@@ -190,6 +231,11 @@ HWY_AFTER_NAMESPACE();
 namespace sonarsynth::render_kernel {
 
 HWY_EXPORT(render_bins);
+HWY_EXPORT(grazing_angles);
+
+void grazing_angles(const double* y, const double* dz, double* g, std::size_t n) {
+  HWY_DYNAMIC_DISPATCH(grazing_angles)(y, dz, g, n);
+}
 
 std::size_t render_bins(const PieceArgs& a, std::ptrdiff_t j_lo, std::ptrdiff_t j_hi,
                         double* energy, double* e, double* my, double* mz, double* lo, double* hi) {

@@ -364,6 +364,11 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
     }
   }
   const bool grazing = par.truth_grazing;
+  // The vector targets fill the grazing angles after the loop (render_kernel::grazing_angles):
+  // the loop leaves each contributor's facet slope alpha in truth_grazing_rad and its dz in
+  // w.sample_dz_m. The scalar target keeps the series below (the reference).
+  const bool vector_grazing = kTruth && grazing && simd::active_target() != simd::Target::scalar;
+  if (vector_grazing) w.sample_dz_m.resize(ns);
   std::int32_t facet = -1;  // facet of the cached slope, label and material
   // Grazing angle without asin per sample: with the depression theta of the midpoint
   // (atan2(-mz, my)) and the facet's slope angle alpha = atan2(uz, uy), cos(incidence) =
@@ -422,7 +427,10 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
         out.truth_class[i] = label > 0 ? SampleClass::object : SampleClass::seabed;
         out.truth_label[i] = label;
         out.truth_material[i] = material;
-        if (grazing) {
+        if (vector_grazing) {
+          out.truth_grazing_rad[i] = alpha;
+          w.sample_dz_m[i] = mz;
+        } else if (grazing) {
           double g = 0.0;
           if (my * my + mz * mz > 0.0) {
             double theta = 0.0;
@@ -461,6 +469,10 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
         out.truth_ground_z_m[i] = kNaN;
       }
     }
+  }
+  if (vector_grazing) {
+    render_kernel::grazing_angles(out.truth_ground_y_m.data(), w.sample_dz_m.data(),
+                                  out.truth_grazing_rad.data(), ns);
   }
 }
 

@@ -49,4 +49,10 @@ struct PieceArgs {
 std::size_t render_bins(const PieceArgs& a, std::ptrdiff_t j_lo, std::ptrdiff_t j_hi,
                         double* energy, double* e, double* my, double* mz, double* lo, double* hi);
 
+// The truth's grazing angle per sample (render_side's gather): g[i] on entry is the slope angle
+// alpha of the contributing facet (NaN: no contributor, left as it is), (y[i], dz[i]) the
+// contributor relative to the sensor; on return g[i] = the depression atan2(-dz, y) plus alpha,
+// folded into [0, pi/2] (0 at the sensor itself). Dispatched as render_bins.
+void grazing_angles(const double* y, const double* dz, double* g, std::size_t n);
+
 }  // namespace sonarsynth::render_kernel
