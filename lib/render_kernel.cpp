@@ -219,7 +219,7 @@ void grazing_angles(const double* HWY_RESTRICT y, const double* HWY_RESTRICT dz,
     a = hn::IfThenElse(hn::Gt(a, half_pi), hn::Sub(pi, a), a);
     a = hn::IfThenElse(hn::Lt(a, zero), zero, a);
     a = hn::IfThenElseZero(hn::Gt(hn::MulAdd(py, py, hn::Mul(z, z)), zero), a);
-    const auto none = hn::Ne(alpha, alpha);
+    const auto none = hn::IsNaN(alpha);
     hn::BlendedStore(a, hn::AndNot(none, in), d, g + i);
   }
 }
