@@ -14,6 +14,7 @@
 #include "sonarsynth/render_facet.hpp"
 #include "sonarsynth/render_math.hpp"
 #include "sonarsynth/render_sections.hpp"
+#include "sonarsynth/simd.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -159,8 +160,6 @@ void render_sections(const BeamProfile& prof, const SideParams& par, const Grid&
 template <bool kTruth, class Grid>
 bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, SideEcho& out) {
   auto& w = out.workspace;
-  const Workspace ws{w.fine_energy.data(), w.best_energy.data(), w.best_facet.data(),
-                     w.best_y_m.data(), w.best_dz_m.data()};
   const VerticalBeamShape shape = par.vertical_beam.shape;
   const double w3 = par.vertical_beam.width_3db_rad;
   // Two-way Gaussian: (exp(-4 ln2 (off/W)^2))^2 = exp(-8 ln2 off^2 / W^2), docs/physics.md §1.3.
@@ -185,6 +184,26 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     in.lit_lo = -par.vertical_beam.upper_half_width_rad;
     in.lit_hi = par.vertical_beam.lower_half_width_rad;
   }
+  // The vector kernel for the beams it evaluates (render_facet::Workspace::kernel).
+  render_kernel::PieceArgs kernel{};
+  kernel.dr = grid.dr;
+  kernel.split_f = split_width(grid);
+  kernel.axis_rad = in.axis_rad;
+  kernel.gauss_coef = in.gauss_coef;
+  kernel.kappa_per_m = in.kappa_per_m;
+  kernel.spreading = in.spreading;
+  kernel.paper = in.paper;
+  kernel.paper_upper_rad = in.paper_upper_rad;
+  kernel.paper_lower_rad = in.paper_lower_rad;
+  kernel.gauss_points = in.rule->n;
+  kernel.gauss_x = in.rule->x;
+  kernel.gauss_w = in.rule->w;
+  // The scalar target keeps the scalar gauss_sum: the reference the vector paths are tested
+  // against (Highway's EMU128 copy of the kernel would be slower than it).
+  const bool vector =
+      (in.beam == nullptr || in.paper) && simd::active_target() != simd::Target::scalar;
+  const Workspace ws{w.fine_energy.data(), w.best_energy.data(), w.best_facet.data(),
+                     w.best_y_m.data(),    w.best_dz_m.data(),   vector ? &kernel : nullptr};
   const double hs = prof.sensor_z_m;
   const double r_max = grid.edge(grid.n);
   const double kb = par.calibration_k * par.beta_eff_rad;
@@ -345,6 +364,11 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
     }
   }
   const bool grazing = par.truth_grazing;
+  // The vector targets fill the grazing angles after the loop (render_kernel::grazing_angles):
+  // the loop leaves each contributor's facet slope alpha in truth_grazing_rad and its dz in
+  // w.sample_dz_m. The scalar target keeps the series below (the reference).
+  const bool vector_grazing = kTruth && grazing && simd::active_target() != simd::Target::scalar;
+  if (vector_grazing) w.sample_dz_m.resize(ns);
   std::int32_t facet = -1;  // facet of the cached slope, label and material
   // Grazing angle without asin per sample: with the depression theta of the midpoint
   // (atan2(-mz, my)) and the facet's slope angle alpha = atan2(uz, uy), cos(incidence) =
@@ -403,7 +427,10 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
         out.truth_class[i] = label > 0 ? SampleClass::object : SampleClass::seabed;
         out.truth_label[i] = label;
         out.truth_material[i] = material;
-        if (grazing) {
+        if (vector_grazing) {
+          out.truth_grazing_rad[i] = alpha;
+          w.sample_dz_m[i] = mz;
+        } else if (grazing) {
           double g = 0.0;
           if (my * my + mz * mz > 0.0) {
             double theta = 0.0;
@@ -442,6 +469,10 @@ void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Wind
         out.truth_ground_z_m[i] = kNaN;
       }
     }
+  }
+  if (vector_grazing) {
+    render_kernel::grazing_angles(out.truth_ground_y_m.data(), w.sample_dz_m.data(),
+                                  out.truth_grazing_rad.data(), ns);
   }
 }
 
@@ -505,6 +536,7 @@ void render_impl(const BeamProfile& prof, const SideParams& par, SideEcho& out) 
 }  // namespace
 
 void render_side(const BeamProfile& profile, const SideParams& params, SideEcho& out) {
+  simd::configure_from_environment();
   params.validate();
   validate_beam_profile(profile, params.materials.size(), "render_side");
   if (params.truth) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "sonarsynth/backscatter.hpp"
+#include "sonarsynth/render_kernel.hpp"
 #include "sonarsynth/render_math.hpp"
 #include "sonarsynth/render_side.hpp"
 
@@ -154,7 +155,19 @@ struct Workspace {
   std::int32_t* best_facet;
   double* best_y;
   double* best_dz;
+  // The vector kernel's integrand and grid (render_kernel::render_bins; the facet and piece
+  // fields are filled per piece), for the beams it evaluates: uniform, Gaussian and the paper
+  // sine pair; nullptr: every sub-piece by the scalar gauss_sum.
+  const render_kernel::PieceArgs* kernel;
 };
+
+// The split grid's f for the vector kernel (0: a uniform grid).
+inline double split_width(const UniformGrid&) {
+  return 0.0;
+}
+inline double split_width(const SplitGrid& g) {
+  return g.f;
+}
 
 // Longest sub-piece integrated by one Gauss rule, relative to its distance from the sensor:
 // the integrand varies on the scale of r, so the rule's error ~ (l / r)^4 (near nadir a bin spans
@@ -299,6 +312,87 @@ inline void integrate(const Facet& f, const Integrand& in, double q0, double q1,
   }
 }
 
+// render_piece by the vector kernel (ws.kernel, a facet without glint): the same bins, cuts and
+// sub-pieces, the bins in lanes (docs/physics.md §2.1). Sub-pieces too long for one Gauss rule
+// (near nadir) are subdivided by the scalar integrate().
+template <bool kTruth, class Grid>
+void render_piece_bins(const Facet& f, const Integrand& in, const Grid& grid, double s0, double s1,
+                       double r0, double r1, double branch, const Workspace& ws) {
+  const double r_max = grid.edge(grid.n);
+  const auto start_bin = [&] {
+    std::ptrdiff_t j = std::max<std::ptrdiff_t>(0, grid.index(r0));
+    while (j > 0 && grid.edge(j) > r0) --j;
+    while (j + 1 < grid.n && grid.edge(j + 1) <= r0) ++j;
+    return j;
+  };
+  std::ptrdiff_t j_lo = 0, j_hi = 0, j_s0 = -1;
+  if (branch > 0) {
+    // From r0's bin up to the first bin whose upper edge reaches r1 (the last bin at most).
+    if (r0 >= r_max) return;
+    j_lo = j_s0 = start_bin();
+    std::ptrdiff_t k = r1 >= r_max ? grid.n - 1 : std::clamp(grid.index(r1), j_lo, grid.n - 1);
+    while (k > j_lo && grid.edge(k) >= r1) --k;
+    while (k + 1 < grid.n && grid.edge(k + 1) < r1) ++k;
+    j_hi = k;
+  } else {
+    // From r0's bin (the last bin if r0 is beyond it) down to the last bin whose lower edge is
+    // at or below r1 (bin 0 at least).
+    if (r1 >= r_max) return;
+    if (r0 >= r_max) {
+      j_hi = grid.n - 1;
+    } else {
+      j_hi = j_s0 = start_bin();
+    }
+    std::ptrdiff_t k = std::clamp<std::ptrdiff_t>(grid.index(r1), 0, j_hi);
+    while (k < j_hi && grid.edge(k + 1) <= r1) ++k;
+    while (k > 0 && grid.edge(k) > r1) --k;
+    j_lo = k;
+  }
+  render_kernel::PieceArgs a = *ws.kernel;
+  a.ay = f.ay;
+  a.az_rel = f.az_rel;
+  a.uy = f.uy;
+  a.uz = f.uz;
+  a.len_m = f.len_m;
+  a.tm0 = f.tm0;
+  a.p2 = f.p2;
+  a.inv_a = f.inv_a;
+  a.coef = f.coef;
+  a.theta_off = f.theta_off;
+  a.cross = f.cross;
+  a.w2 = f.w2;
+  a.wu = f.wu;
+  a.series_terms = f.series_terms;
+  a.max_piece_over_range = f.max_piece_over_range;
+  a.s0 = s0;
+  a.s1 = s1;
+  a.r1 = r1;
+  a.branch = branch;
+  a.j_s0 = j_s0;
+  constexpr std::ptrdiff_t kChunk = 64;
+  constexpr std::size_t kSize = kChunk + render_kernel::kMaxLanes;
+  double e[kSize], my[kSize], mz[kSize], lo[kSize], hi[kSize];
+  for (std::ptrdiff_t c = j_lo; c <= j_hi; c += kChunk) {
+    const std::ptrdiff_t c_hi = std::min(j_hi, c + kChunk - 1);
+    const std::size_t left = render_kernel::render_bins(a, c, c_hi, ws.energy, e, my, mz, lo, hi);
+    if (!kTruth && left == 0) continue;
+    for (std::ptrdiff_t j = c; j <= c_hi; ++j) {
+      const auto k = static_cast<std::size_t>(j - c);
+      if (std::isnan(e[k])) {
+        integrate<kTruth>(f, in, lo[k], hi[k], j, ws);
+      } else if constexpr (kTruth) {
+        const auto u = static_cast<std::size_t>(j);
+        if (e[k] > ws.best[u]) {
+          ws.best[u] = e[k];
+          ws.best_facet[u] = f.index;
+          ws.best_y[u] = my[k];
+          ws.best_dz[u] = mz[k];
+        }
+      }
+    }
+  }
+}
+
 // Cuts the monotone piece [s0, s1] of facet f (range increasing if branch = +1, decreasing if
 // branch = -1 as t goes from s0 to s1) at every bin edge and integrates each sub-piece.
 // Edges are visited in order of t, so no sort is needed.
@@ -309,6 +403,10 @@ void render_piece(const Facet& f, const Integrand& in, const Grid& grid, double 
   const double r_max = grid.edge(grid.n);
   const double r0 = f.range(s0);
   const double r1 = f.range(s1);
+  if (ws.kernel != nullptr && !(f.glint_coef > 0.0)) {
+    render_piece_bins<kTruth>(f, in, grid, s0, s1, r0, r1, branch, ws);
+    return;
+  }
   if (branch > 0) {
     if (r0 >= r_max) return;
     std::ptrdiff_t j = std::max<std::ptrdiff_t>(0, grid.index(r0));

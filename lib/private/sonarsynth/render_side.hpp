@@ -112,6 +112,8 @@ struct SideEcho {
     std::vector<Segment> occluders_by_tan;  ///< the occluders by increasing tan_lo
     std::vector<Segment> seabed_pieces;
     std::vector<double> visible, visible_next;
+    /// Per sample: the contributor's z minus the sensor height (the vector grazing angles).
+    std::vector<double> sample_dz_m;
   } workspace;
 };
 
