@@ -244,6 +244,12 @@ std::vector<Option> make_table() {
       [](const S& s) { return s.display_linear ? 1.0 : 0.0; },
       [](S& s, double v) { s.display_linear = v != 0.0; }));
   t.push_back(boolean("output", "truth", BOOL(config.truth)));
+  t.push_back(choice(
+      "output", "truth_grazing", {"hundredths", "float"}, "hundredths or float",
+      [](const S& s) { return s.truth_grazing == TruthGrazing::float32 ? 1.0 : 0.0; },
+      [](S& s, double v) {
+        s.truth_grazing = v != 0.0 ? TruthGrazing::float32 : TruthGrazing::hundredths;
+      }));
   t.push_back(
       boolean("output", "allow_more_than_8192_samples", BOOL(allow_more_than_8192_samples)));
   t.push_back(boolean("output", "jsf", BOOL(write_jsf)));

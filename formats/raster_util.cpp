@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <climits>
+#include <cmath>
 #include <cstring>
 #include <exception>
 #include <filesystem>
@@ -251,6 +252,16 @@ void describe(GDALDataset& ds, const RasterLabels& labels, int bands, bool band_
   }
   for (std::size_t b = 0; b < labels.units.size(); ++b) {
     ds.GetRasterBand(static_cast<int>(b) + 1)->SetUnitType(labels.units[b].c_str());
+  }
+  for (std::size_t b = 0; b < labels.scales.size(); ++b) {
+    if (!std::isnan(labels.scales[b])) {
+      ds.GetRasterBand(static_cast<int>(b) + 1)->SetScale(labels.scales[b]);
+    }
+  }
+  for (std::size_t b = 0; b < labels.offsets.size(); ++b) {
+    if (!std::isnan(labels.offsets[b])) {
+      ds.GetRasterBand(static_cast<int>(b) + 1)->SetOffset(labels.offsets[b]);
+    }
   }
   if (labels.has_nodata) {
     for (int b = 1; b <= bands; ++b) ds.GetRasterBand(b)->SetNoDataValue(labels.nodata);

@@ -81,6 +81,10 @@ struct RasterLabels {
   std::vector<std::vector<std::pair<std::string, std::string>>> band_metadata;
   /// Colour table of band 1 (r, g, b, a of the values 0, 1, ...), GTiff only; empty = none.
   std::vector<std::array<short, 4>> color_table;
+  /// Per band (from band 1): GDAL scale and offset (value = offset + scale x stored); NaN or
+  /// absent = none set.
+  std::vector<double> scales;
+  std::vector<double> offsets;
 };
 
 /// Sets everything `labels` says on `ds` (its `bands` bands): metadata, descriptions, band

@@ -81,6 +81,7 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   const std::shared_ptr<const Scene> scene(setup, &setup->scene);
   SurveyProductOptions po = options.products;
   po.truth = po.truth && setup->config.truth;
+  po.truth_grazing = setup->truth_grazing;
   if (setup->display_linear) po.display_linear_full_scale = setup->config.output.max_value;
   if (setup->display_window_db) {
     // 10 log10(sample / full scale) to the display's 10 log10(sample) (docs/labels.md).

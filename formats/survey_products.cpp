@@ -4,11 +4,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstring>
+#include <deque>
+#include <exception>
 #include <functional>
 #include <limits>
+#include <mutex>
 #include <span>
 #include <sstream>
+#include <stdexcept>
+#include <thread>
 #include <tuple>
 #include <utility>
 
@@ -127,42 +133,129 @@ class SurveyProducts::MosaicPart final : public PingSink {
     spooled_.push_back(s);
   }
 
-  /// Grids the spooled pings, each multiplied by the gains of the whole survey.
+  /// What the spool does not hold of a ping (gain normalisation).
+  struct SpooledPing {
+    MosaicPing ping;  ///< without its spans
+    std::size_t port_n = 0, stbd_n = 0;
+    bool labels = false;
+    bool break_before = false;  ///< a new line starts with this ping
+  };
+
+  /// One spooled ping read back and multiplied by its gains, ready to grid.
+  struct PreparedPing {
+    std::vector<float> port, stbd;
+    std::vector<std::int32_t> port_codes, stbd_codes;
+  };
+
+  /// Reads the spooled pings back in order and applies the gains: on a thread of its own while
+  /// the calling thread grids (the pings reach the grid in the same order as without it, so the
+  /// mosaic is the same). At most kQueue pings wait; stop() (or the destructor) ends the thread.
+  class SpoolReader {
+   public:
+    SpoolReader(const detail::SideSpool& spool, const std::vector<SpooledPing>& spooled,
+                const GainNormaliser& gain)
+        : spool_(spool), spooled_(spooled), gain_(gain), thread_([this] { run(); }) {}
+    ~SpoolReader() { stop(); }
+    SpoolReader(const SpoolReader&) = delete;
+    SpoolReader& operator=(const SpoolReader&) = delete;
+    /// The next ping (in spool order); rethrows what the reading thread threw.
+    PreparedPing next() {
+      std::unique_lock lock(mutex_);
+      changed_.wait(lock, [&] { return !queue_.empty() || error_ || done_; });
+      if (queue_.empty()) {
+        if (error_) std::rethrow_exception(error_);
+        throw std::logic_error("mosaic spool: read past its last ping");
+      }
+      PreparedPing p = std::move(queue_.front());
+      queue_.pop_front();
+      lock.unlock();
+      changed_.notify_all();
+      return p;
+    }
+    void stop() noexcept {
+      {
+        std::lock_guard lock(mutex_);
+        stopping_ = true;
+      }
+      changed_.notify_all();
+      if (thread_.joinable()) thread_.join();
+    }
+
+   private:
+    static constexpr std::size_t kQueue = 64;
+    void run() noexcept {
+      try {
+        const float pads[2] = {std::numeric_limits<float>::quiet_NaN(), 0.0f};
+        detail::SideSpool::Reader reader(spool_, pads);
+        const std::size_t side = spool_.side();
+        std::vector<float> row(2 * spool_.cols());
+        for (const SpooledPing& s : spooled_) {
+          if (!reader.next(row)) throw FormatError("mosaic spool: the file ended early");
+          // Image row: port FAR -> NEAR | starboard NEAR -> FAR, band by band.
+          const float* values = row.data();
+          const float* bits = row.data() + spool_.cols();
+          PreparedPing p;
+          p.port.resize(s.port_n);
+          p.stbd.resize(s.stbd_n);
+          p.port_codes.resize(s.labels ? s.port_n : 0);
+          p.stbd_codes.resize(s.labels ? s.stbd_n : 0);
+          for (std::size_t i = 0; i < s.port_n; ++i) {
+            p.port[i] = values[side - 1 - i];
+            if (s.labels) std::memcpy(&p.port_codes[i], &bits[side - 1 - i], sizeof(float));
+          }
+          for (std::size_t i = 0; i < s.stbd_n; ++i) {
+            p.stbd[i] = values[side + i];
+            if (s.labels) std::memcpy(&p.stbd_codes[i], &bits[side + i], sizeof(float));
+          }
+          gain_.apply(p.port, p.stbd, s.ping.slant_range_m, s.ping.altitude_m);
+          std::unique_lock lock(mutex_);
+          changed_.wait(lock, [&] { return stopping_ || queue_.size() < kQueue; });
+          if (stopping_) return;
+          queue_.push_back(std::move(p));
+          lock.unlock();
+          changed_.notify_all();
+        }
+      } catch (...) {
+        std::lock_guard lock(mutex_);
+        error_ = std::current_exception();
+      }
+      {
+        std::lock_guard lock(mutex_);
+        done_ = true;
+      }
+      changed_.notify_all();
+    }
+
+    const detail::SideSpool& spool_;
+    const std::vector<SpooledPing>& spooled_;
+    const GainNormaliser& gain_;
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    std::deque<PreparedPing> queue_;
+    bool stopping_ = false;
+    bool done_ = false;
+    std::exception_ptr error_;
+    std::thread thread_;  ///< last: started when the rest is ready
+  };
+
+  /// Grids the spooled pings, each multiplied by the gains of the whole survey (read back and
+  /// multiplied on a second thread while this one grids: the run's last seconds use both cores).
   void grid_spooled() {
     if (!gain_) return;
     gain_->finish();
     if (!spool_) return;
-    const float pads[2] = {std::numeric_limits<float>::quiet_NaN(), 0.0f};
-    detail::SideSpool::Reader reader(*spool_, pads);
-    const std::size_t side = spool_->side();
-    std::vector<float> row(2 * spool_->cols());
-    std::vector<float> port, stbd;
-    std::vector<std::int32_t> port_codes, stbd_codes;
-    for (const SpooledPing& s : spooled_) {
-      if (!reader.next(row)) throw FormatError("mosaic spool: the file ended early");
-      // Image row: port FAR -> NEAR | starboard NEAR -> FAR, band by band.
-      const float* values = row.data();
-      const float* bits = row.data() + spool_->cols();
-      port.resize(s.port_n);
-      stbd.resize(s.stbd_n);
-      port_codes.resize(s.labels ? s.port_n : 0);
-      stbd_codes.resize(s.labels ? s.stbd_n : 0);
-      for (std::size_t i = 0; i < s.port_n; ++i) {
-        port[i] = values[side - 1 - i];
-        if (s.labels) std::memcpy(&port_codes[i], &bits[side - 1 - i], sizeof(float));
+    {
+      SpoolReader reader(*spool_, spooled_, *gain_);
+      for (const SpooledPing& s : spooled_) {
+        const PreparedPing p = reader.next();
+        MosaicPing m = s.ping;
+        m.port = p.port;
+        m.starboard = p.stbd;
+        m.port_labels = p.port_codes;
+        m.starboard_labels = p.stbd_codes;
+        if (s.break_before) grid_->break_line();
+        grid_->add(m);
       }
-      for (std::size_t i = 0; i < s.stbd_n; ++i) {
-        stbd[i] = values[side + i];
-        if (s.labels) std::memcpy(&stbd_codes[i], &bits[side + i], sizeof(float));
-      }
-      gain_->apply(port, stbd, s.ping.slant_range_m, s.ping.altitude_m);
-      MosaicPing m = s.ping;
-      m.port = port;
-      m.starboard = stbd;
-      m.port_labels = port_codes;
-      m.starboard_labels = stbd_codes;
-      if (s.break_before) grid_->break_line();
-      grid_->add(m);
     }
     spool_.reset();
     spooled_.clear();
@@ -238,12 +331,6 @@ class SurveyProducts::MosaicPart final : public PingSink {
   double finish_s_ = 0.0;
   // Gain normalisation (options_.gain_normalisation): the statistics, the pings waiting in the
   // spool and what the spool does not hold of each.
-  struct SpooledPing {
-    MosaicPing ping;  ///< without its spans
-    std::size_t port_n = 0, stbd_n = 0;
-    bool labels = false;
-    bool break_before = false;  ///< a new line starts with this ping
-  };
   std::unique_ptr<GainNormaliser> gain_;
   std::unique_ptr<detail::SideSpool> spool_;
   std::vector<SpooledPing> spooled_;
@@ -390,6 +477,7 @@ class SurveyProducts::TruthPart final : public LinePart {
     std::shared_ptr<TruthWaterfall> t = std::move(truth_);
     if (!t || t->rows() == 0) return {};
     t->set_ground_control(thinned_gcps());
+    t->set_grazing(options_.truth_grazing);
     // The label rasters (docs/labels.md) next to the truth of the line, from the same spool rows.
     TruthWaterfall::LabelRowTap tap = options_.label_rows ? options_.label_rows(name) : nullptr;
     return

@@ -31,6 +31,7 @@ namespace sonarsynth {
 namespace {
 
 constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// Flat-bottom ground-range resampling of one side: output column j at ground range
 /// (j + 0.5) dr, value interpolated linearly at slant range sqrt(y^2 + A^2); NaN beyond.
@@ -202,6 +203,20 @@ class TruthSpoolRows {
     for (std::size_t i = 0; i < cols_; ++i) out[cols_ + i] = static_cast<float>(ids_[i]);
     std::copy(row_.begin() + static_cast<std::ptrdiff_t>(2 * cols_), row_.end(), out + 2 * cols_);
   }
+  /// The same row as Int32 bands: class, id, grazing in hundredths of a degree (rounded to
+  /// nearest; kTruthNodata where NaN).
+  void truth(std::int32_t* out) const {
+    for (std::size_t i = 0; i < cols_; ++i) out[i] = static_cast<std::int32_t>(row_[i]);
+    std::copy(ids_.begin(), ids_.end(), out + cols_);
+    const float* deg = row_.data() + 2 * cols_;
+    std::int32_t* g = out + 2 * cols_;
+    for (std::size_t i = 0; i < cols_; ++i) {
+      g[i] = std::isnan(deg[i])
+                 ? kTruthNodata
+                 : static_cast<std::int32_t>(std::lround(100.0 * static_cast<double>(deg[i])));
+    }
+  }
+  static constexpr std::int32_t kTruthNodata = std::numeric_limits<std::int32_t>::min();
   /// The class and instance label rows of the current row (computed once per row).
   const std::uint8_t* classes() {
     label_row();
@@ -248,12 +263,16 @@ class TruthSpoolRows {
 /// for its rows in order; the spool row is read once for all of them).
 class TruthView final : public raster::RowSource {
  public:
-  enum class Kind { truth, class_code, instance };
+  enum class Kind { truth, truth_int, class_code, instance };
   TruthView(TruthSpoolRows& rows, Kind kind) : rows_(rows), kind_(kind) {}
   void next(void* out) override {
     rows_.at(row_++);
     if (kind_ == Kind::truth) {
       rows_.truth(static_cast<float*>(out));
+      return;
+    }
+    if (kind_ == Kind::truth_int) {
+      rows_.truth(static_cast<std::int32_t*>(out));
       return;
     }
     if (kind_ == Kind::class_code) {
@@ -536,8 +555,9 @@ void TruthWaterfall::add_ping(std::span<const SampleClass> port_class,
 
 namespace {
 
-raster::RasterLabels truth_labels(
-    const std::vector<std::pair<std::string, std::string>>& metadata) {
+raster::RasterLabels truth_labels(const std::vector<std::pair<std::string, std::string>>& metadata,
+                                  TruthGrazing grazing) {
+  const bool hundredths = grazing == TruthGrazing::hundredths;
   raster::RasterLabels labels;
   labels.metadata = metadata;
   labels.metadata.insert(
@@ -546,6 +566,10 @@ raster::RasterLabels truth_labels(
        {"SONARSYNTH_QUANTITY",
         "per-sample truth of the XTF samples: class, object id, grazing angle"},
        {"SONARSYNTH_UNITS", "class: code, object_id: id, grazing_angle_deg: degrees"},
+       {"SONARSYNTH_GRAZING_ENCODING",
+        hundredths ? "Int32 hundredths of a degree: degrees = 0.01 x value (band scale 0.01, "
+                     "offset 0), rounded to nearest; nodata -2147483648 = no seabed echo"
+                   : "Float32 degrees; nodata NaN = no seabed echo"},
        {"SONARSYNTH_CLASS_CODES",
         "0 = water_column, 1 = seabed, 2 = object, 3 = shadow, 4 = no_seabed, 255 = padding"},
        {"SONARSYNTH_OBJECT_ID_CODES",
@@ -555,11 +579,18 @@ raster::RasterLabels truth_labels(
        {"SONARSYNTH_WATERFALL_LAYOUT",
         "row = ping, columns = port far -> near | starboard near -> far, slant range"},
        {"SONARSYNTH_NODATA",
-        "NaN (grazing angle: no seabed echo); a shorter side is padded with class 255, id -1"}});
+        std::string(hundredths ? "-2147483648" : "NaN") +
+            " (grazing angle: no seabed echo); a shorter side is padded with class 255, id -1"}});
   labels.descriptions = {"class", "object_id", "grazing_angle_deg"};
   labels.units = {"", "", "deg"};
   labels.has_nodata = true;
-  labels.nodata = std::numeric_limits<double>::quiet_NaN();
+  if (hundredths) {
+    labels.nodata = static_cast<double>(std::numeric_limits<std::int32_t>::min());
+    labels.scales = {kNaN, kNaN, 0.01};
+    labels.offsets = {kNaN, kNaN, 0.0};
+  } else {
+    labels.nodata = std::numeric_limits<double>::quiet_NaN();
+  }
   return labels;
 }
 
@@ -632,10 +663,12 @@ void TruthWaterfall::write(const std::string& path, bool overwrite,
   AtomicOutput out(path, overwrite);
   const LabelRowTap none;
   TruthSpoolRows rows(*spool_, none);
-  TruthView source(rows, TruthView::Kind::truth);
+  const bool hundredths = grazing_ == TruthGrazing::hundredths;
+  TruthView source(rows, hundredths ? TruthView::Kind::truth_int : TruthView::Kind::truth);
   const std::string stream = stream_path(out.temp_path());
-  raster::stream_to_file(source, cols(), this->rows(), 3, GDT_Float32, "GTiff", stream,
-                         stream_options(kTruthTiffOptions), truth_labels(metadata), kWho, path);
+  raster::stream_to_file(source, cols(), this->rows(), 3, hundredths ? GDT_Int32 : GDT_Float32,
+                         "GTiff", stream, stream_options(kTruthTiffOptions),
+                         truth_labels(metadata, grazing_), kWho, path);
   raster::copy_adding_overviews(stream, out.temp_path().string(), kTruthResampling,
                                 kTruthTiffOptions, pixel_gcps(gcps_, cols()), kWho, path);
   out.commit();
@@ -654,16 +687,17 @@ void TruthWaterfall::write_with_labels(
   AtomicOutput class_out(class_path, overwrite);
   AtomicOutput instance_out(instance_path, overwrite);
   TruthSpoolRows rows(*spool_, tap);
-  TruthView truth(rows, TruthView::Kind::truth);
+  const bool hundredths = grazing_ == TruthGrazing::hundredths;
+  TruthView truth(rows, hundredths ? TruthView::Kind::truth_int : TruthView::Kind::truth);
   TruthView classes(rows, TruthView::Kind::class_code);
   TruthView instances(rows, TruthView::Kind::instance);
   std::vector<raster::StreamTarget> targets(3);
   targets[0] = {&truth,
                 3,
-                GDT_Float32,
+                hundredths ? GDT_Int32 : GDT_Float32,
                 stream_path(out.temp_path()),
                 stream_options(kTruthTiffOptions),
-                truth_labels(metadata),
+                truth_labels(metadata, grazing_),
                 path};
   targets[1] = {&classes,
                 1,

@@ -566,8 +566,10 @@ TEST(TruthWaterfall, RoundTripsClassIdAndGrazing) {
   EXPECT_EQ(cls.data[5], 255.0f);
   EXPECT_EQ(id.data[0], 42.0f);
   EXPECT_EQ(id.data[5], -1.0f);
-  EXPECT_NEAR(graz.data[1], 0.5 * 180.0 / kPi, 1e-4);
-  EXPECT_TRUE(std::isnan(graz.data[5]));
+  // Hundredths of a degree (band scale 0.01), nodata INT32_MIN.
+  EXPECT_NEAR(0.01 * graz.data[1], 0.5 * 180.0 / kPi, 0.005);
+  EXPECT_EQ(graz.data[1], 2865.0f);  // 28.6479 deg
+  EXPECT_EQ(graz.data[5], -2147483648.0f);
   EXPECT_THROW(t.write(path), FormatError);  // exists, no overwrite
   std::filesystem::remove_all(dir);
 }

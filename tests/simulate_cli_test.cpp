@@ -241,15 +241,20 @@ TEST_F(SimulateCli, ProductsCarryTheRunsMetadataAndSayWhatTheyHold) {
   EXPECT_STREQ(truth->GetRasterBand(1)->GetDescription(), "object_id");
   EXPECT_EQ(truth->GetRasterBand(1)->GetNoDataValue(&has), -2147483648.0);
   EXPECT_TRUE(has);
-  // The truth waterfall: class codes as SampleClass numbers them, grazing in degrees, NaN nodata.
+  // The truth waterfall: class codes as SampleClass numbers them, Int32, the grazing angle in
+  // hundredths of a degree (band scale 0.01, offset 0), nodata INT32_MIN.
   const auto tw = open("north_truth.tif");
   ASSERT_NE(tw, nullptr);
   const char* bands[3] = {"class", "object_id", "grazing_angle_deg"};
   for (int k = 0; k < 3; ++k) {
     EXPECT_STREQ(tw->GetRasterBand(k + 1)->GetDescription(), bands[k]);
-    EXPECT_TRUE(std::isnan(tw->GetRasterBand(k + 1)->GetNoDataValue(&has))) << k;
+    EXPECT_EQ(tw->GetRasterBand(k + 1)->GetRasterDataType(), GDT_Int32) << k;
+    EXPECT_EQ(tw->GetRasterBand(k + 1)->GetNoDataValue(&has), -2147483648.0) << k;
   }
   EXPECT_STREQ(tw->GetRasterBand(3)->GetUnitType(), "deg");
+  EXPECT_EQ(tw->GetRasterBand(3)->GetScale(&has), 0.01);
+  EXPECT_TRUE(has);
+  EXPECT_NE(item(*tw, "SONARSYNTH_GRAZING_ENCODING").find("hundredths"), std::string::npos);
   const std::string codes = item(*tw, "SONARSYNTH_CLASS_CODES");
   for (const auto& [c, n] : {std::pair{SampleClass::water_column, "water_column"},
                              {SampleClass::seabed, "seabed"},

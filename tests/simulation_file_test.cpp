@@ -306,7 +306,8 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
   fast.quality = "fast";
   const std::vector<Variant> variants = {
       {"vertical_beam: {shape: gaussian, width_deg: 40}", "pulse: {type: cw, length_us: 50}", "",
-       "output: {tvg: none, gain_db: 55, sample_format: u8, truth: false, quantity: intensity, "
+       "output: {tvg: none, gain_db: 55, sample_format: u8, truth: false, truth_grazing: float, "
+       "quantity: intensity, "
        "detector: mean, detector_sub_samples: 2, seabed_median_dbfs: -20, "
        "tvg_spreading_db_per_decade: 25, tvg_absorption_share: 0.5, "
        "mosaic: {nadir: fill, gain_normalisation: off}}\n"

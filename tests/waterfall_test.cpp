@@ -383,8 +383,12 @@ TEST(Waterfall, LargeColourPngSplitsItsImageDataIntoValidChunks) {
   fs::remove_all(dir);
 }
 
-// The truth waterfall of many rows of varying lengths: each band is the in-memory assembly with
-// its padding (class 255, id -1, grazing NaN); band names are kept.
+// The truth waterfall of many rows of varying lengths, in both grazing encodings: each band is
+// the in-memory assembly with its padding (class 255, id -1, grazing nodata); band names are
+// kept. Float32: the grazing angle in degrees as rendered (to 1e-4 deg). Int32 (the default):
+// class and id exact, the grazing angle in hundredths of a degree that read back through the
+// band's scale within 0.005 deg of the rendered angle (rounding to nearest; 1e-6 for the float
+// degrees), nodata INT32_MIN where no seabed echo.
 TEST(TruthWaterfall, StreamedBandsEqualInMemoryAssembly) {
   const auto dir = test::mosaic_temp_dir("truth_stream");
   std::mt19937 rng(4);
@@ -417,35 +421,68 @@ TEST(TruthWaterfall, StreamedBandsEqualInMemoryAssembly) {
       }
     }
   }
-  const std::string path = (dir / "truth.tif").string();
-  t.write(path);
-  const float pads[3] = {255.0f, -1.0f, kNaN};
   const char* names[3] = {"class", "object_id", "grazing_angle_deg"};
   GDALAllRegister();
-  GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
-  ASSERT_NE(ds, nullptr);
-  for (int b = 0; b < 3; ++b) {
-    EXPECT_STREQ(ds->GetRasterBand(b + 1)->GetDescription(), names[b]);
-    std::size_t cols = 0;
-    const std::vector<float> want = expected_image(band[b], &cols, pads[b]);
-    const test::Raster got = test::read_band(path, b + 1);
-    ASSERT_EQ(static_cast<std::size_t>(got.cols), cols);
-    ASSERT_EQ(static_cast<std::size_t>(got.rows), band[b].size());
-    ASSERT_EQ(got.data.size(), want.size());
-    std::size_t bad = 0;
-    for (std::size_t i = 0; i < want.size(); ++i) {
-      bad += b == 2 ? std::abs(got.data[i] - want[i]) > 1e-4f ||
-                          std::isnan(got.data[i]) != std::isnan(want[i])
-                    : !same_float(got.data[i], want[i]);
+  for (const TruthGrazing encoding : {TruthGrazing::float32, TruthGrazing::hundredths}) {
+    const bool hundredths = encoding == TruthGrazing::hundredths;
+    SCOPED_TRACE(hundredths ? "hundredths" : "float32");
+    const std::string path = (dir / (hundredths ? "truth_i32.tif" : "truth_f32.tif")).string();
+    t.set_grazing(encoding);
+    t.write(path);
+    const float pads[3] = {255.0f, -1.0f, kNaN};
+    GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
+    ASSERT_NE(ds, nullptr);
+    int has_nodata = 0;
+    const double nodata = ds->GetRasterBand(3)->GetNoDataValue(&has_nodata);
+    EXPECT_TRUE(has_nodata);
+    int has_scale = 0;
+    const double scale = ds->GetRasterBand(3)->GetScale(&has_scale);
+    EXPECT_EQ(ds->GetRasterBand(3)->GetOffset(nullptr), 0.0);
+    if (hundredths) {
+      EXPECT_EQ(ds->GetRasterBand(1)->GetRasterDataType(), GDT_Int32);
+      EXPECT_EQ(nodata, -2147483648.0);
+      EXPECT_TRUE(has_scale);
+      EXPECT_EQ(scale, 0.01);
+    } else {
+      EXPECT_EQ(ds->GetRasterBand(1)->GetRasterDataType(), GDT_Float32);
+      EXPECT_TRUE(std::isnan(nodata));
+      EXPECT_EQ(scale, 1.0);
     }
-    EXPECT_EQ(bad, 0u) << names[b];
+    for (int b = 0; b < 3; ++b) {
+      EXPECT_STREQ(ds->GetRasterBand(b + 1)->GetDescription(), names[b]);
+      std::size_t cols = 0;
+      const std::vector<float> want = expected_image(band[b], &cols, pads[b]);
+      const test::Raster got = test::read_band(path, b + 1);
+      ASSERT_EQ(static_cast<std::size_t>(got.cols), cols);
+      ASSERT_EQ(static_cast<std::size_t>(got.rows), band[b].size());
+      ASSERT_EQ(got.data.size(), want.size());
+      std::size_t bad = 0;
+      double worst_deg = 0.0;
+      for (std::size_t i = 0; i < want.size(); ++i) {
+        if (b < 2) {
+          bad += !same_float(got.data[i], want[i]);
+        } else if (std::isnan(want[i])) {
+          bad += hundredths ? static_cast<double>(got.data[i]) != nodata : !std::isnan(got.data[i]);
+        } else {
+          const double deg = hundredths ? scale * static_cast<double>(got.data[i])
+                                        : static_cast<double>(got.data[i]);
+          const double err = std::abs(deg - static_cast<double>(want[i]));
+          worst_deg = std::max(worst_deg, err);
+          bad += err > (hundredths ? 0.005 + 1e-6 : 1e-4);
+        }
+      }
+      EXPECT_EQ(bad, 0u) << names[b];
+      if (b == 2 && hundredths) {
+        EXPECT_GT(worst_deg, 0.004);  // the rounding is seen
+      }
+    }
+    EXPECT_STREQ(ds->GetMetadataItem("COMPRESSION", "IMAGE_STRUCTURE"), "ZSTD");
+    EXPECT_STREQ(ds->GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE"), "BAND");
+    int bx = 0, by = 0;
+    ds->GetRasterBand(1)->GetBlockSize(&bx, &by);
+    EXPECT_EQ(bx, 256);  // tiled
+    GDALClose(ds);
   }
-  EXPECT_STREQ(ds->GetMetadataItem("COMPRESSION", "IMAGE_STRUCTURE"), "ZSTD");
-  EXPECT_STREQ(ds->GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE"), "BAND");
-  int bx = 0, by = 0;
-  ds->GetRasterBand(1)->GetBlockSize(&bx, &by);
-  EXPECT_EQ(bx, 256);  // tiled
-  GDALClose(ds);
   fs::remove_all(dir);
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sonarsynth/bottom_track.hpp"
+#include "sonarsynth/formats/waterfall.hpp"
 #include "sonarsynth/scene.hpp"
 #include "sonarsynth/simulator.hpp"
 #include "sonarsynth/survey.hpp"
@@ -97,6 +98,8 @@ struct SimulationSetup {
   /// output.display: the waterfalls and mosaic_rgb show sample / full scale linearly (the
   /// founding paper's grey level, docs/paper-model.md) instead of a dB window.
   bool display_linear = false;
+  /// output.truth_grazing: the grazing angle band of `<line>_truth.tif` (docs/labels.md).
+  TruthGrazing truth_grazing = TruthGrazing::hundredths;
   /// output.labels (docs/labels.md).
   LabelOutput labels{};
   /// output.display_window_db: [lo, hi], 10 log10(sample / full scale) mapped to the darkest and

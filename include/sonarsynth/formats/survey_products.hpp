@@ -53,6 +53,8 @@ struct SurveyProductOptions {
   /// true: a finished line's images are written on a thread of their own while the next line
   /// accumulates; false: on the calling thread (a one-thread run: one core). Same files.
   bool background_images = true;
+  /// The grazing angle band of `<line>_truth.tif` (output.truth_grazing, docs/labels.md).
+  TruthGrazing truth_grazing = TruthGrazing::hundredths;
   /// Called once, on the mosaic's thread, when the mosaic has gridded the last ping (the start
   /// of its finish()): from then on no product reads the scene's bathymetry. run_simulation,
   /// which owns the scene and has rendered every ping by then, frees the bathymetry grid there,

@@ -140,12 +140,23 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
                                     const std::string& image_path,
                                     const WaterfallOptions& options = {});
 
+/// How the truth waterfall stores its grazing angle band (docs/labels.md, "Per-sample truth").
+enum class TruthGrazing {
+  /// Int32 GeoTIFF: the grazing angle in hundredths of a degree (band scale 0.01, offset 0:
+  /// degrees = 0.01 x value, within 0.005 deg of the rendered angle), nodata -2147483648; class
+  /// and object id exact integers.
+  hundredths,
+  /// Float32 GeoTIFF: the grazing angle in degrees as rendered, NaN nodata (ids exact below
+  /// 2^24); 5-6x the file size.
+  float32,
+};
+
 /// Per-sample truth aligned with the XTF samples (same rows and columns as the waterfall of
 /// the same pings): band 1 "class" (SampleClass value, 255 = padding), band 2 "object_id" (0
-/// seabed, -1 none), band 3 "grazing_angle_deg" (degrees, NaN none; the nodata value of every
-/// band). Written as a float32 GeoTIFF without georeferencing (ids exact below 2^24), the codes
-/// in metadata items SONARSYNTH_CLASS_CODES and SONARSYNTH_OBJECT_ID_CODES. Rows are spooled to an
-/// unnamed temporary file in `spool_dir` like those of Waterfall (12 bytes per sample).
+/// seabed, -1 none), band 3 "grazing_angle_deg" (none: the nodata value of every band). Written
+/// without georeferencing, as TruthGrazing says (Int32 hundredths of a degree by default), the
+/// codes in metadata items SONARSYNTH_CLASS_CODES and SONARSYNTH_OBJECT_ID_CODES. Rows are spooled
+/// to an unnamed temporary file in `spool_dir` like those of Waterfall (12 bytes per sample).
 /// Ground control points of a truth waterfall (docs/labels.md, "Georeferencing the line
 /// rasters"): where samples of some rows lie on the seabed, in EPSG:epsg (the scene's UTM zone).
 /// The rasters stay in slant-range geometry, not an affine grid: the points let a GIS place them
@@ -181,6 +192,8 @@ class TruthWaterfall {
   /// (nearest for classes and ids, average for the grazing angle), laid out as GDAL's COG
   /// validator asks.
   void set_ground_control(WaterfallGroundControl gcps) { gcps_ = std::move(gcps); }
+  /// The grazing angle's encoding in the files written (TruthGrazing::hundredths by default).
+  void set_grazing(TruthGrazing grazing) { grazing_ = grazing; }
   /// `metadata`: items written before the writer's own (e.g. the run's run_metadata()).
   void write(const std::string& path, bool overwrite = false,
              const std::vector<std::pair<std::string, std::string>>& metadata = {}) const;
@@ -201,6 +214,7 @@ class TruthWaterfall {
   /// grazing (deg).
   std::unique_ptr<detail::SideSpool> spool_;
   WaterfallGroundControl gcps_;
+  TruthGrazing grazing_ = TruthGrazing::hundredths;
 };
 
 }  // namespace sonarsynth
