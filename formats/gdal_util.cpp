@@ -15,9 +15,6 @@
 namespace sonarsynth::gdal {
 namespace {
 thread_local std::string g_last_error;
-/// GDAL's block cache when GDAL_CACHEMAX is not set (ensure_registered()).
-constexpr GIntBig kBlockCacheBytes = GIntBig{32} << 20;
-
 void CPL_STDCALL error_handler(CPLErr level, CPLErrorNum /*code*/, const char* msg) {
   if (level >= CE_Failure) g_last_error = msg ? msg : "";
   // Warnings (e.g. BAG "cornerPoints not consistent with resolution") are not errors; keep quiet.
@@ -29,14 +26,6 @@ void ensure_registered() {
   std::call_once(once, [] {
     GDALAllRegister();
     CPLSetErrorHandler(error_handler);
-    // GDAL's block cache defaults to 5 % of the machine's memory. Every raster written here is
-    // streamed block row by block row, and the cache only delays the compression of the blocks
-    // written: with the default, the uncompressed copy of each line's truth raster (200 MB for
-    // 2 x 4096 samples x 2,001 pings) sat in it, half of simulate's peak memory
-    // (docs/benchmarks.md, "Products at codec speed"). A GDAL_CACHEMAX of the user's is kept.
-    if (CPLGetConfigOption("GDAL_CACHEMAX", nullptr) == nullptr) {
-      GDALSetCacheMax64(kBlockCacheBytes);
-    }
   });
 }
 
