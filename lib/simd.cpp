@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "sonarsynth/error.hpp"
 
@@ -98,6 +99,14 @@ std::string_view target_name(Target t) {
 bool supported(Target t) {
   if (t == Target::automatic || t == Target::scalar) return true;
   return (hardware_targets() & HWY_TARGETS & named_target(t)) != 0;
+}
+
+std::vector<Target> supported_targets() {
+  std::vector<Target> out;
+  for (const Target t : {Target::scalar, Target::avx2, Target::avx512}) {
+    if (supported(t)) out.push_back(t);
+  }
+  return out;
 }
 
 void set_target(Target t) {

@@ -102,8 +102,7 @@ TEST(AlongTrackLattice, EverySimdPathMatchesTheReference) {
   for (const double s_m : {0.0, -3.7, 1234.56, 1.5 * sw_last * u_wrap - 0.004}) {
     const AlongTrackField f = test_field(s_m);
     std::vector<double> avx2_re, avx2_im;
-    for (const simd::Target t : {simd::Target::scalar, simd::Target::avx2, simd::Target::avx512}) {
-      if (!simd::supported(t)) continue;
+    for (const simd::Target t : simd::supported_targets()) {
       simd::set_target(t);
       std::vector<double> re, im;
       kernel_field(f, samples, looks, re, im);

@@ -18,19 +18,11 @@ namespace {
 
 namespace simd = sonarsynth::simd;
 
-std::vector<simd::Target> supported_targets() {
-  std::vector<simd::Target> out;
-  for (const auto t : {simd::Target::scalar, simd::Target::avx2, simd::Target::avx512}) {
-    if (simd::supported(t)) out.push_back(t);
-  }
-  return out;
-}
-
 TEST(SampleKeys, PingKeysAreTheScalarHashOnEveryTarget) {
   std::vector<std::uint64_t> sh(61);
   for (std::size_t i = 0; i < sh.size(); ++i) sh[i] = splitmix64(i);
   const std::uint64_t h = hash_combine(1234567, 1);
-  for (const auto t : supported_targets()) {
+  for (const auto t : simd::supported_targets()) {
     simd::set_target(t);
     for (const std::size_t n : {0u, 1u, 3u, 8u, 17u, 61u}) {
       std::vector<std::uint64_t> keys(n, 0);
@@ -99,7 +91,7 @@ TEST(SampleKeys, GroundCellKeysAreTheScalarKeysOnEveryTarget) {
     noise.push_back(splitmix64(s ^ 0x5555));
   }
   std::size_t packed = 0, chained = 0;
-  for (const auto t : supported_targets()) {
+  for (const auto t : simd::supported_targets()) {
     simd::set_target(t);
     for (const std::size_t n : {cls.size(), std::size_t{13}, std::size_t{5}}) {
       std::vector<std::uint64_t> keys(n);

@@ -399,8 +399,7 @@ TEST(SensorEffects, SimdPathsGiveTheSameSamplesOrOneCountApart) {
   c.threads = 1;
   const Simulator sim(scene, c, kAltitude);
   std::vector<std::vector<float>> paths;
-  for (const simd::Target t : {simd::Target::scalar, simd::Target::avx2, simd::Target::avx512}) {
-    if (!simd::supported(t)) continue;
+  for (const simd::Target t : simd::supported_targets()) {
     simd::set_target(t);
     const RenderedPing p = render(sim, pose_at(*scene, 0.0, 5));
     std::vector<float> all = p.port.samples;

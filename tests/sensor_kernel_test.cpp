@@ -407,9 +407,7 @@ TEST(SensorKernel, QuantiseIsTheScalarRuleOnEveryPath) {
         }
         expected[i] = static_cast<float>(std::round(std::max(v, 0.0)));
       }
-      for (const simd::Target t :
-           {simd::Target::scalar, simd::Target::avx2, simd::Target::avx512}) {
-        if (!simd::supported(t)) continue;
+      for (const simd::Target t : simd::supported_targets()) {
         simd::set_target(t);
         std::vector<float> out(n, -1.0f);
         std::uint32_t s = 0, iv = 0;

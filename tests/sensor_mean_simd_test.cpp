@@ -20,14 +20,6 @@ namespace {
 
 namespace simd = sonarsynth::simd;
 
-std::vector<simd::Target> supported_targets() {
-  std::vector<simd::Target> out;
-  for (const auto t : {simd::Target::scalar, simd::Target::avx2, simd::Target::avx512}) {
-    if (simd::supported(t)) out.push_back(t);
-  }
-  return out;
-}
-
 bool same_bits(double a, double b) {
   return std::memcmp(&a, &b, sizeof a) == 0;
 }
@@ -75,7 +67,7 @@ TEST(SensorMeanSimd, TexturedPassEqualsTheScalarLoopOnEveryTarget) {
         const double hi = (1.0 - wa) * row0[c + 1] + wa * row1[c + 1];
         expected[i] += level[i] * ((1.0 - wr[i]) * lo + wr[i] * hi);
       }
-      for (const auto t : supported_targets()) {
+      for (const auto t : simd::supported_targets()) {
         simd::set_target(t);
         std::vector<double> nodes(cells, -1.0);
         const auto c0 = static_cast<std::size_t>(cell[from]);

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "sonarsynth/error.hpp"
 
 namespace {
@@ -25,6 +27,7 @@ TEST(Simd, NamesRoundTripAndBadNamesAreRefused) {
 
 // Each cap the CPU supports is the target the kernels then dispatch to; a cap is undone by auto.
 TEST(Simd, CapsChooseTheDispatchedTarget) {
+  simd::set_target(Target::automatic);  // undo a SONARSYNTH_SIMD applied by other tests' kernels
   const Target best = simd::active_target();
   EXPECT_NE(best, Target::automatic);
   for (const Target t : {Target::scalar, Target::avx2, Target::avx512}) {
@@ -37,6 +40,10 @@ TEST(Simd, CapsChooseTheDispatchedTarget) {
   }
   simd::set_target(Target::automatic);
   EXPECT_EQ(simd::active_target(), best);
+  const std::vector<Target> all = simd::supported_targets();
+  ASSERT_FALSE(all.empty());
+  EXPECT_EQ(all.front(), Target::scalar);
+  for (const Target t : all) EXPECT_TRUE(simd::supported(t));
 }
 
 }  // namespace

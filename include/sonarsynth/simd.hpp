@@ -3,6 +3,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace sonarsynth::simd {
 
@@ -26,6 +27,10 @@ Target active_target();
 
 /// True if this CPU (and this build) can run `t`.
 bool supported(Target t);
+
+/// The concrete targets this CPU (and this build) runs, slowest first: scalar, then avx2 and
+/// avx512 where supported. For loops that compare the paths.
+std::vector<Target> supported_targets();
 
 /// Applies the environment variable SONARSYNTH_SIMD (a parse_target name) once per process;
 /// called by every entry point that runs kernels, so a benchmark or profiler run can pick the
