@@ -289,6 +289,38 @@ std::ptrdiff_t GainNormaliser::bin_of(double r, double altitude_m) const {
   return static_cast<std::ptrdiff_t>(depression / angle_bin_rad_);
 }
 
+void GainNormaliser::bins_of_ping(std::size_t n, double dr, double altitude_m,
+                                  std::vector<std::ptrdiff_t>& bins) const {
+  bins.resize(n);
+  const auto bin_at = [&](std::size_t i) {
+    return bin_of((static_cast<double>(i) + 0.5) * dr, altitude_m);
+  };
+  std::size_t i = 0;
+  // The water column (r <= altitude), then bins that never grow with the range: every operation
+  // of bin_of is monotonic in r (asin included), so a run that starts and ends with one bin
+  // holds it throughout.
+  while (i < n && !((static_cast<double>(i) + 0.5) * dr > altitude_m)) bins[i++] = -1;
+  if (mode_ != GainNormalisation::kAngle || !std::isfinite(dr) || !(dr > 0.0)) {
+    for (; i < n; ++i) bins[i] = bin_at(i);
+    return;
+  }
+  while (i < n) {
+    const std::ptrdiff_t b = bin_at(i);
+    // Bin b ends where the depression falls below b * angle_bin: r > altitude / sin(b bin).
+    const double edge_r = altitude_m / std::sin(static_cast<double>(b) * angle_bin_rad_);
+    const double guess = std::ceil(edge_r / dr - 0.5);
+    std::size_t j = n;
+    if (guess < static_cast<double>(n)) {
+      j = guess > static_cast<double>(i + 1) ? static_cast<std::size_t>(guess) : i + 1;
+    }
+    while (j < n && bin_at(j) == b) ++j;
+    while (j > i + 1 && bin_at(j - 1) != b) --j;
+    std::fill(bins.begin() + static_cast<std::ptrdiff_t>(i),
+              bins.begin() + static_cast<std::ptrdiff_t>(j), b);
+    i = j;
+  }
+}
+
 void GainNormaliser::add_ping(std::span<const float> port, std::span<const float> starboard,
                               double slant_range_m, double altitude_m) {
   if (mode_ == GainNormalisation::kOff || !(altitude_m > 0.0) || !std::isfinite(altitude_m)) {
@@ -297,10 +329,11 @@ void GainNormaliser::add_ping(std::span<const float> port, std::span<const float
   int side = 0;
   for (std::span<const float> s : {port, starboard}) {
     const double dr = slant_range_m / static_cast<double>(s.size());
+    bins_of_ping(s.size(), dr, altitude_m, bins_);
     for (std::size_t i = 0; i < s.size(); ++i) {
       const double v = s[i];
       if (!(v > 0.0) || !std::isfinite(v)) continue;
-      const std::ptrdiff_t b = bin_of((static_cast<double>(i) + 0.5) * dr, altitude_m);
+      const std::ptrdiff_t b = bins_[i];
       if (b < 0) continue;
       const auto ub = static_cast<std::size_t>(b);
       if (ub >= sum_log_[side].size()) {
@@ -371,14 +404,19 @@ double GainNormaliser::gain(int side, double range_m, double altitude_m) const {
 void GainNormaliser::apply(std::vector<float>& port, std::vector<float>& starboard,
                            double slant_range_m, double altitude_m) const {
   if (mode_ == GainNormalisation::kOff) return;
+  std::vector<std::ptrdiff_t> bins;
   int side = 0;
   for (std::vector<float>* s : {&port, &starboard}) {
-    const double dr = slant_range_m / static_cast<double>(s->size());
+    const std::vector<double>& gains = gain_[side];
+    ++side;
+    // gain() sample by sample, the bins by runs.
+    if (gains.empty() || !(altitude_m > 0.0)) continue;  // gain 1
+    bins_of_ping(s->size(), slant_range_m / static_cast<double>(s->size()), altitude_m, bins);
     for (std::size_t i = 0; i < s->size(); ++i) {
-      const double g = gain(side, (static_cast<double>(i) + 0.5) * dr, altitude_m);
+      if (bins[i] < 0) continue;
+      const double g = gains[std::min(static_cast<std::size_t>(bins[i]), gains.size() - 1)];
       (*s)[i] = static_cast<float>(static_cast<double>((*s)[i]) * g);
     }
-    ++side;
   }
 }
 

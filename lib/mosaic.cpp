@@ -114,6 +114,165 @@ double MosaicGrid::flat_ground_range_m(double slant_range_m, double altitude_m) 
   return std::sqrt((slant_range_m - altitude_m) * (slant_range_m + altitude_m));
 }
 
+std::uint64_t MosaicGrid::cell_of(const Eigen::Vector2d& p) const {
+  const double c = render_math::floor_fast(geometry_.col_of_x(p.x()) + 0.5);
+  const double r = render_math::floor_fast(geometry_.row_of_y(p.y()) + 0.5);
+  if (!(c >= 0.0 && r >= 0.0 && c < static_cast<double>(geometry_.cols) &&
+        r < static_cast<double>(geometry_.rows))) {
+    return kOutside;
+  }
+  return (static_cast<std::uint64_t>(r) << 32) | static_cast<std::uint64_t>(c);
+}
+
+namespace {
+
+/// How far (pixels) short of a pixel edge a run's interval ends: the computed position
+/// (start + g dir - origin) / pixel differs from the exact one by a few ulp of at most 10^5
+/// pixels (< 1e-10), so every point before it falls in the run's cell.
+constexpr double kEdgeMarginPx = 1e-6;
+
+/// The largest g (exclusive) for which u = a + b g stays in [k, k + 1) less the margin, given
+/// it holds at some g0 below (u is monotonic in g, and so is its computed value).
+double cell_end(double a, double b, double k) {
+  if (b > 0.0) return (k + 1.0 - kEdgeMarginPx - a) / b;
+  if (b < 0.0) return (k + kEdgeMarginPx - a) / b;
+  return std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+inline std::uint64_t MosaicGrid::line_cell(double g) {
+  LineCells& l = line_;
+  if (l.valid && g >= l.lo && g < l.safe) return l.cell;
+  const std::uint64_t cell = cell_of(l.start + g * l.dir);
+  l.valid = runs_ && cell != kOutside;
+  if (l.valid) {
+    l.cell = cell;
+    l.lo = g;
+    l.safe = std::min(cell_end(l.a_col, l.b_col, static_cast<double>(cell & 0xffffffffu)),
+                      cell_end(l.a_row, l.b_row, static_cast<double>(cell >> 32)));
+  }
+  return cell;
+}
+
+void MosaicGrid::open_run(std::uint64_t cell) {
+  const auto col = static_cast<std::size_t>(cell & 0xffffffffu);
+  const auto row = static_cast<std::size_t>(cell >> 32);
+  // Shifts and masks for the default (power-of-two) tiles, not four integer divisions.
+  std::size_t tx, ty, idx;
+  if (tile_pow2_) {
+    const std::size_t mask = tile_px_ - 1;
+    tx = col >> tile_shift_;
+    ty = row >> tile_shift_;
+    idx = ((row & mask) << tile_shift_) | (col & mask);
+  } else {
+    tx = col / tile_px_;
+    ty = row / tile_px_;
+    idx = (row % tile_px_) * tile_px_ + col % tile_px_;
+  }
+  Tile& t = tile(tx, ty);
+  Run& u = run_;
+  u.cell = cell;
+  u.tile = &t;
+  u.idx = idx;
+  u.count = t.count[idx];
+  switch (options_.rule) {
+    case MosaicRule::weighted_mean:
+      u.sum_wi = t.sum_wi[idx];
+      u.sum_w = t.sum_w[idx];
+      break;
+    case MosaicRule::max:
+      u.best = t.best[idx];
+      break;
+    case MosaicRule::nearest:
+      u.best = t.best[idx];
+      u.best_range = t.best_range[idx];
+      break;
+  }
+  u.labelled = !t.labels.empty();
+  if (u.labelled) {
+    u.label = t.labels[idx];
+    u.label_range = t.label_range[idx];
+  }
+}
+
+void MosaicGrid::close_run() {
+  Run& u = run_;
+  if (u.cell == kOutside) return;
+  Tile& t = *u.tile;
+  t.count[u.idx] = u.count;
+  switch (options_.rule) {
+    case MosaicRule::weighted_mean:
+      t.sum_wi[u.idx] = u.sum_wi;
+      t.sum_w[u.idx] = u.sum_w;
+      break;
+    case MosaicRule::max:
+      t.best[u.idx] = u.best;
+      break;
+    case MosaicRule::nearest:
+      t.best[u.idx] = u.best;
+      t.best_range[u.idx] = u.best_range;
+      break;
+  }
+  if (u.labelled) {
+    t.labels[u.idx] = u.label;
+    t.label_range[u.idx] = u.label_range;
+  }
+  u.cell = kOutside;
+}
+
+inline void MosaicGrid::accumulate(std::uint64_t cell, double ground_m, double swath_m, float value,
+                                   std::int32_t label, MosaicAddStats& stats) {
+  if (cell == kOutside) {
+    ++stats.samples_outside;
+    return;
+  }
+  ++stats.samples_placed;
+  if (cell != run_.cell) {
+    close_run();
+    open_run(cell);
+  }
+  Run& u = run_;
+  ++u.count;
+  const auto range = static_cast<float>(ground_m);
+  switch (options_.rule) {
+    case MosaicRule::weighted_mean: {
+      const double w = swath_weight(ground_m, swath_m, options_.taper_fraction);
+      u.sum_wi += static_cast<float>(w * value);
+      u.sum_w += static_cast<float>(w);
+      break;
+    }
+    case MosaicRule::max:
+      u.best = std::max(u.best, value);
+      break;
+    case MosaicRule::nearest:
+      if (range < u.best_range) {
+        u.best_range = range;
+        u.best = value;
+      }
+      break;
+  }
+  if (label != MosaicImage::kNoLabel) {
+    has_labels_ = true;
+    if (!u.labelled) {
+      Tile& t = *u.tile;
+      if (t.labels.empty()) {
+        t.labels.assign(tile_px_ * tile_px_, MosaicImage::kNoLabel);
+        t.label_range.assign(tile_px_ * tile_px_, std::numeric_limits<float>::infinity());
+        resident_bytes_ += 8 * tile_px_ * tile_px_;
+      }
+      u.labelled = true;
+      u.label = t.labels[u.idx];
+      u.label_range = t.label_range[u.idx];
+    }
+    if (range < u.label_range) {
+      u.label_range = range;
+      u.label = label;
+    }
+  }
+  if (!runs_) close_run();
+}
+
 MosaicAddStats MosaicGrid::add(const MosaicPing& ping) {
   if (finalized_) throw std::logic_error("mosaic: add() after finalize()");
   if (!ping.sensor_xy_m.allFinite()) bad("sensor_xy_m.x", ping.sensor_xy_m.x(), "finite");
@@ -147,6 +306,7 @@ MosaicAddStats MosaicGrid::add(const MosaicPing& ping) {
   cached_index_ = kNoTile;
   add_side(ping, 0, ping.port, ping.port_labels, start, -starboard, stats);
   add_side(ping, 1, ping.starboard, ping.starboard_labels, start, starboard, stats);
+  close_run();  // the tiles hold every point before they may be spilled
   enforce_budget();
   return stats;
 }
@@ -202,6 +362,13 @@ void MosaicGrid::add_side(const MosaicPing& ping, int side, std::span<const floa
       ping.slant_range_m, std::isfinite(ping.altitude_m) ? std::max(0.0, ping.altitude_m) : 0.0);
   const double step_m = options_.fill_step_px * geometry_.dx_m;
   const bool have_labels = !labels.empty();
+  line_.start = start;
+  line_.dir = dir;
+  line_.a_col = geometry_.col_of_x(start.x()) + 0.5;
+  line_.b_col = dir.x() / geometry_.dx_m;
+  line_.a_row = geometry_.row_of_y(start.y()) + 0.5;
+  line_.b_row = dir.y() / geometry_.dy_m;
+  line_.valid = false;
   std::size_t prev = n;  // index of the previous placed sample
   nadir_ground_m_ = 0.0;
   // The nadir gap: the first seabed sample is no further out than the bin holding the altitude
@@ -236,8 +403,8 @@ void MosaicGrid::add_side(const MosaicPing& ping, int side, std::span<const floa
         for (std::size_t j = 0; j < fills; ++j) {
           const double gj = g * static_cast<double>(j) / static_cast<double>(fills);
           const std::size_t before = stats.samples_placed;
-          splat(start + gj * dir, gj, swath_m, values[i],
-                have_labels ? labels[i] : MosaicImage::kNoLabel, stats);
+          accumulate(line_cell(gj), gj, swath_m, values[i],
+                     have_labels ? labels[i] : MosaicImage::kNoLabel, stats);
           if (stats.samples_placed > before) {
             --stats.samples_placed;
             ++stats.fill_points;
@@ -259,7 +426,7 @@ void MosaicGrid::add_side(const MosaicPing& ping, int side, std::span<const floa
           const std::int32_t lab =
               have_labels ? (t < 0.5 ? labels[prev] : labels[i]) : MosaicImage::kNoLabel;
           const std::size_t before = stats.samples_placed;
-          splat(start + gj * dir, gj, swath_m, v, lab, stats);
+          accumulate(line_cell(gj), gj, swath_m, v, lab, stats);
           if (stats.samples_placed > before) {
             --stats.samples_placed;
             ++stats.fill_points;
@@ -269,8 +436,8 @@ void MosaicGrid::add_side(const MosaicPing& ping, int side, std::span<const floa
         }
       }
     }
-    splat(start + g * dir, g, swath_m, values[i], have_labels ? labels[i] : MosaicImage::kNoLabel,
-          stats);
+    accumulate(line_cell(g), g, swath_m, values[i], have_labels ? labels[i] : MosaicImage::kNoLabel,
+               stats);
     prev = i;
   }
   if (!options_.along_track_fill) return;
@@ -360,65 +527,6 @@ void MosaicGrid::fill_between(const GroundLine& a, const GroundLine& b, MosaicAd
       } else {
         --stats.samples_outside;
       }
-    }
-  }
-}
-
-void MosaicGrid::splat(const Eigen::Vector2d& p, double ground_m, double swath_m, float value,
-                       std::int32_t label, MosaicAddStats& stats) {
-  const double c = render_math::floor_fast(geometry_.col_of_x(p.x()) + 0.5);
-  const double r = render_math::floor_fast(geometry_.row_of_y(p.y()) + 0.5);
-  if (!(c >= 0.0 && r >= 0.0 && c < static_cast<double>(geometry_.cols) &&
-        r < static_cast<double>(geometry_.rows))) {
-    ++stats.samples_outside;
-    return;
-  }
-  ++stats.samples_placed;
-  const auto col = static_cast<std::size_t>(c);
-  const auto row = static_cast<std::size_t>(r);
-  // Every sample of the survey lands here: shifts and masks for the default (power-of-two)
-  // tiles, not four integer divisions.
-  std::size_t tx, ty, idx;
-  if (tile_pow2_) {
-    const std::size_t mask = tile_px_ - 1;
-    tx = col >> tile_shift_;
-    ty = row >> tile_shift_;
-    idx = ((row & mask) << tile_shift_) | (col & mask);
-  } else {
-    tx = col / tile_px_;
-    ty = row / tile_px_;
-    idx = (row % tile_px_) * tile_px_ + col % tile_px_;
-  }
-  Tile& t = tile(tx, ty);
-  ++t.count[idx];
-  const auto range = static_cast<float>(ground_m);
-  switch (options_.rule) {
-    case MosaicRule::weighted_mean: {
-      const double w = swath_weight(ground_m, swath_m, options_.taper_fraction);
-      t.sum_wi[idx] += static_cast<float>(w * value);
-      t.sum_w[idx] += static_cast<float>(w);
-      break;
-    }
-    case MosaicRule::max:
-      t.best[idx] = std::max(t.best[idx], value);
-      break;
-    case MosaicRule::nearest:
-      if (range < t.best_range[idx]) {
-        t.best_range[idx] = range;
-        t.best[idx] = value;
-      }
-      break;
-  }
-  if (label != MosaicImage::kNoLabel) {
-    has_labels_ = true;
-    if (t.labels.empty()) {
-      t.labels.assign(tile_px_ * tile_px_, MosaicImage::kNoLabel);
-      t.label_range.assign(tile_px_ * tile_px_, std::numeric_limits<float>::infinity());
-      resident_bytes_ += 8 * tile_px_ * tile_px_;
-    }
-    if (range < t.label_range[idx]) {
-      t.label_range[idx] = range;
-      t.labels[idx] = label;
     }
   }
 }

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -222,6 +223,48 @@ TEST(GainNormaliser, AngleModeFlattensAGrazingAngleRampAcrossAltitudes) {
     }
     EXPECT_LT(hi / lo, 1.02f) << "altitude " << alt;
     // Before: the ramp spans 1 + pi (nadir) down to about 1.2.
+  }
+}
+
+TEST(GainNormaliser, BinsByRunsAreTheBinsOfEachSample) {
+  // bins_of_ping finds the angle bins by runs; each sample's bin by its definition,
+  // floor(asin(altitude / r) / bin), must be the same everywhere, bin edges included.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<std::ptrdiff_t> bins;
+  std::size_t checked = 0;
+  for (int k = 0; k < 400; ++k) {
+    const double bin_rad = (k % 4 == 0 ? 0.5 : 0.05 + 2.0 * u(rng)) * std::numbers::pi / 180.0;
+    const GainNormaliser g(GainNormalisation::kAngle, 0.25, bin_rad, 1);
+    const std::size_t n = 1 + static_cast<std::size_t>(u(rng) * 5000.0);
+    const double range_m = 5.0 + 200.0 * u(rng);
+    const double dr = range_m / static_cast<double>(n);
+    // Altitudes at a bin centre of the range (the first seabed sample), and altitudes that
+    // put a sample on a bin's edge (asin(alt / r) = b bin to round-off: either side may win).
+    const double r_m = (std::floor(u(rng) * static_cast<double>(n)) + 0.5) * dr;
+    double alt = 0.5 + 0.8 * range_m * u(rng);
+    if (k % 3 == 0) alt = r_m;
+    if (k % 3 == 1)
+      alt = r_m * std::sin(std::floor(u(rng) * 0.5 * std::numbers::pi / bin_rad) * bin_rad);
+    if (!(alt > 0.0)) alt = r_m;
+    g.bins_of_ping(n, dr, alt, bins);
+    ASSERT_EQ(bins.size(), n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double r = (static_cast<double>(i) + 0.5) * dr;
+      const std::ptrdiff_t want =
+          r > alt ? static_cast<std::ptrdiff_t>(std::asin(std::clamp(alt / r, 0.0, 1.0)) / bin_rad)
+                  : -1;
+      ASSERT_EQ(bins[i], want) << "sample " << i << " of " << n << ", altitude " << alt;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 500000u);
+  // Range bins: floor(r / bin).
+  const GainNormaliser g(GainNormalisation::kRange, 0.3, 0.01, 1);
+  g.bins_of_ping(1000, 0.05, 7.0, bins);
+  for (std::size_t i = 0; i < 1000; ++i) {
+    const double r = (static_cast<double>(i) + 0.5) * 0.05;
+    EXPECT_EQ(bins[i], r > 7.0 ? static_cast<std::ptrdiff_t>(r / 0.3) : -1);
   }
 }
 

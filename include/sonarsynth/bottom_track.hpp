@@ -121,6 +121,13 @@ class GainNormaliser {
   /// Gain (linear amplitude factor) of a sample at this slant range on side 0 (port) or 1.
   double gain(int side, double range_m, double altitude_m) const;
   GainNormalisation mode() const { return mode_; }
+  /// The bin of each sample of a side of n samples of dr metres (sample i at slant range
+  /// (i + 0.5) dr): floor(r / range_bin) or floor(asin(altitude / r) / angle_bin), -1 for
+  /// r <= altitude. The angle bins by runs: the bin falls as the range grows, so each run's end
+  /// is predicted from the bin's edge and checked on both sides (a few asin per bin, not one
+  /// per sample); every step of the per-sample form is monotonic in r, so the bins are the same.
+  void bins_of_ping(std::size_t n, double dr, double altitude_m,
+                    std::vector<std::ptrdiff_t>& bins) const;
 
  private:
   std::ptrdiff_t bin_of(double range_m, double altitude_m) const;
@@ -130,6 +137,7 @@ class GainNormaliser {
   std::vector<double> sum_log_[2];
   std::vector<std::uint64_t> count_[2];
   std::vector<double> gain_[2];
+  std::vector<std::ptrdiff_t> bins_;  ///< add_ping's scratch
 };
 
 }  // namespace sonarsynth

@@ -165,6 +165,12 @@ class MosaicGrid {
   /// finish() still works after it. Idempotent.
   void finalize();
   bool finalized() const { return finalized_; }
+  /// Runs of samples (the default): the points that fall in one cell one after the other are
+  /// combined in registers and the cell's accumulators are read and written once per run; the
+  /// operations on each accumulator and their order are those of adding point by point, so the
+  /// image is the same bit for bit. false: each point is added to its tile at once (the
+  /// reference the tests compare against).
+  void set_sample_runs(bool on) { runs_ = on; }
   /// True if some sample had a label (the image's labels are not empty).
   bool has_labels() const { return has_labels_; }
   /// Pixels a side of the accumulator tiles.
@@ -183,8 +189,23 @@ class MosaicGrid {
                 const Eigen::Vector2d& dir, MosaicAddStats& stats);
   void ground_ranges(const MosaicPing& ping, std::size_t n, const Eigen::Vector2d& start,
                      const Eigen::Vector2d& dir);
+  /// The grid cell holding a point, (row << 32) | col, or kOutside.
+  std::uint64_t cell_of(const Eigen::Vector2d& p) const;
   void splat(const Eigen::Vector2d& p, double ground_m, double swath_m, float value,
-             std::int32_t label, MosaicAddStats& stats);
+             std::int32_t label, MosaicAddStats& stats) {
+    accumulate(cell_of(p), ground_m, swath_m, value, label, stats);
+  }
+  /// Adds one sample or fill point to `cell` (kOutside: counted as outside). Consecutive points
+  /// of one cell are combined in run_ and written to the tile when the cell changes.
+  void accumulate(std::uint64_t cell, double ground_m, double swath_m, float value,
+                  std::int32_t label, MosaicAddStats& stats);
+  /// The cell of the point at ground range g on the side line being gridded (line_): the
+  /// run's cell without computing it while g stays where that cell provably holds.
+  std::uint64_t line_cell(double g);
+  /// Loads the accumulators of `cell` into run_.
+  void open_run(std::uint64_t cell);
+  /// Writes run_ back to its tile (nothing if no run is open).
+  void close_run();
 
   GridGeometry geometry_;
   MosaicOptions options_;
@@ -230,8 +251,35 @@ class MosaicGrid {
   std::size_t tiles_x_ = 0;
   std::size_t tiles_y_ = 0;
   std::vector<std::unique_ptr<Tile>> tiles_;  ///< row-major, null = never touched
-  bool has_labels_ = false;                   ///< some sample had a label
-  bool finalized_ = false;                    ///< finalize() was called
+  static constexpr std::uint64_t kOutside = ~std::uint64_t{0};
+  /// The accumulators of the cell the last points fell in (open while cell != kOutside).
+  struct Run {
+    std::uint64_t cell = kOutside;
+    Tile* tile = nullptr;
+    std::size_t idx = 0;  ///< pixel in the tile
+    std::uint32_t count = 0;
+    float sum_wi = 0.0f, sum_w = 0.0f, best = 0.0f, best_range = 0.0f;
+    bool labelled = false;  ///< label and label_range hold the tile's (its labels exist)
+    std::int32_t label = 0;
+    float label_range = 0.0f;
+  };
+  Run run_;
+  /// add_side's ground line start + g dir in pixel units, u = a + b g (column, row, +0.5 for
+  /// the rounding to the nearest pixel centre), and the interval [lo, safe) of g known to lie in
+  /// `cell`: lo a point whose cell was computed, safe short of the next pixel edge by a margin
+  /// far above the round-off of the computed position.
+  struct LineCells {
+    Eigen::Vector2d start{0.0, 0.0};
+    Eigen::Vector2d dir{0.0, 0.0};
+    double a_col = 0.0, b_col = 0.0, a_row = 0.0, b_row = 0.0;
+    bool valid = false;
+    double lo = 0.0, safe = 0.0;
+    std::uint64_t cell = 0;
+  };
+  LineCells line_;
+  bool runs_ = true;
+  bool has_labels_ = false;  ///< some sample had a label
+  bool finalized_ = false;   ///< finalize() was called
   /// A side of the last ping resampled at equal ground ranges (j + 0.5) * step (NaN = none).
   struct GroundLine {
     bool valid = false;
