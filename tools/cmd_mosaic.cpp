@@ -125,6 +125,7 @@ int run_mosaic(const std::vector<std::string>& args) {
   wo.metadata.push_back({"SONARSYNTH_ALTITUDE_SOURCE", to_string(mo.altitude_source)});
   wo.metadata.push_back({"SONARSYNTH_GAIN_NORMALISATION", to_string(mo.gain_normalisation)});
   // Refuse existing outputs (and inputs named as outputs) before the (long) gridding.
+  refuse_equal_outputs({output, wo.rgb_path}, {"-o", "--rgb"});
   {
     std::vector<std::string> all_inputs = inputs;
     all_inputs.push_back(bathymetry);
@@ -178,8 +179,10 @@ int run_mosaic(const std::vector<std::string>& args) {
     }
   }
   if (r.pings_gridded == 0) {
-    throw FormatError("no ping could be gridded (" + std::to_string(r.pings) + " pings, " +
-                      std::to_string(r.pings_no_navigation) + " without navigation, " +
+    std::string names;
+    for (const std::string& f : inputs) names += (names.empty() ? "" : ", ") + f;
+    throw FormatError(names + ": no ping could be gridded (" + std::to_string(r.pings) +
+                      " pings, " + std::to_string(r.pings_no_navigation) + " without navigation, " +
                       std::to_string(r.pings_no_altitude) + " without altitude)");
   }
   if (r.pings_dropped > 0) {
