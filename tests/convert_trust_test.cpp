@@ -2,8 +2,9 @@
 // Damaged fields in XTF and JSF files: `convert` repairs what the output can hold as "unknown",
 // drops (counted by reason) what it cannot, fails when nothing is left; the JSF reader reports
 // a missing sound speed, a lossy weighting factor and an implausible sample interval
-// (docs/conversion.md, "Drops and repairs"; docs/jsf.md). The damaged files are made here by
-// editing the bytes of files the test writes.
+// (docs/conversion.md, "Drops and repairs"; docs/jsf.md). `mosaic` and `waterfall` name the
+// file and the limit when they cannot proceed. The damaged files are made here by editing the
+// bytes of files the test writes.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -16,6 +17,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
+#include "sonarsynth/formats/jsf/writer.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "xtf_test_util.hpp"
@@ -293,6 +295,114 @@ TEST_F(ConvertTrust, JsfReaderReportsAWeightingFactorThatLosesTheSamples) {
   const test::CliResult c = cli("convert " + in.string() + " -o " + (dir_ / "wf.xtf").string());
   EXPECT_EQ(c.exit_code, 0) << c.err;
   EXPECT_TRUE(has(c.err, "weighting factor 201")) << c.err;
+}
+
+// `mosaic -o m.tif --rgb m.tif` would leave only the display copy: refused before reading.
+TEST_F(ConvertTrust, MosaicRefusesTheSameFileForMosaicAndDisplayCopy) {
+  const auto before = test::snapshot(dir_);
+  const std::string m = (dir_ / "m.tif").string();
+  const std::string m2 = (dir_ / "." / "m.tif").string();
+  const test::CliResult r =
+      cli("mosaic " + (dir_ / "clean.xtf").string() + " -o " + m + " --rgb " + m2);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "--rgb " + m2 + " is the same file as -o " + m)) << r.err;
+  EXPECT_EQ(test::snapshot(dir_), before);
+}
+
+// Nothing to grid: the error names the file (every ping without altitude here).
+TEST_F(ConvertTrust, MosaicNamesTheFileWhenNoPingCanBeGridded) {
+  const fs::path in = damaged_jsf(
+      "flat.jsf", [](std::uint32_t, Bytes& b, std::size_t h) { put<std::int32_t>(b, h + 144, 0); });
+  const auto before = test::snapshot(dir_);
+  const test::CliResult r =
+      cli("mosaic " + in.string() + " --altitude-source header -o " + (dir_ / "m.tif").string());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, in.string() + ": no ping could be gridded (6 pings, 0 without "
+                                       "navigation, 6 without altitude)"))
+      << r.err;
+  EXPECT_EQ(test::snapshot(dir_), before);
+}
+
+// A thread the system refuses (here: a 3 GB thread stack under a 2 GB address-space limit) is a
+// named error, exit 1, naming what it was for; nothing is left behind.
+TEST_F(ConvertTrust, MosaicNamesARefusedThread) {
+#ifdef SONARSYNTH_TEST_SANITIZED
+  GTEST_SKIP() << "the sanitizers reserve more address space than the limit";
+#endif
+  const auto before = test::snapshot(dir_);
+  const std::string cmd = "ulimit -s 3000000 && ulimit -v 2000000 && exec " +
+                          std::string(SONARSYNTH_CLI) + " mosaic " + (dir_ / "clean.xtf").string() +
+                          " -q -o " + (dir_ / "m.tif").string();
+  const fs::path err = dir_.string() + "_err.txt";
+  const int status = std::system(("sh -c '" + cmd + "' 2>" + err.string()).c_str());
+  test::CliResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = test::read_text(err);
+  fs::remove(err);
+  if (has(r.err, "ulimit: ")) GTEST_SKIP() << "cannot set the limits: " << r.err;
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "m.tif: could not start the thread that writes the display copy"))
+      << r.err;
+  EXPECT_TRUE(has(r.err, "Resource temporarily unavailable")) << r.err;
+  EXPECT_FALSE(has(r.err, "internal error")) << r.err;
+  EXPECT_EQ(test::snapshot(dir_), before);
+}
+
+// One ping wider than libpng allows: refused at that ping, naming file, ping and limit, before
+// the rest is spooled; no image and no spool left. A .tif has no such limit.
+TEST_F(ConvertTrust, WaterfallRefusesAPingWiderThanPngEarly) {
+  {
+    jsf::Writer w(dir_ / "wide.jsf");
+    for (std::uint32_t k = 0; k < 4; ++k) {
+      w.write_ping(xtf::test::make_ping(k, k == 2 ? 600000 : kSamples, k == 2 ? 600000 : kSamples));
+    }
+    w.close();
+  }
+  const auto before = test::snapshot(dir_);
+  const test::CliResult r =
+      cli("waterfall " + (dir_ / "wide.jsf").string() + " -o " + (dir_ / "w.png").string());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err,
+                  "wide.jsf: ping 2 (ping number 2): a row of 1200000 pixels (2 x 600000 "
+                  "samples) exceeds the image's width limit of 1000000"))
+      << r.err;
+  EXPECT_FALSE(has(r.err, "IHDR")) << r.err;
+  EXPECT_EQ(test::snapshot(dir_), before);
+}
+
+// The same refusal in a command that does not name its threads: still a named error, exit 1.
+TEST_F(ConvertTrust, SimulateTurnsARefusedThreadIntoANamedError) {
+#ifdef SONARSYNTH_TEST_SANITIZED
+  GTEST_SKIP() << "the sanitizers reserve more address space than the limit";
+#endif
+  write("scene.yaml", R"(
+name: quick
+seed: 3
+bathymetry:
+  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [60, 60], cell_m: 0.5, depth_m: 20}
+survey:
+  start_time: "2026-03-01T10:00:00Z"
+  speed_m_s: 2.0
+  altitude_m: 8
+  lines:
+    - {name: L1, waypoints: [{lat_deg: 43.0, lon_deg: 4.9999}, {lat_deg: 43.0, lon_deg: 5.0001}]}
+sonar: {frequency_khz: 600, range_m: 25, samples: 128}
+)");
+  const auto before = test::snapshot(dir_);
+  const std::string cmd = "ulimit -s 3000000 && ulimit -v 2000000 && exec " +
+                          std::string(SONARSYNTH_CLI) + " simulate " +
+                          (dir_ / "scene.yaml").string() + " -q -o " + (dir_ / "out").string();
+  const fs::path err = dir_.string() + "_err.txt";
+  const int status = std::system(("sh -c '" + cmd + "' 2>" + err.string()).c_str());
+  const std::string text = test::read_text(err);
+  fs::remove(err);
+  if (has(text, "ulimit: ")) GTEST_SKIP() << "cannot set the limits: " << text;
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1) << text;
+  EXPECT_TRUE(has(text,
+                  "sonarsynth simulate: error: could not start a thread: Resource "
+                  "temporarily unavailable"))
+      << text;
+  EXPECT_EQ(test::snapshot(dir_), before);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "commands.hpp"
@@ -220,7 +221,16 @@ int run_mosaic(const std::vector<std::string>& args) {
               << " gridded pings tracked from the first bottom return (" << r.pings_header_disagreed
               << " where the header altitude disagreed, the others without one)\n";
   }
-  write_mosaic(output, r.frame, r.image, wo);
+  try {
+    write_mosaic(output, r.frame, r.image, wo);
+  } catch (const std::system_error& e) {
+    // The display copy is written on a thread of its own, alongside the mosaic.
+    if (e.code() != std::errc::resource_unavailable_try_again || wo.rgb_path.empty()) throw;
+    throw FormatError(output + ": could not start the thread that writes the display copy " +
+                      wo.rgb_path + " (" + e.code().message() +
+                      "; the limit on threads, ulimit -u, or on address space, ulimit -v, is "
+                      "reached); nothing written (--no-rgb needs no thread)");
+  }
   if (!vm.count("quiet")) {
     const GridGeometry& g = r.image.geometry;
     std::cout << "wrote " << output << ": " << g.cols << " x " << g.rows << " pixels of "
