@@ -203,6 +203,21 @@ TEST_F(ConvertTrust, JsfToXtfFailsWhenNothingIsLeft) {
   EXPECT_FALSE(fs::exists(dir_ / "out.xtf"));
 }
 
+// An input without any ping (an XTF cut after its file header): the same failure, not an empty
+// output.
+TEST_F(ConvertTrust, FailsOnAnInputWithoutPings) {
+  Bytes b = xtf::test::read_bytes(dir_ / "clean.xtf");
+  b.resize(1024 + 100);  // the file header and a cut packet
+  xtf::test::write_bytes(dir_ / "cut.xtf", b);
+  const auto before = test::snapshot(dir_);
+  const test::CliResult r =
+      cli("convert " + (dir_ / "cut.xtf").string() + " -o " + (dir_ / "out.jsf").string());
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "cut.xtf: no side-scan ping to convert (1 reader anomalies; first: "))
+      << r.err;
+  EXPECT_EQ(test::snapshot(dir_), before);
+}
+
 // XTF -> JSF: a NaN altitude and a sound speed of 0 are written as JSF's "unknown" (altitude 0,
 // sound speed 1500 m/s with the validity bit clear); a slant range of 0 drops the ping.
 TEST_F(ConvertTrust, XtfToJsfRepairsUnknownFieldsAndCountsDrops) {

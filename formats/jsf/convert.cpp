@@ -104,8 +104,12 @@ void repair(SonarFileFormat to, xtf::SonarPing& s, ConvertResult& r) {
 void refuse_empty(const std::filesystem::path& in, const ConvertResult& r) {
   if (r.pings > 0) return;
   if (r.pings_skipped == 0) {
-    throw FormatError("convert: " + in.string() +
-                      ": no side-scan ping to convert; nothing written");
+    throw FormatError("convert: " + in.string() + ": no side-scan ping to convert" +
+                      (r.warnings.empty()
+                           ? std::string()
+                           : " (" + std::to_string(r.reader_anomalies) +
+                                 " reader anomalies; first: " + r.warnings.front() + ")") +
+                      "; nothing written");
   }
   std::string reasons;
   for (const auto& [reason, n] : r.dropped) {
