@@ -123,7 +123,7 @@ bool exchange_paths(const fs::path& a, const fs::path& b) {
 
 std::string why_not_replaceable_output(const fs::path& dir) {
   std::error_code ec;
-  bool marker = false, effective = false;
+  bool marker = false;
   std::string foreign;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const fs::path& p = it->path();
@@ -132,7 +132,6 @@ std::string why_not_replaceable_output(const fs::path& dir) {
       marker = true;
       continue;
     }
-    if (name == "effective.yaml") effective = true;
     // Ours: a regular file (not a link) with the extension of a product.
     std::error_code e2;
     const bool ours =
@@ -144,10 +143,13 @@ std::string why_not_replaceable_output(const fs::path& dir) {
   }
   if (ec) return "cannot list it: " + ec.message();
   if (!foreign.empty()) return foreign;
+  // Only the marker says sonarsynth made the directory: files with product names (L1.xtf,
+  // effective.yaml) may be a user's own copies. An empty directory holds nothing to lose.
   const bool empty = fs::is_empty(dir, ec);
-  if (empty || marker || effective) return "";
+  if (empty || marker) return "";
   return "it is not a sonarsynth output directory (no " +
-         std::string(OutputDirectory::kMarkerName) + " or effective.yaml)";
+         std::string(OutputDirectory::kMarkerName) +
+         " marker; files with product names alone do not make it one)";
 }
 
 OutputDirectory::OutputDirectory(fs::path final_dir, bool overwrite,

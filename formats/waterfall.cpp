@@ -380,6 +380,11 @@ void Waterfall::write(const std::string& path, const RowTap& tap) const {
   if (rows() == 0 || cols() == 0) {
     throw FormatError(std::string(kWho) + ": " + path + ": no ping with samples to draw");
   }
+  if (driver == "PNG" && cols() > kPngMaxWidth) {
+    throw InputError(std::string(kWho) + ": " + path + ": " + std::to_string(cols()) +
+                     " columns exceed libpng's width limit of " + std::to_string(kPngMaxWidth) +
+                     "; write a .tif instead");
+  }
   gdal::ensure_registered();
   AtomicOutput out(path, options_.overwrite);
   const std::size_t per_row = pings_per_row();
@@ -466,6 +471,15 @@ WaterfallResult add_file_pings(const std::filesystem::path& sonar_path, Waterfal
       tracked_altitude = a.tracked;
     }
     if (index >= first_ping) {
+      const std::size_t width = 2 * std::max(s.port.size(), s.starboard.size());
+      if (options.max_cols > 0 && width > options.max_cols) {
+        throw InputError("waterfall: " + sonar_path.string() + ": ping " + std::to_string(index) +
+                         " (ping number " + std::to_string(s.ping_number) + "): a row of " +
+                         std::to_string(width) + " pixels (2 x " + std::to_string(width / 2) +
+                         " samples) exceeds the image's width limit of " +
+                         std::to_string(options.max_cols) +
+                         " (libpng's, for a .png); write a .tif instead");
+      }
       wf.add_ping(s.port, s.starboard, s.slant_range_m, altitude_m);
       ++result.pings;
       result.pings_tracked_altitude += tracked_altitude ? 1 : 0;
@@ -494,6 +508,9 @@ WaterfallResult write_xtf_waterfall(const std::filesystem::path& xtf_path,
     if (dir.empty()) dir = ".";
     std::error_code ec;
     if (std::filesystem::is_directory(dir, ec)) wo.spool_dir = dir;
+  }
+  if (driver_for(image_path, "waterfall") == "PNG") {
+    wo.max_cols = wo.max_cols == 0 ? kPngMaxWidth : std::min(wo.max_cols, kPngMaxWidth);
   }
   Waterfall wf(wo);
   WaterfallResult result = add_file_pings(xtf_path, wf, wo);

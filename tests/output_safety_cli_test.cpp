@@ -139,6 +139,20 @@ TEST_F(OutputSafetyCli, OverwriteReplacesAnEarlierOutputAndReRunsOfEffectiveYaml
   EXPECT_EQ(snapshot(root_), before);
 }
 
+TEST_F(OutputSafetyCli, OverwriteRefusesAUserDirectoryOfProductNamedFilesWithoutMarker) {
+  const fs::path work = root_ / "work";
+  fs::create_directory(work / "mine");
+  std::ofstream(work / "mine" / "L1.xtf") << "my own copy";
+  std::ofstream(work / "mine" / "effective.yaml") << "seed: 1\n";
+  const auto before = snapshot(root_);
+  const test::CliResult r = cli(work, "simulate scene.yaml -q --no-mosaic --overwrite -o mine");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("mine: refusing to use as the output directory"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find(".sonarsynth-output"), std::string::npos) << r.err;
+  EXPECT_EQ(snapshot(root_), before);
+}
+
 TEST_F(OutputSafetyCli, AProductIsNeverWrittenOverItsInput) {
   const fs::path work = root_ / "work";
   ASSERT_EQ(cli(work, "simulate scene.yaml -q --no-mosaic -o out").exit_code, 0);

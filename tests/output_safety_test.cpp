@@ -119,12 +119,19 @@ TEST_F(OutputSafety, ReplacesAnOutputByASwapAndLeavesNoTemporaries) {
   EXPECT_EQ(names, (std::vector<std::string>{"out", "work"}));
 }
 
-TEST_F(OutputSafety, ReplacesAnOutputOfAnEarlierVersionWithoutMarker) {
-  const fs::path out_dir = root_ / "old_out";
+TEST_F(OutputSafety, RefusesProductNamedFilesWithoutMarker) {
+  // A user's directory holding only files with product names (copies of results, say) is not
+  // ours without the marker: --overwrite must not replace it.
+  const fs::path out_dir = root_ / "user_dir";
   fs::create_directory(out_dir);
   write_text(out_dir / "effective.yaml", "seed: 1\n");
   write_text(out_dir / "L1.xtf", "x");
-  write_text(out_dir / "mosaic.tif", "x");
+  EXPECT_NE(why_not_replaceable_output(out_dir).find(".sonarsynth-output"), std::string::npos);
+  expect_refused(out_dir, true, {}, ".sonarsynth-output");
+  EXPECT_EQ(read_text(out_dir / "L1.xtf"), "x");
+  EXPECT_EQ(read_text(out_dir / "effective.yaml"), "seed: 1\n");
+  // With the marker it is ours again.
+  write_text(out_dir / OutputDirectory::kMarkerName, "");
   EXPECT_EQ(why_not_replaceable_output(out_dir), "");
   OutputDirectory out(out_dir, true);
   out.commit();

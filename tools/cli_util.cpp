@@ -120,4 +120,23 @@ void refuse_output_over_input(const std::vector<std::string>& outputs,
   }
 }
 
+void refuse_equal_outputs(const std::vector<std::string>& outputs,
+                          const std::vector<std::string>& names) {
+  namespace fs = std::filesystem;
+  const auto resolved = [](const std::string& p) {
+    std::error_code ec;
+    fs::path r = fs::weakly_canonical(fs::absolute(p, ec), ec);
+    return ec ? fs::absolute(p, ec).lexically_normal() : r;
+  };
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    for (std::size_t j = i + 1; j < outputs.size(); ++j) {
+      if (outputs[i].empty() || outputs[j].empty()) continue;
+      if (resolved(outputs[i]) == resolved(outputs[j])) {
+        throw InputError(names[j] + " " + outputs[j] + " is the same file as " + names[i] + " " +
+                         outputs[i] + ". Violated constraint: every output a different file");
+      }
+    }
+  }
+}
+
 }  // namespace sonarsynth::cli

@@ -77,4 +77,10 @@ namespace sonarsynth::cli {
 void refuse_output_over_input(const std::vector<std::string>& outputs,
                               const std::vector<std::string>& inputs);
 
+/// Throws InputError if two outputs name the same file (after resolving "." / ".." and symbolic
+/// links, whether or not the file exists): `mosaic a.xtf -o m.tif --rgb m.tif` would otherwise
+/// leave only the one written last. `names` are the option names shown ("-o", "--rgb").
+void refuse_equal_outputs(const std::vector<std::string>& outputs,
+                          const std::vector<std::string>& names);
+
 }  // namespace sonarsynth::cli

@@ -37,9 +37,19 @@ int run_convert(const std::vector<std::string>& args) {
   const ConvertResult r =
       convert_sonar_file(input, output, vm.count("overwrite") > 0,
                          parse_altitude_source(altitude_source, "--altitude-source"));
+  // Drops and repairs by reason (docs/conversion.md, "Drops and repairs"), then examples.
+  if (r.pings_skipped > 0) {
+    std::cerr << "sonarsynth convert: warning: dropped " << r.pings_skipped << " of "
+              << r.pings + r.pings_skipped << " pings of " << input << ":\n";
+    for (const auto& [reason, n] : r.dropped) std::cerr << "  " << reason << ": " << n << "\n";
+  }
+  if (!r.repaired.empty()) {
+    std::cerr << "sonarsynth convert: warning: fields written as unknown (pings):\n";
+    for (const auto& [rule, n] : r.repaired) std::cerr << "  " << rule << ": " << n << "\n";
+  }
   if (r.pings_skipped > 0 || r.reader_anomalies > 0) {
-    std::cerr << "sonarsynth convert: warning: " << r.pings_skipped << " pings skipped, "
-              << r.reader_anomalies << " reader anomalies:\n";
+    std::cerr << "sonarsynth convert: warning: " << r.reader_anomalies
+              << " reader anomalies; first drops and anomalies:\n";
     for (const std::string& w : r.warnings) std::cerr << "  " << w << "\n";
   }
   if (!vm.count("quiet")) {

@@ -7,6 +7,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "commands.hpp"
@@ -125,6 +126,7 @@ int run_mosaic(const std::vector<std::string>& args) {
   wo.metadata.push_back({"SONARSYNTH_ALTITUDE_SOURCE", to_string(mo.altitude_source)});
   wo.metadata.push_back({"SONARSYNTH_GAIN_NORMALISATION", to_string(mo.gain_normalisation)});
   // Refuse existing outputs (and inputs named as outputs) before the (long) gridding.
+  refuse_equal_outputs({output, wo.rgb_path}, {"-o", "--rgb"});
   {
     std::vector<std::string> all_inputs = inputs;
     all_inputs.push_back(bathymetry);
@@ -178,8 +180,10 @@ int run_mosaic(const std::vector<std::string>& args) {
     }
   }
   if (r.pings_gridded == 0) {
-    throw FormatError("no ping could be gridded (" + std::to_string(r.pings) + " pings, " +
-                      std::to_string(r.pings_no_navigation) + " without navigation, " +
+    std::string names;
+    for (const std::string& f : inputs) names += (names.empty() ? "" : ", ") + f;
+    throw FormatError(names + ": no ping could be gridded (" + std::to_string(r.pings) +
+                      " pings, " + std::to_string(r.pings_no_navigation) + " without navigation, " +
                       std::to_string(r.pings_no_altitude) + " without altitude)");
   }
   if (r.pings_dropped > 0) {
@@ -217,7 +221,16 @@ int run_mosaic(const std::vector<std::string>& args) {
               << " gridded pings tracked from the first bottom return (" << r.pings_header_disagreed
               << " where the header altitude disagreed, the others without one)\n";
   }
-  write_mosaic(output, r.frame, r.image, wo);
+  try {
+    write_mosaic(output, r.frame, r.image, wo);
+  } catch (const std::system_error& e) {
+    // The display copy is written on a thread of its own, alongside the mosaic.
+    if (e.code() != std::errc::resource_unavailable_try_again || wo.rgb_path.empty()) throw;
+    throw FormatError(output + ": could not start the thread that writes the display copy " +
+                      wo.rgb_path + " (" + e.code().message() +
+                      "; the limit on threads, ulimit -u, or on address space, ulimit -v, is "
+                      "reached); nothing written (--no-rgb needs no thread)");
+  }
   if (!vm.count("quiet")) {
     const GridGeometry& g = r.image.geometry;
     std::cout << "wrote " << output << ": " << g.cols << " x " << g.rows << " pixels of "

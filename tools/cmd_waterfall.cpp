@@ -41,7 +41,8 @@ int run_waterfall(const std::vector<std::string>& args) {
              "Draws one row per ping: port far -> near | starboard near -> far (nadir in the\n"
              "middle), 10 log10 of the samples between the 1st and 99th percentiles of the file\n"
              "(or --lo-db/--hi-db, or the samples linearly with --linear) through the\n"
-             "black-brown-yellow colormap (or --grey).")) {
+             "black-brown-yellow colormap (or --grey). A .png is at most 1 000 000 pixels\n"
+             "wide (libpng): a wider ping is refused when it is read; a .tif has no such limit.")) {
     return 0;
   }
   if (vm.count("lo-db") != vm.count("hi-db")) {

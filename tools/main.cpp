@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "commands.hpp"
@@ -108,6 +109,17 @@ int main(int argc, char** argv) {
                 << e.path1().string() << (e.path2().empty() ? "" : " -> " + e.path2().string())
                 << "\n";
       return 1;
+    } catch (const std::system_error& e) {
+      // std::thread / std::async refused by the system: a limit of the user's, not a bug.
+      if (e.code() == std::errc::resource_unavailable_try_again) {
+        std::cerr << "sonarsynth " << name
+                  << ": error: could not start a thread: " << e.code().message()
+                  << " (the limit on threads, ulimit -u, or on address space, ulimit -v, is "
+                     "reached; raise it, or lower --threads where the command has it)\n";
+        return 1;
+      }
+      std::cerr << "sonarsynth " << name << ": internal error: " << e.what() << "\n";
+      return 3;
     } catch (const std::exception& e) {
       std::cerr << "sonarsynth " << name << ": internal error: " << e.what() << "\n";
       return 3;

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 #include <vector>
 
 #include "sonarsynth/bottom_track.hpp"
@@ -21,8 +22,103 @@ namespace {
 
 constexpr std::size_t kMaxWarnings = 10;
 
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
 void warn(ConvertResult& r, std::string w) {
   if (r.warnings.size() < kMaxWarnings) r.warnings.push_back(std::move(w));
+}
+
+/// The field a writer's InputError names ("xtf writer: ping 7: altitude_m = -1. Violated
+/// constraint: ..." -> "altitude_m"): the key its drops are counted under.
+std::string writer_reason(const std::string& message) {
+  std::size_t from = message.find("ping ");
+  from = from == std::string::npos ? std::string::npos : message.find(": ", from);
+  const std::size_t to = from == std::string::npos ? from : message.find(" = ", from);
+  if (to == std::string::npos) return message;
+  return "refused by the writer: " + message.substr(from + 2, to - from - 2);
+}
+
+/// Drops one ping: counted under `reason`, the first few named with `where` and `detail`.
+void drop(ConvertResult& r, const std::string& reason, const std::string& where,
+          const std::string& detail) {
+  ++r.pings_skipped;
+  ++r.dropped[reason];
+  warn(r, where + " dropped: " + detail);
+}
+
+/// Why a ping cannot be converted at all (docs/conversion.md, "Drops"), or "" if it can.
+std::string drop_reason(const xtf::SonarPing& s) {
+  if (s.port.empty() || s.starboard.empty()) return "one side missing";
+  if (!(s.slant_range_m > 0.0)) return "slant range 0 (sample interval 0: no sample spacing)";
+  if (!(s.slant_range_m <= jsf::kMaxPlausibleSlantRange_m)) {
+    return "slant range over 100 km (implausible sample interval)";
+  }
+  return "";
+}
+
+/// Writes the fields the output cannot hold as they are but can hold as "unknown" so, each
+/// repair counted by its rule (docs/conversion.md, "Repairs").
+void repair(SonarFileFormat to, xtf::SonarPing& s, ConvertResult& r) {
+  const auto fix = [&](double& v, bool ok, double unknown, const char* rule) {
+    if (ok) return;
+    v = unknown;
+    ++r.repaired[rule];
+  };
+  const double nan = std::nan("");
+  // Negative: EdgeTech's "no altimeter lock"; both formats read 0 as "no altitude".
+  fix(s.altitude_m, s.altitude_m >= 0.0 && std::isfinite(s.altitude_m), 0.0,
+      "altitude negative or not finite -> 0 (no altitude)");
+  if (to == SonarFileFormat::kJsf) {
+    // JSF has a validity bit per field: the writer clears it for NaN.
+    fix(s.sound_speed_mps, s.sound_speed_mps > 0.0 && std::isfinite(s.sound_speed_mps), nan,
+        "sound speed <= 0 or not finite -> unknown (1500 m/s for the sample interval)");
+    fix(s.heave_m, std::isfinite(s.heave_m), nan, "heave not finite -> unknown");
+    fix(s.depth_m, std::isfinite(s.depth_m), nan, "depth not finite -> unknown");
+    fix(s.speed_mps, s.speed_mps >= 0.0 && std::isfinite(s.speed_mps), nan,
+        "speed negative or not finite -> unknown");
+    fix(s.heading_rad, std::isfinite(s.heading_rad), nan, "heading not finite -> unknown");
+    const bool attitude_ok = std::abs(s.pitch_rad) <= kPi / 2 && std::abs(s.roll_rad) <= kPi;
+    if (!attitude_ok) {
+      s.pitch_rad = s.roll_rad = nan;
+      ++r.repaired["pitch beyond +-90 deg or roll beyond +-180 deg -> unknown"];
+    }
+    return;
+  }
+  // XTF has no validity flags: 0 is the value of a sensor that is not there.
+  fix(s.heave_m, std::isfinite(s.heave_m), 0.0, "heave not finite -> 0");
+  fix(s.depth_m, std::isfinite(s.depth_m), 0.0, "depth not finite -> 0");
+  fix(s.speed_mps, s.speed_mps >= 0.0 && std::isfinite(s.speed_mps), 0.0,
+      "speed negative or not finite -> 0");
+  fix(s.pitch_rad, std::abs(s.pitch_rad) <= kPi / 2, 0.0, "pitch beyond +-90 deg -> 0");
+  fix(s.roll_rad, std::abs(s.roll_rad) <= kPi, 0.0, "roll beyond +-180 deg -> 0");
+  fix(s.sound_speed_mps, s.sound_speed_mps > 0.0 && std::isfinite(s.sound_speed_mps),
+      jsf::kAssumedSoundSpeed_mps, "sound speed <= 0 or not finite -> 1500 m/s");
+}
+
+/// Nothing left to write: fails naming the input and the reasons (the output is not created).
+void refuse_empty(const std::filesystem::path& in, const ConvertResult& r) {
+  if (r.pings > 0) return;
+  if (r.pings_skipped == 0) {
+    throw FormatError("convert: " + in.string() + ": no side-scan ping to convert" +
+                      (r.warnings.empty()
+                           ? std::string()
+                           : " (" + std::to_string(r.reader_anomalies) +
+                                 " reader anomalies; first: " + r.warnings.front() + ")") +
+                      "; nothing written");
+  }
+  std::string reasons;
+  for (const auto& [reason, n] : r.dropped) {
+    reasons += (reasons.empty() ? "" : ", ") + reason + ": " + std::to_string(n);
+  }
+  throw FormatError("convert: " + in.string() + ": none of its " + std::to_string(r.pings_skipped) +
+                    " pings could be converted (" + reasons +
+                    (r.warnings.empty() ? std::string() : "; first: " + r.warnings.front()) +
+                    "); nothing written");
 }
 
 /// Tracked altitude of every ping of `in`, in the order the converters read them; empty with
@@ -103,17 +199,25 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
     if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
       s.sensor_position = {};  // stored as 0, 0: "no position" for JSF readers
     }
+    const std::string where = "XTF packet " + std::to_string(packet.index) + " (ping " +
+                              std::to_string(s.ping_number) + ")";
+    const std::string why = drop_reason(s);
+    if (!why.empty()) {
+      drop(r, why, where, why + " (slant range " + num(s.slant_range_m) + " m)");
+      continue;
+    }
+    repair(SonarFileFormat::kJsf, s, r);
     try {
       writer.write_ping(s);
       ++r.pings;
     } catch (const InputError& e) {
-      ++r.pings_skipped;
-      warn(r, "XTF packet " + std::to_string(packet.index) + " skipped: " + e.what());
+      drop(r, writer_reason(e.what()), where, e.what());
     }
   }
-  writer.close();
   r.reader_anomalies = reader.total_anomalies();
   for (const xtf::Anomaly& a : reader.anomalies()) warn(r, a.message);
+  refuse_empty(in, r);
+  writer.close();
   return r;
 }
 
@@ -162,29 +266,32 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
     choose_ping_altitude(ping.sonar, k++, tracked, source, r);
     flush_attitude(ping.offset);
     open(ping.header.mixer_frequency_hz);
-    std::string why;
+    std::string why = drop_reason(ping.sonar);
     if (!ping.nav_valid) why = "no position";
     if (!ping.time_valid) why = "no valid time";
     if (ping.sonar.port.empty() || ping.sonar.starboard.empty()) why = "one side missing";
+    const std::string where = "JSF ping " + std::to_string(ping.sonar.ping_number) + " at byte " +
+                              std::to_string(ping.offset);
     if (!why.empty()) {
-      ++r.pings_skipped;
-      warn(r, "JSF ping " + std::to_string(ping.sonar.ping_number) + " at byte " +
-                  std::to_string(ping.offset) + " skipped: " + why);
+      drop(r, why, where,
+           why + " (slant range " + num(ping.sonar.slant_range_m) + " m, sample interval " +
+               std::to_string(ping.header.sample_interval_ns) + " ns)");
       continue;
     }
+    repair(SonarFileFormat::kXtf, ping.sonar, r);
     try {
       writer->write_ping(ping.sonar);
       ++r.pings;
     } catch (const InputError& e) {
-      ++r.pings_skipped;
-      warn(r, "JSF ping at byte " + std::to_string(ping.offset) + " skipped: " + e.what());
+      drop(r, writer_reason(e.what()), where, e.what());
     }
   }
+  r.reader_anomalies = reader.total_anomalies();
+  for (const jsf::Anomaly& a : reader.anomalies()) warn(r, a.message);
+  refuse_empty(in, r);
   flush_attitude(reader.file_size() + 1);
   open(0.0);
   writer->close();
-  r.reader_anomalies = reader.total_anomalies();
-  for (const jsf::Anomaly& a : reader.anomalies()) warn(r, a.message);
   return r;
 }
 

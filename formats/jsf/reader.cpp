@@ -44,6 +44,12 @@ const char* anomaly_kind_name(AnomalyKind kind) {
       return "zero_navigation";
     case AnomalyKind::kOtherSubsystem:
       return "other_subsystem";
+    case AnomalyKind::kSoundSpeedAssumed:
+      return "sound_speed_assumed";
+    case AnomalyKind::kBadWeighting:
+      return "bad_weighting_factor";
+    case AnomalyKind::kBadRange:
+      return "bad_range";
   }
   return "unknown";
 }
@@ -265,6 +271,27 @@ bool Reader::decode_sonar(std::span<const std::uint8_t> body, Message& m) {
       out[i] = static_cast<float>(static_cast<double>(v) * scale);
     }
   }
+  // Stored values are below 2^17 in magnitude: for -111 <= N <= 126 every one scales to a
+  // normal float exactly. Beyond, count the nonzero ones that became 0 or infinite.
+  const int wf = h.weighting_factor;
+  if (wf < -111 || wf > 126) {
+    std::uint64_t lost = 0, nonzero = 0;
+    for (std::size_t i = 0; i < n * k; ++i) {
+      if ((p[2 * i] | p[2 * i + 1]) == 0) continue;
+      ++nonzero;
+      const float v = out[i / k];
+      lost += (v == 0.0f || !std::isfinite(v)) ? 1 : 0;
+    }
+    if (lost > 0) {
+      report(AnomalyKind::kBadWeighting, m.offset,
+             "jsf reader: weighting factor " + std::to_string(wf) + ": samples x 2^" +
+                 std::to_string(-wf) + " do not fit a float (" + std::to_string(lost) + " of " +
+                 std::to_string(nonzero) +
+                 " nonzero stored values became 0 or infinite; writers use -200..200, real files "
+                 "0..16)" +
+                 where(m));
+    }
+  }
   return true;
 }
 
@@ -338,12 +365,27 @@ void Reader::make_ping(Message* port, Message* stbd, Ping& ping) {
   double speed_kn = h.speed_dkn / 10.0;
   if (first.header.protocol_version >= 0xC) speed_kn += (h.lsb2 & 0xFu) / 100.0;
   s.speed_mps = speed_kn * kMetresPerSecondPerKnot;
-  const double c = std::isfinite(h.sound_speed_mps) && h.sound_speed_mps > 0.0f
-                       ? static_cast<double>(h.sound_speed_mps)
-                       : 1500.0;  // the speed MB-System assumes
+  const bool c_valid = std::isfinite(h.sound_speed_mps) && h.sound_speed_mps > 0.0f;
+  const double c = c_valid ? static_cast<double>(h.sound_speed_mps) : kAssumedSoundSpeed_mps;
+  if (!c_valid) {
+    report(AnomalyKind::kSoundSpeedAssumed, first.offset,
+           "jsf reader: ping " + std::to_string(h.ping_number) + ": sound speed " +
+               num(h.sound_speed_mps) + " m/s is not a speed; " + num(c) +
+               " m/s assumed for the slant range" + where(first));
+  }
   s.sound_speed_mps = c;
   const std::size_t n = std::max(s.port.size(), s.starboard.size());
   s.slant_range_m = c * static_cast<double>(n) * h.sample_interval_ns * 1e-9 / 2.0;
+  if (n > 0 && (h.sample_interval_ns == 0 || s.slant_range_m > kMaxPlausibleSlantRange_m)) {
+    report(AnomalyKind::kBadRange, first.offset,
+           "jsf reader: ping " + std::to_string(h.ping_number) + ": sample interval " +
+               std::to_string(h.sample_interval_ns) + " ns x " + std::to_string(n) +
+               " samples gives a slant range of " + num(s.slant_range_m) + " m (" +
+               (h.sample_interval_ns == 0 ? std::string("no sample spacing")
+                                          : "over " + num(kMaxPlausibleSlantRange_m) +
+                                                " m: implausible for a side-scan sonar") +
+               ")" + where(first));
+  }
   ping.layback_m = std::isfinite(h.layback_m) ? static_cast<double>(h.layback_m) : 0.0;
 }
 

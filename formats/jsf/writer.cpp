@@ -134,8 +134,12 @@ SonarDataHeader sonar_header(const xtf::SonarPing& p, const WriterOptions& optio
   h.latitude =
       clamp_round<std::int32_t>(deg_from_rad(p.sensor_position.lat_rad) * kCoordinatePerDegree);
   h.coordinate_units = kUnitsMinutesOfArc;
+  // A NaN field is "unknown": written as 0 (sound speed: the assumed one) with its validity
+  // bit clear (docs/conversion.md, "Repairs").
+  const bool c_known = !std::isnan(p.sound_speed_mps);
+  const double c = c_known ? p.sound_speed_mps : kAssumedSoundSpeed_mps;
   const std::size_t n = std::max(p.port.size(), p.starboard.size());
-  const double dt_ns = 2.0 * p.slant_range_m / (p.sound_speed_mps * static_cast<double>(n)) * 1e9;
+  const double dt_ns = 2.0 * p.slant_range_m / (c * static_cast<double>(n)) * 1e9;
   h.sample_interval_ns = clamp_round<std::uint32_t>(dt_ns);
   h.sample_frequency_hz =
       h.sample_interval_ns == 0
@@ -148,27 +152,37 @@ SonarDataHeader sonar_header(const xtf::SonarPing& p, const WriterOptions& optio
   h.mixer_frequency_hz = static_cast<float>(options.frequency_hz);
   h.depth_mm = clamp_round<std::int32_t>(p.depth_m * 1000.0);
   h.altitude_mm = clamp_round<std::int32_t>(p.altitude_m * 1000.0);
-  h.sound_speed_mps = static_cast<float>(p.sound_speed_mps);
+  h.sound_speed_mps = static_cast<float>(c);
   h.time_basis = 3;
-  const double heading = heading_deg(p.heading_rad);
+  const bool heading_known = std::isfinite(p.heading_rad);
+  const double heading = heading_known ? heading_deg(p.heading_rad) : 0.0;
   h.heading_cdeg = static_cast<std::uint16_t>(std::lround(heading * 100.0) % 36000);
   h.pitch = half_turn_fraction(p.pitch_rad);
-  h.roll = half_turn_fraction(p.roll_rad);     // + starboard down = + port up
-  h.heave_m = static_cast<float>(-p.heave_m);  // JSF: positive down
+  h.roll = half_turn_fraction(p.roll_rad);  // + starboard down = + port up
+  const bool heave_known = std::isfinite(p.heave_m);
+  h.heave_m = heave_known ? static_cast<float>(-p.heave_m) : 0.0f;  // JSF: positive down
   // Course: the heading (the simulator's sensor moves along its heading), whole degrees plus
   // hundredths in LSB1 bits 8-15.
   const long course_cdeg = std::lround(heading * 100.0) % 36000;
   h.course_deg = static_cast<std::int16_t>(course_cdeg / 100);
   h.lsb1 = static_cast<std::uint16_t>((course_cdeg % 100) << 8);
   // Speed: tenths of a knot plus the hundredths digit in LSB2 bits 0-3.
+  const bool speed_known = std::isfinite(p.speed_mps) && p.speed_mps >= 0.0;
   const long speed_ckn =
-      std::clamp<long>(std::lround(p.speed_mps / kMetresPerSecondPerKnot * 100.0), 0, 327679);
+      speed_known
+          ? std::clamp<long>(std::lround(p.speed_mps / kMetresPerSecondPerKnot * 100.0), 0, 327679)
+          : 0;
   h.speed_dkn = static_cast<std::int16_t>(speed_ckn / 10);
   h.lsb2 = static_cast<std::uint16_t>(speed_ckn % 10);
-  h.validity_flags = validity::kPosition | validity::kCourse | validity::kSpeed |
-                     validity::kHeading | validity::kPitchRoll | validity::kHeave |
-                     validity::kDepth | validity::kPositionInterpolated | validity::kSoundSpeed;
-  if (p.altitude_m > 0.0) h.validity_flags |= validity::kAltitude;
+  std::uint16_t valid = validity::kPosition | validity::kPositionInterpolated;
+  if (heading_known) valid |= validity::kCourse | validity::kHeading;
+  if (speed_known) valid |= validity::kSpeed;
+  if (std::isfinite(p.pitch_rad) && std::isfinite(p.roll_rad)) valid |= validity::kPitchRoll;
+  if (heave_known) valid |= validity::kHeave;
+  if (std::isfinite(p.depth_m)) valid |= validity::kDepth;
+  if (c_known) valid |= validity::kSoundSpeed;
+  if (p.altitude_m > 0.0) valid |= validity::kAltitude;
+  h.validity_flags = valid;
   h.spherical_correction = -1;
   h.packet_number = 1;
   const std::string_view version(kVersion);
@@ -260,8 +274,10 @@ void Writer::write_ping(const xtf::SonarPing& p) {
   if (year < kMinYear || year > kMaxYear) {
     violated(who + "time_utc year", std::to_string(year), "1970 <= year <= 2100");
   }
-  if (!(p.sound_speed_mps > 0.0 && std::isfinite(p.sound_speed_mps))) {
-    violated(who + "sound_speed_mps", num(p.sound_speed_mps), "sound_speed_mps > 0");
+  if (!(std::isnan(p.sound_speed_mps) ||
+        (p.sound_speed_mps > 0.0 && std::isfinite(p.sound_speed_mps)))) {
+    violated(who + "sound_speed_mps", num(p.sound_speed_mps),
+             "sound_speed_mps > 0 (NaN = unknown: 1500 m/s assumed, validity bit clear)");
   }
   if (!(p.slant_range_m > 0.0 && std::isfinite(p.slant_range_m))) {
     violated(who + "slant_range_m", num(p.slant_range_m), "slant_range_m > 0");

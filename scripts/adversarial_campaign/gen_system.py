@@ -54,6 +54,12 @@ def gen_fs(h, rng):
     C("simulate: foreign dir with a fake marker --overwrite", sim("--overwrite", out="data"),
       "invalid", setup=lambda h, w: open(os.path.join(w, "data", ".sonarsynth-output"), "w").write("x"),
       needles=["data"])
+    def product_named(h, w):
+        os.mkdir(os.path.join(w, "mine"))
+        for name in ("L1.xtf", "effective.yaml"):
+            open(os.path.join(w, "mine", name), "w").write("a user's copy")
+    C("simulate: user dir of product-named files, no marker --overwrite", sim("--overwrite", out="mine"),
+      "invalid", setup=product_named, needles=["mine", ".sonarsynth-output"])
     C("waterfall: output parent missing", ["{CLI}", "waterfall", "in.xtf", "-o", "nodir/w.png", "-q"],
       "invalid", needles=["nodir"])
     C("info: unreadable input (chmod 000)" if not root_can_write else "info: input is a FIFO-less special file /dev/null",

@@ -85,7 +85,8 @@ def gen_xtf(h, rng):
     commands = [("info", ["{CLI}", "info", "in.xtf"], []),
                 ("info --json", ["{CLI}", "info", "in.xtf", "--json"], []),
                 ("waterfall", ["{CLI}", "waterfall", "in.xtf", "-o", "w.png", "-q"], ["w.png"]),
-                ("mosaic", ["{CLI}", "mosaic", "in.xtf", "-o", "m.tif", "--no-rgb", "-q"], ["m.tif"])]
+                ("mosaic", ["{CLI}", "mosaic", "in.xtf", "-o", "m.tif", "--no-rgb", "-q"], ["m.tif"]),
+                ("convert", ["{CLI}", "convert", "in.xtf", "-o", "c.jsf", "-q"], ["c.jsf"])]
     for desc, mut in mutants:
         body = bytes(mut(bytearray(data)))
 

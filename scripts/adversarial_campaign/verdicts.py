@@ -8,6 +8,7 @@ import signal
 
 from .case import SANITIZER_MARKERS, TEMP_RE
 from .oracles import check_raster, check_xtf, needle_variants, strict_json
+from .process import run
 
 
 class Verdicts:
@@ -81,6 +82,16 @@ class Verdicts:
                     problems += check_xtf(self, os.path.join(p, x), work, case.allow_dark, want_alt)
                 if "--no-mosaic" not in case.argv and "mosaic.tif" in names:
                     problems += check_raster(os.path.join(p, "mosaic.tif"))
+            elif case.argv[1] == "convert":
+                # exit 0 means at least one ping was written (docs/conversion.md, "Drops and
+                # repairs"); a slant range of kilometres is a corrupted sample interval.
+                r = run([self.cli, "info", p, "--json"], work, self.timeout, self.mem_mb)
+                try:
+                    info = strict_json(r.stdout.decode("utf-8", "replace")) if r.rc == 0 else {}
+                except ValueError:
+                    info = {}
+                if not info.get("pings"):
+                    problems.append("exit 0 but %r holds no ping (info rc %s)" % (out, r.rc))
             elif case.argv[1] in ("waterfall", "mosaic", "bathy"):
                 if not os.path.isfile(p):
                     problems.append("exit 0 but %r missing" % out)

@@ -22,6 +22,10 @@ class SideSpool;
 }
 
 /// How a waterfall image is scaled and written.
+/// libpng's default limit on an image's width (PNG_USER_WIDTH_MAX): a wider PNG fails with
+/// "Invalid IHDR data".
+inline constexpr std::size_t kPngMaxWidth = 1000000;
+
 struct WaterfallOptions {
   Colormap colormap = Colormap::black_brown_yellow;  ///< grey writes one band, else RGB
   /// Resample each side to ground range on a flat bottom (columns = ground range, same spacing
@@ -51,6 +55,10 @@ struct WaterfallOptions {
   /// row the mean of pings_per_row() consecutive pings) so that the image fits; add_ping throws
   /// InputError only if a single row is wider than this.
   std::size_t max_pixels = std::size_t{1} << 28;
+  /// Widest row (port + starboard columns) accepted, 0 = no limit; add_file_pings refuses a
+  /// wider ping naming the file before anything is spooled. write_xtf_waterfall sets
+  /// kPngMaxWidth for a .png.
+  std::size_t max_cols = 0;
   /// Where the rows wait for write() (an unnamed temporary file, see Waterfall); empty = the
   /// system's temporary directory.
   std::filesystem::path spool_dir;

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,10 +27,15 @@ struct ConvertResult {
   SonarFileFormat to = SonarFileFormat::kUnknown;
   std::uint64_t pings = 0;             ///< pings written
   std::uint64_t attitude_records = 0;  ///< attitude packets/messages written
-  std::uint64_t pings_skipped = 0;     ///< pings the output format cannot hold (see warnings)
+  std::uint64_t pings_skipped = 0;     ///< pings dropped (counted by reason in `dropped`)
   std::uint64_t reader_anomalies = 0;
   std::uint64_t pings_tracked_altitude = 0;  ///< altitude replaced by the tracked one
-  std::vector<std::string> warnings;         ///< the first few skip reasons and reader anomalies
+  std::vector<std::string> warnings;         ///< the first few drops and reader anomalies
+  /// Pings dropped, by reason (docs/conversion.md, "Drops"); the counts add up to pings_skipped.
+  std::map<std::string, std::uint64_t> dropped;
+  /// Fields written as the output's "unknown" (or neutral 0), by rule (docs/conversion.md,
+  /// "Repairs"); one ping may count under several rules.
+  std::map<std::string, std::uint64_t> repaired;
 };
 
 /// Converts a side-scan file between XTF and JSF (docs/jsf.md §4): the input format is taken
@@ -41,7 +47,10 @@ struct ConvertResult {
 /// `altitude_source` (docs/conversion.md): kHeader (default) copies the altitude as it is;
 /// kAuto / kTrack write the altitude tracked from the first return where choose_altitude()
 /// picks it (one more pass over the input), counted in pings_tracked_altitude.
-/// Throws InputError for unsupported format pairs, FormatError for unreadable input.
+/// Pings the output cannot hold are dropped and counted by reason; fields it can hold only as
+/// "unknown" are written so and counted by rule (docs/conversion.md, "Drops and repairs").
+/// Throws InputError for unsupported format pairs, FormatError for unreadable input and when
+/// no ping is left to write (then no output file is created).
 ConvertResult convert_sonar_file(const std::filesystem::path& in, const std::filesystem::path& out,
                                  bool overwrite = false,
                                  AltitudeSource altitude_source = AltitudeSource::kHeader);

@@ -22,17 +22,20 @@ using xtf::ByteSource;
 
 /// What the reader found wrong in a file. It reports and carries on wherever it can.
 enum class AnomalyKind : std::uint8_t {
-  kGarbageSkipped,    ///< bytes without a 0x1601 message start, skipped to the next one
-  kBadByteCount,      ///< a byte count that is negative or runs past the end of the file
-  kOversizedMessage,  ///< message larger than ReaderOptions::max_message_bytes, skipped
-  kBadSonarData,      ///< message 80 shorter than 240 + its samples, or unknown data format
-  kUnpairedChannel,   ///< a port or starboard message without its other side
-  kInvalidTime,       ///< a ping time that is not a valid date/time
-  kTimeBackwards,     ///< a ping earlier than the previous valid ping time
-  kZeroNavigation,    ///< no position: coordinates 0, out of range, or not units 2
-  kOtherSubsystem,    ///< sonar data of a subsystem other than the one read as pings
+  kGarbageSkipped,     ///< bytes without a 0x1601 message start, skipped to the next one
+  kBadByteCount,       ///< a byte count that is negative or runs past the end of the file
+  kOversizedMessage,   ///< message larger than ReaderOptions::max_message_bytes, skipped
+  kBadSonarData,       ///< message 80 shorter than 240 + its samples, or unknown data format
+  kUnpairedChannel,    ///< a port or starboard message without its other side
+  kInvalidTime,        ///< a ping time that is not a valid date/time
+  kTimeBackwards,      ///< a ping earlier than the previous valid ping time
+  kZeroNavigation,     ///< no position: coordinates 0, out of range, or not units 2
+  kOtherSubsystem,     ///< sonar data of a subsystem other than the one read as pings
+  kSoundSpeedAssumed,  ///< sound speed NaN, infinite or <= 0: 1500 m/s assumed for the range
+  kBadWeighting,       ///< weighting factor whose 2^-N scaling underflows or overflows float
+  kBadRange,           ///< sample interval 0, or a slant range over kMaxPlausibleSlantRange_m
 };
-inline constexpr std::size_t kAnomalyKindCount = 9;
+inline constexpr std::size_t kAnomalyKindCount = 12;
 const char* anomaly_kind_name(AnomalyKind kind);
 
 struct Anomaly {

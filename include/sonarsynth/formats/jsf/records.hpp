@@ -62,6 +62,12 @@ inline constexpr std::uint16_t kPositionInterpolated = 1u << 13;
 inline constexpr std::uint16_t kSoundSpeed = 1u << 14;
 }  // namespace validity
 
+/// The sound speed assumed when a ping's is missing (the speed MB-System assumes).
+inline constexpr double kAssumedSoundSpeed_mps = 1500.0;
+/// Longest slant range taken as plausible: GLORIA, the longest-range side-scan, reached about
+/// 30 km; a longer one comes from a corrupted sample interval (docs/jsf.md §3).
+inline constexpr double kMaxPlausibleSlantRange_m = 100e3;
+
 /// Coordinate units (offset 88): 2 = longitude/latitude in minutes of arc x 10 000.
 inline constexpr std::int16_t kUnitsMinutesOfArc = 2;
 /// Degrees = coordinate / 600 000 for units 2.

@@ -56,6 +56,9 @@ class Writer {
 
   /// Appends one ping (two messages). Throws InputError naming the field if the ping cannot be
   /// stored (no position, time before 1970 or after 2100, empty side, too many samples...).
+  /// A NaN heading, speed, pitch, roll, heave, depth or sound speed is "unknown": written as 0
+  /// (sound speed: kAssumedSoundSpeed_mps, which sets the sample interval) with its validity
+  /// bit clear; an altitude of 0 clears the altitude bit.
   void write_ping(const xtf::SonarPing& ping);
   /// Appends a 44-byte pitch/roll message (2020) with pitch, roll, heave, heading and yaw.
   void write_attitude(const xtf::AttitudeSample& attitude);
