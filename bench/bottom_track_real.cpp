@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Bottom tracking and gain normalisation on a real file (issue 16; docs/conversion.md).
+// Bottom tracking and gain normalisation on a real file (docs/conversion.md).
 // Usage: bottom_track_real FILE.xtf|.jsf [REFERENCE_MEDIAN_PINGS [CHANGE_WINDOW_M]]
 // 1. Agreement of the tracked first return (BottomTracker) with the "visible first return",
 //    per side and per ping (the tracked altitude against the mean of the sides' returns), for

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// A threshold-free reference for the visible first return of a side-scan side (issue 16,
-// docs/conversion.md "The real Iver2 file"): the change point of a two-level model of the
+// A threshold-free reference for the visible first return of a side-scan side
+// (docs/conversion.md "The real Iver2 file"): the change point of a two-level model of the
 // levels in dB, independent of the threshold-and-hold method of lib/bottom_track.cpp.
 #pragma once
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Whole per-ping pipeline (issue 3 target: >= 4,000 pings/s on 2 threads): the founding paper's
+// Whole per-ping pipeline (docs/benchmarks.md): the founding paper's
 // pipe scene (samples/paper_pipes.yaml, 0.25 m grid), the default SimulationConfig (2 x 4096
 // samples at 75 m, shadows, sonar equation, speckle with K texture and thermal noise, truth on),
 // one 400 m line 40 m inside the square of pipes. Reports pings/s (median of the runs) for each

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Realism figures of a side-scan XTF file (issue 13; definitions in docs/realism.md): seabed
+// Realism figures of a side-scan XTF file (definitions in docs/realism.md): seabed
 // contrast, water column, shadows, first return, full scale and clipping, along-track correlation
 // (measures 1-6, 8); across-track texture, shadow fill and edges, water column statistics,
 // first-return profile, far vs near range, near-range clipping, level percentiles, altitude

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Statistics that say whether a side-scan record behaves like a real one (issue 13): seabed
+// Statistics that say whether a side-scan record behaves like a real one (docs/realism.md): seabed
 // contrast, water column, shadows, first bottom return, full scale and clipping, along-track
 // correlation (measures 1-6); across-track correlation and spectrum, shadow fill and edges, water
 // column statistics, first-return profile, far vs near range, near-range clipping, level

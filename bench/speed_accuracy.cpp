@@ -16,8 +16,8 @@
 //
 // --rays LIST (e.g. 100000,300000,1000000@0.05) times only the default against uniform-angle
 // ray casting with these rays per side (`@cell` renders the rays on a DEM of that cell, metres,
-// and adds the default on that DEM), side by side in one run: the comparison of issue 17 at
-// equal accuracy.
+// and adds the default on that DEM), side by side in one run: the comparison at equal accuracy
+// (docs/benchmarks.md).
 //
 // --worst N prints the default's N worst bins (error, ping, side, slant range, and the
 // depression of that range over a flat seabed at the track altitude with its off-axis angle

@@ -7,8 +7,8 @@
 # Runs, per seed:
 #   none, paper, speckle  samples/paper_loop.yaml (the physical defaults) with noise.model set;
 #   speckle_seabed        the same with noise.along_track_correlation: false (speckle frozen on
-#                         the seabed, the same in both passes: the default before issue 13);
-#   speckle_old           speckle with the defaults before issue 13 (intensity, one look, no
+#                         the seabed, the same in both passes: the older default);
+#   speckle_old           speckle with the older defaults (intensity, one look, no
 #                         sensor effects, frozen on the seabed, the old gain's level): the
 #                         control that ties the moves of the figures to the new defaults;
 #   exact                 the loop scene with samples/paper_exact.yaml's model (its file with the

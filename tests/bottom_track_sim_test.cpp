@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Bottom tracking on files written by the simulator, whose header altitude is the truth (the
 // first return arrives at the sample of the altitude below the fish), and the mosaic of several
-// files when some lack side-scan (issue 16 item 3, docs/conversion.md).
+// files when some lack side-scan (docs/conversion.md).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -117,7 +117,7 @@ TEST_F(BottomTrackSimTest, ZeroedOrWrongHeaderAltitudeIsReplacedByTheTrackedOne)
   // The corrected mosaic is the true one wherever both have a value, within the tracker's
   // two samples of altitude error (a few percent of a sample value near nadir). The share of
   // close pixels depends on the speckle's random values: 94.8-95.2 % over the scene seeds 1-4
-  // and 9 (and 95.1 % with the random streams before issue 17's wyrand_stream), so the bound
+  // and 9 (and 95.1 % with the random streams before the wyrand_stream), so the bound
   // is 94 %, below that spread.
   std::size_t both = 0, close = 0;
   for (std::size_t i = 0; i < r.image.intensity.size(); ++i) {

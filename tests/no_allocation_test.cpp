@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Simulator::render_ping allocates nothing once its workspace and output have held the pings
-// of a line (the per-ping pipeline reuses its buffers; issue 17 asks for no allocation per ping).
+// of a line (the per-ping pipeline reuses its buffers: no allocation per ping).
 // Counted by replacing the global operator new of this test binary; every effect of the default
 // sensor is on.
 #include <gtest/gtest.h>
