@@ -609,7 +609,8 @@ void write_resolved_sonar(YAML::Node sonar, const SimulationSetup& setup) {
 
 void write_effective_config(const std::string& scene_path, const SimulationOverrides& overrides,
                             const SimulationSetup& setup, const Simulator& sim,
-                            const std::filesystem::path& out_path) {
+                            const std::filesystem::path& out_path,
+                            const std::vector<std::string>& product_flags) {
   YAML::Node root = yaml::load_file(scene_path);
   // `derived` is ignored on input and replaced below: dropped before any traversal, so that
   // aliases nested in it (a "billion laughs" document) cost nothing.
@@ -679,10 +680,10 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
   std::ofstream os(out_path);
   os << "# Effective configuration of a sonarsynth run: `sonarsynth simulate` on this file\n"
         "# reproduces the run exactly (same seed, same settings).\n";
-  if (!overrides.product_flags.empty()) {
+  if (!product_flags.empty()) {
     os << "# The products were made with these options; give them again for the same files:\n"
           "# product options:";
-    for (const std::string& f : overrides.product_flags) os << " " << f;
+    for (const std::string& f : product_flags) os << " " << f;
     os << "\n";
   }
   os << e.c_str() << "\n";

@@ -26,6 +26,38 @@
 
 namespace sonarsynth {
 
+std::vector<std::string> product_option_flags(const SurveyProductOptions& o) {
+  const SurveyProductOptions d;
+  std::vector<std::string> flags;
+  if (!o.mosaic) flags.emplace_back("--no-mosaic");
+  if (!o.waterfalls) flags.emplace_back("--no-waterfall");
+  if (!o.truth) flags.emplace_back("--no-truth");
+  if (o.mosaic_pixel_m != d.mosaic_pixel_m) {
+    std::ostringstream s;
+    s.precision(17);
+    s << "--res " << o.mosaic_pixel_m;
+    // The shortest text that reads back as the same double.
+    for (int p = 1; p <= 17; ++p) {
+      std::ostringstream t;
+      t.precision(p);
+      t << o.mosaic_pixel_m;
+      if (std::stod(t.str()) == o.mosaic_pixel_m) {
+        s.str("--res " + t.str());
+        break;
+      }
+    }
+    flags.push_back(s.str());
+  }
+  if (o.write_options.format != d.write_options.format) flags.emplace_back("--of GTiff");
+  for (const auto& [key, value] : o.write_options.creation_options) {
+    flags.push_back("--co " + key + "=" + value);
+  }
+  if (o.waterfall_max_pixels != d.waterfall_max_pixels) {
+    flags.push_back("--waterfall-max-pixels " + std::to_string(o.waterfall_max_pixels));
+  }
+  return flags;
+}
+
 void SurveyProductOptions::validate() const {
   if (!(mosaic_pixel_m > 0.0) || !std::isfinite(mosaic_pixel_m)) {
     throw InputError("products: mosaic pixel = " + std::to_string(mosaic_pixel_m) +
@@ -109,16 +141,20 @@ class SurveyProducts::MosaicPart final : public PingSink {
   /// and label codes, the codes' bits as floats) for finish().
   void spool_ping(const MosaicPing& m) {
     gain_->add_ping(m.port, m.starboard, m.slant_range_m, m.altitude_m);
-    if (!spool_) spool_ = std::make_unique<detail::SideSpool>(dir_, 2, "mosaic spool");
-    const auto as_floats = [](std::span<const std::int32_t> codes, std::vector<float>& out) {
-      out.resize(codes.size());
-      std::memcpy(out.data(), codes.data(), codes.size() * sizeof(float));
+    // Band 2 (the label codes' bits) only when the run grids labels; a ping without codes in
+    // such a run spools zeros there (SpooledPing::labels says not to read them).
+    const std::size_t bands = codes_ ? 2 : 1;
+    if (!spool_) spool_ = std::make_unique<detail::SideSpool>(dir_, bands, "mosaic spool");
+    const auto as_floats = [](std::span<const std::int32_t> codes, std::size_t n,
+                              std::vector<float>& out) {
+      out.assign(codes.empty() ? n : codes.size(), 0.0f);
+      if (!codes.empty()) std::memcpy(out.data(), codes.data(), codes.size() * sizeof(float));
     };
-    as_floats(m.port_labels, port_bits_);
-    as_floats(m.starboard_labels, stbd_bits_);
+    as_floats(m.port_labels, m.port.size(), port_bits_);
+    as_floats(m.starboard_labels, m.starboard.size(), stbd_bits_);
     const std::span<const float> port[2] = {m.port, port_bits_};
     const std::span<const float> stbd[2] = {m.starboard, stbd_bits_};
-    spool_->append(port, stbd);
+    spool_->append(std::span(port, bands), std::span(stbd, bands));
     SpooledPing s;
     s.ping = m;
     s.ping.port = {};
@@ -186,9 +222,9 @@ class SurveyProducts::MosaicPart final : public PingSink {
     void run() noexcept {
       try {
         const float pads[2] = {std::numeric_limits<float>::quiet_NaN(), 0.0f};
-        detail::SideSpool::Reader reader(spool_, pads);
+        detail::SideSpool::Reader reader(spool_, std::span(pads, spool_.bands()));
         const std::size_t side = spool_.side();
-        std::vector<float> row(2 * spool_.cols());
+        std::vector<float> row(spool_.bands() * spool_.cols());
         for (const SpooledPing& s : spooled_) {
           if (!reader.next(row)) throw FormatError("mosaic spool: the file ended early");
           // Image row: port FAR -> NEAR | starboard NEAR -> FAR, band by band.

@@ -149,17 +149,6 @@ int run_simulate(const std::vector<std::string>& args) {
   if (vm.count("samples")) ov.samples = samples;
   if (vm.count("quality")) ov.quality = quality;
   if (vm.count("threads")) ov.threads = checked_thread_count(threads, 1);
-  // Options of the products, recorded in effective.yaml (they are not scene settings).
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    for (const std::string f : {"--res", "--of", "--co", "--waterfall-max-pixels"}) {
-      if (a.rfind(f + "=", 0) == 0) ov.product_flags.push_back(a);
-      if (a == f && i + 1 < args.size()) ov.product_flags.push_back(a + " " + args[i + 1]);
-    }
-    for (const std::string f : {"--no-mosaic", "--no-waterfall", "--no-truth"}) {
-      if (a == f) ov.product_flags.push_back(a);
-    }
-  }
 
   RunOptions run;
   run.overrides = ov;

@@ -51,6 +51,30 @@ def test_cli_simulate_writes_the_same_xtf(scene_path, cli, tmp_path):
             assert x[k].tobytes() == y[k].tobytes(), k
 
 
+def test_run_simulation_records_its_product_options(scene_path, cli, tmp_path):
+    # The product options are not scene settings: effective.yaml names them as `simulate`
+    # options, for a Python run as for a CLI run, and giving them again gives the same files.
+    a, b = tmp_path / "py", tmp_path / "cli"
+    sonarsynth.run_simulation(scene_path, str(a), waterfalls=False, truth=False,
+                              mosaic_pixel_m=0.5)
+    header = [line for line in (a / "effective.yaml").read_text().splitlines()
+              if line.startswith("# product options:")]
+    assert header == ["# product options: --no-waterfall --no-truth --res 0.5"]
+    flags = header[0].split(":", 1)[1].split()
+    subprocess.run([cli, "simulate", str(a / "effective.yaml"), "-o", str(b)] + flags,
+                   check=True, capture_output=True)
+    for name in ["a.xtf", "b.xtf", "mosaic.tif"]:
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+    assert not (b / "a_waterfall.png").exists()
+    # The gain-normalised mosaic of a run without truth (no label band in its spool) is the
+    # mosaic of the run with truth.
+    c = tmp_path / "with_truth"
+    subprocess.run([cli, "simulate", scene_path, "-o", str(c), "--no-waterfall", "--res", "0.5"],
+                   check=True, capture_output=True)
+    assert (c / "truth_mosaic.tif").exists()
+    assert (a / "mosaic.tif").read_bytes() == (c / "mosaic.tif").read_bytes()
+
+
 def test_run_simulation_errors(scene_path, tmp_path):
     with pytest.raises(ValueError, match="--range"):
         sonarsynth.run_simulation(scene_path, str(tmp_path / "o"), range_m=-1.0)

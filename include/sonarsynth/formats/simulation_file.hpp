@@ -27,9 +27,6 @@ struct SimulationOverrides {
   /// segments, 1 along-track plane), "default", "high" (4 grid subdivisions, 3 Gauss points,
   /// the automatic along-track plane count with a 0.25 dB tolerance).
   std::optional<std::string> quality;
-  /// Command-line options of the products (mosaic resolution, format, creation options...):
-  /// not scene settings, so effective.yaml lists them in its header to be given again.
-  std::vector<std::string> product_flags;
 };
 
 /// Bounds on the work and output of one run, checked before rendering (`limits:` in the scene
@@ -145,10 +142,13 @@ void check_cross_keys(const SimulationSetup& setup, const std::string& name);
 
 /// Writes the effective configuration of a run: the scene file with absolute file paths, the
 /// seed and the overrides applied, and the derived values (gain, absorption, EPSG...) under
-/// `derived`, so that simulating it again reproduces the run exactly.
+/// `derived`, so that simulating it again reproduces the run exactly. `product_flags` (the
+/// `simulate` options of the products, product_option_flags()) are not scene settings: the
+/// header lists them, to be given again.
 void write_effective_config(const std::string& scene_path, const SimulationOverrides& overrides,
                             const SimulationSetup& setup, const Simulator& sim,
-                            const std::filesystem::path& out_path);
+                            const std::filesystem::path& out_path,
+                            const std::vector<std::string>& product_flags = {});
 
 /// Parses "YYYY-MM-DDTHH:MM:SS[.ffffff]Z" (UTC); throws InputError naming `what`.
 UtcTime parse_utc(const std::string& text, const std::string& what);

@@ -64,6 +64,12 @@ struct SurveyProductOptions {
   void validate() const;
 };
 
+/// The `simulate` options that give `o`'s products, for the options that differ from
+/// SurveyProductOptions{}: "--no-mosaic", "--no-waterfall", "--no-truth", "--res X", "--of GTiff",
+/// "--co KEY=VALUE" (one per creation option), "--waterfall-max-pixels N", in that order.
+/// effective.yaml records them (they are not scene settings), whichever front end made the run.
+std::vector<std::string> product_option_flags(const SurveyProductOptions& o);
+
 /// A ping sink that grids every ping into one survey mosaic (slant->ground against the scene's
 /// own bathymetry, in the scene's UTM frame) and collects a waterfall and a truth waterfall per
 /// line, written when the line ends; finish() writes the mosaics. Files go to `dir`; abort()
