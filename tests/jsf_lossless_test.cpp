@@ -1,0 +1,206 @@
+// SPDX-License-Identifier: MIT
+// XTF -> JSF -> XTF is lossless for what sonarsynth's XTF writer writes (docs/conversion.md,
+// "Lossless round trip"): the bytes of the two XTF files are compared, and every difference is
+// named by record and byte offset (offsets of docs/xtf.md §1).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "cli_test_util.hpp"
+#include "sonarsynth/formats/jsf/convert.hpp"
+#include "sonarsynth/formats/jsf/reader.hpp"
+#include "sonarsynth/formats/xtf/reader.hpp"
+#include "sonarsynth/formats/xtf/writer.hpp"
+#include "xtf_test_util.hpp"
+
+namespace sonarsynth {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// A record of an XTF file: its name and its byte range.
+struct Record {
+  std::string name;
+  std::uint64_t begin = 0;
+  std::uint64_t end = 0;
+};
+
+/// The file header and every packet of `path`, in file order (the reader's offsets and sizes).
+std::vector<Record> records(const fs::path& path) {
+  std::vector<Record> out{{"file header", 0, xtf::XtfFileHeader::kSize}};
+  xtf::Reader r(path);
+  xtf::Packet p;
+  std::uint64_t pings = 0;
+  while (r.next(p)) {
+    std::string name =
+        "packet " + std::to_string(p.index) + " (type " + std::to_string(p.header_type) + ")";
+    if (p.kind == xtf::PacketKind::kPing) name = "ping " + std::to_string(pings++);
+    out.push_back({name, p.offset, p.offset + p.size_bytes});
+  }
+  return out;
+}
+
+/// Where `a` and `b` differ, record by record (records paired by name): "RECORD bytes FROM-TO"
+/// per run of differing bytes, relative to the record's start (for a ping: 0-255 the ping
+/// header, 256-319 the port channel header, then its samples, then the starboard channel header
+/// and samples), a record's size if it differs, a record that only one file has. Records named
+/// in `skip` are not compared. Empty if identical.
+std::vector<std::string> differences(const fs::path& a, const fs::path& b,
+                                     const std::set<std::string>& skip = {}) {
+  const auto x = xtf::test::read_bytes(a);
+  const auto y = xtf::test::read_bytes(b);
+  const std::vector<Record> ra = records(a);
+  const std::vector<Record> rb = records(b);
+  std::vector<std::string> out;
+  for (const Record& p : ra) {
+    if (skip.count(p.name)) continue;
+    const auto q =
+        std::find_if(rb.begin(), rb.end(), [&](const Record& r) { return r.name == p.name; });
+    if (q == rb.end()) {
+      out.push_back(p.name + " missing");
+      continue;
+    }
+    if (p.end - p.begin != q->end - q->begin) out.push_back(p.name + " size differs");
+    const std::size_t n = std::min(p.end - p.begin, q->end - q->begin);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (x[p.begin + i] == y[q->begin + i]) continue;
+      // A run ends at 8 equal bytes (a float whose last bits differ is one run).
+      std::size_t j = i;
+      for (std::size_t e = i + 1; e < n && e <= j + 8; ++e) {
+        if (x[p.begin + e] != y[q->begin + e]) j = e;
+      }
+      out.push_back(p.name + " bytes " + std::to_string(i) + "-" + std::to_string(j));
+      i = j;
+    }
+  }
+  for (const Record& q : rb) {
+    if (!skip.count(q.name) &&
+        std::none_of(ra.begin(), ra.end(), [&](const Record& r) { return r.name == q.name; })) {
+      out.push_back(q.name + " added");
+    }
+  }
+  return out;
+}
+
+std::string summary(const std::vector<std::string>& d) {
+  std::ostringstream os;
+  os << d.size() << " differing runs:";
+  for (std::size_t i = 0; i < d.size() && i < 40; ++i) os << "\n  " << d[i];
+  return os.str();
+}
+
+/// `in` -> dir/rt.jsf -> out (which should be named as `in`, since ThisFileName holds the name).
+void round_trip(const fs::path& in, const fs::path& dir, const fs::path& out) {
+  const ConvertResult a = convert_sonar_file(in, dir / "rt.jsf");
+  EXPECT_EQ(a.pings_skipped, 0u);
+  const ConvertResult b = convert_sonar_file(dir / "rt.jsf", out);
+  EXPECT_EQ(b.pings_skipped, 0u);
+  EXPECT_EQ(b.pings, a.pings);
+}
+
+// Options away from every default and pings whose values JSF cannot hold (positions finer than
+// 1/600 000 degree, a slant range that is no whole number of nanoseconds per sample, altitude
+// and depth finer than a millimetre, a ship position apart from the sensor's).
+TEST(JsfLossless, WriterOptionsAndPingFieldsSurvive) {
+  const fs::path dir = xtf::test::temp_dir("jsf_lossless_options");
+  fs::create_directories(dir / "back");
+  xtf::WriterOptions o;
+  o.sonar_name = "Klein 3900 synth";
+  o.note = std::string(140, 'n') + " the end of a long note, beyond the 64 of the header";
+  o.frequency_khz = 455.5;
+  o.horizontal_beam_angle_rad = rad_from_deg(0.5);
+  o.tilt_angle_rad = rad_from_deg(20.0);
+  o.vertical_beam_width_rad = rad_from_deg(36.7);
+  o.processing_flags = xtf::kProcessingTvg | xtf::kProcessingFilter;
+  {
+    xtf::Writer w(dir / "a.xtf", o);
+    for (std::uint32_t k = 0; k < 9; ++k) {
+      xtf::SonarPing p = xtf::test::make_ping(k, 300, 300);
+      p.time_utc += std::chrono::microseconds{1234567 * k + 3};  // not whole 10 ms
+      p.sensor_position.lat_rad += 1.234567e-9 * k;
+      p.sensor_position.lon_rad -= 7.654321e-9 * k;
+      p.heading_rad = 6.2 + 0.0123456789 * k;
+      p.pitch_rad = -0.0123456789 * k;
+      p.roll_rad = 0.0234567891 * k;
+      p.heave_m = 0.1234567 * k;
+      p.altitude_m = 8.123456789 + 0.01 * k;
+      p.depth_m = 20.987654321;
+      p.speed_mps = 1.23456789;
+      p.sound_speed_mps = 1493.123456;
+      p.slant_range_m = 37.123456789;
+      w.write_ping(p);
+    }
+    w.close();
+  }
+  round_trip(dir / "a.xtf", dir, dir / "back" / "a.xtf");
+  const auto d = differences(dir / "a.xtf", dir / "back" / "a.xtf");
+  EXPECT_TRUE(d.empty()) << summary(d);
+  fs::remove_all(dir);
+}
+
+// A line of `sonarsynth simulate` on a sample scene (u16 and u8 samples).
+TEST(JsfLossless, SimulatedSampleSurvives) {
+  const fs::path dir = xtf::test::temp_dir("jsf_lossless_sim");
+  for (const std::string format : {"u16", "u8"}) {
+    const fs::path scene = dir / ("scene_" + format + ".yaml");
+    {
+      std::ifstream in(fs::path(SONARSYNTH_SAMPLES_DIR) / "rough_seabed.yaml");
+      std::ofstream out(scene);
+      out << in.rdbuf() << "\noutput: {sample_format: " << format << "}\n";
+    }
+    const fs::path run = dir / ("run_" + format);
+    const test::CliResult r =
+        test::run_cli("simulate " + scene.string() + " -o " + run.string() +
+                          " -q --no-mosaic --no-waterfall --no-truth --samples 256 --range 20",
+                      dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    fs::create_directories(run / "back");
+    round_trip(run / "L1.xtf", run, run / "back" / "L1.xtf");
+    const auto d = differences(run / "L1.xtf", run / "back" / "L1.xtf");
+    EXPECT_TRUE(d.empty()) << format << ": " << summary(d);
+  }
+  fs::remove_all(dir);
+}
+
+// The real Iver2 file (Marine Sonic): every ping comes back (ping 0 has no position), every
+// ping and channel header and every sample identical; of the file header, the fields that
+// describe the data (sonar name, note, navigation units, the channels' frequency and beam).
+TEST(JsfLossless, RealIver2FileSurvives) {
+  const fs::path dir = xtf::test::temp_dir("jsf_lossless_iver2");
+  fs::create_directories(dir / "back");
+  const fs::path in = fs::path(SONARSYNTH_TEST_DATA_DIR) / "xtf" / "scotsman-iver2.xtf";
+  round_trip(in, dir, dir / "back" / "scotsman-iver2.xtf");
+  const fs::path out = dir / "back" / "scotsman-iver2.xtf";
+  // Every ping packet. The file header is compared field by field below; the round trip adds
+  // the NOTES packet sonarsynth writes first (its text: the header's NoteString).
+  const auto d = differences(in, out, {"file header", "packet 0 (type 1)"});
+  EXPECT_TRUE(d.empty()) << summary(d);
+  xtf::Reader a(in);
+  xtf::Reader b(out);
+  const xtf::XtfFileHeader& x = a.file_header();
+  const xtf::XtfFileHeader& y = b.file_header();
+  EXPECT_EQ(x.SonarName, y.SonarName);
+  EXPECT_EQ(x.NoteString, y.NoteString);
+  EXPECT_EQ(x.NavUnits, y.NavUnits);
+  EXPECT_EQ(x.NumberOfSonarChannels, y.NumberOfSonarChannels);
+  for (std::size_t c = 0; c < 2; ++c) {
+    const xtf::XtfChanInfo& p = x.ChanInfo[c];
+    const xtf::XtfChanInfo& q = y.ChanInfo[c];
+    EXPECT_EQ(p.TypeOfChannel, q.TypeOfChannel) << c;
+    EXPECT_EQ(p.BytesPerSample, q.BytesPerSample) << c;
+    EXPECT_EQ(p.SampleFormat, q.SampleFormat) << c;
+    EXPECT_EQ(p.UniPolar, q.UniPolar) << c;
+    EXPECT_EQ(p.Frequency, q.Frequency) << c;
+    EXPECT_EQ(p.HorizBeamAngle, q.HorizBeamAngle) << c;
+    EXPECT_EQ(p.TiltAngle, q.TiltAngle) << c;
+    EXPECT_EQ(p.BeamWidth, q.BeamWidth) << c;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sonarsynth
