@@ -93,10 +93,55 @@ std::string summary(const std::vector<std::string>& d) {
   return os.str();
 }
 
+/// The JSF walked as the strictest public readers walk it (docs/jsf.md §1; SidescanTools raises
+/// at a message without the 01 16 marker, auvlib pairs neighbouring sonar data messages, every
+/// reader skips a type it does not know by its byte count): the byte counts chain to the end of
+/// the file, every message has protocol version 13, the types are 80, 182, 2020 and 9999, the
+/// 182 message comes first with its 24 standard bytes, and the sonar data messages alone run
+/// port, starboard, port... with one ping number per pair. Returns the pings.
+std::uint64_t strict_walk(const fs::path& jsf) {
+  const auto b = xtf::test::read_bytes(jsf);
+  const auto u16 = [&](std::size_t o) { return static_cast<unsigned>(b[o] | b[o + 1] << 8); };
+  const auto u32 = [&](std::size_t o) {
+    return static_cast<std::uint32_t>(u16(o)) | static_cast<std::uint32_t>(u16(o + 2)) << 16;
+  };
+  std::size_t off = 0;
+  std::uint64_t sonar = 0;
+  std::uint32_t port_ping = 0;
+  while (off < b.size()) {
+    EXPECT_GE(b.size() - off, 16u) << "a message header cut at byte " << off;
+    if (b.size() - off < 16) return 0;
+    EXPECT_EQ(u16(off), 0x1601u) << "byte " << off;
+    EXPECT_EQ(b[off + 2], 13u) << "byte " << off;
+    const unsigned type = u16(off + 4);
+    const std::uint32_t count = u32(off + 12);
+    EXPECT_TRUE(type == 80 || type == 182 || type == 2020 || type == 9999) << type;
+    if (off == 0) {
+      EXPECT_EQ(type, 182u);
+      EXPECT_GE(count, 24u);
+      EXPECT_EQ(u32(off + 16 + 12), 1u) << "one subsystem";
+    }
+    if (type == 80) {
+      const std::uint32_t n = u16(off + 16 + 114) + ((u16(off + 16 + 16) >> 8 & 0xFu) << 16);
+      EXPECT_EQ(count, 240 + 2 * n) << "byte count of the sonar data message at " << off;
+      EXPECT_EQ(b[off + 8], sonar % 2) << "channel of sonar data message " << sonar;
+      const std::uint32_t ping = u32(off + 16 + 8);
+      if (sonar % 2 == 0) port_ping = ping;
+      EXPECT_EQ(ping, port_ping) << "ping number of sonar data message " << sonar;
+      ++sonar;
+    }
+    off += 16 + std::size_t{count};
+  }
+  EXPECT_EQ(off, b.size()) << "the byte counts run past the end";
+  EXPECT_EQ(sonar % 2, 0u);
+  return sonar / 2;
+}
+
 /// `in` -> dir/rt.jsf -> out (which should be named as `in`, since ThisFileName holds the name).
 void round_trip(const fs::path& in, const fs::path& dir, const fs::path& out) {
   const ConvertResult a = convert_sonar_file(in, dir / "rt.jsf");
   EXPECT_EQ(a.pings_skipped, 0u);
+  EXPECT_EQ(strict_walk(dir / "rt.jsf"), a.pings);
   const ConvertResult b = convert_sonar_file(dir / "rt.jsf", out);
   EXPECT_EQ(b.pings_skipped, 0u);
   EXPECT_EQ(b.pings, a.pings);
