@@ -211,6 +211,40 @@ TEST(JsfLossless, SimulatedSampleSurvives) {
   fs::remove_all(dir);
 }
 
+// An XTF whose coordinates are not longitude/latitude (NavUnits 0: metres): no ping is dropped;
+// they come back with zero coordinates (no position), as the JSF has them, since the XTF written
+// back says NavUnits 3; every other header field and sample comes back.
+TEST(JsfLossless, ProjectedCoordinatesComeBackAsNoPosition) {
+  const fs::path dir = xtf::test::temp_dir("jsf_lossless_navunits");
+  fs::create_directories(dir / "back");
+  {
+    xtf::Writer w(dir / "a.xtf");
+    for (std::uint32_t k = 0; k < 4; ++k) w.write_ping(xtf::test::make_ping(k, 100, 100));
+    w.close();
+  }
+  auto bytes = xtf::test::read_bytes(dir / "a.xtf");
+  bytes[164] = 0;  // NavUnits (docs/xtf.md §1.1, offset 164): 0 = metres
+  xtf::test::write_bytes(dir / "a.xtf", bytes);
+  round_trip(dir / "a.xtf", dir, dir / "back" / "a.xtf");
+  const auto d = differences(dir / "a.xtf", dir / "back" / "a.xtf");
+  // The NavUnits byte, and in each ping the ship (128-143) and sensor (160-175) coordinates.
+  std::vector<std::string> want = {"file header bytes 164-164"};
+  for (int k = 0; k < 4; ++k) {
+    want.push_back("ping " + std::to_string(k) + " bytes 128-143");
+    want.push_back("ping " + std::to_string(k) + " bytes 160-175");
+  }
+  EXPECT_EQ(d, want) << summary(d);
+  xtf::Reader r(dir / "back" / "a.xtf");
+  xtf::Packet p;
+  while (r.next(p)) {
+    if (p.kind != xtf::PacketKind::kPing) continue;
+    EXPECT_EQ(p.ping.header.SensorXcoordinate, 0.0);
+    EXPECT_EQ(p.ping.header.SensorYcoordinate, 0.0);
+  }
+  EXPECT_EQ(r.anomaly_count(xtf::AnomalyKind::kZeroNavigation), 4u);
+  fs::remove_all(dir);
+}
+
 // The real Iver2 file (Marine Sonic): every ping comes back (ping 0 has no position), every
 // ping and channel header and every sample identical; of the file header, the fields that
 // describe the data (sonar name, note, navigation units, the channels' frequency and beam).

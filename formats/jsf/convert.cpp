@@ -196,10 +196,16 @@ jsf::XtfFileFields xtf_file_fields(const std::filesystem::path& in) {
   return f;
 }
 
-/// The ping's header and its first port and starboard channel headers, as the file has them.
-jsf::XtfPingFields xtf_ping_fields(const xtf::PingRecord& ping) {
+/// The ping's header and its first port and starboard channel headers, as the file has them;
+/// the coordinates 0 when they are not longitude/latitude (NavUnits other than 3), since the XTF
+/// written back says NavUnits 3: the ping then comes back without a position, as in the JSF.
+jsf::XtfPingFields xtf_ping_fields(const xtf::PingRecord& ping, std::uint16_t nav_units) {
   jsf::XtfPingFields f;
   f.ping = ping.header;
+  if (nav_units != 3) {
+    f.ping.ShipXcoordinate = f.ping.ShipYcoordinate = 0.0;
+    f.ping.SensorXcoordinate = f.ping.SensorYcoordinate = 0.0;
+  }
   bool port = false, starboard = false;
   for (std::size_t i = 0; i < ping.channel_count; ++i) {
     const xtf::ChannelData& c = ping.channels[i];
@@ -312,7 +318,7 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
       continue;
     }
     repair(SonarFileFormat::kJsf, s, r);
-    const jsf::XtfPingFields carried = xtf_ping_fields(packet.ping);
+    const jsf::XtfPingFields carried = xtf_ping_fields(packet.ping, reader.file_header().NavUnits);
     try {
       writer.write_ping(s, &carried);
       ++r.pings;
