@@ -211,6 +211,50 @@ TEST(JsfLossless, SimulatedSampleSurvives) {
   fs::remove_all(dir);
 }
 
+// A JSF edited after the conversion: the edited ping is written from its message 80 (the
+// carried header no longer describes it), counted as a repair; the others from their headers.
+TEST(JsfLossless, EditedJsfPingIsWrittenFromTheJsf) {
+  const fs::path dir = xtf::test::temp_dir("jsf_lossless_edited");
+  {
+    xtf::Writer w(dir / "a.xtf");
+    for (std::uint32_t k = 0; k < 3; ++k) w.write_ping(xtf::test::make_ping(k, 100, 100));
+    w.close();
+  }
+  (void)convert_sonar_file(dir / "a.xtf", dir / "a.jsf");
+  // The altitude (offset 144 of the message-80 header, mm) of both messages of ping 1.
+  auto b = xtf::test::read_bytes(dir / "a.jsf");
+  std::size_t off = 0;
+  int edited = 0;
+  while (off + 16 <= b.size()) {
+    const unsigned type = static_cast<unsigned>(b[off + 4] | b[off + 5] << 8);
+    const std::uint32_t count = static_cast<std::uint32_t>(b[off + 12] | b[off + 13] << 8 |
+                                                           b[off + 14] << 16 | b[off + 15] << 24);
+    if (type == 80 && b[off + 16 + 8] == 1) {
+      const std::int32_t mm = 12345;
+      for (int i = 0; i < 4; ++i) b[off + 16 + 144 + i] = static_cast<std::uint8_t>(mm >> (8 * i));
+      ++edited;
+    }
+    off += 16 + count;
+  }
+  ASSERT_EQ(edited, 2);
+  xtf::test::write_bytes(dir / "a.jsf", b);
+  const ConvertResult r = convert_sonar_file(dir / "a.jsf", dir / "b.xtf");
+  EXPECT_EQ(r.pings, 3u);
+  EXPECT_EQ(r.repaired.at("carried XTF header disagrees with the JSF ping -> written from the JSF"),
+            1u);
+  const auto d = differences(dir / "a.xtf", dir / "b.xtf", {"file header"});
+  ASSERT_FALSE(d.empty());
+  for (const std::string& e : d) EXPECT_EQ(e.rfind("ping 1 ", 0), 0u) << e;
+  xtf::Reader x(dir / "b.xtf");
+  xtf::Packet p;
+  while (x.next(p)) {
+    if (p.kind == xtf::PacketKind::kPing && p.ping.sonar.ping_number == 1) {
+      EXPECT_FLOAT_EQ(p.ping.header.SensorPrimaryAltitude, 12.345f);
+    }
+  }
+  fs::remove_all(dir);
+}
+
 // An XTF whose coordinates are not longitude/latitude (NavUnits 0: metres): no ping is dropped;
 // they come back with zero coordinates (no position), as the JSF has them, since the XTF written
 // back says NavUnits 3; every other header field and sample comes back.
