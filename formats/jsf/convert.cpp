@@ -10,6 +10,7 @@
 #include <sstream>
 #include <vector>
 
+#include "../xtf/time_fields.hpp"
 #include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
@@ -241,7 +242,12 @@ bool carried_agrees(const jsf::XtfPingFields& f, const jsf::Ping& p) {
           ? near(deg_from_rad(s.sensor_position.lat_rad), h.SensorYcoordinate, 1.0 / 6e5) &&
                 near(deg_from_rad(s.sensor_position.lon_rad), h.SensorXcoordinate, 1.0 / 6e5)
           : true;
-  return position && near(s.altitude_m, h.SensorPrimaryAltitude, 1e-3) &&
+  // The XTF time to 10 ms (HSeconds); the JSF's is that time, to 1 ms.
+  const std::optional<xtf::UtcTime> t = xtf::detail::time_from_fields(
+      h.Year, h.Month, h.Day, h.Hour, h.Minute, h.Second, std::uint32_t{h.HSeconds} * 10000u);
+  const bool time =
+      !p.time_valid || (t && std::chrono::abs(s.time_utc - *t) <= std::chrono::milliseconds{10});
+  return position && time && near(s.altitude_m, h.SensorPrimaryAltitude, 1e-3) &&
          near(s.depth_m, h.SensorDepth, 1e-3) && near(s.heave_m, h.Heave, 1e-6) &&
          near(deg_from_rad(s.pitch_rad), h.SensorPitch, 180.0 / 32768.0) &&
          near(deg_from_rad(s.roll_rad), h.SensorRoll, 180.0 / 32768.0) && dh <= 0.005 + 1e-4 &&
@@ -380,12 +386,12 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
     flush_attitude(ping.offset);
     open(ping.header.mixer_frequency_hz);
     std::string why = drop_reason(ping.sonar);
-    // A ping without a position keeps it only with its carried XTF header (zero coordinates,
-    // XTF's "no fix", as the XTF it came from had them).
     if (ping.xtf_fields && !carried_agrees(*ping.xtf_fields, ping)) {
       ping.xtf_fields.reset();
       ++r.repaired["carried XTF header disagrees with the JSF ping -> written from the JSF"];
     }
+    // A ping without a position is kept only with its carried XTF header (zero coordinates,
+    // XTF's "no fix", as the XTF it came from had them).
     if (!ping.nav_valid && !ping.xtf_fields) why = "no position";
     if (!ping.time_valid) why = "no valid time";
     if (ping.sonar.port.empty() || ping.sonar.starboard.empty()) why = "one side missing";
