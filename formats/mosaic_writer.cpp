@@ -62,11 +62,40 @@ bool build_overviews(GDALDataset& mem, const GridGeometry& g, const char* resamp
   return true;
 }
 
+/// Copies `src` to `temp` as a plain tiled GeoTIFF (`co`): the full resolution image first,
+/// then `resampling` overviews appended to the file (`--of GTiff`; GDAL's COPY_SRC_OVERVIEWS
+/// would write the COG layout, which GDAL reports as LAYOUT=COG).
+void copy_plain(GDALDataset& src, const GridGeometry& g, const char* resampling,
+                const KeyValues& co, const std::string& temp, const std::string& path) {
+  raster::copy_to_file(src, "GTiff", temp, co, kWho, path);
+  std::vector<int> factors = raster::overview_factors(g.cols, g.rows);
+  if (factors.empty()) return;
+  CPLErrorReset();
+  gdal::DatasetPtr ds(GDALDataset::Open(temp.c_str(), GDAL_OF_RASTER | GDAL_OF_UPDATE));
+  if (!ds) {
+    throw FormatError(std::string(kWho) + ": " + path +
+                      ": cannot reopen to add overviews: " + gdal::last_error_message());
+  }
+  std::vector<int> bands;
+  for (int b = 1; b <= ds->GetRasterCount(); ++b) bands.push_back(b);
+  if (ds->BuildOverviews(resampling, static_cast<int>(factors.size()), factors.data(),
+                         static_cast<int>(bands.size()), bands.data(), nullptr,
+                         nullptr) != CE_None) {
+    throw FormatError(std::string(kWho) + ": " + path +
+                      ": cannot build overviews: " + gdal::last_error_message());
+  }
+  gdal::close_checked(std::move(ds), path, kWho);
+}
+
 /// Copies `src` to `temp` as a GeoTIFF (`co`) with `resampling` overviews made as `overviews`
-/// says.
+/// says, in the COG layout (overviews before the image) unless `format` is gtiff.
 void copy_with_overviews(GDALDataset& src, const GridGeometry& g, Overviews overviews,
                          const char* resampling, KeyValues co, const std::string& temp,
-                         const std::string& path) {
+                         const std::string& path, MosaicRasterFormat format) {
+  if (format == MosaicRasterFormat::gtiff) {
+    copy_plain(src, g, resampling, co, temp, path);
+    return;
+  }
   if (overviews == Overviews::on_source && build_overviews(src, g, resampling, path)) {
     set_default(co, "COPY_SRC_OVERVIEWS", "YES");
   }
@@ -117,7 +146,7 @@ void write_intensity(const std::string& path, const std::string& temp, const Geo
     set_default(co, "TILED", "YES");
     set_default(co, "BLOCKXSIZE", "512");
     set_default(co, "BLOCKYSIZE", "512");
-    copy_with_overviews(src, g, overviews, "AVERAGE", co, temp, path);
+    copy_with_overviews(src, g, overviews, "AVERAGE", co, temp, path, options.format);
     return;
   }
   // The COG driver computes the overviews from the source itself, into a temporary file it
@@ -198,7 +227,7 @@ void write_rgb(const std::string& path, const std::string& temp, const GeoFrame&
                        {"ZLEVEL", "1"},
                        {"PHOTOMETRIC", "RGB"},
                        {"ALPHA", "YES"}},
-                      temp, path);
+                      temp, path, options.format);
 }
 
 /// truth_mosaic.tif from `src` (int32 truth labels).
@@ -217,7 +246,7 @@ void write_labels(const std::string& path, const std::string& temp, const GeoFra
   // Ids are not averaged: an overview pixel is one of its source pixels.
   copy_with_overviews(src, g, overviews, "NEAREST",
                       {{"TILED", "YES"}, {"COMPRESS", "DEFLATE"}, {"BIGTIFF", "IF_SAFER"}}, temp,
-                      path);
+                      path, options.format);
 }
 
 /// The three files at once, each on a thread of its own (`intensity`, `rgb`, `labels` write

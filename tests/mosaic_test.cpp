@@ -513,10 +513,23 @@ TEST(MosaicWriter, GeoTiffConventions) {
       GDALClose(rgb);
     }
     EXPECT_GE(b->GetOverviewCount(), 1);
-    if (f == MosaicRasterFormat::cog) {
-      const char* layout = ds->GetMetadataItem("LAYOUT", "IMAGE_STRUCTURE");
-      ASSERT_NE(layout, nullptr);
-      EXPECT_STREQ(layout, "COG");
+    // COG: GDAL reports the layout; GTiff: a plain tiled GeoTIFF (image, then its overviews),
+    // the display copy too.
+    for (const std::string& file : {path, wo.rgb_path}) {
+      GDALDataset* t = GDALDataset::Open(file.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
+      ASSERT_NE(t, nullptr);
+      const char* layout = t->GetMetadataItem("LAYOUT", "IMAGE_STRUCTURE");
+      if (f == MosaicRasterFormat::cog) {
+        ASSERT_NE(layout, nullptr) << file;
+        EXPECT_STREQ(layout, "COG") << file;
+      } else {
+        EXPECT_EQ(layout, nullptr) << file << ": " << layout;
+        int bx = 0, by = 0;
+        t->GetRasterBand(1)->GetBlockSize(&bx, &by);
+        EXPECT_LT(bx, t->GetRasterXSize()) << file << ": tiled, not strips of the full width";
+        EXPECT_EQ(bx, by) << file;
+      }
+      GDALClose(t);
     }
     // Averaged overview of a constant: the constant (linear average, nodata ignored).
     float ov = 0.0f;

@@ -6,9 +6,11 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <vector>
 
+#include "../xtf/time_fields.hpp"
 #include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
@@ -159,6 +161,120 @@ void choose_ping_altitude(xtf::SonarPing& s, std::size_t k, const std::vector<do
   }
 }
 
+template <std::size_t N>
+std::string text_of(const std::array<char, N>& a) {
+  std::size_t n = 0;
+  while (n < N && a[n] != 0) ++n;
+  return std::string(a.data(), n);
+}
+
+/// The file-level XTF fields JSF has no place for (docs/conversion.md, "Lossless round trip"):
+/// the header's sonar name, the first NOTES packet's text (else the header's NoteString) and
+/// the first channel's sample layout, frequency and beam angles.
+jsf::XtfFileFields xtf_file_fields(const std::filesystem::path& in) {
+  xtf::Reader reader(in);
+  jsf::XtfFileFields f;
+  const xtf::XtfFileHeader& h = reader.file_header();
+  f.sonar_name = h.SonarName;
+  f.note = xtf::fixed_string<200>(text_of(h.NoteString));
+  xtf::Packet p;
+  while (reader.next(p) && p.kind != xtf::PacketKind::kPing) {
+    if (p.kind == xtf::PacketKind::kNotes) {
+      f.note = p.notes.NotesText;
+      break;
+    }
+  }
+  if (!reader.chan_info().empty()) {
+    const xtf::XtfChanInfo& c = reader.chan_info()[0];
+    f.bytes_per_sample = c.BytesPerSample;
+    f.sample_format = c.SampleFormat;
+    f.uni_polar = static_cast<std::uint8_t>(c.UniPolar);
+    f.frequency_khz = c.Frequency;
+    f.horizontal_beam_angle_deg = c.HorizBeamAngle;
+    f.tilt_angle_deg = c.TiltAngle;
+    f.beam_width_deg = c.BeamWidth;
+  }
+  return f;
+}
+
+/// The ping's header and its first port and starboard channel headers, as the file has them;
+/// the coordinates 0 when they are not longitude/latitude (NavUnits other than 3), since the XTF
+/// written back says NavUnits 3: the ping then comes back without a position, as in the JSF.
+jsf::XtfPingFields xtf_ping_fields(const xtf::PingRecord& ping, std::uint16_t nav_units) {
+  jsf::XtfPingFields f;
+  f.ping = ping.header;
+  if (nav_units != 3) {
+    f.ping.ShipXcoordinate = f.ping.ShipYcoordinate = 0.0;
+    f.ping.SensorXcoordinate = f.ping.SensorYcoordinate = 0.0;
+  }
+  bool port = false, starboard = false;
+  for (std::size_t i = 0; i < ping.channel_count; ++i) {
+    const xtf::ChannelData& c = ping.channels[i];
+    if (!port && c.type_of_channel == static_cast<std::uint8_t>(xtf::ChannelType::kPort)) {
+      f.channels[0] = c.header;
+      port = true;
+    } else if (!starboard &&
+               c.type_of_channel == static_cast<std::uint8_t>(xtf::ChannelType::kStarboard)) {
+      f.channels[1] = c.header;
+      starboard = true;
+    }
+  }
+  return f;
+}
+
+/// Whether a ping's carried XTF header still describes its message 80 (docs/conversion.md,
+/// "Lossless round trip"): every value the JSF holds within the JSF's resolution of the XTF
+/// one. A JSF edited after the conversion (another tool, a repair) fails this and its ping is
+/// written from the message-80 values.
+bool carried_agrees(const jsf::XtfPingFields& f, const jsf::Ping& p) {
+  const xtf::XtfPingHeader& h = f.ping;
+  const xtf::SonarPing& s = p.sonar;
+  const auto near = [](double jsf_value, double xtf_value, double step) {
+    return std::abs(jsf_value - xtf_value) <= step / 2 + 1e-6 * (1.0 + std::abs(xtf_value));
+  };
+  const double knot_mps = 1852.0 / 3600.0;
+  double dh = std::fmod(std::abs(deg_from_rad(s.heading_rad) - h.SensorHeading), 360.0);
+  dh = std::min(dh, 360.0 - dh);
+  const std::size_t n = std::max(s.port.size(), s.starboard.size());
+  const double range_step = s.sound_speed_mps * static_cast<double>(n) * 1e-9;
+  const bool position =
+      p.nav_valid
+          ? near(deg_from_rad(s.sensor_position.lat_rad), h.SensorYcoordinate, 1.0 / 6e5) &&
+                near(deg_from_rad(s.sensor_position.lon_rad), h.SensorXcoordinate, 1.0 / 6e5)
+          : true;
+  // The XTF time to 10 ms (HSeconds); the JSF's is that time, to 1 ms.
+  const std::optional<xtf::UtcTime> t = xtf::detail::time_from_fields(
+      h.Year, h.Month, h.Day, h.Hour, h.Minute, h.Second, std::uint32_t{h.HSeconds} * 10000u);
+  const bool time =
+      !p.time_valid || (t && std::chrono::abs(s.time_utc - *t) <= std::chrono::milliseconds{10});
+  return position && time && near(s.altitude_m, h.SensorPrimaryAltitude, 1e-3) &&
+         near(s.depth_m, h.SensorDepth, 1e-3) && near(s.heave_m, h.Heave, 1e-6) &&
+         near(deg_from_rad(s.pitch_rad), h.SensorPitch, 180.0 / 32768.0) &&
+         near(deg_from_rad(s.roll_rad), h.SensorRoll, 180.0 / 32768.0) && dh <= 0.005 + 1e-4 &&
+         near(s.speed_mps / knot_mps, h.SensorSpeed, 0.1) &&
+         near(s.sound_speed_mps, 2.0 * h.SoundVelocity, 1e-3) &&
+         near(s.slant_range_m, f.channels[0].SlantRange, range_step);
+}
+
+/// The XTF writer's options from the carried file fields: each only if the writer accepts it.
+void apply_xtf_file_fields(const jsf::XtfFileFields& f, xtf::WriterOptions& o) {
+  o.sonar_name = text_of(f.sonar_name);
+  o.note = text_of(f.note);
+  if (f.bytes_per_sample == 1) o.sample_encoding = xtf::SampleEncoding::kUint8;
+  if (f.bytes_per_sample == 4 &&
+      f.sample_format == static_cast<std::uint8_t>(xtf::SampleFormatCode::kIeeeFloat32)) {
+    o.sample_encoding = xtf::SampleEncoding::kFloat32;
+  }
+  const auto set = [](double& v, float deg, double lo, double hi) {
+    const double rad = rad_from_deg(static_cast<double>(deg));
+    if (rad >= lo && rad < hi) v = rad;
+  };
+  if (f.frequency_khz > 0.0f && f.frequency_khz <= 65535.0f) o.frequency_khz = f.frequency_khz;
+  set(o.horizontal_beam_angle_rad, f.horizontal_beam_angle_deg, 0.0, kPi);
+  set(o.tilt_angle_rad, f.tilt_angle_deg, 0.0, kPi / 2 + 1e-12);
+  set(o.vertical_beam_width_rad, f.beam_width_deg, 0.0, kPi);
+}
+
 ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
                          bool overwrite, AltitudeSource source) {
   const std::vector<double> tracked = tracked_altitudes(in, SonarFileFormat::kXtf, source);
@@ -169,6 +285,7 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
   xtf::Reader reader(in);
   jsf::WriterOptions o;
   o.overwrite = overwrite;
+  o.xtf_file_fields = xtf_file_fields(in);
   const double khz = reader.chan_info().empty() ? 0.0 : reader.chan_info()[0].Frequency;
   if (khz > 0.0 && khz * 1e3 <= 655350.0) o.frequency_hz = khz * 1e3;
   jsf::Writer writer(out, o);
@@ -207,8 +324,9 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
       continue;
     }
     repair(SonarFileFormat::kJsf, s, r);
+    const jsf::XtfPingFields carried = xtf_ping_fields(packet.ping, reader.file_header().NavUnits);
     try {
-      writer.write_ping(s);
+      writer.write_ping(s, &carried);
       ++r.pings;
     } catch (const InputError& e) {
       drop(r, writer_reason(e.what()), where, e.what());
@@ -237,6 +355,7 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
   const auto open = [&](double frequency_hz) {
     if (writer) return;
     if (frequency_hz > 0.0 && frequency_hz <= 65535e3) o.frequency_khz = frequency_hz / 1e3;
+    if (reader.xtf_file_fields()) apply_xtf_file_fields(*reader.xtf_file_fields(), o);
     writer = std::make_unique<xtf::Writer>(out, o);
   };
   jsf::Message m;
@@ -267,7 +386,13 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
     flush_attitude(ping.offset);
     open(ping.header.mixer_frequency_hz);
     std::string why = drop_reason(ping.sonar);
-    if (!ping.nav_valid) why = "no position";
+    if (ping.xtf_fields && !carried_agrees(*ping.xtf_fields, ping)) {
+      ping.xtf_fields.reset();
+      ++r.repaired["carried XTF header disagrees with the JSF ping -> written from the JSF"];
+    }
+    // A ping without a position is kept only with its carried XTF header (zero coordinates,
+    // XTF's "no fix", as the XTF it came from had them).
+    if (!ping.nav_valid && !ping.xtf_fields) why = "no position";
     if (!ping.time_valid) why = "no valid time";
     if (ping.sonar.port.empty() || ping.sonar.starboard.empty()) why = "one side missing";
     const std::string where = "JSF ping " + std::to_string(ping.sonar.ping_number) + " at byte " +
@@ -279,8 +404,11 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
       continue;
     }
     repair(SonarFileFormat::kXtf, ping.sonar, r);
+    std::optional<xtf::StoredPingHeaders> stored;
+    if (ping.xtf_fields)
+      stored = xtf::StoredPingHeaders{ping.xtf_fields->ping, ping.xtf_fields->channels};
     try {
-      writer->write_ping(ping.sonar);
+      writer->write_ping(ping.sonar, stored ? &*stored : nullptr);
       ++r.pings;
     } catch (const InputError& e) {
       drop(r, writer_reason(e.what()), where, e.what());

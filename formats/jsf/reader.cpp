@@ -186,7 +186,8 @@ bool Reader::next(Message& m) {
     }
     const auto type = static_cast<MessageType>(h.message_type);
     const bool wanted = type == MessageType::kSonarData ||
-                        type == MessageType::kSystemInformation || type == MessageType::kPitchRoll;
+                        type == MessageType::kSystemInformation ||
+                        type == MessageType::kPitchRoll || type == MessageType::kSonarsynthXtfPing;
     if (!wanted) return true;
     buffer_.resize(static_cast<std::size_t>(body));
     source_->read(m.offset + MessageHeader::kSize, buffer_);
@@ -198,7 +199,18 @@ bool Reader::next(Message& m) {
       if (body >= SystemInformation::kSize) {
         m.system = SystemInformation::decode(r);
         m.kind = MessageKind::kSystemInformation;
-        if (!system_) system_ = m.system;
+        if (!system_) {
+          system_ = m.system;
+          XtfFileFields f;
+          if (body >= SystemInformation::kSize + XtfFileFields::kSize &&
+              XtfFileFields::decode(r, f)) {
+            xtf_file_ = f;
+          }
+        }
+      }
+    } else if (type == MessageType::kSonarsynthXtfPing) {
+      if (body >= XtfPingFields::kSize && XtfPingFields::decode(r, m.xtf_ping)) {
+        m.kind = MessageKind::kXtfPingFields;
       }
     } else if (body >= 44) {
       const std::int32_t s = r.i32();
@@ -390,7 +402,18 @@ void Reader::make_ping(Message* port, Message* stbd, Ping& ping) {
 }
 
 bool Reader::next_ping(Ping& ping) {
+  if (!assemble_ping(ping)) return false;
+  ping.xtf_fields.reset();
+  if (carried_ && carried_->ping.PingNumber == ping.sonar.ping_number) {
+    ping.xtf_fields = std::move(carried_);
+    carried_.reset();
+  }
+  return true;
+}
+
+bool Reader::assemble_ping(Ping& ping) {
   while (next(current_)) {
+    if (current_.kind == MessageKind::kXtfPingFields) carried_ = current_.xtf_ping;
     if (current_.kind != MessageKind::kSonar) continue;
     const int sub = current_.header.subsystem;
     if (subsystem_ < 0) {

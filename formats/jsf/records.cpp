@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/jsf/records.hpp"
 
+#include <algorithm>
 #include <string>
+#include <string_view>
 
 #include "sonarsynth/error.hpp"
 
@@ -43,6 +45,8 @@ const char* message_type_name(std::uint16_t type) {
       return "situation";
     case 2091:
       return "situation comprehensive";
+    case 9999:
+      return "sonarsynth XTF ping fields";
     case 2100:
       return "cable counter";
     case 2101:
@@ -260,6 +264,67 @@ SystemInformation SystemInformation::decode(ByteReader& r) {
   s.serial_port_devices = r.i32();
   s.serial_number = r.i32();
   return s;
+}
+
+namespace {
+constexpr std::string_view kXtfTag = "sonarsynth-xtf";
+
+void encode_tag(ByteWriter& w) {
+  std::array<char, 16> tag{};
+  std::copy(kXtfTag.begin(), kXtfTag.end(), tag.begin());
+  w.chars(tag);
+  w.u32(XtfFileFields::kLayout);
+}
+
+bool decode_tag(ByteReader& r) {
+  std::array<char, 16> tag{};
+  r.chars(tag);
+  const std::uint32_t layout = r.u32();
+  return std::string_view(tag.data(), kXtfTag.size()) == kXtfTag && tag[kXtfTag.size()] == 0 &&
+         layout == XtfFileFields::kLayout;
+}
+}  // namespace
+
+void XtfFileFields::encode(ByteWriter& w) const {
+  encode_tag(w);
+  w.chars(sonar_name);
+  w.chars(note);
+  w.u16(bytes_per_sample);
+  w.u8(sample_format);
+  w.u8(uni_polar);
+  w.f32(frequency_khz);
+  w.f32(horizontal_beam_angle_deg);
+  w.f32(tilt_angle_deg);
+  w.f32(beam_width_deg);
+  w.u32(0);
+}
+
+bool XtfFileFields::decode(ByteReader& r, XtfFileFields& f) {
+  if (!decode_tag(r)) return false;
+  r.chars(f.sonar_name);
+  r.chars(f.note);
+  f.bytes_per_sample = r.u16();
+  f.sample_format = r.u8();
+  f.uni_polar = r.u8();
+  f.frequency_khz = r.f32();
+  f.horizontal_beam_angle_deg = r.f32();
+  f.tilt_angle_deg = r.f32();
+  f.beam_width_deg = r.f32();
+  r.skip(4);
+  return true;
+}
+
+void XtfPingFields::encode(ByteWriter& w) const {
+  encode_tag(w);
+  ping.encode(w);
+  for (const auto& c : channels) c.encode(w);
+}
+
+bool XtfPingFields::decode(ByteReader& r, XtfPingFields& f) {
+  if (!decode_tag(r)) return false;
+  f.ping = xtf::XtfPingHeader::decode(r);
+  for (auto& c : f.channels) c = xtf::XtfPingChanHeader::decode(r);
+  return true;
 }
 
 }  // namespace sonarsynth::jsf

@@ -223,14 +223,17 @@ void Writer::start() {
   started_ = true;
   MessageHeader m;
   m.message_type = static_cast<std::uint16_t>(MessageType::kSystemInformation);
-  m.byte_count = static_cast<std::int32_t>(SystemInformation::kSize);
+  const std::size_t body =
+      SystemInformation::kSize + (options_.xtf_file_fields ? XtfFileFields::kSize : 0);
+  m.byte_count = static_cast<std::int32_t>(body);
   SystemInformation s;
   s.system_type = options_.system_type;
   s.subsystems = 1;
-  buffer_.assign(MessageHeader::kSize + SystemInformation::kSize, 0);
+  buffer_.assign(MessageHeader::kSize + body, 0);
   ByteWriter w(buffer_, "jsf");
   m.encode(w);
   s.encode(w);
+  if (options_.xtf_file_fields) options_.xtf_file_fields->encode(w);
   append(buffer_.size());
 }
 
@@ -262,7 +265,7 @@ void Writer::write_channel(const SonarDataHeader& base, std::uint8_t channel,
   append(buffer_.size());
 }
 
-void Writer::write_ping(const xtf::SonarPing& p) {
+void Writer::write_ping(const xtf::SonarPing& p, const XtfPingFields* xtf_fields) {
   const std::string who = "ping " + std::to_string(p.ping_number) + ": ";
   const Geodetic& g = p.sensor_position;
   if (!(std::isfinite(g.lat_rad) && std::isfinite(g.lon_rad)) || std::abs(g.lat_rad) > kPi / 2 ||
@@ -303,6 +306,17 @@ void Writer::write_ping(const xtf::SonarPing& p) {
     violated(who + "sample interval", "0 ns", "2 slant_range_m / (c samples) >= 0.5 ns");
   }
   start();
+  if (xtf_fields) {
+    MessageHeader m;
+    m.message_type = static_cast<std::uint16_t>(MessageType::kSonarsynthXtfPing);
+    m.subsystem = options_.subsystem;
+    m.byte_count = static_cast<std::int32_t>(XtfPingFields::kSize);
+    buffer_.assign(MessageHeader::kSize + XtfPingFields::kSize, 0);
+    ByteWriter w(buffer_, "jsf");
+    m.encode(w);
+    xtf_fields->encode(w);
+    append(buffer_.size());
+  }
   write_channel(base, kChannelPort, p.port);  // near -> far on both sides
   write_channel(base, kChannelStarboard, p.starboard);
   ++pings_written_;

@@ -106,9 +106,9 @@ void WriterOptions::validate() const {
   if (!(frequency_khz > 0.0 && frequency_khz <= 65535.0)) {
     violated("frequency_khz", num(frequency_khz), "0 < frequency_khz <= 65535");
   }
-  if (!(horizontal_beam_angle_rad > 0.0 && horizontal_beam_angle_rad < kPi)) {
+  if (!(horizontal_beam_angle_rad >= 0.0 && horizontal_beam_angle_rad < kPi)) {
     violated("horizontal_beam_angle_rad", num(horizontal_beam_angle_rad),
-             "0 < horizontal_beam_angle_rad < pi");
+             "0 <= horizontal_beam_angle_rad < pi (0 = not stated)");
   }
   if (!(tilt_angle_rad >= 0.0 && tilt_angle_rad <= kPi / 2)) {
     violated("tilt_angle_rad", num(tilt_angle_rad), "0 <= tilt_angle_rad <= pi/2");
@@ -230,9 +230,9 @@ void Writer::start(UtcTime first_time, std::uint32_t port_samples, std::uint32_t
   append(buffer_, XtfNotesHeader::kSize);
 }
 
-void Writer::validate_ping(const SonarPing& p) const {
+void Writer::validate_ping(const SonarPing& p, bool check_position) const {
   const std::string who = "ping " + std::to_string(p.ping_number) + ": ";
-  const auto check_position = [&](const Geodetic& g, const std::string& name) {
+  const auto check_position_of = [&](const Geodetic& g, const std::string& name) {
     if (!finite_all({g.lat_rad, g.lon_rad}) || std::abs(g.lat_rad) > kPi / 2 ||
         std::abs(g.lon_rad) > kPi) {
       violated(who + name, lat_lon_text(g), "finite, |lat| <= pi/2, |lon| <= pi");
@@ -241,8 +241,10 @@ void Writer::validate_ping(const SonarPing& p) const {
       violated(who + name, lat_lon_text(g), "not (0, 0), which XTF readers take as 'no fix'");
     }
   };
-  check_position(p.sensor_position, "sensor_position");
-  if (p.ship_position) check_position(*p.ship_position, "ship_position");
+  if (check_position) {
+    check_position_of(p.sensor_position, "sensor_position");
+    if (p.ship_position) check_position_of(*p.ship_position, "ship_position");
+  }
   const detail::TimeFields tf = detail::fields_from_time(to_hundredths(p.time_utc));
   if (tf.year < kMinYear || tf.year > kMaxYear) {
     violated(who + "time_utc year", std::to_string(tf.year), "1970 <= year <= 2100");
@@ -330,8 +332,8 @@ void Writer::encode_samples(const std::vector<float>& samples, bool reverse, Byt
   }
 }
 
-void Writer::write_ping(const SonarPing& p) {
-  validate_ping(p);
+void Writer::write_ping(const SonarPing& p, const StoredPingHeaders* stored) {
+  validate_ping(p, stored == nullptr);
   start(p.time_utc, static_cast<std::uint32_t>(p.port.size()),
         static_cast<std::uint32_t>(p.starboard.size()));
   if (header_needs_samples_) {
@@ -384,6 +386,14 @@ void Writer::write_ping(const SonarPing& p) {
   h.SensorHeading = static_cast<float>(heading);
   h.Heave = static_cast<float>(p.heave_m);
   h.AttitudeTimeTag = detail::time_tag_ms(p.time_utc);
+  if (stored) {
+    const XtfPacketHeader packet = h.Header;
+    h = stored->ping;
+    h.Header.MagicNumber = packet.MagicNumber;
+    h.Header.HeaderType = packet.HeaderType;
+    h.Header.NumChansToFollow = packet.NumChansToFollow;
+    h.Header.NumBytesThisRecord = packet.NumBytesThisRecord;
+  }
   h.encode(w);
 
   const double ground =
@@ -403,6 +413,11 @@ void Writer::write_ping(const SonarPing& p) {
     c.Frequency = static_cast<std::uint16_t>(std::lround(options_.frequency_khz));
     c.NumSamples = static_cast<std::uint32_t>(samples.size());
     c.Weight = 0;
+    if (stored) {
+      c = stored->channels[side];
+      c.ChannelNumber = side;
+      c.NumSamples = static_cast<std::uint32_t>(samples.size());
+    }
     c.encode(w);
     encode_samples(samples, side == 0, w);  // port is stored far -> near
   }

@@ -56,7 +56,13 @@ struct ReaderOptions {
   void validate() const;
 };
 
-enum class MessageKind : std::uint8_t { kSonar, kSystemInformation, kPitchRoll, kOther };
+enum class MessageKind : std::uint8_t {
+  kSonar,
+  kSystemInformation,
+  kPitchRoll,
+  kXtfPingFields,  ///< message 9999 of sonarsynth's conversion (docs/jsf.md §1.4)
+  kOther
+};
 
 /// One message. Only the members matching `kind` are filled.
 struct Message {
@@ -70,6 +76,7 @@ struct Message {
   std::vector<float> samples;
   SystemInformation system;      ///< kSystemInformation
   xtf::AttitudeSample attitude;  ///< kPitchRoll
+  XtfPingFields xtf_ping;        ///< kXtfPingFields
 };
 
 /// A ping of one subsystem: its port and starboard messages assembled.
@@ -84,6 +91,9 @@ struct Ping {
   double layback_m = 0.0;
   bool time_valid = false;
   bool nav_valid = false;  ///< coordinate units 2, not both 0, within +-180 / +-90
+  /// The XTF header fields a conversion carried for this ping (message 9999 of the same ping
+  /// number before it, docs/jsf.md §1.4).
+  std::optional<XtfPingFields> xtf_fields;
 };
 
 /// Streaming JSF reader for files from any EdgeTech system: unknown message types are skipped
@@ -119,6 +129,8 @@ class Reader {
   }
   /// The first system information message, if any was read.
   const std::optional<SystemInformation>& system_information() const { return system_; }
+  /// The XTF file fields a conversion carried in that message's vendor bytes, if any.
+  const std::optional<XtfFileFields>& xtf_file_fields() const { return xtf_file_; }
   /// The subsystem next_ping() reads (-1 until the first sonar data message is seen).
   int subsystem() const { return subsystem_; }
 
@@ -133,6 +145,7 @@ class Reader {
   void report(AnomalyKind kind, std::uint64_t offset, std::string message);
   bool plausible_header_at(std::uint64_t offset, MessageHeader& header);
   std::uint64_t find_next_message(std::uint64_t from);
+  bool assemble_ping(Ping& ping);  ///< next_ping() without the carried XTF fields
   bool decode_sonar(std::span<const std::uint8_t> body, Message& m);
   /// Moves the messages' samples into `ping` (the messages are not read again).
   void make_ping(Message* port, Message* starboard, Ping& ping);
@@ -147,6 +160,8 @@ class Reader {
   std::map<std::uint16_t, std::uint64_t> counts_;
   std::map<std::uint8_t, std::map<std::uint8_t, std::uint64_t>> sonar_counts_;
   std::optional<SystemInformation> system_;
+  std::optional<XtfFileFields> xtf_file_;
+  std::optional<XtfPingFields> carried_;  ///< the last message 9999 not yet given to a ping
   int subsystem_ = -1;
   std::vector<Anomaly> anomalies_;
   std::array<std::uint64_t, kAnomalyKindCount> anomaly_counts_{};

@@ -12,6 +12,7 @@
 #include <cstdint>
 
 #include "sonarsynth/formats/xtf/byte_io.hpp"
+#include "sonarsynth/formats/xtf/records.hpp"
 
 namespace sonarsynth::jsf {
 
@@ -33,6 +34,9 @@ enum class MessageType : std::uint16_t {
   kPressure = 2060,
   kDopplerVelocityLog = 2080,
   kSituation = 2091,
+  /// Not EdgeTech's: the XTF header fields of the next ping (XtfPingFields), written by
+  /// `convert` (docs/jsf.md §1.4); every reader skips it by its byte count.
+  kSonarsynthXtfPing = 9999,
 };
 /// "sonar data", "system information", ...; nullptr for a type this project does not name.
 const char* message_type_name(std::uint16_t type);
@@ -189,6 +193,38 @@ struct SystemInformation {
   std::int32_t serial_number = 0;
   void encode(ByteWriter& w) const;
   static SystemInformation decode(ByteReader& r);
+};
+
+/// What an XTF file held that JSF has no field for, carried by `convert` XTF -> JSF so that
+/// JSF -> XTF restores it (docs/conversion.md, "Lossless round trip").
+/// The file's: vendor bytes of the system information message 182, after its 24 bytes.
+struct XtfFileFields {
+  static constexpr std::size_t kSize = 260;
+  static constexpr std::uint32_t kLayout = 1;
+  std::array<char, 16> sonar_name{};   ///< XTFFILEHEADER SonarName
+  std::array<char, 200> note{};        ///< the first NOTES packet's text, or else NoteString
+  std::uint16_t bytes_per_sample = 0;  ///< CHANINFO[0] BytesPerSample, SampleFormat, UniPolar
+  std::uint8_t sample_format = 0;
+  std::uint8_t uni_polar = 0;
+  float frequency_khz = 0.0f;  ///< CHANINFO[0], as the XTF stores them
+  float horizontal_beam_angle_deg = 0.0f;
+  float tilt_angle_deg = 0.0f;
+  float beam_width_deg = 0.0f;
+  /// Tag "sonarsynth-xtf" (16 bytes), layout (u32), then the fields in order, 4 bytes reserved.
+  void encode(ByteWriter& w) const;
+  /// nullopt-like: false if the bytes do not start with the tag and layout.
+  static bool decode(ByteReader& r, XtfFileFields& out);
+};
+
+/// A ping's: body of message kSonarsynthXtfPing, written right before the ping's port message.
+struct XtfPingFields {
+  static constexpr std::size_t kSize =
+      20 + xtf::XtfPingHeader::kSize + 2 * xtf::XtfPingChanHeader::kSize;
+  xtf::XtfPingHeader ping;                           ///< as the XTF stored it
+  std::array<xtf::XtfPingChanHeader, 2> channels{};  ///< port, starboard
+  /// Tag "sonarsynth-xtf" (16 bytes), layout (u32), then the three XTF records.
+  void encode(ByteWriter& w) const;
+  static bool decode(ByteReader& r, XtfPingFields& out);
 };
 
 }  // namespace sonarsynth::jsf

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -24,6 +25,8 @@ struct WriterOptions {
   /// System type of the system information message (182); 0 = not an EdgeTech system.
   std::int32_t system_type = 0;
   bool overwrite = false;  ///< replace an existing file
+  /// XTF fields carried by a conversion: vendor bytes of the 182 message (docs/jsf.md §1.4).
+  std::optional<XtfFileFields> xtf_file_fields;
   /// Throws InputError naming the violated constraint.
   void validate() const;
 };
@@ -59,7 +62,9 @@ class Writer {
   /// A NaN heading, speed, pitch, roll, heave, depth or sound speed is "unknown": written as 0
   /// (sound speed: kAssumedSoundSpeed_mps, which sets the sample interval) with its validity
   /// bit clear; an altitude of 0 clears the altitude bit.
-  void write_ping(const xtf::SonarPing& ping);
+  /// `xtf_fields` (a conversion's): written as a message 9999 right before the ping's port
+  /// message (docs/jsf.md §1.4).
+  void write_ping(const xtf::SonarPing& ping, const XtfPingFields* xtf_fields = nullptr);
   /// Appends a 44-byte pitch/roll message (2020) with pitch, roll, heave, heading and yaw.
   void write_attitude(const xtf::AttitudeSample& attitude);
   /// Flushes, closes and renames the file into place. Throws FormatError on failure.

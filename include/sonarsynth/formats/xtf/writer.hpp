@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -47,8 +48,9 @@ struct WriterOptions {
   /// Text of the NOTES packet written first (at most 200 characters); its first 64 characters
   /// also go to the file header's NoteString.
   std::string note = "synthetic side-scan data written by sonarsynth";
-  double frequency_khz = 500.0;                          ///< centre frequency, kHz, (0, 65535]
-  double horizontal_beam_angle_rad = rad_from_deg(1.0);  ///< along-track beam width, (0, pi)
+  double frequency_khz = 500.0;  ///< centre frequency, kHz, (0, 65535]
+  /// Along-track beam width, [0, pi); 0 = not stated.
+  double horizontal_beam_angle_rad = rad_from_deg(1.0);
   double tilt_angle_rad = rad_from_deg(30.0);  ///< depression of the beam axis below horizontal
   /// One-way -3 dB across-track (vertical) beam width, [0, pi); 0 = not stated.
   double vertical_beam_width_rad = rad_from_deg(50.0);
@@ -62,6 +64,13 @@ struct WriterOptions {
   /// One sentence per choice that some common reader does not accept, naming the readers.
   /// Empty for the default options.
   std::vector<std::string> compatibility_warnings() const;
+};
+
+/// A ping's header records as an earlier XTF file stored them (`convert` carries them through
+/// JSF: docs/conversion.md, "Lossless round trip").
+struct StoredPingHeaders {
+  XtfPingHeader ping;
+  std::array<XtfPingChanHeader, 2> channels{};  ///< port, starboard
 };
 
 /// Streaming XTF writer following the recommended profile of docs/xtf.md §5: NavUnits 3
@@ -85,7 +94,10 @@ class Writer {
   /// the carry into seconds, minutes, hours and the date. Throws InputError naming the field if
   /// the ping is invalid (no file position, altitude <= 0, bad time, wrong sample count...),
   /// FormatError on a write error.
-  void write_ping(const SonarPing& ping);
+  /// With `stored`, its records are written as they are (the position is not checked: a ping
+  /// that had none keeps its zero coordinates) except the packet size, NumChansToFollow, the
+  /// channel numbers and sample counts; only the samples are taken from `ping`.
+  void write_ping(const SonarPing& ping, const StoredPingHeaders* stored = nullptr);
   /// Appends a 64-byte attitude packet (type 3).
   void write_attitude(const AttitudeSample& attitude);
   /// Appends a 64-byte navigation packet (type 42).
@@ -105,7 +117,7 @@ class Writer {
   void start(UtcTime first_time, std::uint32_t port_samples, std::uint32_t stbd_samples);
   void append(const std::vector<std::uint8_t>& bytes, std::size_t n);
   void encode_samples(const std::vector<float>& samples, bool reverse, ByteWriter& w);
-  void validate_ping(const SonarPing& ping) const;
+  void validate_ping(const SonarPing& ping, bool check_position) const;
 
   WriterOptions options_;
   XtfFileHeader header_;
