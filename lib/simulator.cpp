@@ -344,8 +344,9 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
     for (std::size_t i = 0; i < n; ++i) {
       out.truth_grazing_rad[i] = static_cast<float>(e.truth_grazing_rad[i]);
     }
-    // The ground position of a sample is the nadir + a float ground range along the side's
-    // across-track direction (docs/architecture.md "Truth"): positions only where asked for.
+    // A sample's ground position is the nadir + a float ground range along the side's
+    // across-track direction, computed only where asked for (docs/architecture.md "Per-sample
+    // truth").
     if (out.truth_ground_range_m) {
       for (std::size_t i = 0; i < n; ++i) {
         out.truth_ground_range_m[i] = static_cast<float>(e.truth_ground_y_m[i]);  // NaN stays NaN

@@ -587,10 +587,10 @@ TEST(Survey, PingTimingLaybackLeverArmAndDisturbances) {
 }
 
 // A truth ground position is the nadir + a float ground range along the side's across-track
-// direction (docs/architecture.md "Truth"): float rounding of the range, |delta r| <= 2^-24 r
-// (6 um at 100 m; well inside the 1e-5 relative of a float ground range), against the double
-// beam-plane y of the renderer's central plane and a nadir and direction computed here from the
-// pose (heading, pitch), over relief and an object.
+// direction (docs/architecture.md "Per-sample truth"). Bound: the float rounding of the range,
+// |delta r| <= 2^-24 r (6 um at 100 m). Reference: the double beam-plane y of the renderer's
+// central plane, with a nadir and a direction computed here from the pose (heading, pitch), over
+// relief and an object.
 TEST(SimulatorTruth, GroundPositionsFromFloatRangesAgreeWithTheDoublePath) {
   const Scene scene = test::with_test_box(
       make_scene(
