@@ -41,11 +41,10 @@ struct Edge {
 };
 
 std::optional<Edge> seabed_edge(const SideOutput& s) {
-  const std::size_t n =
-      std::min({s.truth_class.size(), s.truth_ground_x_m.size(), s.truth_ground_y_m.size()});
+  const std::size_t n = std::min(s.truth_class.size(), s.truth_ground_range_m.size());
   auto seabed = [&](std::size_t i) {
     return (s.truth_class[i] == SampleClass::seabed || s.truth_class[i] == SampleClass::object) &&
-           std::isfinite(s.truth_ground_x_m[i]) && std::isfinite(s.truth_ground_y_m[i]);
+           s.truth_ground_xy(i).allFinite();
   };
   std::size_t first = n, last = n;
   for (std::size_t i = 0; i < n; ++i) {
@@ -61,8 +60,7 @@ std::optional<Edge> seabed_edge(const SideOutput& s) {
       break;
     }
   }
-  return Edge{{s.truth_ground_x_m[first], s.truth_ground_y_m[first]},
-              {s.truth_ground_x_m[last], s.truth_ground_y_m[last]}};
+  return Edge{s.truth_ground_xy(first), s.truth_ground_xy(last)};
 }
 
 OGRSpatialReference wgs84() {

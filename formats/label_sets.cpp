@@ -952,9 +952,11 @@ void TrackRecorder::ping(const RenderedPing& p) {
     // Port columns run FAR -> NEAR (column c is port sample side - 1 - c), starboard NEAR -> FAR.
     const SideOutput& s = c < side_ ? p.port : p.starboard;
     const std::size_t k = c < side_ ? side_ - 1 - c : c - side_;
-    const bool have = k < s.truth_ground_x_m.size() && k < s.truth_ground_y_m.size();
-    t.ground_x_m.push_back(have ? s.truth_ground_x_m[k] : NAN);
-    t.ground_y_m.push_back(have ? s.truth_ground_y_m[k] : NAN);
+    const Eigen::Vector2d g = k < s.truth_ground_range_m.size()
+                                  ? s.truth_ground_xy(k)
+                                  : Eigen::Vector2d::Constant(SideOutput::kNoPosition);
+    t.ground_x_m.push_back(g.x());
+    t.ground_y_m.push_back(g.y());
   }
 }
 

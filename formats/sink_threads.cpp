@@ -95,8 +95,9 @@ std::shared_ptr<const RenderedPing> copy_for_sinks(const RenderedPing& ping) {
     to.truth_label = from.truth_label;
     to.truth_grazing_rad = from.truth_grazing_rad;
     // The truth vectors' coverage and the truth rasters' ground control points.
-    to.truth_ground_x_m = from.truth_ground_x_m;
-    to.truth_ground_y_m = from.truth_ground_y_m;
+    to.truth_ground_range_m = from.truth_ground_range_m;
+    to.truth_nadir_xy_m = from.truth_nadir_xy_m;
+    to.truth_across_dir = from.truth_across_dir;
   };
   side(ping.port, copy->port);
   side(ping.starboard, copy->starboard);

@@ -535,18 +535,14 @@ class SurveyProducts::TruthPart final : public LinePart {
   void add_gcps(const RenderedPing& p, std::size_t row) {
     for (const bool starboard : {false, true}) {
       const SideOutput& s = starboard ? p.starboard : p.port;
-      const std::size_t n = std::min(s.truth_ground_x_m.size(), s.truth_ground_y_m.size());
       std::vector<std::size_t> placed;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (std::isfinite(s.truth_ground_x_m[i]) && std::isfinite(s.truth_ground_y_m[i])) {
-          placed.push_back(i);
-        }
+      for (std::size_t i = 0; i < s.truth_ground_range_m.size(); ++i) {
+        if (s.truth_ground_xy(i).allFinite()) placed.push_back(i);
       }
       if (placed.empty()) continue;
       for (std::size_t k = 0; k < kGcpSamples; ++k) {
         const std::size_t i = placed[k * (placed.size() - 1) / (kGcpSamples - 1)];
-        const Eigen::Vector2d en =
-            frame_.projected_from_local({s.truth_ground_x_m[i], s.truth_ground_y_m[i]});
+        const Eigen::Vector2d en = frame_.projected_from_local(s.truth_ground_xy(i));
         gcps_.points.push_back({row, starboard, i, en.x(), en.y()});
       }
     }

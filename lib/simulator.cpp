@@ -341,13 +341,26 @@ void Simulator::render_side_output(const PingPose& pose, std::uint64_t noise_key
               out.truth_class);
     std::copy(e.truth_label.begin(), e.truth_label.begin() + static_cast<std::ptrdiff_t>(n),
               out.truth_label);
-    const double nx = nadir.x(), ny = nadir.y();
-    const double dx = central_dir.x(), dy = central_dir.y();
     for (std::size_t i = 0; i < n; ++i) {
       out.truth_grazing_rad[i] = static_cast<float>(e.truth_grazing_rad[i]);
-      const double gy = e.truth_ground_y_m[i];  // NaN stays NaN
-      out.truth_ground_x_m[i] = nx + gy * dx;
-      out.truth_ground_y_m[i] = ny + gy * dy;
+    }
+    // A sample's ground position is the nadir + a float ground range along the side's
+    // across-track direction, computed only where asked for (docs/architecture.md "Per-sample
+    // truth").
+    if (out.truth_ground_range_m) {
+      for (std::size_t i = 0; i < n; ++i) {
+        out.truth_ground_range_m[i] = static_cast<float>(e.truth_ground_y_m[i]);  // NaN stays NaN
+      }
+      *out.truth_nadir_xy_m = nadir;
+      *out.truth_across_dir = central_dir;
+    }
+    if (out.truth_ground_x_m) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Vector2d p = SideOutput::ground_position(
+            nadir, central_dir, static_cast<float>(e.truth_ground_y_m[i]));
+        out.truth_ground_x_m[i] = p.x();
+        out.truth_ground_y_m[i] = p.y();
+      }
     }
   }
   if (timings) timings->noise_s += seconds_since(t2);
@@ -383,13 +396,13 @@ Simulator::SideSpans Simulator::spans_of(SideOutput& s) const {
     s.truth_class.resize(n);
     s.truth_label.resize(n);
     s.truth_grazing_rad.resize(n);
-    s.truth_ground_x_m.resize(n);
-    s.truth_ground_y_m.resize(n);
+    s.truth_ground_range_m.resize(n);
     o.truth_class = s.truth_class.data();
     o.truth_label = s.truth_label.data();
     o.truth_grazing_rad = s.truth_grazing_rad.data();
-    o.truth_ground_x_m = s.truth_ground_x_m.data();
-    o.truth_ground_y_m = s.truth_ground_y_m.data();
+    o.truth_ground_range_m = s.truth_ground_range_m.data();
+    o.truth_nadir_xy_m = &s.truth_nadir_xy_m;
+    o.truth_across_dir = &s.truth_across_dir;
   }
   o.saturated = &s.saturated;
   o.invalid = &s.invalid;

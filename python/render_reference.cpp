@@ -56,8 +56,10 @@ int run(int argc, char** argv) {
         write(out, s->truth_class);
         write(out, s->truth_label);
         write(out, s->truth_grazing_rad);
-        write(out, s->truth_ground_x_m);
-        write(out, s->truth_ground_y_m);
+        std::vector<double> x(s->truth_ground_range_m.size()), y(x.size());
+        s->truth_ground_positions(x.data(), y.data());
+        write(out, x);
+        write(out, y);
       }
     }
     return out ? 0 : 1;

@@ -103,8 +103,11 @@ void expect_side(const Arrays& a, std::size_t slot, const SideOutput& s) {
   EXPECT_TRUE(same_bytes(s.truth_class.data(), a.cls, o, a.s)) << slot;
   EXPECT_TRUE(same_bytes(s.truth_label.data(), a.id, o, a.s)) << slot;
   EXPECT_TRUE(same_bytes(s.truth_grazing_rad.data(), a.grazing, o, a.s)) << slot;
-  EXPECT_TRUE(same_bytes(s.truth_ground_x_m.data(), a.gx, o, a.s)) << slot;
-  EXPECT_TRUE(same_bytes(s.truth_ground_y_m.data(), a.gy, o, a.s)) << slot;
+  // The batch's positions are the ping's, from the same float ground ranges.
+  std::vector<double> x(s.truth_ground_range_m.size()), y(x.size());
+  s.truth_ground_positions(x.data(), y.data());
+  EXPECT_TRUE(same_bytes(x.data(), a.gx, o, a.s)) << slot;
+  EXPECT_TRUE(same_bytes(y.data(), a.gy, o, a.s)) << slot;
   EXPECT_EQ(a.saturated[slot], s.saturated);
   EXPECT_EQ(a.invalid[slot], s.invalid);
 }

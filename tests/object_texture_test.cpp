@@ -128,7 +128,7 @@ TEST(ObjectTexture, SamePingRenderedTwiceIsIdenticalWithRoughnessAndTexture) {
     const bool object = a.starboard.truth_class[i] == SampleClass::object &&
                         c.starboard.truth_class[i] == SampleClass::object;
     const bool seabed = a.starboard.truth_class[i] == SampleClass::seabed &&
-                        a.starboard.truth_ground_x_m[i] < 7.5;  // nearer than the box (12.8 m)
+                        a.starboard.truth_ground_xy(i).x() < 7.5;  // nearer than the box (12.8 m)
     const bool differs = a.starboard.samples[i] != c.starboard.samples[i];
     object_differs += object && differs ? 1 : 0;
     seabed_differs += seabed && differs ? 1 : 0;

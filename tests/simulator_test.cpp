@@ -10,6 +10,7 @@
 #include "sonarsynth/along_track_planes.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/simulator_state.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -272,7 +273,7 @@ TEST(Simulator, AlongTrackPlanesShareTheBeamAndSeeObjectsBetweenPings) {
   ASSERT_EQ(five_out.truth_class.size(), one.size());
   EXPECT_TRUE(five_out.truth_class == one_out.truth_class);
   for (std::size_t i = 0; i < one.size(); ++i) {
-    const double a = five_out.truth_ground_x_m[i], b = one_out.truth_ground_x_m[i];
+    const double a = five_out.truth_ground_xy(i).x(), b = one_out.truth_ground_xy(i).x();
     EXPECT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << i;  // NaN: no contributor
   }
   ObjectPrimitive post;
@@ -583,6 +584,93 @@ TEST(Survey, PingTimingLaybackLeverArmAndDisturbances) {
             0.01);
   EXPECT_THROW(Survey({{"x", {{0, 0}}}}, v, 0.1, t0, 1), InputError);
   EXPECT_THROW(Survey({{"x", {{0, 0}, {1, 1}}}}, v, 0.0, t0, 1), InputError);
+}
+
+// A truth ground position is the nadir + a float ground range along the side's across-track
+// direction (docs/architecture.md "Per-sample truth"). Bound: the float rounding of the range,
+// |delta r| <= 2^-24 r (6 um at 100 m). Reference: the double beam-plane y of the renderer's
+// central plane, with a nadir and a direction computed here from the pose (heading, pitch), over
+// relief and an object.
+TEST(SimulatorTruth, GroundPositionsFromFloatRangesAgreeWithTheDoublePath) {
+  const Scene scene = test::with_test_box(
+      make_scene(
+          -150, -150, 300, 0.5,
+          [](double x, double y) { return -30.0 + 0.8 * std::sin(0.21 * x) * std::cos(0.13 * y); }),
+      0);
+  SimulationConfig cfg = plain_config();
+  cfg.sonar.max_range_m = 100.0;
+  cfg.sonar.samples_per_channel = 2000;
+  Simulator sim(scene, cfg, 10.0);
+  auto ws = sim.make_workspace();
+  const double heading = 1.45;  // starboard looks south, over the box
+  PingPose pose = pose_at(scene, {12.75, 25.5}, heading, 10.0);
+  pose.pitch_rad = 0.05;
+  RenderedPing out;
+  sim.render_ping(pose, *ws, out);
+
+  // The starboard side is rendered last: the workspace's echo is its central plane's truth.
+  const std::vector<double>& ref_y = ws->echo.truth_ground_y_m;
+  const SideOutput& s = out.starboard;
+  ASSERT_EQ(s.truth_ground_range_m.size(), ref_y.size());
+  const Eigen::Vector2d fwd(std::sin(heading), std::cos(heading));
+  const Eigen::Vector2d stbd(std::cos(heading), -std::sin(heading));
+  const Eigen::Vector2d nadir = pose.sensor_xy_m + 10.0 * std::tan(0.05) * fwd;
+  std::size_t placed = 0, objects = 0;
+  double worst_rel = 0.0;
+  for (std::size_t i = 0; i < ref_y.size(); ++i) {
+    const Eigen::Vector2d got = s.truth_ground_xy(i);
+    if (std::isnan(ref_y[i])) {
+      EXPECT_TRUE(std::isnan(got.x()) && std::isnan(got.y())) << i;
+      continue;
+    }
+    const Eigen::Vector2d want = nadir + ref_y[i] * stbd;
+    const double bound = 0x1p-24 * std::abs(ref_y[i]) + 1e-12;
+    EXPECT_NEAR(got.x(), want.x(), bound) << i;
+    EXPECT_NEAR(got.y(), want.y(), bound) << i;
+    worst_rel = std::max(worst_rel, (got - want).norm() / std::abs(ref_y[i]));
+    ++placed;
+    objects += s.truth_class[i] == SampleClass::object ? 1 : 0;
+  }
+  EXPECT_GT(placed, 1500u);  // relief from ~10 m to 100 m
+  EXPECT_GT(objects, 10u);   // the box
+  EXPECT_LT(worst_rel, 1e-7);
+}
+
+// On a flat seabed the truth position of a seabed sample lies on the side's across-track line
+// through the nadir, at a ground range inside the sample's slant-range bin:
+// sqrt(r1^2 - H^2) .. sqrt(r2^2 - H^2), on both sides.
+TEST(SimulatorTruth, GroundPositionsOnAFlatSeabedFollowTheSlantRangeGeometry) {
+  const Scene scene = make_scene(-60, -60, 120, 1.0, [](double, double) { return -30.0; });
+  const SimulationConfig cfg = plain_config();
+  const double H = 10.0, heading = -0.6;
+  Simulator sim(scene, cfg, H);
+  auto ws = sim.make_workspace();
+  RenderedPing out;
+  sim.render_ping(pose_at(scene, {4.25, -7.5}, heading, H), *ws, out);
+  const double dr = cfg.sonar.sample_spacing_m();
+  const Eigen::Vector2d stbd(std::cos(heading), -std::sin(heading));
+  for (const bool starboard : {false, true}) {
+    const SideOutput& s = starboard ? out.starboard : out.port;
+    const Eigen::Vector2d dir = starboard ? stbd : Eigen::Vector2d(-stbd);
+    std::size_t seabed = 0;
+    for (std::size_t i = 0; i < s.truth_class.size(); ++i) {
+      const double r1 = static_cast<double>(i) * dr, r2 = r1 + dr;
+      if (s.truth_class[i] != SampleClass::seabed) {
+        EXPECT_TRUE(r2 <= H + 1e-9 || !s.truth_ground_xy(i).allFinite()) << i;
+        continue;
+      }
+      const Eigen::Vector2d d = s.truth_ground_xy(i) - Eigen::Vector2d(4.25, -7.5);
+      const double along = d.dot(dir), off = d.x() * dir.y() - d.y() * dir.x();
+      const double lo = r1 > H ? std::sqrt(r1 * r1 - H * H) : 0.0;
+      const double hi = std::sqrt(r2 * r2 - H * H);
+      const double slack = 1e-6 * hi;  // float range and the renderer's own rounding
+      EXPECT_GE(along, lo - slack) << starboard << " " << i;
+      EXPECT_LE(along, hi + slack) << starboard << " " << i;
+      EXPECT_NEAR(off, 0.0, 1e-9) << starboard << " " << i;
+      ++seabed;
+    }
+    EXPECT_GT(seabed, 550u) << starboard;  // 10 m .. 40 m slant range
+  }
 }
 
 }  // namespace

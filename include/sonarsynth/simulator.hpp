@@ -164,6 +164,12 @@ class Simulator {
     SampleClass* truth_class = nullptr;
     std::int32_t* truth_label = nullptr;
     float* truth_grazing_rad = nullptr;
+    /// The ground positions as SideOutput keeps them (render_ping): ranges and the side's
+    /// geometry ...
+    float* truth_ground_range_m = nullptr;
+    Eigen::Vector2d* truth_nadir_xy_m = nullptr;
+    Eigen::Vector2d* truth_across_dir = nullptr;
+    /// ... or the positions themselves (render_batch), from the same float ranges.
     double* truth_ground_x_m = nullptr;
     double* truth_ground_y_m = nullptr;
     std::uint32_t* saturated = nullptr;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Rendering into numpy: one ping (arrays that own the renderer's buffers, no copy) or a batch
-// of poses (preallocated arrays filled by worker threads), the GIL released while rendering.
+// Rendering into numpy: one ping (arrays that own the renderer's buffers, no copy; the ground
+// positions computed from the float ground ranges) or a batch of poses (preallocated arrays
+// filled by worker threads), the GIL released while rendering.
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -29,8 +30,12 @@ py::dict side_dict(const SideOutput& s, const py::capsule& owner) {
     d["truth_class"] = view<std::uint8_t>(s.truth_class, owner);
     d["object_id"] = view<std::int32_t>(s.truth_label, owner);
     d["grazing_rad"] = view<float>(s.truth_grazing_rad, owner);
-    d["ground_x_m"] = view<double>(s.truth_ground_x_m, owner);
-    d["ground_y_m"] = view<double>(s.truth_ground_y_m, owner);
+    // The ground positions are derived here from the float ground ranges (docs/python.md).
+    const auto n = static_cast<py::ssize_t>(s.truth_ground_range_m.size());
+    py::array_t<double> x(n), y(n);
+    s.truth_ground_positions(x.mutable_data(), y.mutable_data());
+    d["ground_x_m"] = x;
+    d["ground_y_m"] = y;
   }
   d["saturated"] = s.saturated;
   d["invalid"] = s.invalid;
