@@ -197,12 +197,16 @@ class UnitGammaTable {
   /// The exact quantile (unit mean) at probability p = (k + frac) / kBins, for tests.
   double exact_quantile(double p, double q) const;
 
- private:
   struct Bin {
-    double x;  // quantile at the bin's lower edge
-    double d;  // x_{k+1} - x_k
-    double c;  // quadratic coefficient: value = x + frac (d + c (1 - frac))
+    double x;  ///< quantile at the bin's lower edge
+    double d;  ///< x_{k+1} - x_k
+    double c;  ///< quadratic coefficient: value = x + frac (d + c (1 - frac))
   };
+  /// The kBins bins (those of k = 0 and kBins - 1 unused: operator() inverts them exactly), for
+  /// the vector kernels that gather them.
+  const Bin* bins() const { return bins_.data(); }
+
+ private:
   double tail(std::uint64_t k, std::uint64_t m) const;
 
   double shape_;
