@@ -316,9 +316,10 @@ void detect_impl(const DetectorArgs& a, counter_hash::Stream ss, counter_hash::S
 void texture_impl(const TextureArgs& a, counter_hash::Stream ss) {
   const hn::ScalableTag<std::uint32_t> du;
   const hn::ScalableTag<double> dd;
-  const hn::RebindToSigned<decltype(dd)> di;
   const hn::RebindToUnsigned<decltype(dd)> du64;
   const hn::Rebind<std::uint32_t, decltype(dd)> duh;
+  const hn::Rebind<std::int32_t, decltype(dd)> dih;
+  const hn::Rebind<float, decltype(dd)> dfh;
   const std::size_t Ld = hn::Lanes(dd);
   HWY_ALIGN std::uint32_t w[kBlock + 64];
   constexpr std::uint64_t kLast = UnitGammaTable::kBins - 1;
@@ -360,19 +361,17 @@ void texture_impl(const TextureArgs& a, counter_hash::Stream ss) {
         continue;
       }
       const auto tabled = hn::And(textured, hn::Le(v_nu, max_shape));
-      const auto w64 = hn::PromoteTo(du64, hn::LoadU(duh, w + i));
-      const auto k = hn::ShiftRight<20>(w64);
+      const auto w32 = hn::LoadU(duh, w + i);
+      const auto k = hn::ShiftRight<20>(w32);
+      const auto k64 = hn::ShiftRight<20>(hn::PromoteTo(du64, w32));
+      const auto tail = hn::Or(hn::Eq(k64, hn::Zero(du64)), hn::Eq(k64, hn::Set(du64, kLast)));
       const auto special =
-          hn::Or(hn::AndNot(tabled, textured),
-                 hn::And(tabled, hn::RebindMask(dd, hn::Or(hn::Eq(k, hn::Zero(du64)),
-                                                           hn::Eq(k, hn::Set(du64, kLast))))));
-      // frac = (m + 1/2) 2^-52 with m the word's low 20 bits, then 1 and 31 zeros.
-      const auto mbits = hn::Or(hn::ShiftLeft<32>(hn::And(w64, hn::Set(du64, 0xfffffU))),
-                                hn::Set(du64, 0x80000000U));
+          hn::Or(hn::AndNot(tabled, textured), hn::And(tabled, hn::RebindMask(dd, tail)));
+      // frac = (m + 1/2) 2^-20, m the word's low 20 bits (exact in float).
       const auto frac =
-          hn::Mul(hn::Add(hn::ConvertTo(dd, hn::BitCast(di, mbits)), hn::Set(dd, 0.5)),
-                  hn::Set(dd, 0x1.0p-52));
-      const auto idx = hn::BitCast(di, hn::Mul(k, hn::Set(du64, 3)));
+          hn::MulAdd(hn::ConvertTo(dfh, hn::BitCast(dih, hn::And(w32, hn::Set(duh, 0xfffffU)))),
+                     hn::Set(dfh, 0x1p-20f), hn::Set(dfh, 0x1p-21f));
+      const auto idx = hn::BitCast(dih, k);
       auto t = hn::Set(dd, 1.0);
       auto left = tabled;
       while (!hn::AllFalse(dd, left)) {
@@ -380,14 +379,13 @@ void texture_impl(const TextureArgs& a, counter_hash::Stream ss) {
         hn::Store(v_nu, dd, lanes_nu);
         const double nu0 = lanes_nu[static_cast<std::size_t>(hn::FindFirstTrue(dd, left))];
         const auto here = hn::And(left, hn::Eq(v_nu, hn::Set(dd, nu0)));
-        const double* bins = &table_of(nu0).bins()->x;
-        const auto x = hn::GatherIndex(dd, bins, idx);
-        const auto d = hn::GatherIndex(dd, bins + 1, idx);
-        const auto c = hn::GatherIndex(dd, bins + 2, idx);
-        // x + frac (d + c (1 - frac)), UnitGammaTable::operator()'s expression with fused
-        // operations (explicit, so that AVX-512 and AVX2 round alike).
-        const auto v = hn::MulAdd(frac, hn::MulAdd(c, hn::Sub(hn::Set(dd, 1.0), frac), d), x);
-        t = hn::IfThenElse(here, v, t);
+        const float* bins = table_of(nu0).bins_float();
+        const auto x = hn::GatherIndex(dfh, bins, idx);
+        const auto d = hn::GatherIndex(dfh, bins + UnitGammaTable::kBins, idx);
+        const auto c = hn::GatherIndex(dfh, bins + 2 * UnitGammaTable::kBins, idx);
+        // x + frac (d + c (1 - frac)), UnitGammaTable::operator()'s quadratic in float32.
+        const auto v = hn::MulAdd(frac, hn::MulAdd(c, hn::Sub(hn::Set(dfh, 1.0f), frac), d), x);
+        t = hn::IfThenElse(here, hn::PromoteTo(dd, v), t);
         left = hn::AndNot(here, left);
       }
       hn::StoreU(hn::IfThenElse(textured, hn::Mul(m, t), m), dd, base + i);
@@ -444,8 +442,22 @@ void filtered_impl(const FilteredArgs& a, counter_hash::Stream ss, counter_hash:
     const std::size_t cnt = u1 - u0;
     // The two scales: amplitudes from the largest mean power (and N) of block and halo, output
     // powers from the largest of mean and noise powers times the gain, and the floor.
+    const std::size_t vcnt = cnt / Ld * Ld;
     double top_a = a.thermal_power, top_o = a.floor_power;
-    for (std::size_t u = 0; u < cnt; ++u) {
+    {
+      auto ta = hn::Zero(dd), to = hn::Zero(dd);
+      const auto th = hn::Set(dd, a.thermal_power);
+      for (std::size_t u = 0; u < vcnt; u += Ld) {
+        const auto b = hn::LoadU(dd, base + u), g = hn::LoadU(dd, gn + u);
+        const auto vb = hn::Mul(b, g), vt = hn::Mul(th, g);
+        ta = hn::Max(ta, hn::IfThenElseZero(hn::IsFinite(b), b));
+        to = hn::Max(to, hn::IfThenElseZero(hn::IsFinite(vb), vb));
+        to = hn::Max(to, hn::IfThenElseZero(hn::IsFinite(vt), vt));
+      }
+      top_a = std::max(top_a, hn::GetLane(hn::MaxOfLanes(dd, ta)));
+      top_o = std::max(top_o, hn::GetLane(hn::MaxOfLanes(dd, to)));
+    }
+    for (std::size_t u = vcnt; u < cnt; ++u) {
       const double b = base[u];
       if (b > 0.0 && std::isfinite(b)) top_a = std::max(top_a, b);
       for (const double v : {b * gn[u], a.thermal_power * gn[u]}) {
@@ -463,7 +475,6 @@ void filtered_impl(const FilteredArgs& a, counter_hash::Stream ss, counter_hash:
     std::fill(amp_thermal + u0, amp_thermal + u1,
               static_cast<float>(std::sqrt(a.thermal_power * sa2)));
     bool any_mean = false;
-    const std::size_t vcnt = cnt / Ld * Ld;
     auto any_v = hn::Zero(dd);
     for (std::size_t u = 0; u < vcnt; u += Ld) {
       const auto b = hn::LoadU(dd, base + u);
@@ -486,22 +497,27 @@ void filtered_impl(const FilteredArgs& a, counter_hash::Stream ss, counter_hash:
     }
     // gain_i 2^(ea - eo) / w2_i, w2_i the power of the taps inside the record.
     const double g_scale = std::ldexp(1.0, ea - eo);
-    for (std::size_t i = 0; i < padded; ++i) {
+    const std::size_t vlen_g = len / Ld * Ld;
+    for (std::size_t i = 0; i < vlen_g; i += Ld) {
+      const auto g = hn::Mul(hn::LoadU(dd, a.gain + b0 + i), hn::Set(dd, g_scale));
+      hn::StoreU(hn::DemoteTo(dfh, g), dfh, gain + i);
+    }
+    for (std::size_t i = vlen_g; i < padded; ++i) {
+      gain[i] = i < len ? static_cast<float>(a.gain[b0 + i] * g_scale) : 0.0f;
+    }
+    // Near the record's ends: divided by the power of the taps inside it.
+    for (std::size_t i = 0; i < len; ++i) {
       const std::size_t t = b0 + i;
-      if (i >= len) {
-        gain[i] = 0.0f;
+      if (t >= K && t + K < a.n) {
+        if (t + K + kBlock < a.n) break;  // no end in this block
         continue;
       }
-      double g = a.gain[t] * g_scale;
-      if (t < K || t + K >= a.n) {
-        double w2 = 0.0;
-        for (std::size_t k = 0; k < a.taps_n; ++k) {
-          const std::size_t s = t + k;  // sample s - K
-          if (s >= K && s - K < a.n) w2 += a.taps[k] * a.taps[k];
-        }
-        g /= w2;
+      double w2 = 0.0;
+      for (std::size_t k = 0; k < a.taps_n; ++k) {
+        const std::size_t u = t + k;  // sample u - K
+        if (u >= K && u - K < a.n) w2 += a.taps[k] * a.taps[k];
       }
-      gain[i] = static_cast<float>(g);
+      gain[i] = static_cast<float>(a.gain[t] * g_scale / w2);
     }
     std::fill(hs, hs + ext + L, 0u);
     std::fill(hnw, hnw + ext + L, 0u);

@@ -320,8 +320,9 @@ TEST(SensorKernel, SimdPathsAgree) {
 // The texture is UnitGammaTable(nu) of the documented word (sensor_kernel.hpp), computed here
 // from the scalar counter hash; shadows and non-positive means passed through, shapes beyond the
 // tables by keyed_gamma; inputs that reach the two exactly inverted tail bins and vectors of
-// mixed shapes. The vector paths evaluate the bin's quadratic with fused multiply-adds: within
-// 4 double roundings (1e-15 relative) of the table, AVX-512 and AVX2 the same bits.
+// mixed shapes. The vector paths evaluate the bin's quadratic in float32 from the table's float
+// copy: within 1e-6 relative of the double table (a few float roundings, 6e-8 each); AVX-512 and
+// AVX2 the same bits; the tail bins and large shapes exactly the scalar rule.
 TEST(SensorKernel, TextureIsTheGammaTableOfTheDocumentedWord) {
   const std::size_t n = 40001;
   std::vector<std::uint64_t> keys(n);
@@ -365,7 +366,7 @@ TEST(SensorKernel, TextureIsTheGammaTableOfTheDocumentedWord) {
     a.seed = seed;
     sk::texture(a);
     for (std::size_t i = 0; i < n; ++i) {
-      ASSERT_NEAR(base[i], expected[i], 1e-15 * std::abs(expected[i]))
+      ASSERT_NEAR(base[i], expected[i], 1e-6 * std::abs(expected[i]))
           << i << " " << simd::target_name(t);
     }
     outs.push_back(base);

@@ -58,9 +58,10 @@ constexpr std::uint32_t kPhaseCounter = 0x9a5e0000U;
 
 /// The seabed texture (docs/physics.md §1.6): base[i] = mean[i] T_i where mean[i] > 0 and
 /// nu[i] > 0, else mean[i]; T unit-mean Gamma(nu) from the texture word w of keys[i], as
-/// UnitGammaTable(nu) of the 64 bits high32_midpoint(w << 32) (in double; the quadratic with
-/// fused multiply-adds, so the scalar target differs by a rounding, < 1e-15 relative); beyond
-/// UnitGammaTable::kMaxShape, keyed_gamma (scalar). nu == nullptr: no texture.
+/// UnitGammaTable(nu) of the 64 bits high32_midpoint(w << 32), its bins' quadratic evaluated in
+/// float32 (UnitGammaTable::bins_float; < 1e-6 relative from the double rule) except in the two
+/// exactly inverted tail bins; beyond UnitGammaTable::kMaxShape, keyed_gamma (scalar).
+/// nu == nullptr: no texture.
 struct TextureArgs {
   const std::uint64_t* keys = nullptr;
   const double* nu = nullptr;
