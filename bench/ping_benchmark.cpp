@@ -7,9 +7,11 @@
 //
 // Usage: ping_benchmark [scene.yaml] [--runs N] [--threads a,b,...] [--length-m L] [--no-truth]
 //                       [--noise none|paper|speckle] [--planes K] [--dump FILE]
-//                       [--beam-deg B]
+//                       [--beam-deg B] [--sonar PRESET]
 // --planes fixes the along-track plane count (default: automatic). --beam-deg sets the horizontal
 // beam (default 1 deg; at 0.5 deg the along-track speckle lattice applies, pings 0.2 m apart).
+// --sonar replaces the default sonar by a preset of docs/sonar-presets.md (seascan-hds-600: a pulse
+// longer than a sample, so the range-filtered detector runs).
 // --dump writes every ping of the last run (samples, truth class, label, grazing angle) as raw
 // little-endian arrays, for bit-level comparison of two builds.
 #include <algorithm>
@@ -26,6 +28,7 @@
 
 #include "sonarsynth/formats/scene_file.hpp"
 #include "sonarsynth/simulator.hpp"
+#include "sonarsynth/sonar_presets.hpp"
 
 #ifndef SONARSYNTH_SAMPLES_DIR
 #define SONARSYNTH_SAMPLES_DIR "samples"
@@ -93,6 +96,8 @@ int run(int argc, char** argv) {
       cfg.truth = false;
     } else if (a == "--beam-deg") {  // horizontal beam (0.5: the along-track lattice applies)
       cfg.sonar.horizontal_beam_width_rad = std::stod(next()) * (3.14159265358979323846 / 180.0);
+    } else if (a == "--sonar") {
+      cfg.sonar = sonar_preset(next());
     } else if (a == "--planes") {
       cfg.quality.along_track_planes = std::stoi(next());
     } else if (a == "--float") {  // unrounded samples (for the accuracy of --dump)

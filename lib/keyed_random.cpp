@@ -194,6 +194,12 @@ UnitGammaTable::UnitGammaTable(double shape) : shape_(shape), lgamma_shape_(0.0)
     // Monotone as long as |c| <= d (holds by a wide margin except for extreme shapes).
     b.c = std::clamp(b.c, -b.d, b.d);
   }
+  bins_float_.assign(3 * kBins, 0.0f);
+  for (std::size_t k = 0; k < kBins; ++k) {
+    bins_float_[k] = static_cast<float>(bins_[k].x);
+    bins_float_[kBins + k] = static_cast<float>(bins_[k].d);
+    bins_float_[2 * kBins + k] = static_cast<float>(bins_[k].c);
+  }
 }
 
 double UnitGammaTable::exact_quantile(double p, double q) const {

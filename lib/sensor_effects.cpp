@@ -45,8 +45,6 @@ constexpr double kG2w[2] = {0.5, 0.5};
 constexpr std::uint64_t kFloorStream = 0x5e15e0f1001ULL;
 // Salt of the seeds of look j >= 1.
 constexpr std::uint64_t kLookSalt = 0x100000000ULL;
-// Stream of the texture's Marsaglia–Tsang fallback beyond the tables (as in noise.cpp).
-constexpr std::uint64_t kStreamTexture = 1u << 20;
 
 // Across-track distance y (at depth h below the sensor) where the two-way main lobe, followed
 // from the axis towards nadir, first falls to `floor`; NaN if it does not before nadir.
@@ -600,40 +598,6 @@ std::uint64_t look_seed(std::uint64_t seed, int j) {
   return j == 0 ? seed : splitmix64(seed ^ (kLookSalt + static_cast<std::uint64_t>(j)));
 }
 
-// The texture per sample, T (unit-mean Gamma(nu)), times the mean intensity: keyed by the
-// sample's key as apply_speckle_noise keys it (runs of equal (key, nu) share one draw).
-void textured_mean(const SpeckleNoise& speckle, std::span<const std::uint64_t> keys,
-                   std::span<const double> texture_nu, std::span<const double> io,
-                   std::span<double> base) {
-  const std::uint64_t seed_s = speckle_seed(speckle.seed);
-  const UnitGammaTable* table = nullptr;
-  double table_nu = 0.0, t = 1.0, last_nu = 0.0;
-  std::uint64_t last_key = 0;
-  bool have_last = false;
-  for (std::size_t i = 0; i < io.size(); ++i) {
-    const double nu = texture_nu.empty() ? 0.0 : texture_nu[i];
-    if (!(io[i] > 0.0) || !(nu > 0.0)) {
-      base[i] = io[i];
-      continue;
-    }
-    if (nu != table_nu) {
-      table = nu <= UnitGammaTable::kMaxShape ? &UnitGammaTable::get(nu) : nullptr;
-      table_nu = nu;
-    }
-    if (table != nullptr) {
-      // Drawn per sample, no test of the previous key: the keys change every sample or two,
-      // and that test's mispredictions cost more than the draw.
-      t = (*table)(high32_midpoint(splitmix_stream(seed_s, keys[i]) << 32));
-    } else if (!have_last || keys[i] != last_key || nu != last_nu) {
-      t = keyed_gamma(nu, speckle.seed, keys[i], kStreamTexture) / nu;
-      have_last = true;
-      last_key = keys[i];
-      last_nu = nu;
-    }
-    base[i] = io[i] * t;
-  }
-}
-
 // The reference path (SpeckleSampler::exact): apply_speckle_noise per look with look-keyed keys.
 void detect_speckle_exact(const SensorModel& m, const SpeckleNoise& speckle,
                           std::span<const std::uint64_t> keys,
@@ -681,121 +645,42 @@ void detect_speckle_exact(const SensorModel& m, const SpeckleNoise& speckle,
   }
 }
 
-// Salt of the seeds of the range-filtered echo's frozen complex speckle.
-constexpr std::uint64_t kFilterSalt = 0xf117e2ed5ec4a1e5ULL;
-
-// detect_speckle with the range filter (docs/physics.md §1.6): per look, the complex echo of
-// every sample — sqrt(textured mean) times a unit circular Gaussian (the along-track lattice's
-// field, or a frozen one keyed by the seabed cell), plus the thermal noise — is filtered by
-// m.range_taps, then detected (|y|^2), scaled by out_gain and given the receiver noise floor
-// (after the filter: the converter's noise) like the unfiltered path. `s.base` holds the
-// textured mean.
+// detect_speckle with the range filter (docs/physics.md §1.6): the vector kernel of
+// sensor_kernel.hpp (the frozen complex speckle from the lattice or the speckle words, thermal
+// noise, the taps as a FIR in range, the floor and the detector). `s.base` holds the textured
+// mean.
 void detect_filtered(const SensorModel& m, const SpeckleNoise& speckle,
                      std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
                      std::span<const double> out_gain, const AlongTrackField* field,
                      DetectorScratch& s, std::span<double> io) {
   const std::size_t n = io.size();
   const int looks = std::max(1, m.sub_samples);
-  const auto nl = static_cast<std::size_t>(looks);
-  const NormalTable& normal = NormalTable::get();
-  const double half_n = 0.5 * speckle.thermal_noise_power, sqrt_half_n = std::sqrt(half_n);
-  const bool thermal = half_n > 0.0, floor = m.floor_power > 0.0;
-  const bool max_detector = looks == 1 || m.detector == DetectorMode::max;
-  constexpr double kInvSqrt2 = 0.70710678118654752440;
-  // The lattice's complex field of every look (NaN where it does not apply), where the textured
-  // mean is positive (no speckle work in shadows); none if it applies nowhere.
+  // The lattice's look sums where the textured mean is positive (no speckle work in shadows);
+  // none if it applies nowhere.
   AlongTrackTable& at = s.along_track;
   const bool lattice_on = field != nullptr && lattice::look_sums(*field, at, n, 0, looks, at.re,
                                                                  at.im, at.norm, s.base.data()) > 0;
+  sensor_kernel::FilteredArgs a;
+  a.keys = keys.data();
+  a.noise_keys = noise_keys.data();
+  a.base = s.base.data();
+  a.gain = out_gain.data();
   if (lattice_on) {
-    s.field.resize(2 * n * nl);
-    const std::size_t stride = lattice::padded(n);
-    // sqrt(norm) scales the sum to unit mean power; NaN where the lattice does not apply.
-    for (std::size_t i = 0; i < n; ++i) at.norm[i] = std::sqrt(at.norm[i]);
-    for (std::size_t j = 0; j < nl; ++j) {
-      const float* re = at.re.data() + j * stride;
-      const float* im = at.im.data() + j * stride;
-      double* z = s.field.data() + 2 * j * n;
-      for (std::size_t i = 0; i < n; ++i) {
-        z[2 * i] = static_cast<double>(re[i]) * at.norm[i];
-        z[2 * i + 1] = static_cast<double>(im[i]) * at.norm[i];
-      }
-    }
+    a.field_re = at.re.data();
+    a.field_im = at.im.data();
+    a.field_norm = at.norm.data();
+    a.field_stride = lattice::padded(n);
   }
-  const std::vector<double>& taps = m.range_taps;
-  const std::size_t half = taps.size() / 2;
-  s.re.resize(n);
-  s.im.resize(n);
-  for (std::size_t j = 0; j < nl; ++j) {
-    const int jl = static_cast<int>(j);
-    const std::uint64_t seed_s =
-        look_seed(splitmix64(speckle_seed(speckle.seed) ^ kFilterSalt), jl);
-    const std::uint64_t seed_n = look_seed(thermal_seed(speckle.seed), jl);
-    std::uint64_t last_key = 0;
-    double last_re = 0.0, last_im = 0.0;
-    bool have_last = false;
-    for (std::size_t i = 0; i < n; ++i) {
-      double zr = 0.0, zi = 0.0;
-      const double b = s.base[i];
-      if (b > 0.0) {
-        const double* f = lattice_on ? s.field.data() + 2 * (j * n + i) : nullptr;
-        if (f != nullptr && !std::isnan(f[0])) {
-          zr = f[0];
-          zi = f[1];
-        } else {
-          if (!have_last || keys[i] != last_key) {
-            const auto h = static_cast<std::uint32_t>(wyrand_stream(seed_s, keys[i]) >> 32);
-            last_re = kInvSqrt2 * normal(h);
-            last_im = kInvSqrt2 * normal(h >> 16);
-            last_key = keys[i];
-            have_last = true;
-          }
-          zr = last_re;
-          zi = last_im;
-        }
-        const double a = std::sqrt(b);
-        zr *= a;
-        zi *= a;
-      }
-      if (thermal) {
-        const auto hi = static_cast<std::uint32_t>(wyrand_stream(seed_n, noise_keys[i]) >> 32);
-        zr += sqrt_half_n * normal(hi);
-        zi += sqrt_half_n * normal(hi >> 16);
-      }
-      s.re[i] = zr;
-      s.im[i] = zi;
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t lo = i >= half ? i - half : 0;
-      const std::size_t hi = std::min(n - 1, i + half);
-      double yr = 0.0, yi = 0.0;
-      for (std::size_t t = lo; t <= hi; ++t) {
-        const double h = taps[t + half - i];
-        yr += h * s.re[t];
-        yi += h * s.im[t];
-      }
-      double gain_i = out_gain[i];
-      if (lo + half > i || hi < i + half) {  // near the ends: the taps inside, unit power gain
-        double w2 = 0.0;
-        for (std::size_t t = lo; t <= hi; ++t) w2 += taps[t + half - i] * taps[t + half - i];
-        gain_i /= w2;
-      }
-      double p = (yr * yr + yi * yi) * gain_i;
-      if (floor)
-        p += m.floor_power * exp1_from_low_half(wyrand_stream(seed_n, noise_keys[i]), normal);
-      if (j == 0) {
-        io[i] = max_detector ? p : std::sqrt(p);
-      } else if (max_detector) {
-        io[i] = std::max(io[i], p);
-      } else {
-        io[i] += std::sqrt(p);
-      }
-    }
-  }
-  if (!max_detector) {
-    const double inv = 1.0 / static_cast<double>(looks);
-    for (std::size_t i = 0; i < n; ++i) io[i] = (io[i] * inv) * (io[i] * inv);
-  }
+  a.taps = m.range_taps.data();
+  a.taps_n = m.range_taps.size();
+  a.out = io.data();
+  a.n = n;
+  a.looks = looks;
+  a.max_detector = looks == 1 || m.detector == DetectorMode::max;
+  a.thermal_power = speckle.thermal_noise_power;
+  a.floor_power = m.floor_power;
+  a.seed = speckle.seed;
+  sensor_kernel::detect_filtered(a);
 }
 
 }  // namespace
@@ -814,12 +699,19 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
     detect_speckle_exact(m, speckle, keys, noise_keys, texture_nu, out_gain, field, s, io);
     return;
   }
-  // The texture is drawn once for all looks (scalar, runs of one key share a draw); then the
-  // fused vector pass of sensor_kernel.hpp (frozen speckle, thermal and floor noise, gain and
-  // detector per block of samples).
+  // The texture is drawn once for all looks (a vector pass of sensor_kernel.hpp); then the
+  // fused vector pass (frozen speckle, thermal and floor noise, gain and detector per block of
+  // samples), or the range-filtered one.
   const int looks = std::max(1, m.sub_samples);
   s.base.resize(n);
-  textured_mean(speckle, keys, texture_nu, io, s.base);
+  sensor_kernel::TextureArgs ta;
+  ta.keys = keys.data();
+  ta.nu = texture_nu.empty() ? nullptr : texture_nu.data();
+  ta.mean = io.data();
+  ta.base = s.base.data();
+  ta.n = n;
+  ta.seed = speckle.seed;
+  sensor_kernel::texture(ta);
   if (!m.range_taps.empty()) {
     detect_filtered(m, speckle, keys, noise_keys, out_gain, field, s, io);
     return;

@@ -181,11 +181,11 @@ struct DetectorScratch {
 /// before detection keyed by `noise_keys`), times out_gain, plus exponential receiver noise of
 /// mean m.floor_power keyed by (noise_keys, j); the looks are combined by the detector on the
 /// envelope (max, or the square of the mean envelope). The default sampler draws them in the
-/// vector kernel of sensor_kernel.hpp (counter-hash words of their own, docs/physics.md §1.6);
-/// with the range filter, and with SpeckleSampler::exact (apply_speckle_noise per look, looks
-/// j > 0 with seeds of their own), as before. The texture (keyed by `keys`) is the seabed
-/// patch's: all looks share it. With `field`, the frozen speckle of each look is
-/// along_track_speckle where it is not NaN.
+/// vector kernels of sensor_kernel.hpp (counter-hash words of their own, docs/physics.md §1.6:
+/// detect, or detect_filtered with the range filter); SpeckleSampler::exact as before
+/// (apply_speckle_noise per look, looks j > 0 with seeds of their own, no filter). The texture
+/// (keyed by `keys`, sensor_kernel::texture) is the seabed patch's: all looks share it. With
+/// `field`, the frozen speckle of each look is the along-track lattice's where it applies.
 void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
                     std::span<const std::uint64_t> keys, std::span<const std::uint64_t> noise_keys,
                     std::span<const double> texture_nu, std::span<const double> out_gain,
