@@ -6,12 +6,14 @@
 // every overview, the same metadata; no temporary file left after success or after a failure.
 #include "../formats/mosaic_blocks.hpp"
 
+#include <cpl_conv.h>
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -303,6 +305,21 @@ TEST(MosaicBlocks, CopyAddingOverviewsLeavesNoBlockBehindInTheCache) {
     }
   }
   std::filesystem::remove_all(dir);
+}
+
+// GDAL's block cache is limited to kBlockCacheBytes when the user set no GDAL_CACHEMAX; a
+// GDAL_CACHEMAX set as a configuration option (or in the environment) is left to GDAL.
+TEST(MosaicBlocks, BlockCacheLimitUnlessTheUserSetsOne) {
+  if (std::getenv("GDAL_CACHEMAX")) GTEST_SKIP() << "GDAL_CACHEMAX is set in the environment";
+  gdal::ensure_registered();
+  const BlockCacheLimit restore(GDALGetCacheMax64());
+  GDALSetCacheMax64(GIntBig{300} << 20);
+  EXPECT_EQ(gdal::limit_block_cache(), gdal::kBlockCacheBytes);
+  EXPECT_EQ(GDALGetCacheMax64(), gdal::kBlockCacheBytes);
+  CPLSetConfigOption("GDAL_CACHEMAX", "300");
+  GDALSetCacheMax64(GIntBig{300} << 20);  // as GDAL reads the option
+  EXPECT_EQ(gdal::limit_block_cache(), GIntBig{300} << 20);
+  CPLSetConfigOption("GDAL_CACHEMAX", nullptr);
 }
 
 }  // namespace
