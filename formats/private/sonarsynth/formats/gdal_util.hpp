@@ -21,7 +21,7 @@ void ensure_registered();
 /// The limit of GDAL's block cache that limit_block_cache() sets: GDAL's default, 5 % of the
 /// machine's memory, let the cache hold a whole line's truth raster while its overviews were
 /// computed and copied (the peak of `simulate`); the writers read and write a row of blocks at a
-/// time, so a small cache costs no time (docs/benchmarks.md, "Peak memory").
+/// time, so a small cache costs no CPU (docs/benchmarks.md, "Peak memory: GDAL's block cache").
 inline constexpr long long kBlockCacheBytes = 8LL << 20;
 
 /// Sets GDAL's block cache limit (process-wide) to kBlockCacheBytes unless GDAL_CACHEMAX is set,
