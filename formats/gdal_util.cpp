@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/gdal_util.hpp"
 
+#include <cpl_conv.h>
 #include <cpl_error.h>
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
@@ -25,8 +26,14 @@ void ensure_registered() {
   static std::once_flag once;
   std::call_once(once, [] {
     GDALAllRegister();
+    limit_block_cache();
     CPLSetErrorHandler(error_handler);
   });
+}
+
+long long limit_block_cache() {
+  if (CPLGetConfigOption("GDAL_CACHEMAX", nullptr) == nullptr) GDALSetCacheMax64(kBlockCacheBytes);
+  return GDALGetCacheMax64();
 }
 
 void validate_creation_options(const char* driver_name,

@@ -244,16 +244,18 @@ CPLErr GridDataset::read(int x0, int y0, int nx, int ny, int band_count, const i
   return CE_None;
 }
 
-/// Progress callback: the blocks of the dataset `arg` read and written so far leave GDAL's block
-/// cache (clean ones are dropped, dirty ones written), as they would when the cache is full.
-int CPL_STDCALL flush_blocks(double /*done*/, const char* /*message*/, void* arg) {
-  auto* ds = static_cast<GDALDataset*>(arg);
-  for (int b = 1; b <= ds->GetRasterCount(); ++b) {
-    GDALRasterBand* band = ds->GetRasterBand(b);
+/// The blocks of `ds` and of its overviews read and written so far leave GDAL's block cache
+/// (clean ones are dropped, dirty ones written), as they would when the cache is full. Only
+/// between GDAL calls on `ds`, never from a progress callback: GDAL calls those with a block of
+/// the band it reads locked (GDALRasterBand::IRasterIO reading whole rows of blocks), and a
+/// locked block that is flushed leaves the band but stays in the cache, where it outlives the
+/// band and the eviction that reaches it reads the freed band (a crash).
+void flush_blocks(GDALDataset& ds) {
+  for (int b = 1; b <= ds.GetRasterCount(); ++b) {
+    GDALRasterBand* band = ds.GetRasterBand(b);
     band->FlushCache(false);
     for (int o = 0; o < band->GetOverviewCount(); ++o) band->GetOverview(o)->FlushCache(false);
   }
-  return TRUE;
 }
 
 /// Removes a temporary file when it goes out of scope (listed for the signal handler meanwhile).
@@ -354,7 +356,7 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
                        0, nullptr) != CE_None) {
         fail("cannot copy rows " + std::to_string(y) + " to the overview levels' file");
       }
-      flush_blocks(0.0, nullptr, ds.get());
+      flush_blocks(*ds);
     }
   }
   // 3. Computed from that copy as MEMDataset::IBuildOverviews computes them (the same GDAL
@@ -371,12 +373,12 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
         targets.push_back(GDALRasterBand::ToHandle(band->GetOverview(o)));
       }
       if (GDALRegenerateOverviews(GDALRasterBand::ToHandle(band), static_cast<int>(targets.size()),
-                                  targets.data(), resampling, flush_blocks, ds.get()) != CE_None) {
+                                  targets.data(), resampling, nullptr, nullptr) != CE_None) {
         fail("cannot compute overviews");
       }
+      flush_blocks(*ds);
     }
   }
-  flush_blocks(1.0, nullptr, ds.get());
   // 4. The output: the full resolution image from `src`, its overviews copied from the levels
   // before it.
   std::vector<std::vector<GDALRasterBand*>> overviews(static_cast<std::size_t>(bands));
@@ -391,7 +393,7 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
   out_co.SetNameValue("COPY_SRC_OVERVIEWS", "YES");
   CPLErrorReset();
   GDALDataset* out =
-      gtiff->CreateCopy(temp_path.c_str(), &src, FALSE, out_co.List(), flush_blocks, ds.get());
+      gtiff->CreateCopy(temp_path.c_str(), &src, FALSE, out_co.List(), nullptr, nullptr);
   grid_src->set_overviews({});
   if (!out) fail("cannot write GTiff");
   gdal::close_checked(gdal::DatasetPtr(out), final_path, who);
@@ -437,12 +439,11 @@ void copy_adding_overviews(const std::string& from, const std::string& to,
               ? std::string("NEAREST")
               : resampling[std::min(resampling.size(), static_cast<std::size_t>(b)) - 1];
       if (GDALRegenerateOverviews(GDALRasterBand::ToHandle(band), static_cast<int>(targets.size()),
-                                  targets.data(), method.c_str(), flush_blocks,
-                                  ds.get()) != CE_None) {
+                                  targets.data(), method.c_str(), nullptr, nullptr) != CE_None) {
         fail("cannot compute overviews");
       }
+      flush_blocks(*ds);
     }
-    flush_blocks(1.0, nullptr, ds.get());
   }
   if (!gcps.points.empty()) {
     std::vector<GDAL_GCP> list(gcps.points.size());
@@ -470,8 +471,7 @@ void copy_adding_overviews(const std::string& from, const std::string& to,
   for (const auto& [k, v] : creation_options) co.SetNameValue(k.c_str(), v.c_str());
   if (!factors.empty()) co.SetNameValue("COPY_SRC_OVERVIEWS", "YES");
   CPLErrorReset();
-  GDALDataset* out =
-      gtiff->CreateCopy(to.c_str(), ds.get(), FALSE, co.List(), flush_blocks, ds.get());
+  GDALDataset* out = gtiff->CreateCopy(to.c_str(), ds.get(), FALSE, co.List(), nullptr, nullptr);
   if (!out) fail("cannot write GTiff");
   gdal::close_checked(gdal::DatasetPtr(out), final_path, who);
   ds.reset();

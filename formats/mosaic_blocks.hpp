@@ -42,7 +42,8 @@ std::vector<int> overview_factors(std::size_t cols, std::size_t rows);
 /// overview levels go to an uncompressed temporary GeoTIFF next to `temp_path` (removed
 /// whatever happens) that first receives the full resolution once, and are computed from it band
 /// by band with GDALRegenerateOverviews as a MEM dataset computes them, their blocks flushed from
-/// GDAL's cache as the work progresses. Throws FormatError("<who>: <final_path>: ...").
+/// GDAL's cache after each band (within a band, the cache's limit bounds them: gdal_util.hpp).
+/// Throws FormatError("<who>: <final_path>: ...").
 void copy_with_overviews(GDALDataset& src, const char* resampling,
                          const std::vector<std::pair<std::string, std::string>>& creation_options,
                          const std::string& temp_path, const char* who,

@@ -4,11 +4,16 @@
 // (MosaicGrid::finish() of an untiled grid) and the files written from it (write_mosaic of a
 // MosaicImage: in-memory GDAL datasets): the same bits in every band at full resolution and in
 // every overview, the same metadata; no temporary file left after success or after a failure.
+#include "../formats/mosaic_blocks.hpp"
+
+#include <cpl_conv.h>
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -214,6 +219,107 @@ TEST(MosaicBlocks, FilesFromTheTilesAreThoseOfTheWholeImage) {
   }
   EXPECT_TRUE(std::filesystem::is_empty(fail_dir)) << names_in(fail_dir).size() << " files left";
   std::filesystem::remove_all(dir);
+}
+
+/// GDAL's block cache limited to `bytes` for the scope (the previous limit restored after).
+class BlockCacheLimit {
+ public:
+  explicit BlockCacheLimit(GIntBig bytes) : previous_(GDALGetCacheMax64()) {
+    GDALSetCacheMax64(bytes);
+  }
+  ~BlockCacheLimit() { GDALSetCacheMax64(previous_); }
+  BlockCacheLimit(const BlockCacheLimit&) = delete;
+  BlockCacheLimit& operator=(const BlockCacheLimit&) = delete;
+
+ private:
+  GIntBig previous_;
+};
+
+/// Writes a tiled 3-band UInt16 GeoTIFF of cols x rows whose pixel (x, y) of band b is
+/// (b * 7919 + y * cols + x) mod 65536 (the form the truth and label rasters are written in
+/// before copy_adding_overviews).
+void write_pattern(const std::string& path, int cols, int rows) {
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  ASSERT_NE(gtiff, nullptr);
+  CPLStringList co;
+  co.SetNameValue("TILED", "YES");
+  co.SetNameValue("BLOCKYSIZE", "64");
+  co.SetNameValue("INTERLEAVE", "BAND");
+  DatasetPtr ds(gtiff->Create(path.c_str(), cols, rows, 3, GDT_UInt16, co.List()));
+  ASSERT_TRUE(ds);
+  std::vector<std::uint16_t> row(static_cast<std::size_t>(cols));
+  for (int b = 1; b <= 3; ++b) {
+    for (int y = 0; y < rows; ++y) {
+      for (int x = 0; x < cols; ++x) {
+        row[static_cast<std::size_t>(x)] = static_cast<std::uint16_t>(b * 7919 + y * cols + x);
+      }
+      ASSERT_EQ(ds->GetRasterBand(b)->RasterIO(GF_Write, 0, y, cols, 1, row.data(), cols, 1,
+                                               GDT_UInt16, 0, 0, nullptr),
+                CE_None);
+    }
+  }
+}
+
+// With GDAL's block cache limited (GDAL_CACHEMAX=8 in a user's environment, or the default
+// limit sonarsynth sets), copying a truth or label raster into its final file leaves no block of
+// the closed source in the cache: such a block outlives its band, and the eviction that reaches
+// it reads the freed band (a crash in GDALRasterBlock::Internalize). One tile wide (GDAL reads
+// whole rows of tiles then), in one copy swath (< 1 MB): without overviews (256 rows) and with
+// two (600 rows); the copy holds the source's pixels.
+TEST(MosaicBlocks, CopyAddingOverviewsLeavesNoBlockBehindInTheCache) {
+  gdal::ensure_registered();
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("sonarsynth_small_cache_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  constexpr int kCols = 256;
+  const BlockCacheLimit cache(8 << 20);
+  const GIntBig used_before = GDALGetCacheUsed64();
+  int copy = 0;
+  for (const auto& [rows, overviews] : {std::pair{256, 0}, {600, 2}}) {
+    SCOPED_TRACE("copy " + std::to_string(copy) + ": " + std::to_string(rows) + " rows");
+    const std::string from = (dir / ("from" + std::to_string(copy) + ".tif")).string();
+    const std::string to = (dir / ("to" + std::to_string(copy) + ".tif")).string();
+    ++copy;
+    write_pattern(from, kCols, rows);
+    raster::copy_adding_overviews(
+        from, to, {"NEAREST", "AVERAGE"},
+        {{"COMPRESS", "DEFLATE"}, {"INTERLEAVE", "BAND"}, {"TILED", "YES"}, {"BLOCKYSIZE", "64"}},
+        {}, "test", to);
+    EXPECT_EQ(GDALGetCacheUsed64(), used_before);
+    DatasetPtr ds(GDALDataset::Open(to.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    ASSERT_TRUE(ds);
+    ASSERT_EQ(ds->GetRasterCount(), 3);
+    EXPECT_EQ(ds->GetRasterBand(1)->GetOverviewCount(), overviews);
+    std::vector<std::uint16_t> row(kCols);
+    for (int b = 1; b <= 3; ++b) {
+      for (int y = 0; y < rows; y += 37) {
+        ASSERT_EQ(ds->GetRasterBand(b)->RasterIO(GF_Read, 0, y, kCols, 1, row.data(), kCols, 1,
+                                                 GDT_UInt16, 0, 0, nullptr),
+                  CE_None);
+        for (int x = 0; x < kCols; x += 13) {
+          ASSERT_EQ(row[static_cast<std::size_t>(x)],
+                    static_cast<std::uint16_t>(b * 7919 + y * kCols + x))
+              << "band " << b << " (" << x << ", " << y << ")";
+        }
+      }
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
+// GDAL's block cache is limited to kBlockCacheBytes when the user set no GDAL_CACHEMAX; a
+// GDAL_CACHEMAX set as a configuration option (or in the environment) is left to GDAL.
+TEST(MosaicBlocks, BlockCacheLimitUnlessTheUserSetsOne) {
+  if (std::getenv("GDAL_CACHEMAX")) GTEST_SKIP() << "GDAL_CACHEMAX is set in the environment";
+  gdal::ensure_registered();
+  const BlockCacheLimit restore(GDALGetCacheMax64());
+  GDALSetCacheMax64(GIntBig{300} << 20);
+  EXPECT_EQ(gdal::limit_block_cache(), gdal::kBlockCacheBytes);
+  EXPECT_EQ(GDALGetCacheMax64(), gdal::kBlockCacheBytes);
+  CPLSetConfigOption("GDAL_CACHEMAX", "300");
+  GDALSetCacheMax64(GIntBig{300} << 20);  // as GDAL reads the option
+  EXPECT_EQ(gdal::limit_block_cache(), GIntBig{300} << 20);
+  CPLSetConfigOption("GDAL_CACHEMAX", nullptr);
 }
 
 }  // namespace

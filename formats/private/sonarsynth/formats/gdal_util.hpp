@@ -13,9 +13,21 @@ class OGRSpatialReference;
 
 namespace sonarsynth::gdal {
 
-/// Registers GDAL's drivers once (thread-safe) and routes GDAL's error messages so that
-/// sonarsynth reports them in its exceptions instead of GDAL printing them.
+/// Registers GDAL's drivers once (thread-safe), limits GDAL's block cache (limit_block_cache())
+/// and routes GDAL's error messages so that sonarsynth reports them in its exceptions instead of
+/// GDAL printing them.
 void ensure_registered();
+
+/// The limit of GDAL's block cache that limit_block_cache() sets: GDAL's default, 5 % of the
+/// machine's memory, let the cache hold a whole line's truth raster while its overviews were
+/// computed and copied (the peak of `simulate`); the writers read and write a row of blocks at a
+/// time, so a small cache costs no CPU (docs/benchmarks.md, "Peak memory: GDAL's block cache").
+inline constexpr long long kBlockCacheBytes = 8LL << 20;
+
+/// Sets GDAL's block cache limit (process-wide) to kBlockCacheBytes unless GDAL_CACHEMAX is set,
+/// in the environment or as a GDAL configuration option: then GDAL's own reading of it stands.
+/// Returns the limit in force.
+long long limit_block_cache();
 
 struct DatasetCloser {
   void operator()(GDALDataset* ds) const;
