@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 
 TEST(JsfConvert, XtfToJsfToXtfKeepsSamplesBitExact) {
   const fs::path dir = xtf::test::temp_dir("jsf_convert");
-  std::vector<xtf::SonarPing> pings;
+  std::vector<SonarPing> pings;
   {
     xtf::Writer w(dir / "a.xtf");
     for (std::uint32_t k = 0; k < 12; ++k) {
@@ -51,8 +51,8 @@ TEST(JsfConvert, XtfToJsfToXtfKeepsSamplesBitExact) {
   };
   while (next_ping(a, pa)) {
     ASSERT_TRUE(next_ping(c, pc));
-    const xtf::SonarPing& x = pa.ping.sonar;
-    const xtf::SonarPing& y = pc.ping.sonar;
+    const SonarPing& x = pa.ping.sonar;
+    const SonarPing& y = pc.ping.sonar;
     EXPECT_EQ(x.port, y.port) << "ping " << n;
     EXPECT_EQ(x.starboard, y.starboard);
     EXPECT_EQ(x.time_utc, y.time_utc);
@@ -93,20 +93,20 @@ TEST(JsfConvert, RefusesUnknownFormatsClearly) {
 
 const fs::path kData = SONARSYNTH_TEST_DATA_DIR;
 
-std::vector<xtf::SonarPing> xtf_pings(const fs::path& path) {
+std::vector<SonarPing> xtf_pings(const fs::path& path) {
   xtf::Reader r(path);
   xtf::Packet p;
-  std::vector<xtf::SonarPing> out;
+  std::vector<SonarPing> out;
   while (r.next(p)) {
     if (p.kind == xtf::PacketKind::kPing) out.push_back(p.ping.sonar);
   }
   return out;
 }
 
-std::vector<xtf::SonarPing> jsf_pings(const fs::path& path) {
+std::vector<SonarPing> jsf_pings(const fs::path& path) {
   jsf::Reader r(path);
   jsf::Ping p;
-  std::vector<xtf::SonarPing> out;
+  std::vector<SonarPing> out;
   while (r.next_ping(p)) out.push_back(p.sonar);
   return out;
 }

@@ -74,8 +74,8 @@ TEST_F(RunSimulationTest, JsfAndXtfOfOneRunAgree) {
     while (x.next(p)) {
       if (p.kind != xtf::PacketKind::kPing) continue;
       ASSERT_TRUE(j.next_ping(q));
-      const xtf::SonarPing& a = p.ping.sonar;
-      const xtf::SonarPing& b = q.sonar;
+      const SonarPing& a = p.ping.sonar;
+      const SonarPing& b = q.sonar;
       ASSERT_EQ(a.port, b.port) << line << " ping " << a.ping_number;
       ASSERT_EQ(a.starboard, b.starboard);
       EXPECT_EQ(a.ping_number, b.ping_number);

@@ -72,17 +72,18 @@ void print_json(const xtf::FileSummary& s, std::ostream& os) {
   j["file"] = file_text(s.name);
   j["format"] = "XTF";
   j["size_bytes"] = s.file_size;
-  j["header"] = {{"FileFormat", h.FileFormat},
-                 {"SystemType", h.SystemType},
-                 {"RecordingProgramName", file_text(xtf::to_string(h.RecordingProgramName))},
-                 {"RecordingProgramVersion", file_text(xtf::to_string(h.RecordingProgramVersion))},
-                 {"SonarName", file_text(xtf::to_string(h.SonarName))},
-                 {"SonarType", h.SonarType},
-                 {"NoteString", file_text(xtf::to_string(h.NoteString))},
-                 {"ThisFileName", file_text(xtf::to_string(h.ThisFileName))},
-                 {"NavUnits", h.NavUnits},
-                 {"NumberOfSonarChannels", h.NumberOfSonarChannels},
-                 {"NumberOfBathymetryChannels", h.NumberOfBathymetryChannels}};
+  j["header"] = {
+      {"FileFormat", h.FileFormat},
+      {"SystemType", h.SystemType},
+      {"RecordingProgramName", file_text(sonarsynth::to_string(h.RecordingProgramName))},
+      {"RecordingProgramVersion", file_text(sonarsynth::to_string(h.RecordingProgramVersion))},
+      {"SonarName", file_text(sonarsynth::to_string(h.SonarName))},
+      {"SonarType", h.SonarType},
+      {"NoteString", file_text(sonarsynth::to_string(h.NoteString))},
+      {"ThisFileName", file_text(sonarsynth::to_string(h.ThisFileName))},
+      {"NavUnits", h.NavUnits},
+      {"NumberOfSonarChannels", h.NumberOfSonarChannels},
+      {"NumberOfBathymetryChannels", h.NumberOfBathymetryChannels}};
   Json chan_info = Json::array();
   for (std::size_t i = 0; i < s.chan_info.size(); ++i) {
     const xtf::XtfChanInfo& c = s.chan_info[i];
@@ -95,7 +96,7 @@ void print_json(const xtf::FileSummary& s, std::ostream& os) {
                          {"BytesPerSample", c.BytesPerSample},
                          {"SampleFormat", c.SampleFormat},
                          {"Reserved", c.Reserved},
-                         {"ChannelName", file_text(xtf::to_string(c.ChannelName))},
+                         {"ChannelName", file_text(sonarsynth::to_string(c.ChannelName))},
                          {"Frequency", c.Frequency}});
   }
   j["chan_info"] = std::move(chan_info);
@@ -158,10 +159,10 @@ void print_text(const xtf::FileSummary& s, std::size_t max_anomalies, std::ostre
   const xtf::XtfFileHeader& h = s.header;
   os << "File: " << s.name << " (" << s.file_size << " bytes)\n"
      << "Format: XTF, FileFormat " << int{h.FileFormat} << ", SystemType " << int{h.SystemType}
-     << "\nRecording program: " << xtf::to_string(h.RecordingProgramName) << " "
-     << xtf::to_string(h.RecordingProgramVersion) << "\nSonar: " << xtf::to_string(h.SonarName)
-     << " (SonarType " << h.SonarType << ")\n";
-  if (h.NoteString[0] != '\0') os << "Note: " << xtf::to_string(h.NoteString) << "\n";
+     << "\nRecording program: " << sonarsynth::to_string(h.RecordingProgramName) << " "
+     << sonarsynth::to_string(h.RecordingProgramVersion)
+     << "\nSonar: " << sonarsynth::to_string(h.SonarName) << " (SonarType " << h.SonarType << ")\n";
+  if (h.NoteString[0] != '\0') os << "Note: " << sonarsynth::to_string(h.NoteString) << "\n";
   os << "NavUnits: " << h.NavUnits
      << (h.NavUnits == 3 ? " (latitude/longitude, degrees)"
                          : (h.NavUnits == 0 ? " (metres)" : " (unknown)"))
@@ -171,7 +172,7 @@ void print_text(const xtf::FileSummary& s, std::size_t max_anomalies, std::ostre
     const xtf::XtfChanInfo& c = s.chan_info[i];
     if (c.BytesPerSample == 0 && c.TypeOfChannel == 0 && c.SampleFormat == 0) continue;
     os << "  ChanInfo[" << i << "]: " << channel_type_name(c.TypeOfChannel) << " \""
-       << xtf::to_string(c.ChannelName) << "\", " << c.BytesPerSample
+       << sonarsynth::to_string(c.ChannelName) << "\", " << c.BytesPerSample
        << " bytes/sample, SampleFormat " << int{c.SampleFormat} << ", UniPolar " << c.UniPolar
        << ", CorrectionFlags " << c.CorrectionFlags << ", Frequency " << c.Frequency << "\n";
   }
@@ -224,7 +225,7 @@ void print_text(const xtf::FileSummary& s, std::size_t max_anomalies, std::ostre
   }
 }
 
-std::string time_text(const std::optional<xtf::UtcTime>& t) {
+std::string time_text(const std::optional<UtcTime>& t) {
   return t ? xtf::iso8601(*t) : std::string("(none)");
 }
 

@@ -52,7 +52,7 @@ void drop(ConvertResult& r, const std::string& reason, const std::string& where,
 }
 
 /// Why a ping cannot be converted at all (docs/conversion.md, "Drops"), or "" if it can.
-std::string drop_reason(const xtf::SonarPing& s) {
+std::string drop_reason(const SonarPing& s) {
   if (s.port.empty() || s.starboard.empty()) return "one side missing";
   if (!(s.slant_range_m > 0.0)) return "slant range 0 (sample interval 0: no sample spacing)";
   if (!(s.slant_range_m <= jsf::kMaxPlausibleSlantRange_m)) {
@@ -63,7 +63,7 @@ std::string drop_reason(const xtf::SonarPing& s) {
 
 /// Writes the fields the output cannot hold as they are but can hold as "unknown" so, each
 /// repair counted by its rule (docs/conversion.md, "Repairs").
-void repair(SonarFileFormat to, xtf::SonarPing& s, ConvertResult& r) {
+void repair(SonarFileFormat to, SonarPing& s, ConvertResult& r) {
   const auto fix = [&](double& v, bool ok, double unknown, const char* rule) {
     if (ok) return;
     v = unknown;
@@ -146,7 +146,7 @@ std::vector<double> tracked_altitudes(const std::filesystem::path& in, SonarFile
 
 /// Replaces the altitude of the k-th ping by the chosen one (docs/conversion.md); a ping
 /// without one keeps its header altitude.
-void choose_ping_altitude(xtf::SonarPing& s, std::size_t k, const std::vector<double>& tracked,
+void choose_ping_altitude(SonarPing& s, std::size_t k, const std::vector<double>& tracked,
                           AltitudeSource source, ConvertResult& r) {
   if (source == AltitudeSource::kHeader) return;
   const double t = k < tracked.size() ? tracked[k] : std::nan("");
@@ -176,8 +176,8 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
   while (reader.next(packet)) {
     if (packet.kind == xtf::PacketKind::kAttitude) {
       const xtf::XtfAttitudeData& d = packet.attitude;
-      xtf::AttitudeSample a;
-      a.time_utc = xtf::UtcTime{std::chrono::seconds{d.SourceEpoch}} +
+      AttitudeSample a;
+      a.time_utc = UtcTime{std::chrono::seconds{d.SourceEpoch}} +
                    std::chrono::microseconds{std::min<std::uint32_t>(d.EpochMicroseconds, 999999)};
       a.heading_rad = rad_from_deg(d.Heading);
       a.pitch_rad = rad_from_deg(d.Pitch);
@@ -194,7 +194,7 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
       continue;
     }
     if (packet.kind != xtf::PacketKind::kPing) continue;
-    xtf::SonarPing& s = packet.ping.sonar;
+    SonarPing& s = packet.ping.sonar;
     choose_ping_altitude(s, k++, tracked, source, r);
     if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
       s.sensor_position = {};  // stored as 0, 0: "no position" for JSF readers
@@ -243,7 +243,7 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
   jsf::Ping ping;
   // Pings through next_ping(); pitch/roll messages are not pings and are read separately, so
   // walk the messages once for attitude, once for pings, and merge by order of offset.
-  std::vector<std::pair<std::uint64_t, xtf::AttitudeSample>> attitude;
+  std::vector<std::pair<std::uint64_t, AttitudeSample>> attitude;
   {
     jsf::Reader scan(in);
     while (scan.next(m)) {

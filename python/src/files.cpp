@@ -80,7 +80,7 @@ py::dict read_sidescan(const std::filesystem::path& path, std::optional<SonarFil
     format = source->format();
     SideScanRecord r;
     while (source->next(r)) {
-      const xtf::SonarPing& s = r.sonar;
+      const SonarPing& s = r.sonar;
       port.add(s.port);
       stbd.add(s.starboard);
       time_us.push_back(s.time_utc.time_since_epoch().count());

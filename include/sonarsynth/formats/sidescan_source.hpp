@@ -7,15 +7,15 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
-#include "sonarsynth/formats/xtf/ping.hpp"
 
 namespace sonarsynth {
 
 /// One side-scan ping of an XTF or JSF file, as the product commands (mosaic, waterfall,
 /// match) use it.
 struct SideScanRecord {
-  xtf::SonarPing sonar;     ///< SI units, port/starboard near -> far
+  SonarPing sonar;          ///< SI units, port/starboard near -> far
   bool nav_valid = false;   ///< sonar.sensor_position is a geographic position
   bool time_valid = false;  ///< sonar.time_utc is a valid date and time
   double layback_m = 0.0;   ///< file layback (0 if none)

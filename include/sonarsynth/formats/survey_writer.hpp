@@ -17,8 +17,7 @@ namespace sonarsynth {
 
 /// A rendered ping as an XTF ping: the local pose turned into WGS 84 (GeographicLib through the
 /// scene's GeoFrame), grid heading into true heading (meridian convergence), samples as they are.
-xtf::SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame,
-                           const SonarConfig& sonar);
+SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame, const SonarConfig& sonar);
 
 /// The XTF sample encoding of a scene file's `output.sample_format`: "u16", "u8" or "f32".
 /// Throws InputError naming the value otherwise.
