@@ -16,6 +16,7 @@
 #include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/jsf/writer.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"

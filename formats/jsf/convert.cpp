@@ -11,14 +11,19 @@
 
 #include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/jsf/format.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/jsf/writer.hpp"
+#include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth {
 namespace {
+
+/// The two formats this file converts between.
+enum class SonarFileFormat : std::uint8_t { kXtf, kJsf };
 
 constexpr std::size_t kMaxWarnings = 10;
 
@@ -159,13 +164,15 @@ void choose_ping_altitude(SonarPing& s, std::size_t k, const std::vector<double>
   }
 }
 
+}  // namespace
+
 ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
                          bool overwrite, AltitudeSource source) {
   const std::vector<double> tracked = tracked_altitudes(in, SonarFileFormat::kXtf, source);
   std::size_t k = 0;
   ConvertResult r;
-  r.from = SonarFileFormat::kXtf;
-  r.to = SonarFileFormat::kJsf;
+  r.from = &xtf::sonar_format();
+  r.to = &jsf::sonar_format();
   xtf::Reader reader(in);
   jsf::WriterOptions o;
   o.overwrite = overwrite;
@@ -226,8 +233,8 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
   const std::vector<double> tracked = tracked_altitudes(in, SonarFileFormat::kJsf, source);
   std::size_t k = 0;
   ConvertResult r;
-  r.from = SonarFileFormat::kJsf;
-  r.to = SonarFileFormat::kXtf;
+  r.from = &jsf::sonar_format();
+  r.to = &xtf::sonar_format();
   jsf::Reader reader(in);
   std::unique_ptr<xtf::Writer> writer;
   xtf::WriterOptions o;
@@ -293,59 +300,6 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
   open(0.0);
   writer->close();
   return r;
-}
-
-}  // namespace
-
-const char* sonar_file_format_name(SonarFileFormat format) {
-  switch (format) {
-    case SonarFileFormat::kXtf:
-      return "XTF";
-    case SonarFileFormat::kJsf:
-      return "JSF";
-    case SonarFileFormat::kUnknown:
-      break;
-  }
-  return "unknown";
-}
-
-SonarFileFormat detect_sonar_file_format(const std::filesystem::path& path) {
-  const auto source = xtf::open_file_source(path);
-  if (source->size() < 2) return SonarFileFormat::kUnknown;
-  std::array<std::uint8_t, 2> b{};
-  source->read(0, b);
-  if (b[0] == 0x01 && b[1] == 0x16) return SonarFileFormat::kJsf;
-  if (b[0] == xtf::kFileFormat) return SonarFileFormat::kXtf;
-  return SonarFileFormat::kUnknown;
-}
-
-SonarFileFormat sonar_file_format_from_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".xtf") return SonarFileFormat::kXtf;
-  if (ext == ".jsf") return SonarFileFormat::kJsf;
-  return SonarFileFormat::kUnknown;
-}
-
-ConvertResult convert_sonar_file(const std::filesystem::path& in, const std::filesystem::path& out,
-                                 bool overwrite, AltitudeSource altitude_source) {
-  const SonarFileFormat to = sonar_file_format_from_extension(out);
-  if (to == SonarFileFormat::kUnknown) {
-    throw InputError("convert: output " + out.string() +
-                     ": extension must be .xtf or .jsf (the output format)");
-  }
-  const SonarFileFormat from = detect_sonar_file_format(in);
-  if (from == SonarFileFormat::kUnknown) {
-    throw FormatError("convert: " + in.string() +
-                      ": neither XTF (first byte 0x7B) nor JSF (first bytes 01 16)");
-  }
-  if (from == to) {
-    throw InputError("convert: " + in.string() + " is already " + sonar_file_format_name(from) +
-                     "; convert between XTF and JSF");
-  }
-  return from == SonarFileFormat::kXtf ? xtf_to_jsf(in, out, overwrite, altitude_source)
-                                       : jsf_to_xtf(in, out, overwrite, altitude_source);
 }
 
 }  // namespace sonarsynth

@@ -31,7 +31,8 @@ int main() {
     writer.close();
   }
   const jsf::FileSummary summary = jsf::summarize_file(path);
-  const sonarsynth::ConvertResult converted = sonarsynth::convert_sonar_file(path, xtf_path, true);
+  const sonarsynth::ConvertResult converted =
+      sonarsynth::jsf_to_xtf(path, xtf_path, true, sonarsynth::AltitudeSource::kHeader);
   std::filesystem::remove(path);
   std::filesystem::remove(xtf_path);
   std::cout << "jsf: " << summary.pings << " pings read back, " << converted.pings

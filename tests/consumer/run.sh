@@ -14,8 +14,8 @@ mkdir -p "$out"
 
 cmake -S "$here" -B "$out/all" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$out/all" >/dev/null
-for program in consumer consumer_core consumer_io consumer_xtf consumer_jsf consumer_raster consumer_products \
-  consumer_config; do
+for program in consumer consumer_core consumer_io consumer_xtf consumer_jsf consumer_registry consumer_raster \
+  consumer_products consumer_config; do
   "$out/all/$program"
 done
 

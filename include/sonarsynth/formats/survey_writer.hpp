@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/io/sonar_format.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/simulator.hpp"
@@ -44,7 +45,7 @@ xtf::WriterOptions xtf_writer_options(const Simulator& sim, xtf::SampleEncoding 
 /// removes the file of the line being written (files of finished lines stay: the caller's
 /// OutputDirectory discards them). XtfSurveyWriter and JsfSurveyWriter are its two formats.
 template <class W, class Options>
-class LineFileWriter : public PingSink {
+class LineFileWriter : public SurveyFileSink {
  public:
   void begin_line(std::size_t line) override {
     const std::string name =
@@ -66,7 +67,7 @@ class LineFileWriter : public PingSink {
   void abort() noexcept override { writer_.reset(); }  // the writer removes its temporary file
 
   /// Files written so far (final paths).
-  const std::vector<std::filesystem::path>& files() const { return files_; }
+  const std::vector<std::filesystem::path>& files() const override { return files_; }
   std::uint64_t clipped_samples() const { return clipped_; }
   std::uint64_t bytes_written() const { return bytes_; }
 
