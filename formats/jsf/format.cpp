@@ -16,16 +16,6 @@
 namespace sonarsynth::jsf {
 namespace {
 
-/// The messages of the first `max` anomalies the reader recorded.
-std::vector<std::string> first_messages(const std::vector<Anomaly>& anomalies, std::size_t max) {
-  std::vector<std::string> out;
-  for (const auto& a : anomalies) {
-    if (out.size() >= max) break;
-    out.push_back(a.message);
-  }
-  return out;
-}
-
 class JsfSource : public SideScanSource {
  public:
   explicit JsfSource(const std::filesystem::path& path) : reader_(path) {}
@@ -42,7 +32,7 @@ class JsfSource : public SideScanSource {
   const SonarFormat& format() const override { return sonar_format(); }
   std::uint64_t total_anomalies() const override { return reader_.total_anomalies(); }
   std::vector<std::string> anomaly_messages(std::size_t max) const override {
-    return first_messages(reader_.anomalies(), max);
+    return first_anomaly_messages(reader_.anomalies(), max);
   }
 
  private:

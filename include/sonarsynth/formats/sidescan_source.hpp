@@ -41,4 +41,16 @@ class SideScanSource {
   virtual std::vector<std::string> anomaly_messages(std::size_t max) const = 0;
 };
 
+/// The messages of the first `max` of a reader's anomalies (elements with a `message`): what the
+/// formats' anomaly_messages() return.
+template <class Anomalies>
+std::vector<std::string> first_anomaly_messages(const Anomalies& anomalies, std::size_t max) {
+  std::vector<std::string> out;
+  for (const auto& a : anomalies) {
+    if (out.size() >= max) break;
+    out.push_back(a.message);
+  }
+  return out;
+}
+
 }  // namespace sonarsynth
