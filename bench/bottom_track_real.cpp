@@ -101,7 +101,7 @@ int main(int argc, char** argv) try {
     const auto src = SideScanSource::open(path);
     SideScanRecord rec;
     while (src->next(rec)) {
-      const xtf::SonarPing& s = rec.sonar;
+      const SonarPing& s = rec.sonar;
       if (s.port.empty() && s.starboard.empty()) continue;
       rs::Ping p;
       p.port = s.port;

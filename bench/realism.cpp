@@ -112,7 +112,7 @@ Record read_record(const Args& a) {
     if (packet.kind != xtf::PacketKind::kPing) continue;
     const std::size_t index = r.sonar_pings++;
     if (index < a.first_ping || (a.end_ping > 0 && index >= a.end_ping)) continue;
-    const xtf::SonarPing& s = packet.ping.sonar;
+    const sonarsynth::SonarPing& s = packet.ping.sonar;
     rs::Ping p;
     p.port = s.port;
     p.starboard = s.starboard;

@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
   const fs::path dir = argc > 4 ? fs::path(argv[4]) : fs::temp_directory_path();
   const fs::path path = dir / "sonarsynth_xtf_throughput.xtf";
 
-  xtf::SonarPing ping;
+  sonarsynth::SonarPing ping;
   ping.sensor_position = {sonarsynth::rad_from_deg(48.4), sonarsynth::rad_from_deg(-68.8), 0.0};
   ping.altitude_m = 10.0;
   ping.slant_range_m = 75.0;
@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
     ping.port[i] = static_cast<float>((i * 7919) % 32768);
     ping.starboard[i] = static_cast<float>((i * 104729) % 32768);
   }
-  const auto t0 = xtf::UtcTime{std::chrono::sys_days{std::chrono::year{2024} / 1 / 1}};
+  const auto t0 = sonarsynth::UtcTime{std::chrono::sys_days{std::chrono::year{2024} / 1 / 1}};
 
   std::vector<double> write_s, read_s;
   std::uint64_t bytes = 0;

@@ -252,7 +252,14 @@ std::vector<Option> make_table() {
       }));
   t.push_back(
       boolean("output", "allow_more_than_8192_samples", BOOL(allow_more_than_8192_samples)));
-  t.push_back(boolean("output", "jsf", BOOL(write_jsf)));
+  // output.jsf: true, the alias of "jsf" in output.formats (read after this table, which it
+  // then overrides: formats/simulation_file.cpp).
+  t.push_back(boolean(
+      "output", "jsf", [](const S& s) { return s.writes_format("jsf") ? 1.0 : 0.0; },
+      [](S& s, double v) {
+        std::erase(s.output_formats, "jsf");
+        if (v != 0.0) s.output_formats.emplace_back("jsf");
+      }));
   // output.mosaic: the processing of simulate's mosaic (docs/scene-format.md).
   t.push_back(choice(
       "output.mosaic", "nadir", {"blank", "fill", "raw"}, "blank, fill or raw",

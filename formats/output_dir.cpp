@@ -11,9 +11,11 @@
 #include <fstream>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 #include "sonarsynth/version.hpp"
 
 namespace sonarsynth {
@@ -72,12 +74,17 @@ void clean_stale(const fs::path& parent, const fs::path& final_dir) {
   }
 }
 
+/// The extensions of what `simulate` writes: every sonar format's (the format list, so that a
+/// new format's old output is recognised) and the products'.
 bool has_product_extension(const fs::path& p) {
-  static const std::array<const char*, 11> kExt = {".xtf",  ".jsf",  ".png",    ".tif",
-                                                   ".tiff", ".yaml", ".xml",    ".json",
-                                                   ".ovr",  ".csv",  ".geojson"};
+  static const std::array<const char*, 9> kProductExt = {
+      ".png", ".tif", ".tiff", ".yaml", ".xml", ".json", ".ovr", ".csv", ".geojson"};
+  static const std::vector<std::string> kSonarExt = sonar_format_extensions();
   const std::string e = p.extension().string();
-  for (const char* k : kExt) {
+  for (const char* k : kProductExt) {
+    if (e == k) return true;
+  }
+  for (const std::string& k : kSonarExt) {
     if (e == k) return true;
   }
   return false;

@@ -8,8 +8,7 @@
 #include <thread>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/xtf/records.hpp"
-#include "sonarsynth/formats/xtf/writer.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -55,10 +54,6 @@ std::string extent(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
   const Eigen::Vector2d a = lo - origin, b = hi - origin;
   return "east " + num(a.x(), 6) + " .. " + num(b.x(), 6) + " m, north " + num(a.y(), 6) + " .. " +
          num(b.y(), 6) + " m";
-}
-
-std::size_t xtf_bytes_per_sample(const std::string& format) {
-  return format == "u8" ? 1 : format == "f32" ? 4 : 2;
 }
 
 // The nearest existing directory at or above `p` (where the output will be created).
@@ -114,11 +109,11 @@ RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& s
 
   // 2. Output bytes and memory.
   const double samples = static_cast<double>(sonar.samples_per_channel);
-  const double xtf_ping = static_cast<double>(xtf::padded_size(
-      xtf::XtfPingHeader::kSize +
-      2 * (64 + sonar.samples_per_channel * xtf_bytes_per_sample(setup.sample_format))));
-  double bytes = total_pings * xtf_ping + 2048.0 * static_cast<double>(setup.lines.size());
-  if (setup.write_jsf) bytes += total_pings * 2.0 * (16.0 + 240.0 + 2.0 * samples);  // docs/jsf.md
+  double bytes = 0.0;  // each format's own estimate (formats/<codec>/format.cpp)
+  for (const SonarFormat* f : sonar_formats()) {
+    if (!setup.writes_format(f->name)) continue;
+    bytes += f->estimated_bytes(sonar, setup.sample_format, total_pings, setup.lines.size());
+  }
   if (products.waterfalls) bytes += total_pings * 2.0 * samples;
   if (products.truth) bytes += total_pings * 2.0 * samples * kTruthBytesPerSample;
   double mosaic_pixels = 0.0;

@@ -10,9 +10,9 @@
 
 #include "label_sets.hpp"
 #include "sink_threads.hpp"
-#include "sonarsynth/formats/jsf_survey_writer.hpp"
 #include "sonarsynth/formats/output_dir.hpp"
 #include "sonarsynth/formats/product_metadata.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 #include "sonarsynth/formats/survey_writer.hpp"
 
 namespace sonarsynth {
@@ -107,12 +107,28 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   const Simulator sim(scene, setup->config, setup->reference_altitude_m,
                       pilot_poses(survey, scene->bathymetry));
 
-  xtf::WriterOptions xo = xtf_writer_options(sim, xtf_sample_encoding(setup->sample_format),
-                                             scene->name, setup->allow_more_than_8192_samples);
-  xo.overwrite = true;  // inside our own fresh temporary directory
-  result.compatibility_warnings = xo.compatibility_warnings();
   for (const SurveyLine& l : setup->lines) result.line_names.push_back(l.name);
-  XtfSurveyWriter xtf_out(out.file(""), result.line_names, scene->frame, setup->config.sonar, xo);
+  // The sonar files: one writer per format of output.formats, in the order of the format list
+  // (formats/sonar_formats.cpp).
+  SurveyWriterContext files_context;
+  files_context.dir = out.file("");
+  files_context.line_names = result.line_names;
+  files_context.frame = &scene->frame;
+  files_context.sonar = &setup->config.sonar;
+  files_context.simulator = &sim;
+  files_context.scene_name = scene->name;
+  files_context.sample_format = setup->sample_format;
+  files_context.allow_more_than_8192_samples = setup->allow_more_than_8192_samples;
+  std::vector<std::unique_ptr<SurveyFileSink>> sonar_files;
+  std::vector<detail::ParallelSink::Threaded> threaded;
+  for (const SonarFormat* f : sonar_formats()) {
+    if (!setup->writes_format(f->name)) continue;
+    sonar_files.push_back(f->create_survey_writer(files_context));
+    for (const auto& w : sonar_files.back()->compatibility_warnings()) {
+      result.compatibility_warnings.push_back(w);
+    }
+    threaded.push_back({sonar_files.back().get(), std::string(f->name)});
+  }
 
   po.write_options.overwrite = true;  // inside our own fresh temporary directory
   po.write_options.metadata = run_metadata(scene->name, setup->config, sim.gain_db());
@@ -136,20 +152,9 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   }
   SurveyProducts products(out.file(""), scene, setup->config.sonar, setup->lines, po);
   RunStatistics stats;
-  // JSF sink (output.jsf): formats/jsf_survey_writer.cpp.
-  std::optional<JsfSurveyWriter> jsf_out;
-  // The XTF (and JSF) files and each product on a thread of their own, fed through bounded
-  // queues while the survey renders; each consumes the pings in survey order, so the files do
-  // not depend on the thread count or the schedule. The statistics are cheap: on the rendering
-  // side.
-  std::vector<detail::ParallelSink::Threaded> threaded = {{&xtf_out, "xtf"}};
-  if (setup->write_jsf) {
-    jsf::WriterOptions jo;
-    jo.overwrite = true;
-    threaded.push_back(
-        {&jsf_out.emplace(out.file(""), result.line_names, scene->frame, setup->config.sonar, jo),
-         "jsf"});
-  }
+  // The sonar files and each product on a thread of their own, fed through bounded queues
+  // while the survey renders; each consumes the pings in survey order, so the files do not
+  // depend on the thread count or the schedule. The statistics are cheap: on the rendering side.
   for (const auto& [name, part] : products.parts()) threaded.push_back({part, name});
   std::vector<PingSink*> inline_sinks = {&stats};
   // The lines' tracks and truth ground positions for the chip records (docs/labels.md).
@@ -204,9 +209,9 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
                                       per_ping ? std::nan("") : sim.gain_db())) {
     warn(w);
   }
-  for (const auto& f : xtf_out.files()) result.files.push_back(out.final_dir() / f.filename());
-  if (jsf_out) {
-    for (const auto& f : jsf_out->files()) result.files.push_back(out.final_dir() / f.filename());
+  for (const auto& sonar_file : sonar_files) {
+    for (const auto& f : sonar_file->files())
+      result.files.push_back(out.final_dir() / f.filename());
   }
   for (const auto& f : products.files()) result.files.push_back(out.final_dir() / f.filename());
   for (const auto& f : label_sets.files) result.files.push_back(out.final_dir() / f);

@@ -19,6 +19,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
 #include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/sonar_presets.hpp"
 #include "yaml_fields.hpp"
@@ -259,6 +260,62 @@ void check_survey_line(const Scene& scene, const SurveyLine& line, const std::st
   }
 }
 
+namespace {
+
+// "xtf, jsf": the formats `simulate` writes.
+std::string simulated_format_names() {
+  std::string out;
+  for (const SonarFormat* f : sonar_formats()) {
+    if (!f->capabilities.simulate) continue;
+    if (!out.empty()) out += ", ";
+    out += f->name;
+  }
+  return out;
+}
+
+// output.formats: [xtf, jsf] (docs/scene-format.md), names of the format list that `simulate`
+// writes; output.jsf (read before, from the option table) is the alias of listing jsf.
+void read_output_formats(const Fields& f, SimulationSetup& setup) {
+  const YAML::Node& n = f.node()["formats"];
+  if (!n.IsSequence() || n.size() == 0) {
+    f.fail_value("formats", "a non-empty list of sonar formats, e.g. [xtf, jsf] (one of " +
+                                sonar_format_names() + ")");
+  }
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const std::string key = "formats[" + std::to_string(i) + "]";
+    const std::string name = f.scalar_text(key, n[i]);
+    const SonarFormat* format = find_sonar_format(name);
+    const auto refuse = [&](const std::string& constraint) {
+      throw InputError(f.file() + ": " + f.key_path(key) + " = '" + name +
+                       "'. Violated constraint: " + constraint);
+    };
+    if (!format || !format->capabilities.simulate) {
+      refuse("a sonar format simulate writes: one of " + simulated_format_names());
+    }
+    if (std::find(names.begin(), names.end(), format->name) != names.end()) {
+      refuse("each format once");
+    }
+    names.emplace_back(format->name);
+  }
+  if (f.given("jsf")) {
+    const bool listed = std::find(names.begin(), names.end(), "jsf") != names.end();
+    if (f.boolean("jsf", false) && !listed) names.emplace_back("jsf");
+    if (!f.boolean("jsf", false) && listed) {
+      f.fail_value("jsf",
+                   "not false when output.formats lists jsf (output.jsf: true is the "
+                   "alias of listing it)");
+    }
+  }
+  setup.output_formats = std::move(names);
+}
+
+}  // namespace
+
+bool SimulationSetup::writes_format(std::string_view name) const {
+  return std::find(output_formats.begin(), output_formats.end(), name) != output_formats.end();
+}
+
 Survey SimulationSetup::make_survey() const {
   return Survey(lines, vehicle, config.sonar.effective_ping_period_s(), start_time, config.seed);
 }
@@ -363,8 +420,9 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   // Output scaling and format.
   if (top.has("output")) {
     const Fields f = top.child("output");
-    f.only(keys_of("output", {"labels", "display_window_db", "mosaic"}));
+    f.only(keys_of("output", {"labels", "display_window_db", "mosaic", "formats"}));
     options::read_all(f, "output", setup);
+    if (f.has("formats")) read_output_formats(f, setup);
     if (f.has("labels")) read_labels(f.child("labels"), setup.labels, setup.config.truth);
     if (f.has("mosaic")) {
       const Fields m = f.child("mosaic");

@@ -55,10 +55,9 @@ xtf::WriterOptions xtf_writer_options(const Simulator& sim, xtf::SampleEncoding 
   return o;
 }
 
-xtf::SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame,
-                           const SonarConfig& sonar) {
+SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame, const SonarConfig& sonar) {
   const PingPose& p = ping.pose;
-  xtf::SonarPing x;
+  SonarPing x;
   x.time_utc = p.time_utc;
   x.ping_number = static_cast<std::uint32_t>(p.ping_in_line);
   x.sensor_position = frame.geodetic_from_local(p.sensor_xy_m, p.sensor_z_m);

@@ -453,7 +453,7 @@ WaterfallResult add_file_pings(const std::filesystem::path& sonar_path, Waterfal
   std::size_t k = 0;       // pings with samples and a positive slant range: as the tracker counts
   std::int64_t index = 0;  // pings with samples
   while (reader->next(rec)) {
-    const xtf::SonarPing& s = rec.sonar;
+    const SonarPing& s = rec.sonar;
     if (s.port.empty() && s.starboard.empty()) {
       ++result.pings_no_samples;
       continue;

@@ -157,7 +157,7 @@ void drop_outliers(const std::string& file, FileNav& f, const GeoFrame& provisio
   }
 }
 
-bool has_samples(const xtf::SonarPing& s) {
+bool has_samples(const SonarPing& s) {
   return (!s.port.empty() || !s.starboard.empty()) && s.slant_range_m > 0.0 &&
          std::isfinite(s.slant_range_m);
 }
@@ -213,7 +213,7 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
     std::size_t pings = 0;
     while (reader->next(rec)) {
       ++pings;
-      const xtf::SonarPing& s = rec.sonar;
+      const SonarPing& s = rec.sonar;
       if (!has_samples(s)) continue;
       ++with_samples;
       tracker.add_ping(s.port, s.starboard, s.slant_range_m);
@@ -245,7 +245,7 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
     throw FormatError("xtf mosaic: nothing usable: " + all);
   }
   // The altitude of the k-th ping with samples of file fi.
-  const auto altitude_of = [&](std::size_t fi, std::size_t k, const xtf::SonarPing& s) {
+  const auto altitude_of = [&](std::size_t fi, std::size_t k, const SonarPing& s) {
     const std::vector<double>& tr = nav[fi].tracked_m;
     const double tracked = k < tr.size() ? tr[k] : kNaN;
     const std::size_t n = std::max(s.port.size(), s.starboard.size());
@@ -261,7 +261,7 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
       const std::unique_ptr<SideScanSource> reader = SideScanSource::open(files[fi]);
       std::size_t k = 0;
       while (reader->next(rec)) {
-        const xtf::SonarPing& s = rec.sonar;
+        const SonarPing& s = rec.sonar;
         if (!has_samples(s)) continue;
         const AltitudeChoice a = altitude_of(fi, k++, s);
         gain.add_ping(s.port, s.starboard, s.slant_range_m, a.altitude_m);
@@ -345,7 +345,7 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
     std::size_t k = 0;  // pings with samples so far
     while (reader->next(rec)) {
       ++result.pings;
-      xtf::SonarPing& s = rec.sonar;
+      SonarPing& s = rec.sonar;
       if (!has_samples(s)) {
         ++result.pings_no_samples;
         continue;

@@ -16,6 +16,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
 #include "sonarsynth/formats/sidescan_source.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 #include "sonarsynth/formats/waterfall.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
@@ -23,13 +24,6 @@ namespace sonarsynth::match {
 namespace {
 
 constexpr const char* kWho = "match";
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 /// Linear intensities (NaN = nodata) -> 8-bit dB display and mask.
 void linear_to_grey(const std::vector<float>& linear, int cols, int rows,
@@ -51,7 +45,7 @@ void linear_to_grey(const std::vector<float>& linear, int cols, int rows,
   }
 }
 
-MatchImage load_xtf(const std::string& path, const ImageSourceOptions& o) {
+MatchImage load_sonar_file(const std::string& path, const ImageSourceOptions& o) {
   if (!std::filesystem::exists(path)) {
     throw FormatError(std::string(kWho) + ": cannot open " + path + ": no such file");
   }
@@ -184,13 +178,11 @@ void ImageSourceOptions::validate() const {
 
 MatchImage load_image(const std::string& path, const ImageSourceOptions& options) {
   options.validate();
-  // Side-scan files by extension or by content (XTF: first byte 0x7B; JSF: bytes 01 16).
-  const std::string ext = lower_extension(path);
-  if (ext == ".xtf" || ext == ".jsf") return load_xtf(path, options);
+  // Sonar files (any format of the format list) by extension or by content.
+  if (sonar_format_for_extension(path)) return load_sonar_file(path, options);
   std::error_code ec;
-  if (std::filesystem::is_regular_file(path, ec) &&
-      detect_sonar_file_format(path) != SonarFileFormat::kUnknown) {
-    return load_xtf(path, options);
+  if (std::filesystem::is_regular_file(path, ec) && identify_sonar_format(path)) {
+    return load_sonar_file(path, options);
   }
   return load_raster(path, options);
 }

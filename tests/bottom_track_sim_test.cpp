@@ -14,6 +14,7 @@
 #include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/run_simulation.hpp"
 #include "sonarsynth/formats/waterfall.hpp"
@@ -69,7 +70,7 @@ class BottomTrackSimTest : public ::testing::Test {
     wo.sample_encoding = xtf::SampleEncoding::kFloat32;
     xtf::Writer w(out, wo);
     for (std::size_t k = 0; k < pings_.size(); ++k) {
-      xtf::SonarPing p = pings_[k];
+      SonarPing p = pings_[k];
       p.altitude_m = altitude(k, p.altitude_m);
       w.write_ping(p);
     }
@@ -82,7 +83,7 @@ class BottomTrackSimTest : public ::testing::Test {
   }
 
   fs::path dir_, xtf_;
-  std::vector<xtf::SonarPing> pings_;
+  std::vector<SonarPing> pings_;
 };
 
 TEST_F(BottomTrackSimTest, TrackedAltitudeIsTheTruthWithinTwoSamples) {
@@ -250,8 +251,8 @@ TEST_F(BottomTrackSimTest, ConvertWritesTheTrackedAltitudeWhenAsked) {
 
 fs::path write_without_sonar(const fs::path& path) {
   xtf::Writer w(path);
-  xtf::AttitudeSample a;
-  a.time_utc = xtf::UtcTime{std::chrono::seconds{1700000000}};
+  AttitudeSample a;
+  a.time_utc = UtcTime{std::chrono::seconds{1700000000}};
   w.write_attitude(a);
   w.close();
   return path;

@@ -16,6 +16,7 @@
 #include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/jsf/writer.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
@@ -88,20 +89,20 @@ class ConvertTrust : public test::ScratchDirTest {
       const std::size_t at = static_cast<std::size_t>(offsets[k]);
       const std::size_t chan1 = at + xtf::XtfPingHeader::kSize + xtf::XtfPingChanHeader::kSize +
                                 2 * kSamples;  // u16 samples
-      xtf::ByteReader hr(std::span<const std::uint8_t>(b).subspan(at), "test");
+      ByteReader hr(std::span<const std::uint8_t>(b).subspan(at), "test");
       xtf::XtfPingHeader h = xtf::XtfPingHeader::decode(hr);
       std::array<xtf::XtfPingChanHeader, 2> c;
       for (int s = 0; s < 2; ++s) {
-        xtf::ByteReader cr(std::span<const std::uint8_t>(b).subspan(
-                               s == 0 ? at + xtf::XtfPingHeader::kSize : chan1),
-                           "test");
+        ByteReader cr(std::span<const std::uint8_t>(b).subspan(
+                          s == 0 ? at + xtf::XtfPingHeader::kSize : chan1),
+                      "test");
         c[static_cast<std::size_t>(s)] = xtf::XtfPingChanHeader::decode(cr);
       }
       edit(k, h, c);
-      xtf::ByteWriter hw(std::span<std::uint8_t>(b).subspan(at, xtf::XtfPingHeader::kSize));
+      ByteWriter hw(std::span<std::uint8_t>(b).subspan(at, xtf::XtfPingHeader::kSize));
       h.encode(hw);
       for (int s = 0; s < 2; ++s) {
-        xtf::ByteWriter cw(std::span<std::uint8_t>(b).subspan(
+        ByteWriter cw(std::span<std::uint8_t>(b).subspan(
             s == 0 ? at + xtf::XtfPingHeader::kSize : chan1, xtf::XtfPingChanHeader::kSize));
         c[static_cast<std::size_t>(s)].encode(cw);
       }
@@ -111,8 +112,8 @@ class ConvertTrust : public test::ScratchDirTest {
     return p;
   }
 
-  std::vector<xtf::SonarPing> read_xtf(const fs::path& p) {
-    std::vector<xtf::SonarPing> out;
+  std::vector<SonarPing> read_xtf(const fs::path& p) {
+    std::vector<SonarPing> out;
     xtf::Reader r(p);
     xtf::Packet k;
     while (r.next(k)) {
@@ -121,8 +122,8 @@ class ConvertTrust : public test::ScratchDirTest {
     return out;
   }
 
-  std::vector<xtf::SonarPing> read_jsf(const fs::path& p) {
-    std::vector<xtf::SonarPing> out;
+  std::vector<SonarPing> read_jsf(const fs::path& p) {
+    std::vector<SonarPing> out;
     jsf::Reader r(p);
     jsf::Ping k;
     while (r.next_ping(k)) out.push_back(k.sonar);
@@ -131,7 +132,7 @@ class ConvertTrust : public test::ScratchDirTest {
 
   test::CliResult cli(const std::string& args) { return test::run_cli(args, dir_); }
 
-  std::vector<xtf::SonarPing> pings_;
+  std::vector<SonarPing> pings_;
 };
 
 bool has(const std::string& text, const std::string& needle) {
@@ -167,11 +168,11 @@ TEST_F(ConvertTrust, JsfToXtfRepairsUnknownFieldsAndCountsDrops) {
   EXPECT_TRUE(has(r.err, "sample interval 4294967295 ns x 200 samples")) << r.err;
   EXPECT_TRUE(has(r.err, "JSF ping 1 at byte")) << r.err;
 
-  const std::vector<xtf::SonarPing> out = read_xtf(dir_ / "out.xtf");
+  const std::vector<SonarPing> out = read_xtf(dir_ / "out.xtf");
   const std::vector<std::uint32_t> kept = {0, 2, 4, 5};
   ASSERT_EQ(out.size(), kept.size());
   for (std::size_t i = 0; i < kept.size(); ++i) {
-    const xtf::SonarPing& want = pings_[kept[i]];
+    const SonarPing& want = pings_[kept[i]];
     EXPECT_EQ(out[i].ping_number, want.ping_number);
     EXPECT_EQ(out[i].port, want.port) << "every sample kept, ping " << kept[i];
     EXPECT_EQ(out[i].starboard, want.starboard);
@@ -240,7 +241,7 @@ TEST_F(ConvertTrust, XtfToJsfRepairsUnknownFieldsAndCountsDrops) {
       << r.err;
   EXPECT_TRUE(has(r.err, "heave not finite -> unknown: 1")) << r.err;
 
-  const std::vector<xtf::SonarPing> out = read_jsf(dir_ / "out.jsf");
+  const std::vector<SonarPing> out = read_jsf(dir_ / "out.jsf");
   const std::vector<std::uint32_t> kept = {0, 1, 3, 4, 5};
   ASSERT_EQ(out.size(), kept.size());
   for (std::size_t i = 0; i < kept.size(); ++i) {

@@ -263,7 +263,7 @@ TEST_F(GeoProductsTest, TracksAreTheXtfNavigationAndCoverageHoldsEverySeabedSamp
     std::size_t checked = 0;
     while (reader.next(p)) {
       if (p.kind != xtf::PacketKind::kPing) continue;
-      const xtf::SonarPing& s = p.ping.sonar;
+      const SonarPing& s = p.ping.sonar;
       ASSERT_LT(k, ls->getNumPoints());
       EXPECT_NEAR(ls->getX(k), deg_from_rad(s.sensor_position.lon_rad), 1e-9) << line << k;
       EXPECT_NEAR(ls->getY(k), deg_from_rad(s.sensor_position.lat_rad), 1e-9) << line << k;

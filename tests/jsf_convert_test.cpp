@@ -7,7 +7,10 @@
 #include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
+#include "sonarsynth/formats/jsf/format.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
+#include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "xtf_test_util.hpp"
@@ -19,7 +22,7 @@ namespace fs = std::filesystem;
 
 TEST(JsfConvert, XtfToJsfToXtfKeepsSamplesBitExact) {
   const fs::path dir = xtf::test::temp_dir("jsf_convert");
-  std::vector<xtf::SonarPing> pings;
+  std::vector<SonarPing> pings;
   {
     xtf::Writer w(dir / "a.xtf");
     for (std::uint32_t k = 0; k < 12; ++k) {
@@ -30,11 +33,12 @@ TEST(JsfConvert, XtfToJsfToXtfKeepsSamplesBitExact) {
     w.close();
   }
   const ConvertResult to_jsf = convert_sonar_file(dir / "a.xtf", dir / "b.jsf");
-  EXPECT_EQ(to_jsf.from, SonarFileFormat::kXtf);
+  EXPECT_EQ(to_jsf.from, &xtf::sonar_format());
+  EXPECT_EQ(to_jsf.to, &jsf::sonar_format());
   EXPECT_EQ(to_jsf.pings, 12u);
   EXPECT_EQ(to_jsf.attitude_records, 1u);
   EXPECT_EQ(to_jsf.pings_skipped, 0u);
-  EXPECT_EQ(detect_sonar_file_format(dir / "b.jsf"), SonarFileFormat::kJsf);
+  EXPECT_EQ(identify_sonar_format(dir / "b.jsf"), &jsf::sonar_format());
   const ConvertResult back = convert_sonar_file(dir / "b.jsf", dir / "c.xtf");
   EXPECT_EQ(back.pings, 12u);
   EXPECT_EQ(back.attitude_records, 1u);
@@ -51,8 +55,8 @@ TEST(JsfConvert, XtfToJsfToXtfKeepsSamplesBitExact) {
   };
   while (next_ping(a, pa)) {
     ASSERT_TRUE(next_ping(c, pc));
-    const xtf::SonarPing& x = pa.ping.sonar;
-    const xtf::SonarPing& y = pc.ping.sonar;
+    const SonarPing& x = pa.ping.sonar;
+    const SonarPing& y = pc.ping.sonar;
     EXPECT_EQ(x.port, y.port) << "ping " << n;
     EXPECT_EQ(x.starboard, y.starboard);
     EXPECT_EQ(x.time_utc, y.time_utc);
@@ -85,7 +89,9 @@ TEST(JsfConvert, RefusesUnknownFormatsClearly) {
     (void)convert_sonar_file(dir / "junk.jsf", dir / "out.xtf");
     FAIL();
   } catch (const FormatError& e) {
-    EXPECT_NE(std::string(e.what()).find("neither XTF"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not a file of any known format (xtf, jsf)"),
+              std::string::npos)
+        << e.what();
   }
   EXPECT_THROW((void)convert_sonar_file(dir / "junk.jsf", dir / "out.png"), InputError);
   fs::remove_all(dir);
@@ -93,20 +99,20 @@ TEST(JsfConvert, RefusesUnknownFormatsClearly) {
 
 const fs::path kData = SONARSYNTH_TEST_DATA_DIR;
 
-std::vector<xtf::SonarPing> xtf_pings(const fs::path& path) {
+std::vector<SonarPing> xtf_pings(const fs::path& path) {
   xtf::Reader r(path);
   xtf::Packet p;
-  std::vector<xtf::SonarPing> out;
+  std::vector<SonarPing> out;
   while (r.next(p)) {
     if (p.kind == xtf::PacketKind::kPing) out.push_back(p.ping.sonar);
   }
   return out;
 }
 
-std::vector<xtf::SonarPing> jsf_pings(const fs::path& path) {
+std::vector<SonarPing> jsf_pings(const fs::path& path) {
   jsf::Reader r(path);
   jsf::Ping p;
-  std::vector<xtf::SonarPing> out;
+  std::vector<SonarPing> out;
   while (r.next_ping(p)) out.push_back(p.sonar);
   return out;
 }

@@ -13,6 +13,7 @@
 #include "cli_test_util.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "xtf_test_util.hpp"
@@ -164,7 +165,7 @@ TEST(JsfLossless, WriterOptionsAndPingFieldsSurvive) {
   {
     xtf::Writer w(dir / "a.xtf", o);
     for (std::uint32_t k = 0; k < 9; ++k) {
-      xtf::SonarPing p = xtf::test::make_ping(k, 300, 300);
+      SonarPing p = xtf::test::make_ping(k, 300, 300);
       p.time_utc += std::chrono::microseconds{1234567 * k + 3};  // not whole 10 ms
       p.sensor_position.lat_rad += 1.234567e-9 * k;
       p.sensor_position.lon_rad -= 7.654321e-9 * k;

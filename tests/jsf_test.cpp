@@ -41,11 +41,11 @@ struct Bytes {
   }
 };
 
-xtf::SonarPing golden_ping() {
+SonarPing golden_ping() {
   using namespace std::chrono;
-  xtf::SonarPing p;
-  p.time_utc = xtf::UtcTime{sys_days{year{2013} / September / 10} + hours{21} + minutes{13} +
-                            seconds{8} + milliseconds{250}};
+  SonarPing p;
+  p.time_utc = UtcTime{sys_days{year{2013} / September / 10} + hours{21} + minutes{13} +
+                       seconds{8} + milliseconds{250}};
   p.ping_number = 7;
   p.sensor_position = {rad_from_deg(48.5), rad_from_deg(-68.75), 0.0};
   p.heading_rad = rad_from_deg(90.0);
@@ -167,8 +167,8 @@ TEST(JsfGolden, ReaderDecodesHandDerivedBytes) {
   EXPECT_TRUE(p.time_valid);
   EXPECT_TRUE(p.nav_valid);
   EXPECT_EQ(p.subsystem, 20);
-  const xtf::SonarPing want = golden_ping();
-  const xtf::SonarPing& s = p.sonar;
+  const SonarPing want = golden_ping();
+  const SonarPing& s = p.sonar;
   EXPECT_EQ(s.time_utc, want.time_utc);
   EXPECT_EQ(s.ping_number, 7u);
   EXPECT_DOUBLE_EQ(deg_from_rad(s.sensor_position.lat_rad), 48.5);
@@ -214,11 +214,11 @@ TEST(JsfWriter, QuantiseBlockFloatingPoint) {
 TEST(JsfRoundTrip, WriterToReaderBitExact) {
   const fs::path dir = temp_dir("jsf_round_trip");
   const fs::path path = dir / "rt.jsf";
-  std::vector<xtf::SonarPing> pings;
+  std::vector<SonarPing> pings;
   {
     Writer w(path);
     for (std::uint32_t k = 0; k < 20; ++k) {
-      xtf::SonarPing p = xtf::test::make_ping(k, 1500, 1500);
+      SonarPing p = xtf::test::make_ping(k, 1500, 1500);
       if (k == 3) {  // non-integer samples: block floating point, exact for these values
         for (float& v : p.port) v = v / 1024.0f;
       }
@@ -231,7 +231,7 @@ TEST(JsfRoundTrip, WriterToReaderBitExact) {
   }
   Reader r(path);
   Ping p;
-  for (const xtf::SonarPing& want : pings) {
+  for (const SonarPing& want : pings) {
     ASSERT_TRUE(r.next_ping(p));
     EXPECT_EQ(p.sonar.port, want.port) << "ping " << want.ping_number;
     EXPECT_EQ(p.sonar.starboard, want.starboard);
@@ -362,10 +362,10 @@ TEST(JsfReader, UnknownMessagesSkippedByCount) {
 TEST(JsfWriter, RefusesPingsItCannotStore) {
   const fs::path dir = temp_dir("jsf_refuse");
   Writer w(dir / "x.jsf");
-  xtf::SonarPing p = xtf::test::make_ping(0, 10, 12);
+  SonarPing p = xtf::test::make_ping(0, 10, 12);
   EXPECT_THROW(w.write_ping(p), InputError);  // sides of different length
   p = xtf::test::make_ping(0, 10, 10);
-  p.time_utc = xtf::UtcTime{};
+  p.time_utc = UtcTime{};
   p.time_utc -= std::chrono::hours(24);
   EXPECT_THROW(w.write_ping(p), InputError);  // 1969
   fs::remove_all(dir);

@@ -17,7 +17,7 @@
 
 #include "cli_test_util.hpp"
 #include "mosaic_test_util.hpp"
-#include "sonarsynth/formats/xtf/byte_io.hpp"
+#include "sonarsynth/formats/io/byte_io.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/records.hpp"
 
@@ -104,7 +104,7 @@ std::size_t ping_header_offset_of(float xtf::XtfPingHeader::*field) {
   xtf::XtfPingHeader h;
   h.*field = 123456.75f;
   std::vector<std::uint8_t> b(xtf::XtfPingHeader::kSize, 0);
-  xtf::ByteWriter w(b);
+  ByteWriter w(b);
   h.encode(w);
   std::uint8_t pat[4];
   const float v = 123456.75f;
@@ -118,7 +118,7 @@ std::size_t ping_header_offset_of(double xtf::XtfPingHeader::*field) {
   xtf::XtfPingHeader h;
   h.*field = 123456.75;
   std::vector<std::uint8_t> b(xtf::XtfPingHeader::kSize, 0);
-  xtf::ByteWriter w(b);
+  ByteWriter w(b);
   h.encode(w);
   std::uint8_t pat[8];
   const double v = 123456.75;
@@ -153,8 +153,8 @@ TEST_F(MosaicCliTest, DepthPositiveWithoutBathymetryIsAnError) {
 TEST_F(MosaicCliTest, FileWithoutSonarChannelsFails) {
   {
     xtf::Writer w(path("empty.xtf"));
-    xtf::AttitudeSample a;
-    a.time_utc = xtf::UtcTime{std::chrono::seconds{1700000000}};
+    AttitudeSample a;
+    a.time_utc = UtcTime{std::chrono::seconds{1700000000}};
     w.write_attitude(a);
     w.close();
   }
@@ -383,7 +383,7 @@ class MosaicOutlierTest : public MosaicCliTest {
   }
   /// The reference: the same line without ping `skip`.
   test::Raster reference_without(int skip) {
-    test::write_line(path("ref.xtf"), spec_, [&](int i, xtf::SonarPing&) { return i != skip; });
+    test::write_line(path("ref.xtf"), spec_, [&](int i, SonarPing&) { return i != skip; });
     EXPECT_EQ(mosaic("ref.xtf", "ref.tif"), 0) << err_;
     EXPECT_TRUE(err_.empty()) << err_;
     test::Raster r = test::read_band(path("ref.tif"));
@@ -403,7 +403,7 @@ class MosaicOutlierTest : public MosaicCliTest {
 TEST_F(MosaicOutlierTest, GpsJumpOfOnePingIsDroppedFromTheExtent) {
   const test::Raster ref = reference_without(60);
   ASSERT_GT(ref.cols, 0);
-  test::write_line(path("jump.xtf"), spec_, [&](int i, xtf::SonarPing& p) {
+  test::write_line(path("jump.xtf"), spec_, [&](int i, SonarPing& p) {
     if (i == 60) {
       const test::LatLon far = test::direct(test::ping_position(spec_, i), 123.0, 2000.0);
       p.sensor_position = {rad_from_deg(far.lat_deg), rad_from_deg(far.lon_deg), 0.0};
@@ -443,7 +443,7 @@ TEST_F(MosaicOutlierTest, GpsJumpOfOnePingIsDroppedFromTheExtent) {
 // A survey that stops and resumes 300 m away is not an outlier: the first ping after the gap
 // is near the pings after it, the last one before near the pings before it.
 TEST_F(MosaicOutlierTest, ResumingElsewhereAfterAGapIsKept) {
-  test::write_line(path("gap.xtf"), spec_, [&](int i, xtf::SonarPing& p) {
+  test::write_line(path("gap.xtf"), spec_, [&](int i, SonarPing& p) {
     if (i >= 60) {
       const test::LatLon moved = test::direct(test::ping_position(spec_, i), 123.0, 300.0);
       p.sensor_position = {rad_from_deg(moved.lat_deg), rad_from_deg(moved.lon_deg), 0.0};
@@ -458,7 +458,7 @@ TEST_F(MosaicOutlierTest, ResumingElsewhereAfterAGapIsKept) {
 // SlantRange 1e6 m on one ping: without the test, 4e6 x 4e6 pixels.
 TEST_F(MosaicOutlierTest, AbsurdSlantRangeIsDropped) {
   const test::Raster ref = reference_without(30);
-  test::write_line(path("range.xtf"), spec_, [&](int i, xtf::SonarPing& p) {
+  test::write_line(path("range.xtf"), spec_, [&](int i, SonarPing& p) {
     if (i == 30) p.slant_range_m = 1e6;
     return true;
   });

@@ -75,14 +75,14 @@ inline LatLon ping_position(const LineSpec& s, int i) {
 /// Writes the line; `edit(i, ping)`, if given, may change ping i before it is written and
 /// returns false to leave it out.
 inline void write_line(const std::filesystem::path& path, const LineSpec& s,
-                       const std::function<bool(int, xtf::SonarPing&)>& edit = {}) {
+                       const std::function<bool(int, SonarPing&)>& edit = {}) {
   xtf::WriterOptions wo;
   wo.sample_encoding = xtf::SampleEncoding::kFloat32;
   xtf::Writer w(path, wo);
   using namespace std::chrono;
-  const xtf::UtcTime t0{sys_days{year{2024} / January / 15} + hours{12}};
+  const UtcTime t0{sys_days{year{2024} / January / 15} + hours{12}};
   for (int i = 0; i < s.pings; ++i) {
-    xtf::SonarPing p;
+    SonarPing p;
     p.time_utc = t0 + milliseconds{100 * i};
     p.ping_number = static_cast<std::uint32_t>(i);
     const LatLon pos = ping_position(s, i);

@@ -74,8 +74,8 @@ TEST_F(RunSimulationTest, JsfAndXtfOfOneRunAgree) {
     while (x.next(p)) {
       if (p.kind != xtf::PacketKind::kPing) continue;
       ASSERT_TRUE(j.next_ping(q));
-      const xtf::SonarPing& a = p.ping.sonar;
-      const xtf::SonarPing& b = q.sonar;
+      const SonarPing& a = p.ping.sonar;
+      const SonarPing& b = q.sonar;
       ASSERT_EQ(a.port, b.port) << line << " ping " << a.ping_number;
       ASSERT_EQ(a.starboard, b.starboard);
       EXPECT_EQ(a.ping_number, b.ping_number);
@@ -96,6 +96,61 @@ TEST_F(RunSimulationTest, JsfAndXtfOfOneRunAgree) {
   // A second run over the first (overwrite) accepts the .jsf files as its own products.
   o.overwrite = true;
   EXPECT_NO_THROW(run_simulation(scene_, out, o));
+}
+
+std::string file_bytes(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+// output.formats: [xtf, jsf] and its alias output.jsf: true write the same files, byte for byte;
+// output.formats: [jsf] writes JSF alone.
+TEST_F(RunSimulationTest, OutputFormatsListAndJsfAliasWriteTheSameFiles) {
+  RunOptions o;
+  o.products.mosaic = false;
+  o.products.waterfalls = false;
+  o.products.truth = false;
+  const std::string list_scene = (dir_ / "list.yaml").string();
+  const std::string jsf_only_scene = (dir_ / "jsf_only.yaml").string();
+  std::ofstream(scene_) << kScene << "output: {jsf: true}\n";
+  std::ofstream(list_scene) << kScene << "output: {formats: [JSF, xtf]}\n";
+  std::ofstream(jsf_only_scene) << kScene << "output: {formats: [jsf]}\n";
+  const RunResult alias = run_simulation(scene_, dir_ / "alias", o);
+  const RunResult list = run_simulation(list_scene, dir_ / "list", o);
+  ASSERT_EQ(alias.files.size(), list.files.size());
+  for (const std::string line : {"a", "b"}) {
+    for (const std::string ext : {".xtf", ".jsf"}) {
+      const std::string a = file_bytes(dir_ / "alias" / (line + ext));
+      EXPECT_FALSE(a.empty()) << line + ext;
+      EXPECT_EQ(a, file_bytes(dir_ / "list" / (line + ext))) << line + ext;
+    }
+  }
+  // The files in the order of the format list, whatever the order in output.formats.
+  EXPECT_EQ(list.files.front().extension(), ".xtf");
+  const RunResult jsf_only = run_simulation(jsf_only_scene, dir_ / "jsf_only", o);
+  for (const fs::path& f : jsf_only.files) EXPECT_NE(f.extension(), ".xtf") << f;
+  EXPECT_TRUE(fs::exists(dir_ / "jsf_only" / "a.jsf"));
+  EXPECT_FALSE(fs::exists(dir_ / "jsf_only" / "a.xtf"));
+}
+
+TEST_F(RunSimulationTest, UnknownOutputFormatIsANamedErrorListingTheKnownOnes) {
+  const auto message = [&](const std::string& output) {
+    std::ofstream(scene_) << kScene << "output: " << output << "\n";
+    try {
+      (void)run_simulation(scene_, dir_ / "out", RunOptions{});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string unknown = message("{formats: [xtf, sdf]}");
+  EXPECT_NE(unknown.find("output.formats[1]"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("sdf"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("xtf, jsf"), std::string::npos) << unknown;
+  EXPECT_NE(message("{formats: []}").find("output.formats"), std::string::npos);
+  EXPECT_NE(message("{formats: [xtf, xtf]}").find("each format once"), std::string::npos);
+  EXPECT_NE(message("{formats: [jsf], jsf: false}").find("output.jsf"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
 TEST_F(RunSimulationTest, ResultListsWhatWasWrittenAndCountsEveryPing) {

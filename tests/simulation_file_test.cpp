@@ -426,7 +426,7 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
     EXPECT_EQ(a.mosaic_processing.nadir, b.mosaic_processing.nadir);
     EXPECT_EQ(a.mosaic_processing.gain, b.mosaic_processing.gain);
     EXPECT_EQ(a.sample_format, b.sample_format);
-    EXPECT_EQ(a.write_jsf, b.write_jsf);
+    EXPECT_EQ(a.output_formats, b.output_formats);
     EXPECT_EQ(a.limits.max_pings, b.limits.max_pings);
     EXPECT_EQ(a.vehicle.depth_mode, b.vehicle.depth_mode);
     EXPECT_EQ(a.vehicle.altitude_m, b.vehicle.altitude_m);

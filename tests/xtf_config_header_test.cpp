@@ -76,7 +76,7 @@ Written write_and_read(const SimulationConfig& cfg, xtf::SampleEncoding enc, con
   out.header = r.file_header();
   xtf::Packet pk;
   while (r.next(pk)) {
-    if (pk.kind == xtf::PacketKind::kNotes) out.notes = xtf::to_string(pk.notes.NotesText);
+    if (pk.kind == xtf::PacketKind::kNotes) out.notes = sonarsynth::to_string(pk.notes.NotesText);
     if (pk.kind == xtf::PacketKind::kPing) {
       for (std::size_t i = 0; i < pk.ping.channel_count; ++i)
         out.channels.push_back(pk.ping.channels[i].header);
@@ -118,7 +118,7 @@ TEST_F(XtfConfigHeaderTest, EveryFieldFollowsANonDefaultSonarWithTvg) {
     EXPECT_EQ(ch.Frequency, 230);
   }
   // The note states the law, alpha and the gain; the header's 64 characters hold all three.
-  const std::string note_string = xtf::to_string(w.header.NoteString);
+  const std::string note_string = sonarsynth::to_string(w.header.NoteString);
   EXPECT_EQ(w.notes.rfind(note_string, 0), 0u) << note_string << " | " << w.notes;
   EXPECT_EQ(note_string.rfind("TVG 30logR+2aR a=", 0), 0u) << note_string;
   EXPECT_NE(note_string.find(" dB;"), std::string::npos) << note_string;
@@ -143,7 +143,7 @@ TEST_F(XtfConfigHeaderTest, NoTvgGivesNoFlagAndSaysSoWithTheGivenGain) {
     EXPECT_EQ(c.SampleFormat, 8);
   }
   for (const auto& ch : w.channels) EXPECT_EQ(ch.ProcessingFlags, 0);
-  const std::string note_string = xtf::to_string(w.header.NoteString);
+  const std::string note_string = sonarsynth::to_string(w.header.NoteString);
   EXPECT_EQ(note_string.rfind("no TVG, gain 123.456789 dB;", 0), 0u) << note_string;
   EXPECT_EQ(w.notes.find("30logR"), std::string::npos) << w.notes;
 }

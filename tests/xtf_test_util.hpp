@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "sonarsynth/formats/xtf/ping.hpp"
+#include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/xtf/records.hpp"
 
 namespace sonarsynth::xtf::test {

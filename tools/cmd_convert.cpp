@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
-// `sonarsynth convert IN -o OUT`: XTF <-> JSF (docs/jsf.md §4).
+// `sonarsynth convert IN -o OUT`: between the formats of the format list that convert into
+// each other (SonarFormat::conversions; today XTF <-> JSF, docs/jsf.md §4).
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 
 namespace sonarsynth::cli {
 
@@ -53,9 +55,8 @@ int run_convert(const std::vector<std::string>& args) {
     for (const std::string& w : r.warnings) std::cerr << "  " << w << "\n";
   }
   if (!vm.count("quiet")) {
-    std::cout << "wrote " << output << ": " << sonar_file_format_name(r.from) << " -> "
-              << sonar_file_format_name(r.to) << ", " << r.pings << " pings, " << r.attitude_records
-              << " attitude records";
+    std::cout << "wrote " << output << ": " << r.from->display_name << " -> " << r.to->display_name
+              << ", " << r.pings << " pings, " << r.attitude_records << " attitude records";
     if (vm["altitude-source"].as<std::string>() != "header") {
       std::cout << ", altitude of " << r.pings_tracked_altitude
                 << " pings tracked from the first return";

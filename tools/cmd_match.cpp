@@ -128,9 +128,9 @@ int run_match(const std::vector<std::string>& args) {
      "georeferenced: an inlier is correct if its pair is within this many metres of the truth")
     ("pings-a", po::value(&pings_a), "XTF A: ping range FIRST:LAST (0-based, inclusive)")
     ("pings-b", po::value(&pings_b), "XTF B: ping range FIRST:LAST")
-    ("no-slant-correct", "XTF/JSF: keep slant-range columns")
+    ("no-slant-correct", "sonar files: keep slant-range columns")
     ("altitude-source", po::value(&altitude_source)->default_value("auto"),
-     "XTF/JSF: auto | header | track: altitude for slant->ground (as for mosaic)")
+     "sonar files: auto | header | track: altitude for slant->ground (as for mosaic)")
     ("bounds", po::value(&bounds),
      "georeferenced: crop both to MINX,MINY,MAXX,MAXY (their CRS)")
     ("overlap", "georeferenced: crop both to the intersection of their extents")

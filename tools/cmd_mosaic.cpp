@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// `sonarsynth mosaic`: XTF files (ours or any vendor's) gridded into a GeoTIFF mosaic.
+// `sonarsynth mosaic`: sonar files of any listed format (ours or any vendor's) gridded into a
+// GeoTIFF mosaic.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -14,14 +15,16 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_grid.hpp"
 #include "sonarsynth/formats/mosaic_writer.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 #include "sonarsynth/formats/xtf_mosaic.hpp"
 
 namespace sonarsynth::cli {
 namespace {
 
 const char* const kUsage =
-    "usage: sonarsynth mosaic FILES.xtf|.jsf... -o MOSAIC.tif [options]\n\n"
-    "Georeferences every sample of the XTF files (sensor position, fish heading converted to grid\n"
+    "usage: sonarsynth mosaic FILES... -o MOSAIC.tif [options]\n\n"
+    "Georeferences every sample of the sonar files (any format of the format list, read by\n"
+    "content: sonarsynth info --help names them; sensor position, fish heading converted to grid\n"
     "north, pitch; slant->ground on a flat bottom from the altitude, or against --bathymetry) and\n"
     "grids the sample values linearly into a float32 GeoTIFF (NaN nodata, AREA_OR_POINT=Area) in\n"
     "the WGS 84 UTM/UPS zone of the data, Cloud-Optimized by default, plus an 8-bit RGBA display\n"
@@ -50,7 +53,8 @@ int run_mosaic(const std::vector<std::string>& args) {
   XtfMosaicOptions mo;
   // clang-format off
   opts.add_options()
-    ("input", po::value(&inputs)->composing(), "XTF files (positional)")
+    ("input", po::value(&inputs)->composing(),
+     ("sonar files: " + sonar_format_names() + " (positional; format from content)").c_str())
     ("output,o", po::value(&output)->required(), "output GeoTIFF")
     ("res", po::value(&mo.pixel_size_m)->default_value(0.25), "pixel size, metres, > 0")
     ("rule", po::value(&rule)->default_value("mean"), "mean | max | nearest")
@@ -86,7 +90,8 @@ int run_mosaic(const std::vector<std::string>& args) {
   positional.add("input", -1);
   po::variables_map vm;
   if (!parse(args, opts, positional, vm, kUsage)) return 0;
-  if (inputs.empty()) throw InputError("no input file. Violated constraint: at least one XTF file");
+  if (inputs.empty())
+    throw InputError("no input file. Violated constraint: at least one sonar file");
   mo.gridding.rule = parse_rule(rule);
   mo.apply_layback = vm.count("layback") > 0;
   mo.gridding.nadir_fill = vm.count("no-nadir-fill") == 0;

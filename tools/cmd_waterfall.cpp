@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
-// `sonarsynth waterfall`: port | starboard waterfall image of an XTF file.
+// `sonarsynth waterfall`: port | starboard waterfall image of a sonar file of any listed format.
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 #include "sonarsynth/formats/waterfall.hpp"
 
 namespace sonarsynth::cli {
@@ -16,7 +17,8 @@ int run_waterfall(const std::vector<std::string>& args) {
   WaterfallOptions wo;
   // clang-format off
   opts.add_options()
-    ("input", po::value(&input)->required(), "XTF or JSF file (positional; the format is read from the content)")
+    ("input", po::value(&input)->required(),
+     ("sonar file: " + sonar_format_names() + " (positional; the format is read from the content)").c_str())
     ("output,o", po::value(&output)->required(), "output image (.png or .tif)")
     ("grey", "grey scale instead of the black-brown-yellow colormap")
     ("slant-correct", "resample to ground range on a flat bottom (altitude of each ping)")
@@ -37,7 +39,7 @@ int run_waterfall(const std::vector<std::string>& args) {
   positional.add("input", 1);
   po::variables_map vm;
   if (!parse(args, opts, positional, vm,
-             "usage: sonarsynth waterfall FILE.xtf|.jsf -o IMAGE.png [options]\n\n"
+             "usage: sonarsynth waterfall FILE -o IMAGE.png [options]\n\n"
              "Draws one row per ping: port far -> near | starboard near -> far (nadir in the\n"
              "middle), 10 log10 of the samples between the 1st and 99th percentiles of the file\n"
              "(or --lo-db/--hi-db, or the samples linearly with --linear) through the\n"

@@ -13,14 +13,19 @@
 #include "../xtf/time_fields.hpp"
 #include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/jsf/format.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/jsf/writer.hpp"
+#include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth {
 namespace {
+
+/// The two formats this file converts between.
+enum class SonarFileFormat : std::uint8_t { kXtf, kJsf };
 
 constexpr std::size_t kMaxWarnings = 10;
 
@@ -54,7 +59,7 @@ void drop(ConvertResult& r, const std::string& reason, const std::string& where,
 }
 
 /// Why a ping cannot be converted at all (docs/conversion.md, "Drops"), or "" if it can.
-std::string drop_reason(const xtf::SonarPing& s) {
+std::string drop_reason(const SonarPing& s) {
   if (s.port.empty() || s.starboard.empty()) return "one side missing";
   if (!(s.slant_range_m > 0.0)) return "slant range 0 (sample interval 0: no sample spacing)";
   if (!(s.slant_range_m <= jsf::kMaxPlausibleSlantRange_m)) {
@@ -65,7 +70,7 @@ std::string drop_reason(const xtf::SonarPing& s) {
 
 /// Writes the fields the output cannot hold as they are but can hold as "unknown" so, each
 /// repair counted by its rule (docs/conversion.md, "Repairs").
-void repair(SonarFileFormat to, xtf::SonarPing& s, ConvertResult& r) {
+void repair(SonarFileFormat to, SonarPing& s, ConvertResult& r) {
   const auto fix = [&](double& v, bool ok, double unknown, const char* rule) {
     if (ok) return;
     v = unknown;
@@ -148,7 +153,7 @@ std::vector<double> tracked_altitudes(const std::filesystem::path& in, SonarFile
 
 /// Replaces the altitude of the k-th ping by the chosen one (docs/conversion.md); a ping
 /// without one keeps its header altitude.
-void choose_ping_altitude(xtf::SonarPing& s, std::size_t k, const std::vector<double>& tracked,
+void choose_ping_altitude(SonarPing& s, std::size_t k, const std::vector<double>& tracked,
                           AltitudeSource source, ConvertResult& r) {
   if (source == AltitudeSource::kHeader) return;
   const double t = k < tracked.size() ? tracked[k] : std::nan("");
@@ -176,7 +181,7 @@ jsf::XtfFileFields xtf_file_fields(const std::filesystem::path& in) {
   jsf::XtfFileFields f;
   const xtf::XtfFileHeader& h = reader.file_header();
   f.sonar_name = h.SonarName;
-  f.note = xtf::fixed_string<200>(text_of(h.NoteString));
+  f.note = fixed_string<200>(text_of(h.NoteString));
   xtf::Packet p;
   while (reader.next(p) && p.kind != xtf::PacketKind::kPing) {
     if (p.kind == xtf::PacketKind::kNotes) {
@@ -228,7 +233,7 @@ jsf::XtfPingFields xtf_ping_fields(const xtf::PingRecord& ping, std::uint16_t na
 /// written from the message-80 values.
 bool carried_agrees(const jsf::XtfPingFields& f, const jsf::Ping& p) {
   const xtf::XtfPingHeader& h = f.ping;
-  const xtf::SonarPing& s = p.sonar;
+  const SonarPing& s = p.sonar;
   const auto near = [](double jsf_value, double xtf_value, double step) {
     return std::abs(jsf_value - xtf_value) <= step / 2 + 1e-6 * (1.0 + std::abs(xtf_value));
   };
@@ -243,7 +248,7 @@ bool carried_agrees(const jsf::XtfPingFields& f, const jsf::Ping& p) {
                 near(deg_from_rad(s.sensor_position.lon_rad), h.SensorXcoordinate, 1.0 / 6e5)
           : true;
   // The XTF time to 10 ms (HSeconds); the JSF's is that time, to 1 ms.
-  const std::optional<xtf::UtcTime> t = xtf::detail::time_from_fields(
+  const std::optional<UtcTime> t = xtf::detail::time_from_fields(
       h.Year, h.Month, h.Day, h.Hour, h.Minute, h.Second, std::uint32_t{h.HSeconds} * 10000u);
   const bool time =
       !p.time_valid || (t && std::chrono::abs(s.time_utc - *t) <= std::chrono::milliseconds{10});
@@ -275,13 +280,15 @@ void apply_xtf_file_fields(const jsf::XtfFileFields& f, xtf::WriterOptions& o) {
   set(o.vertical_beam_width_rad, f.beam_width_deg, 0.0, kPi);
 }
 
+}  // namespace
+
 ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
                          bool overwrite, AltitudeSource source) {
   const std::vector<double> tracked = tracked_altitudes(in, SonarFileFormat::kXtf, source);
   std::size_t k = 0;
   ConvertResult r;
-  r.from = SonarFileFormat::kXtf;
-  r.to = SonarFileFormat::kJsf;
+  r.from = &xtf::sonar_format();
+  r.to = &jsf::sonar_format();
   xtf::Reader reader(in);
   jsf::WriterOptions o;
   o.overwrite = overwrite;
@@ -293,8 +300,8 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
   while (reader.next(packet)) {
     if (packet.kind == xtf::PacketKind::kAttitude) {
       const xtf::XtfAttitudeData& d = packet.attitude;
-      xtf::AttitudeSample a;
-      a.time_utc = xtf::UtcTime{std::chrono::seconds{d.SourceEpoch}} +
+      AttitudeSample a;
+      a.time_utc = UtcTime{std::chrono::seconds{d.SourceEpoch}} +
                    std::chrono::microseconds{std::min<std::uint32_t>(d.EpochMicroseconds, 999999)};
       a.heading_rad = rad_from_deg(d.Heading);
       a.pitch_rad = rad_from_deg(d.Pitch);
@@ -311,7 +318,7 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
       continue;
     }
     if (packet.kind != xtf::PacketKind::kPing) continue;
-    xtf::SonarPing& s = packet.ping.sonar;
+    SonarPing& s = packet.ping.sonar;
     choose_ping_altitude(s, k++, tracked, source, r);
     if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
       s.sensor_position = {};  // stored as 0, 0: "no position" for JSF readers
@@ -344,8 +351,8 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
   const std::vector<double> tracked = tracked_altitudes(in, SonarFileFormat::kJsf, source);
   std::size_t k = 0;
   ConvertResult r;
-  r.from = SonarFileFormat::kJsf;
-  r.to = SonarFileFormat::kXtf;
+  r.from = &jsf::sonar_format();
+  r.to = &xtf::sonar_format();
   jsf::Reader reader(in);
   std::unique_ptr<xtf::Writer> writer;
   xtf::WriterOptions o;
@@ -362,7 +369,7 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
   jsf::Ping ping;
   // Pings through next_ping(); pitch/roll messages are not pings and are read separately, so
   // walk the messages once for attitude, once for pings, and merge by order of offset.
-  std::vector<std::pair<std::uint64_t, xtf::AttitudeSample>> attitude;
+  std::vector<std::pair<std::uint64_t, AttitudeSample>> attitude;
   {
     jsf::Reader scan(in);
     while (scan.next(m)) {
@@ -421,59 +428,6 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
   open(0.0);
   writer->close();
   return r;
-}
-
-}  // namespace
-
-const char* sonar_file_format_name(SonarFileFormat format) {
-  switch (format) {
-    case SonarFileFormat::kXtf:
-      return "XTF";
-    case SonarFileFormat::kJsf:
-      return "JSF";
-    case SonarFileFormat::kUnknown:
-      break;
-  }
-  return "unknown";
-}
-
-SonarFileFormat detect_sonar_file_format(const std::filesystem::path& path) {
-  const auto source = xtf::open_file_source(path);
-  if (source->size() < 2) return SonarFileFormat::kUnknown;
-  std::array<std::uint8_t, 2> b{};
-  source->read(0, b);
-  if (b[0] == 0x01 && b[1] == 0x16) return SonarFileFormat::kJsf;
-  if (b[0] == xtf::kFileFormat) return SonarFileFormat::kXtf;
-  return SonarFileFormat::kUnknown;
-}
-
-SonarFileFormat sonar_file_format_from_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".xtf") return SonarFileFormat::kXtf;
-  if (ext == ".jsf") return SonarFileFormat::kJsf;
-  return SonarFileFormat::kUnknown;
-}
-
-ConvertResult convert_sonar_file(const std::filesystem::path& in, const std::filesystem::path& out,
-                                 bool overwrite, AltitudeSource altitude_source) {
-  const SonarFileFormat to = sonar_file_format_from_extension(out);
-  if (to == SonarFileFormat::kUnknown) {
-    throw InputError("convert: output " + out.string() +
-                     ": extension must be .xtf or .jsf (the output format)");
-  }
-  const SonarFileFormat from = detect_sonar_file_format(in);
-  if (from == SonarFileFormat::kUnknown) {
-    throw FormatError("convert: " + in.string() +
-                      ": neither XTF (first byte 0x7B) nor JSF (first bytes 01 16)");
-  }
-  if (from == to) {
-    throw InputError("convert: " + in.string() + " is already " + sonar_file_format_name(from) +
-                     "; convert between XTF and JSF");
-  }
-  return from == SonarFileFormat::kXtf ? xtf_to_jsf(in, out, overwrite, altitude_source)
-                                       : jsf_to_xtf(in, out, overwrite, altitude_source);
 }
 
 }  // namespace sonarsynth

@@ -216,9 +216,9 @@ bool Reader::next(Message& m) {
       const std::int32_t s = r.i32();
       const std::int32_t ms = r.i32();
       r.skip(4 + 12);
-      xtf::AttitudeSample& a = m.attitude;
+      AttitudeSample& a = m.attitude;
       a.time_utc =
-          xtf::UtcTime{std::chrono::seconds{s}} + std::chrono::milliseconds{std::clamp(ms, 0, 999)};
+          UtcTime{std::chrono::seconds{s}} + std::chrono::milliseconds{std::clamp(ms, 0, 999)};
       a.pitch_rad = rad_from_deg(r.i16() * 180.0 / 32768.0);
       a.roll_rad = rad_from_deg(r.i16() * 180.0 / 32768.0);
       r.skip(4);
@@ -314,7 +314,7 @@ void Reader::make_ping(Message* port, Message* stbd, Ping& ping) {
   ping.offset = first.offset;
   ping.index = first.index;
   ping.header = h;
-  xtf::SonarPing& s = ping.sonar;
+  SonarPing& s = ping.sonar;
   s.ping_number = h.ping_number;
   // The messages' sample buffers are not read again: swap them in (capacity is recycled).
   s.port.clear();
@@ -325,9 +325,9 @@ void Reader::make_ping(Message* port, Message* stbd, Ping& ping) {
   // Time: offset 0 + ms today % 1000 (protocol >= 8), else the CPU-time block.
   using namespace std::chrono;
   const milliseconds frac{h.ms_today % 1000};
-  std::optional<xtf::UtcTime> t;
+  std::optional<UtcTime> t;
   if (first.header.protocol_version >= 8 && h.ping_time_s > 0) {
-    t = xtf::UtcTime{seconds{h.ping_time_s}} + frac;
+    t = UtcTime{seconds{h.ping_time_s}} + frac;
   } else if (h.year >= 1 && h.day_of_year >= 1 && h.day_of_year <= 366 && h.hour >= 0 &&
              h.minute >= 0 && h.second >= 0) {
     const auto jan1 = xtf::detail::time_from_fields(h.year, 1, 1, 0, 0, 0, 0);

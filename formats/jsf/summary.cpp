@@ -14,7 +14,7 @@ FileSummary summarize(Reader& reader) {
   Ping p;
   while (reader.next_ping(p)) {
     ++s.pings;
-    const xtf::SonarPing& q = p.sonar;
+    const SonarPing& q = p.sonar;
     if (p.time_valid) {
       ++s.pings_with_valid_time;
       if (!s.first_time) s.first_time = q.time_utc;

@@ -108,7 +108,7 @@ std::int16_t quantise(std::span<const float> samples, std::vector<std::int16_t>&
   return static_cast<std::int16_t>(n);
 }
 
-SonarDataHeader sonar_header(const xtf::SonarPing& p, const WriterOptions& options) {
+SonarDataHeader sonar_header(const SonarPing& p, const WriterOptions& options) {
   using namespace std::chrono;
   SonarDataHeader h;
   const auto t_ms = floor<milliseconds>(p.time_utc);
@@ -186,7 +186,7 @@ SonarDataHeader sonar_header(const xtf::SonarPing& p, const WriterOptions& optio
   h.spherical_correction = -1;
   h.packet_number = 1;
   const std::string_view version(kVersion);
-  h.software_version = xtf::fixed_string<6>(version.substr(0, 5));
+  h.software_version = fixed_string<6>(version.substr(0, 5));
   h.layback_m = 0.0f;
   return h;
 }
@@ -265,7 +265,7 @@ void Writer::write_channel(const SonarDataHeader& base, std::uint8_t channel,
   append(buffer_.size());
 }
 
-void Writer::write_ping(const xtf::SonarPing& p, const XtfPingFields* xtf_fields) {
+void Writer::write_ping(const SonarPing& p, const XtfPingFields* xtf_fields) {
   const std::string who = "ping " + std::to_string(p.ping_number) + ": ";
   const Geodetic& g = p.sensor_position;
   if (!(std::isfinite(g.lat_rad) && std::isfinite(g.lon_rad)) || std::abs(g.lat_rad) > kPi / 2 ||
@@ -322,7 +322,7 @@ void Writer::write_ping(const xtf::SonarPing& p, const XtfPingFields* xtf_fields
   ++pings_written_;
 }
 
-void Writer::write_attitude(const xtf::AttitudeSample& a) {
+void Writer::write_attitude(const AttitudeSample& a) {
   using namespace std::chrono;
   for (const double v : {a.heading_rad, a.pitch_rad, a.roll_rad, a.heave_m, a.yaw_rad}) {
     if (!std::isfinite(v)) violated("attitude", "non-finite", "heading, pitch, roll, heave finite");

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "sonarsynth/formats/xtf/ping.hpp"
+#include "sonarsynth/formats/io/sonar_ping.hpp"
 
 namespace sonarsynth::xtf::detail {
 

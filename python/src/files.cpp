@@ -12,6 +12,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/run_simulation.hpp"
 #include "sonarsynth/formats/sidescan_source.hpp"
+#include "sonarsynth/formats/sonar_formats.hpp"
 
 namespace sonarsynth::python {
 
@@ -59,8 +60,8 @@ struct Rows {
   }
 };
 
-// The pings of an XTF or JSF file as numpy arrays; `expected` refuses the other format.
-py::dict read_sidescan(const std::filesystem::path& path, std::optional<SonarFileFormat> expected) {
+// The pings of a sonar file of any format as numpy arrays; `expected` refuses the others.
+py::dict read_sidescan(const std::filesystem::path& path, const SonarFormat* expected) {
   Rows port, stbd;
   std::vector<std::int64_t> time_us;
   std::vector<std::uint32_t> ping_number;
@@ -68,19 +69,21 @@ py::dict read_sidescan(const std::filesystem::path& path, std::optional<SonarFil
       speed, sound_speed, slant_range;
   std::vector<std::uint8_t> nav_valid, time_valid;
   std::vector<std::string> anomalies;
-  SonarFileFormat format = SonarFileFormat::kXtf;
+  std::string format;
   {
     py::gil_scoped_release release;
-    if (expected && detect_sonar_file_format(path) != *expected) {
-      throw FormatError(path.string() + ": not " +
-                        (*expected == SonarFileFormat::kJsf ? "a JSF" : "an XTF") +
-                        " file (read_sonar reads either)");
+    if (expected && identify_sonar_format(path) != expected) {
+      // "an XTF", "a JSF": the article of the name's first letter as spoken.
+      const std::string_view name = expected->display_name;
+      const bool an = std::string_view("AEFHILMNORSX").find(name.front()) != std::string_view::npos;
+      throw FormatError(path.string() + ": not " + (an ? "an " : "a ") + std::string(name) +
+                        " file (read_sonar reads any of " + sonar_format_names() + ")");
     }
     const std::unique_ptr<SideScanSource> source = SideScanSource::open(path);
-    format = source->format();
+    format = source->format().name;
     SideScanRecord r;
     while (source->next(r)) {
-      const xtf::SonarPing& s = r.sonar;
+      const SonarPing& s = r.sonar;
       port.add(s.port);
       stbd.add(s.starboard);
       time_us.push_back(s.time_utc.time_since_epoch().count());
@@ -106,7 +109,7 @@ py::dict read_sidescan(const std::filesystem::path& path, std::optional<SonarFil
   }
   const auto n = static_cast<py::ssize_t>(time_us.size());
   py::dict d;
-  d["format"] = format == SonarFileFormat::kJsf ? "jsf" : "xtf";
+  d["format"] = format;
   d["port_sample_count"] = owned(std::vector<std::uint32_t>(port.lengths), {n});
   d["starboard_sample_count"] = owned(std::vector<std::uint32_t>(stbd.lengths), {n});
   d["port"] = std::move(port).arrays();
@@ -195,8 +198,8 @@ void bind_files(py::module_& m) {
       "run_s (rendering and products, which overlap) / products_s (mosaic files) / total_s "
       "(wall seconds), cpu_s (process CPU seconds).");
 
-  // XTF, JSF or either (detected from the file's first bytes): the same arrays.
-  const auto reader = [](std::optional<SonarFileFormat> expected) {
+  // One format or any (detected from the file's first bytes): the same arrays.
+  const auto reader = [](const SonarFormat* expected) {
     return [expected](const std::filesystem::path& path) { return read_sidescan(path, expected); };
   };
   const std::string arrays =
@@ -211,18 +214,67 @@ void bind_files(py::module_& m) {
       "slant_range_m, nav_valid, time_valid; format ('xtf' or 'jsf'); anomalies: the reader's "
       "messages about broken records (it skips them and carries on). Raises FormatError if the "
       "file cannot be read.";
-  m.def("read_xtf", reader(SonarFileFormat::kXtf), py::arg("path"),
+  m.def("read_xtf", reader(find_sonar_format("xtf")), py::arg("path"),
         ("Reads the sonar pings of an XTF file (any sonar; times in 1/100 s) into numpy: " + arrays)
             .c_str());
-  m.def("read_jsf", reader(SonarFileFormat::kJsf), py::arg("path"),
+  m.def("read_jsf", reader(find_sonar_format("jsf")), py::arg("path"),
         ("Reads the side-scan pings of an EdgeTech JSF file (the first side-scan subsystem; "
          "docs/jsf.md) into numpy: " +
          arrays)
             .c_str());
+  m.def("read_sonar", reader(nullptr), py::arg("path"),
+        ("Reads a sonar file of any known format (sonarsynth.formats(); the format detected "
+         "from its first bytes) into numpy: " +
+         arrays)
+            .c_str());
+  // The format list (formats/sonar_formats.cpp), as `sonarsynth info` and `simulate` see it.
   m.def(
-      "read_sonar", reader(std::nullopt), py::arg("path"),
-      ("Reads an XTF or JSF file (the format detected from its first bytes) into numpy: " + arrays)
-          .c_str());
+      "formats",
+      [] {
+        py::list out;
+        for (const SonarFormat* f : sonar_formats()) {
+          py::dict d;
+          d["name"] = std::string(f->name);
+          d["display_name"] = std::string(f->display_name);
+          d["description"] = std::string(f->description);
+          py::list ext;
+          for (std::string_view e : f->extensions) ext.append(std::string(e));
+          d["extensions"] = ext;
+          d["read"] = f->capabilities.read;
+          d["simulate"] = f->capabilities.simulate;
+          py::list conversions;
+          for (const SonarConversion& c : f->conversions) {
+            conversions.append(py::make_tuple(std::string(c.from), std::string(c.to)));
+          }
+          d["conversions"] = conversions;
+          out.append(d);
+        }
+        return out;
+      },
+      "The sonar formats sonarsynth knows, in the order of its format list: a list of dicts "
+      "with name ('xtf', the key of output.formats and of read_sonar's 'format'), display_name, "
+      "description, extensions (lower case, with the dot), read (read_sonar and info read it), "
+      "simulate (simulate writes it: output.formats) and conversions ((from, to) name pairs "
+      "that convert provides).");
+  m.def(
+      "info",
+      [](const std::filesystem::path& path, std::size_t max_anomalies) {
+        SonarFileInfo info;
+        {
+          py::gil_scoped_release release;
+          info = sonar_file_info(path, max_anomalies);
+        }
+        py::dict d;
+        d["json"] = info.json;
+        d["text"] = info.text;
+        d["summary"] = py::module_::import("json").attr("loads")(info.json);
+        return d;
+      },
+      py::arg("path"), py::arg("max_anomalies") = 20,
+      "What `sonarsynth info PATH` prints, from the same library call: a dict with summary (the "
+      "parsed JSON of `info --json`), json (that text) and text (the text output, listing at "
+      "most max_anomalies anomaly messages). The format is detected from the file's first "
+      "bytes. Raises FormatError if the file cannot be read.");
 }
 
 }  // namespace sonarsynth::python

@@ -115,3 +115,34 @@ def test_read_jsf_matches_the_xtf_of_the_same_run(scene_path, tmp_path):
     with pytest.raises(sonarsynth.FormatError, match="not a JSF"):
         sonarsynth.read_jsf(str(out_dir / "a.xtf"))
     assert sonarsynth.read_sonar(str(out_dir / "a.xtf"))["format"] == "xtf"
+
+
+def test_formats_lists_the_library_format_list():
+    formats = sonarsynth.formats()
+    assert [f["name"] for f in formats] == ["xtf", "jsf"]
+    by_name = {f["name"]: f for f in formats}
+    assert by_name["xtf"]["extensions"] == [".xtf"] and by_name["jsf"]["extensions"] == [".jsf"]
+    assert all(f["read"] and f["simulate"] for f in formats)
+    assert set(by_name["jsf"]["conversions"]) == {("xtf", "jsf"), ("jsf", "xtf")}
+
+
+def test_info_is_what_the_cli_prints(scene_path, cli, tmp_path):
+    # output.formats: the run writes both formats; info of each equals `sonarsynth info`'s.
+    scene = tmp_path / "formats_scene.yaml"
+    scene.write_text(open(scene_path).read() + "output: {formats: [xtf, jsf]}\n")
+    out_dir = tmp_path / "out"
+    sonarsynth.run_simulation(str(scene), str(out_dir), mosaic=False, waterfalls=False,
+                              truth=False)
+    for name, display in [("a.xtf", "XTF"), ("a.jsf", "JSF")]:
+        path = str(out_dir / name)
+        info = sonarsynth.info(path, max_anomalies=5)
+        as_json = subprocess.run([cli, "info", path, "--json"], check=True, capture_output=True,
+                                 text=True).stdout
+        as_text = subprocess.run([cli, "info", path, "--max-anomalies", "5"], check=True,
+                                 capture_output=True, text=True).stdout
+        assert info["json"] + "\n" == as_json
+        assert info["text"] == as_text
+        assert info["summary"]["format"] == display
+        assert info["summary"]["pings"] == sonarsynth.read_sonar(path)["port"].shape[0]
+    with pytest.raises(sonarsynth.FormatError):
+        sonarsynth.info(str(tmp_path / "missing.xtf"))

@@ -18,8 +18,8 @@ int main() {
     options.overwrite = true;
     jsf::Writer writer(path, options);
     for (std::uint32_t i = 0; i < 3; ++i) {
-      sonarsynth::xtf::SonarPing ping;
-      ping.time_utc = sonarsynth::xtf::UtcTime(std::chrono::seconds(1'700'000'000 + i));
+      sonarsynth::SonarPing ping;
+      ping.time_utc = sonarsynth::UtcTime(std::chrono::seconds(1'700'000'000 + i));
       ping.ping_number = i;
       ping.sensor_position = {sonarsynth::rad_from_deg(48.45), sonarsynth::rad_from_deg(-68.83)};
       ping.altitude_m = 10.0;
@@ -31,7 +31,8 @@ int main() {
     writer.close();
   }
   const jsf::FileSummary summary = jsf::summarize_file(path);
-  const sonarsynth::ConvertResult converted = sonarsynth::convert_sonar_file(path, xtf_path, true);
+  const sonarsynth::ConvertResult converted =
+      sonarsynth::jsf_to_xtf(path, xtf_path, true, sonarsynth::AltitudeSource::kHeader);
   std::filesystem::remove(path);
   std::filesystem::remove(xtf_path);
   std::cout << "jsf: " << summary.pings << " pings read back, " << converted.pings

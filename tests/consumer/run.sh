@@ -4,7 +4,7 @@
 #   tests/consumer/run.sh <install prefix> <scratch directory>
 # 1. every component (one program each), the umbrella target, every installed header alone;
 # 2. find_package(sonarsynth COMPONENTS <c>) for every component alone (tests/consumer/alone); for
-#    core, io, xtf and jsf with GDAL and yaml-cpp made unfindable, and no GDAL or yaml-cpp on the
+#    core, io, xtf, jsf and registry with GDAL and yaml-cpp made unfindable, and no GDAL or yaml-cpp on the
 #    compile and link lines.
 set -euo pipefail
 prefix=$(realpath "$1")
@@ -15,14 +15,14 @@ mkdir -p "$out"
 
 cmake -S "$here" -B "$out/all" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$out/all" >/dev/null
-for program in consumer consumer_core consumer_io consumer_xtf consumer_jsf consumer_raster consumer_products \
-  consumer_config; do
+for program in consumer consumer_core consumer_io consumer_xtf consumer_jsf consumer_registry consumer_raster \
+  consumer_products consumer_config; do
   "$out/all/$program"
 done
 
-for only in core io xtf jsf raster products config; do
+for only in core io xtf jsf registry raster products config; do
   lean=OFF
-  case $only in core | io | xtf | jsf) lean=ON ;; esac
+  case $only in core | io | xtf | jsf | registry) lean=ON ;; esac
   flags=()
   if [ $lean = ON ]; then
     flags=(-DCMAKE_DISABLE_FIND_PACKAGE_GDAL=ON -DCMAKE_DISABLE_FIND_PACKAGE_yaml-cpp=ON)

@@ -16,8 +16,8 @@ int main() {
     options.overwrite = true;
     xtf::Writer writer(path, options);
     for (std::uint32_t i = 0; i < 3; ++i) {
-      xtf::SonarPing ping;
-      ping.time_utc = xtf::UtcTime(std::chrono::seconds(1'700'000'000 + i));
+      sonarsynth::SonarPing ping;
+      ping.time_utc = sonarsynth::UtcTime(std::chrono::seconds(1'700'000'000 + i));
       ping.ping_number = i;
       ping.sensor_position = {sonarsynth::rad_from_deg(48.45), sonarsynth::rad_from_deg(-68.83)};
       ping.altitude_m = 10.0;

@@ -7,35 +7,50 @@
 #include <string>
 #include <vector>
 
-#include "sonarsynth/formats/jsf/convert.hpp"
-#include "sonarsynth/formats/xtf/ping.hpp"
+#include "sonarsynth/formats/io/sonar_format.hpp"
+#include "sonarsynth/formats/io/sonar_ping.hpp"
 
 namespace sonarsynth {
 
-/// One side-scan ping of an XTF or JSF file, as the product commands (mosaic, waterfall,
-/// match) use it.
+/// One side-scan ping of a sonar file of any format, as the product commands (mosaic, waterfall,
+/// match, info) and Python use it.
 struct SideScanRecord {
-  xtf::SonarPing sonar;     ///< SI units, port/starboard near -> far
-  bool nav_valid = false;   ///< sonar.sensor_position is a geographic position
-  bool time_valid = false;  ///< sonar.time_utc is a valid date and time
-  double layback_m = 0.0;   ///< file layback (0 if none)
-  double heading_deg = 0.0;
-  std::uint64_t index = 0;  ///< increasing, unique in the file (XTF packet / JSF message index)
+  SonarPing sonar;           ///< SI units, port/starboard near -> far
+  bool nav_valid = false;    ///< sonar.sensor_position is a geographic position
+  bool time_valid = false;   ///< sonar.time_utc is a valid date and time
+  double layback_m = 0.0;    ///< file layback (0 if none)
+  double heading_deg = 0.0;  ///< the heading as the file stores it
+  std::uint64_t index = 0;   ///< increasing, unique in the file (e.g. XTF packet, JSF message)
 };
 
-/// The pings of a side-scan file whatever its format: JSF when it starts with the JSF marker
-/// (docs/jsf.md), XTF otherwise (so that a file that is neither gets the XTF reader's error).
+/// The pings of a side-scan file whatever its format; each format's open_reader makes one
+/// (SonarFormat, formats/<codec>/format.cpp).
 class SideScanSource {
  public:
   virtual ~SideScanSource() = default;
-  /// Throws FormatError if the file cannot be opened or is not a readable XTF/JSF file.
+  /// The reader of the format identify_sonar_format() finds by the file's first bytes (the
+  /// first format of the list, XTF, when none claims it, so that such a file gets its reader's
+  /// error). Defined with the format list (formats/sonar_formats.cpp). Throws FormatError if
+  /// the file cannot be opened or read.
   static std::unique_ptr<SideScanSource> open(const std::filesystem::path& path);
   /// The next ping; false at the end. Broken records are skipped and counted as anomalies.
   virtual bool next(SideScanRecord& record) = 0;
-  virtual SonarFileFormat format() const = 0;
+  virtual const SonarFormat& format() const = 0;
   virtual std::uint64_t total_anomalies() const = 0;
   /// The first kept anomaly messages (at most `max`).
   virtual std::vector<std::string> anomaly_messages(std::size_t max) const = 0;
 };
+
+/// The messages of the first `max` of a reader's anomalies (elements with a `message`): what the
+/// formats' anomaly_messages() return.
+template <class Anomalies>
+std::vector<std::string> first_anomaly_messages(const Anomalies& anomalies, std::size_t max) {
+  std::vector<std::string> out;
+  for (const auto& a : anomalies) {
+    if (out.size() >= max) break;
+    out.push_back(a.message);
+  }
+  return out;
+}
 
 }  // namespace sonarsynth

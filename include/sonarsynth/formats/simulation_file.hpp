@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -90,8 +91,13 @@ struct SimulationSetup {
   /// output.allow_more_than_8192_samples: write more samples per channel than common XTF
   /// readers accept.
   bool allow_more_than_8192_samples = false;
-  /// output.jsf: also write `<line>.jsf` (EdgeTech JSF, docs/jsf.md) next to `<line>.xtf`.
-  bool write_jsf = false;
+  /// output.formats: the sonar formats `simulate` writes, one `<line><extension>` file per line
+  /// and format (names of sonar_formats(), e.g. "xtf", "jsf"; docs/scene-format.md). The files
+  /// are written in the order of the format list whatever the order here. output.jsf: true is
+  /// an alias of adding "jsf".
+  std::vector<std::string> output_formats{"xtf"};
+  /// True if `name` is in output_formats.
+  bool writes_format(std::string_view name) const;
   /// output.display: the waterfalls and mosaic_rgb show sample / full scale linearly (the
   /// founding paper's grey level, docs/paper-model.md) instead of a dB window.
   bool display_linear = false;

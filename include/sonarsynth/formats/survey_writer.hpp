@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/io/sonar_format.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/simulator.hpp"
@@ -17,8 +18,7 @@ namespace sonarsynth {
 
 /// A rendered ping as an XTF ping: the local pose turned into WGS 84 (GeographicLib through the
 /// scene's GeoFrame), grid heading into true heading (meridian convergence), samples as they are.
-xtf::SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame,
-                           const SonarConfig& sonar);
+SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame, const SonarConfig& sonar);
 
 /// The XTF sample encoding of a scene file's `output.sample_format`: "u16", "u8" or "f32".
 /// Throws InputError naming the value otherwise.
@@ -45,7 +45,7 @@ xtf::WriterOptions xtf_writer_options(const Simulator& sim, xtf::SampleEncoding 
 /// removes the file of the line being written (files of finished lines stay: the caller's
 /// OutputDirectory discards them). XtfSurveyWriter and JsfSurveyWriter are its two formats.
 template <class W, class Options>
-class LineFileWriter : public PingSink {
+class LineFileWriter : public SurveyFileSink {
  public:
   void begin_line(std::size_t line) override {
     const std::string name =
@@ -67,7 +67,7 @@ class LineFileWriter : public PingSink {
   void abort() noexcept override { writer_.reset(); }  // the writer removes its temporary file
 
   /// Files written so far (final paths).
-  const std::vector<std::filesystem::path>& files() const { return files_; }
+  const std::vector<std::filesystem::path>& files() const override { return files_; }
   std::uint64_t clipped_samples() const { return clipped_; }
   std::uint64_t bytes_written() const { return bytes_; }
 

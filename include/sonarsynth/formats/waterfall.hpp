@@ -131,7 +131,7 @@ struct WaterfallResult {
   std::vector<std::string> reader_anomaly_messages;  ///< the first of them (file, packet, value)
 };
 
-/// Adds to `wf` the pings of a sonar file (XTF or JSF) that have port or starboard samples,
+/// Adds to `wf` the pings of a sonar file (any listed format) that have port or starboard samples,
 /// numbered from 0 among those, from first_ping to last_ping (-1: to the end). With
 /// options.slant_correct each ping's altitude comes from options.altitude_source (the whole
 /// file is bottom-tracked first unless it is kHeader; docs/conversion.md). Fills pings,

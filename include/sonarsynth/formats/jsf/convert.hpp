@@ -8,23 +8,13 @@
 #include <vector>
 
 #include "sonarsynth/bottom_track.hpp"
+#include "sonarsynth/formats/io/sonar_format.hpp"
 
 namespace sonarsynth {
 
-/// The raw side-scan formats sonarsynth reads and writes.
-enum class SonarFileFormat : std::uint8_t { kUnknown, kXtf, kJsf };
-/// "XTF", "JSF", "unknown".
-const char* sonar_file_format_name(SonarFileFormat format);
-/// By content, not by name: an XTF file starts with FileFormat 0x7B, a JSF file with the
-/// message start marker bytes 01 16. kUnknown for anything else (or a file too short to tell).
-/// Throws FormatError if the file cannot be opened.
-SonarFileFormat detect_sonar_file_format(const std::filesystem::path& path);
-/// By the extension of a file to be written (".xtf" or ".jsf", any case); kUnknown otherwise.
-SonarFileFormat sonar_file_format_from_extension(const std::filesystem::path& path);
-
 struct ConvertResult {
-  SonarFileFormat from = SonarFileFormat::kUnknown;
-  SonarFileFormat to = SonarFileFormat::kUnknown;
+  const SonarFormat* from = nullptr;   ///< the input's format (sonar_formats())
+  const SonarFormat* to = nullptr;     ///< the output's format
   std::uint64_t pings = 0;             ///< pings written
   std::uint64_t attitude_records = 0;  ///< attitude packets/messages written
   std::uint64_t pings_skipped = 0;     ///< pings dropped (counted by reason in `dropped`)
@@ -38,8 +28,9 @@ struct ConvertResult {
   std::map<std::string, std::uint64_t> repaired;
 };
 
-/// Converts a side-scan file between XTF and JSF (docs/jsf.md §4): the input format is taken
-/// from its content, the output format from `out`'s extension. Port and starboard samples,
+/// Converts an XTF file into JSF (xtf_to_jsf) or a JSF file into XTF (jsf_to_xtf): the JSF
+/// format's two SonarFormat::conversions (docs/jsf.md §4); convert_sonar_file()
+/// (sonar_formats.hpp) picks one from the format list. Port and starboard samples,
 /// ping times and numbers, sensor position, heading, pitch, roll, heave, altitude, depth,
 /// speed, sound speed and slant range are carried; XTF attitude packets (type 3) and JSF
 /// pitch/roll messages (2020) are converted into each other. Samples survive XTF -> JSF -> XTF
@@ -49,10 +40,11 @@ struct ConvertResult {
 /// picks it (one more pass over the input), counted in pings_tracked_altitude.
 /// Pings the output cannot hold are dropped and counted by reason; fields it can hold only as
 /// "unknown" are written so and counted by rule (docs/conversion.md, "Drops and repairs").
-/// Throws InputError for unsupported format pairs, FormatError for unreadable input and when
-/// no ping is left to write (then no output file is created).
-ConvertResult convert_sonar_file(const std::filesystem::path& in, const std::filesystem::path& out,
-                                 bool overwrite = false,
-                                 AltitudeSource altitude_source = AltitudeSource::kHeader);
+/// Throws FormatError for unreadable input (e.g. not of the input format) and when no ping is left
+/// to write (then no output file is created).
+ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
+                         bool overwrite, AltitudeSource altitude_source);
+ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,
+                         bool overwrite, AltitudeSource altitude_source);
 
 }  // namespace sonarsynth

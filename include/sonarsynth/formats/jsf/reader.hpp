@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/jsf/records.hpp"
-#include "sonarsynth/formats/xtf/ping.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
 namespace sonarsynth::jsf {
@@ -74,9 +74,9 @@ struct Message {
   /// kSonar: samples in file order (near -> far on both sides), value = stored x 2^-N;
   /// envelope data (format 0) read as unsigned 16-bit, complex formats as the magnitude.
   std::vector<float> samples;
-  SystemInformation system;      ///< kSystemInformation
-  xtf::AttitudeSample attitude;  ///< kPitchRoll
-  XtfPingFields xtf_ping;        ///< kXtfPingFields
+  SystemInformation system;  ///< kSystemInformation
+  AttitudeSample attitude;   ///< kPitchRoll
+  XtfPingFields xtf_ping;    ///< kXtfPingFields
 };
 
 /// A ping of one subsystem: its port and starboard messages assembled.
@@ -87,7 +87,7 @@ struct Ping {
   SonarDataHeader header;    ///< of the first message (port, if present)
   /// SI view: time, position, attitude, altitude, depth, speed, sound speed, slant range
   /// (c n dt / 2), port/starboard near -> far (a missing side is empty).
-  xtf::SonarPing sonar;
+  SonarPing sonar;
   double layback_m = 0.0;
   bool time_valid = false;
   bool nav_valid = false;  ///< coordinate units 2, not both 0, within +-180 / +-90
@@ -170,7 +170,7 @@ class Reader {
   bool have_pending_ = false;
   Message current_;
   bool have_last_time_ = false;
-  xtf::UtcTime last_time_{};
+  UtcTime last_time_{};
 };
 
 }  // namespace sonarsynth::jsf

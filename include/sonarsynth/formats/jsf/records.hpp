@@ -11,13 +11,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "sonarsynth/formats/xtf/byte_io.hpp"
+#include "sonarsynth/formats/io/byte_io.hpp"
 #include "sonarsynth/formats/xtf/records.hpp"
 
 namespace sonarsynth::jsf {
-
-using xtf::ByteReader;
-using xtf::ByteWriter;
 
 inline constexpr std::uint16_t kStartMarker = 0x1601;  ///< bytes 01 16 at every message start
 inline constexpr std::uint8_t kProtocolVersion = 13;   ///< 0x0D: every field we write is defined

@@ -29,8 +29,8 @@ struct FileSummary {
   std::uint64_t pings_with_valid_nav = 0;
   std::uint64_t pings_with_valid_time = 0;
   std::uint64_t pings_without_altitude = 0;
-  std::optional<xtf::UtcTime> first_time;
-  std::optional<xtf::UtcTime> last_time;
+  std::optional<UtcTime> first_time;
+  std::optional<UtcTime> last_time;
   ValueRange samples, slant_range_m, sample_interval_ns, weighting_factor;
   ValueRange longitude_deg, latitude_deg;  ///< pings with valid navigation
   ValueRange heading_deg, pitch_deg, roll_deg, heave_m, altitude_m, depth_m, sound_speed_mps;

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/jsf/records.hpp"
-#include "sonarsynth/formats/xtf/ping.hpp"
 
 namespace sonarsynth::jsf {
 
@@ -42,7 +42,7 @@ std::int16_t quantise(std::span<const float> samples, std::vector<std::int16_t>&
 /// The message-80 header (without the per-channel fields samples/channel/N/max) of `ping` as
 /// this writer fills it: times, position (units 2, rounded to 1/600 000 degree), attitude,
 /// altitude, depth, speed, sound speed, sample interval (round(2 R / (c n)) ns) and validity.
-SonarDataHeader sonar_header(const xtf::SonarPing& ping, const WriterOptions& options);
+SonarDataHeader sonar_header(const SonarPing& ping, const WriterOptions& options);
 
 /// Streaming JSF writer (docs/jsf.md §2): a system information message (182) first, then per
 /// ping two sonar data messages (80) of subsystem `options.subsystem`, port (channel 0) then
@@ -64,9 +64,9 @@ class Writer {
   /// bit clear; an altitude of 0 clears the altitude bit.
   /// `xtf_fields` (a conversion's): written as a message 9999 right before the ping's port
   /// message (docs/jsf.md §1.4).
-  void write_ping(const xtf::SonarPing& ping, const XtfPingFields* xtf_fields = nullptr);
+  void write_ping(const SonarPing& ping, const XtfPingFields* xtf_fields = nullptr);
   /// Appends a 44-byte pitch/roll message (2020) with pitch, roll, heave, heading and yaw.
-  void write_attitude(const xtf::AttitudeSample& attitude);
+  void write_attitude(const AttitudeSample& attitude);
   /// Flushes, closes and renames the file into place. Throws FormatError on failure.
   void close();
 

@@ -12,7 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "sonarsynth/formats/xtf/byte_io.hpp"
+#include "sonarsynth/formats/io/byte_io.hpp"
 
 namespace sonarsynth::xtf {
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "sonarsynth/formats/atomic_file.hpp"
-#include "sonarsynth/formats/xtf/ping.hpp"
+#include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/xtf/records.hpp"
 #include "sonarsynth/geo_frame.hpp"
 

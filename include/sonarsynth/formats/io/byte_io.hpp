@@ -12,11 +12,11 @@
 
 #include "sonarsynth/error.hpp"
 
-namespace sonarsynth::xtf {
+namespace sonarsynth {
 
-/// Bounds-checked little-endian writer over a caller-owned byte span. Multi-byte values are
-/// assembled byte by byte (independent of the host byte order); floats go through std::bit_cast to
-/// their integer bit pattern. Writing past the end throws FormatError.
+/// Bounds-checked little-endian writer over a caller-owned byte span, for every binary codec.
+/// Multi-byte values are assembled byte by byte (independent of the host byte order); floats go
+/// through std::bit_cast to their integer bit pattern. Writing past the end throws FormatError.
 class ByteWriter {
  public:
   /// `who` starts error messages ("xtf", "jsf").
@@ -161,4 +161,4 @@ std::string to_string(const std::array<char, N>& a) {
   return std::string(a.data(), n);
 }
 
-}  // namespace sonarsynth::xtf
+}  // namespace sonarsynth

@@ -8,16 +8,18 @@
 
 #include "sonarsynth/geo_frame.hpp"
 
-namespace sonarsynth::xtf {
+namespace sonarsynth {
 
-/// UTC time with microsecond resolution (XTF ping times have 10 ms resolution in every reader).
+/// UTC time with microsecond resolution (the same type as survey.hpp's; XTF stores 10 ms, JSF 1
+/// ms).
 using UtcTime = std::chrono::sys_time<std::chrono::microseconds>;
 
-/// One side-scan ping in SI units: what the simulator hands to the Writer and what the Reader
-/// gives back. Angles in radians, distances in metres, speeds in m/s; conversion to the file's
-/// degrees and knots happens at the byte level.
+/// One side-scan ping in SI units, whatever the file format: what the simulator hands to every
+/// format's writer and what every format's reader gives back (docs/architecture.md). Angles in
+/// radians, distances in metres, speeds in m/s; conversion to the file's degrees and knots happens
+/// at the byte level.
 struct SonarPing {
-  UtcTime time_utc{};             ///< ping time; stored to 1/100 s (HSeconds), truncated
+  UtcTime time_utc{};             ///< ping time (XTF stores 1/100 s, truncated)
   std::uint32_t ping_number = 0;  ///< consecutive, usually from 0
   /// Sensor (towfish/AUV) position, WGS 84; lat_rad/lon_rad only (height_m is not stored).
   /// Neither latitude nor longitude may be exactly 0 (readers treat 0 as "no position").
@@ -41,7 +43,7 @@ struct SonarPing {
   std::vector<float> starboard;
 };
 
-/// A stand-alone attitude record (XTF type 3).
+/// A stand-alone attitude record (XTF type 3, JSF pitch/roll message 2020).
 struct AttitudeSample {
   UtcTime time_utc{};        ///< stored to the millisecond (and microsecond in the epoch fields)
   double heading_rad = 0.0;  ///< true heading, clockwise from north
@@ -57,4 +59,4 @@ struct NavigationFix {
   Geodetic position{};  ///< WGS 84, radians; height_m -> RawAltitude (m)
 };
 
-}  // namespace sonarsynth::xtf
+}  // namespace sonarsynth

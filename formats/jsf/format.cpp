@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: MIT
+// The JSF format's descriptor (docs/jsf.md, docs/architecture.md "Adding a sonar format").
+#include "sonarsynth/formats/jsf/format.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sonarsynth/formats/jsf/convert.hpp"
+#include "sonarsynth/formats/jsf/reader.hpp"
+#include "sonarsynth/formats/jsf/records.hpp"
+#include "sonarsynth/formats/jsf_survey_writer.hpp"
+#include "sonarsynth/formats/sidescan_source.hpp"
+#include "sonarsynth/geo_frame.hpp"
+
+namespace sonarsynth::jsf {
+namespace {
+
+class JsfSource : public SideScanSource {
+ public:
+  explicit JsfSource(const std::filesystem::path& path) : reader_(path) {}
+  bool next(SideScanRecord& r) override {
+    if (!reader_.next_ping(ping_)) return false;
+    r.sonar = std::move(ping_.sonar);
+    r.nav_valid = ping_.nav_valid;
+    r.time_valid = ping_.time_valid;
+    r.layback_m = ping_.layback_m;
+    r.heading_deg = deg_from_rad(r.sonar.heading_rad);
+    r.index = ping_.index;
+    return true;
+  }
+  const SonarFormat& format() const override { return sonar_format(); }
+  std::uint64_t total_anomalies() const override { return reader_.total_anomalies(); }
+  std::vector<std::string> anomaly_messages(std::size_t max) const override {
+    return first_anomaly_messages(reader_.anomalies(), max);
+  }
+
+ private:
+  Reader reader_;
+  Ping ping_;
+};
+
+/// Every JSF message starts with the marker bytes 01 16 (docs/jsf.md).
+bool identify(std::span<const std::uint8_t> head) {
+  return head.size() >= 2 && head[0] == (kStartMarker & 0xFFu) && head[1] == (kStartMarker >> 8);
+}
+
+std::unique_ptr<SideScanSource> open_reader(const std::filesystem::path& path) {
+  return std::make_unique<JsfSource>(path);
+}
+
+std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& c) {
+  WriterOptions o;
+  o.overwrite = true;  // inside the run's own fresh temporary directory
+  return std::make_unique<JsfSurveyWriter>(c.dir, c.line_names, *c.frame, *c.sonar, o);
+}
+
+// Each ping: one sonar data message per side, a 16-byte message header, the 240-byte sonar data
+// header and 2 bytes per sample (docs/jsf.md).
+double estimated_bytes(const SonarConfig& sonar, const std::string& /*sample_format*/, double pings,
+                       std::size_t /*lines*/) {
+  const double samples = static_cast<double>(sonar.samples_per_channel);
+  return pings * 2.0 * (16.0 + 240.0 + 2.0 * samples);
+}
+
+}  // namespace
+
+const SonarFormat& sonar_format() {
+  static const SonarFormat format{
+      .name = "jsf",
+      .display_name = "JSF",
+      .description = "EdgeTech JSF (Discover sonar data file)",
+      .extensions = {".jsf"},
+      .capabilities = {.read = true, .simulate = true},
+      .identify = identify,
+      .open_reader = open_reader,
+      .info = file_info,
+      .create_survey_writer = create_survey_writer,
+      .estimated_bytes = estimated_bytes,
+      .conversions = {{"xtf", "jsf", xtf_to_jsf}, {"jsf", "xtf", jsf_to_xtf}},
+  };
+  return format;
+}
+
+}  // namespace sonarsynth::jsf

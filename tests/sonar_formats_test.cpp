@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: MIT
+// The format list (formats/sonar_formats.cpp): every descriptor complete, lookups by name,
+// extension and content, the output directory and `info` going through it.
+#include "sonarsynth/formats/sonar_formats.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/jsf/format.hpp"
+#include "sonarsynth/formats/output_dir.hpp"
+#include "sonarsynth/formats/sidescan_source.hpp"
+#include "sonarsynth/formats/xtf/format.hpp"
+#include "xtf_test_util.hpp"
+
+namespace sonarsynth {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kData = SONARSYNTH_TEST_DATA_DIR;
+
+TEST(SonarFormats, EveryDescriptorHasWhatItsCapabilitiesPromise) {
+  std::set<std::string> names, extensions;
+  ASSERT_GE(sonar_formats().size(), 2u);
+  for (const SonarFormat* f : sonar_formats()) {
+    SCOPED_TRACE(std::string(f->name));
+    EXPECT_TRUE(names.insert(std::string(f->name)).second) << "name listed twice";
+    EXPECT_FALSE(f->display_name.empty());
+    EXPECT_FALSE(f->description.empty());
+    ASSERT_FALSE(f->extensions.empty());
+    for (std::string_view e : f->extensions) {
+      EXPECT_EQ(e.front(), '.');
+      EXPECT_TRUE(extensions.insert(std::string(e)).second) << e << " claimed twice";
+    }
+    if (f->capabilities.read) {
+      EXPECT_NE(f->identify, nullptr);
+      EXPECT_NE(f->open_reader, nullptr);
+      EXPECT_NE(f->info, nullptr);
+    }
+    if (f->capabilities.simulate) {
+      EXPECT_NE(f->create_survey_writer, nullptr);
+      EXPECT_NE(f->estimated_bytes, nullptr);
+    }
+    for (const SonarConversion& c : f->conversions) {
+      EXPECT_NE(find_sonar_format(c.from), nullptr) << c.from;
+      EXPECT_NE(find_sonar_format(c.to), nullptr) << c.to;
+      EXPECT_TRUE(c.from == f->name || c.to == f->name) << "a codec converts to or from itself";
+      EXPECT_NE(c.convert, nullptr);
+    }
+  }
+  EXPECT_EQ(sonar_formats()[0], &xtf::sonar_format());  // the default output comes first
+  EXPECT_EQ(sonar_format_names(), "xtf, jsf");
+}
+
+TEST(SonarFormats, LooksUpByNameAndExtensionInAnyCase) {
+  EXPECT_EQ(find_sonar_format("JSF"), &jsf::sonar_format());
+  EXPECT_EQ(find_sonar_format("xtf"), &xtf::sonar_format());
+  EXPECT_EQ(find_sonar_format("sdf"), nullptr);
+  EXPECT_EQ(sonar_format_for_extension("a/b/line.XTF"), &xtf::sonar_format());
+  EXPECT_EQ(sonar_format_for_extension("line.jsf"), &jsf::sonar_format());
+  EXPECT_EQ(sonar_format_for_extension("line.tif"), nullptr);
+  try {
+    (void)sonar_format_named("sss", "output.formats");
+    FAIL();
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("output.formats = 'sss'"), std::string::npos) << m;
+    EXPECT_NE(m.find("one of xtf, jsf"), std::string::npos) << m;
+  }
+}
+
+TEST(SonarFormats, IdentifiesFilesByContentNotByName) {
+  const fs::path dir = xtf::test::temp_dir("sonar_formats_identify");
+  // The shipped files, each renamed to the other's extension: the content decides.
+  fs::copy_file(kData / "xtf" / "golden-tiny.xtf", dir / "really_xtf.jsf");
+  fs::copy_file(kData / "jsf" / "tiny-from-xtf.jsf", dir / "really_jsf.xtf");
+  EXPECT_EQ(identify_sonar_format(dir / "really_xtf.jsf"), &xtf::sonar_format());
+  EXPECT_EQ(identify_sonar_format(dir / "really_jsf.xtf"), &jsf::sonar_format());
+  EXPECT_EQ(&SideScanSource::open(dir / "really_jsf.xtf")->format(), &jsf::sonar_format());
+  xtf::test::write_bytes(dir / "junk.xtf", {'h', 'e', 'l', 'l', 'o'});
+  xtf::test::write_bytes(dir / "one_byte", {0x01});
+  xtf::test::write_bytes(dir / "empty", {});
+  EXPECT_EQ(identify_sonar_format(dir / "junk.xtf"), nullptr);
+  EXPECT_EQ(identify_sonar_format(dir / "one_byte"), nullptr);
+  EXPECT_EQ(identify_sonar_format(dir / "empty"), nullptr);
+  EXPECT_THROW((void)identify_sonar_format(dir / "missing"), FormatError);
+  fs::remove_all(dir);
+}
+
+// Old output of every format is recognised as ours (the output directory's product check takes
+// the extensions from the list): --overwrite may replace it.
+TEST(SonarFormats, OutputDirectoryRecognisesEveryFormatsFiles) {
+  const fs::path dir = xtf::test::temp_dir("sonar_formats_output");
+  for (const SonarFormat* f : sonar_formats()) {
+    const fs::path out = dir / std::string(f->name);
+    {
+      OutputDirectory o(out, false);
+      std::ofstream(o.file("L1" + std::string(f->extensions.front()))) << "x";
+      o.commit();
+    }
+    EXPECT_EQ(why_not_replaceable_output(out), "") << f->name;
+  }
+  // A file of no format's extension is not ours.
+  std::ofstream(dir / "xtf" / "L1.sdf") << "x";
+  EXPECT_NE(why_not_replaceable_output(dir / "xtf"), "");
+  fs::remove_all(dir);
+}
+
+// `info` of each shipped file: the JSON names the format that identified it, and the text and
+// JSON count the same pings as the file's reader.
+TEST(SonarFormats, InfoIsTheIdentifiedFormatsSummary) {
+  for (const fs::path& p :
+       {kData / "xtf" / "golden-tiny.xtf", kData / "jsf" / "tiny-from-xtf.jsf"}) {
+    SCOPED_TRACE(p.string());
+    const SonarFileInfo info = sonar_file_info(p);
+    const auto j = nlohmann::json::parse(info.json);
+    const SonarFormat* f = identify_sonar_format(p);
+    ASSERT_NE(f, nullptr);
+    EXPECT_EQ(j["format"], std::string(f->display_name));
+    std::uint64_t pings = 0;
+    SideScanRecord r;
+    for (auto source = SideScanSource::open(p); source->next(r);) ++pings;
+    EXPECT_EQ(j["pings"].get<std::uint64_t>(), pings);
+    EXPECT_NE(info.text.find("Sonar pings: " + std::to_string(pings)), std::string::npos)
+        << info.text;
+  }
+}
+
+}  // namespace
+}  // namespace sonarsynth
