@@ -2,6 +2,8 @@
 // The sensor stage (docs/physics.md §1.10): amplitude output, the detector, the automatic gain's
 // target, the receiver noise floor, volume reverberation, shadow fill, the first bottom return
 // and the ring-down, each against a closed form or an independent computation.
+#include "sonarsynth/sensor_effects.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +12,6 @@
 #include <memory>
 #include <vector>
 
-#include "sonarsynth/sensor_effects.hpp"
 #include "sonarsynth/simd.hpp"
 #include "sonarsynth/simulator.hpp"
 
