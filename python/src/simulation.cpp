@@ -15,6 +15,7 @@
 #include "scene_objects.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/object_types.hpp"
 #include "sonarsynth/scene_object.hpp"
 #include "sonarsynth/triangle_mesh.hpp"
 
@@ -328,11 +329,14 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
           const auto k = scale.cast<std::array<double, 3>>();
           where.scale = {k[0], k[1], k[2]};
         }
-        if (!(where.scale.minCoeff() > 0.0 && where.scale.maxCoeff() <= 1e4)) {
+        // The bounds and message of a scene file's mesh scale (the object table).
+        const ObjectParam& bound = *find_object_type("mesh")->param("scale");
+        if (!bound.accepts(where.scale.x()) || !bound.accepts(where.scale.y()) ||
+            !bound.accepts(where.scale.z())) {
           throw InputError(what + ": scale = (" + std::to_string(where.scale.x()) + ", " +
                            std::to_string(where.scale.y()) + ", " +
                            std::to_string(where.scale.z()) +
-                           "). Violated constraint: 0 < scale <= 1e4");
+                           "). Violated constraint: " + bound.constraint());
         }
         Scene& scene = s.mutable_scene();
         scene.objects.add(
