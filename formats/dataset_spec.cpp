@@ -382,7 +382,9 @@ std::set<std::string> spec_type_names() {
   for (const ObjectType& type : object_types()) {
     if (type.in_dataset_spec()) names.insert(std::string(type.name));
   }
-  if (names.size() != std::size(kSpecTypeOrder)) {
+  if (names.size() != std::size(kSpecTypeOrder) ||
+      !std::all_of(std::begin(kSpecTypeOrder), std::end(kSpecTypeOrder),
+                   [&](std::string_view n) { return names.count(std::string(n)) == 1; })) {
     throw std::logic_error("dataset spec: kSpecTypeOrder lists other types than the table");
   }
   return names;
