@@ -22,6 +22,7 @@
 #include "sonarsynth/formats/simulation_file.hpp"  // RunLimits
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/material.hpp"
+#include "sonarsynth/object_types.hpp"
 #include "sonarsynth/sonar_presets.hpp"
 #include "yaml_fields.hpp"
 
@@ -87,8 +88,9 @@ NumberRange read_range(const Fields& f, const std::string& key, NumberRange fall
 
 // What a scene file accepts for one key (docs/scene-format.md), from the declarations its reader
 // uses: the option table (formats/option_table.cpp) and the bathymetry generators' parameters
-// (formats/bathy_spec_parser.cpp). The keys of a `materials` entry and of a mesh object are
-// bounded in the scene reader's code (formats/scene_file.cpp); their bounds are restated here.
+// (formats/bathy_spec_parser.cpp) and the object table (include/sonarsynth/object_types.hpp). The
+// keys of a `materials` entry are bounded in the scene reader's code (formats/scene_file.cpp);
+// their bounds are restated here.
 struct SceneBound {
   std::string key;
   double lo = -kInf, hi = kInf;
@@ -128,7 +130,8 @@ SceneBound scene_bound(std::string_view scene_key) {
   } else if (scene_key == "materials.reflectivity") {
     return {key, 0.0, 1.0};
   } else if (scene_key == "objects.scale") {
-    return {key, 0.0, 1e4, true};
+    const ObjectParam& p = *find_object_type("mesh")->param("scale");
+    return {key, p.lo, p.hi, p.lo_open, false};
   } else {
     const options::Option& o = options::at(scene_key);
     return {key, o.lo, o.hi, o.lo_open, false};
@@ -332,6 +335,8 @@ std::filesystem::path model_file(const std::string& spec_file, const std::string
   return p.lexically_normal();
 }
 
+NumberRange read_object_range(const Fields& d, const ObjectType& type, const ObjectSpecKey& k);
+
 // The mesh type of a spec (`objects.types.mesh`): its models read at load, so that a missing or
 // unreadable file is an error of the spec, and their size sets the grid's margin.
 void read_mesh_type(const Fields& d, DatasetObjectType& t) {
@@ -362,8 +367,82 @@ void read_mesh_type(const Fields& d, DatasetObjectType& t) {
     }
     t.model_files.push_back(file.string());
   }
-  t.scale = read_range(d, "scale", t.scale, 0.0, kInf, true);
+  const ObjectType& mesh = *find_object_type("mesh");
+  t.scale = read_object_range(d, mesh, mesh.spec_keys.front());
   check_scene_bound(d, "scale", t.scale, 3, "objects.scale");
+}
+
+// The object types a spec draws, in the order of the type pick's weights (DatasetSpec::
+// object_types): a new type goes at the end, so that the specs without it draw as before.
+constexpr std::string_view kSpecTypeOrder[] = {"rock", "box", "pipe", "moored", "mesh"};
+
+// The keys of `objects.types`: the types of the object table a spec draws.
+std::set<std::string> spec_type_names() {
+  std::set<std::string> names;
+  for (const ObjectType& type : object_types()) {
+    if (type.in_dataset_spec()) names.insert(std::string(type.name));
+  }
+  if (names.size() != std::size(kSpecTypeOrder) ||
+      !std::all_of(std::begin(kSpecTypeOrder), std::end(kSpecTypeOrder),
+                   [&](std::string_view n) { return names.count(std::string(n)) == 1; })) {
+    throw std::logic_error("dataset spec: kSpecTypeOrder lists other types than the table");
+  }
+  return names;
+}
+
+// The member of DatasetObjectType that holds the range of spec key `key` (ObjectSpecKey).
+NumberRange DatasetObjectType::*range_member(std::string_view key) {
+  return key == "diameter_m" ? &DatasetObjectType::diameter_m
+         : key == "length_m" ? &DatasetObjectType::length_m
+         : key == "width_m"  ? &DatasetObjectType::width_m
+         : key == "height_m" ? &DatasetObjectType::height_m
+                             : &DatasetObjectType::scale;
+}
+
+// The draw of spec key `key` of an object (ItemDraws sub-index 16 k + attribute).
+ObjectAttribute attribute_of(std::string_view key) {
+  return key == "diameter_m" ? kDiameter
+         : key == "length_m" ? kLength
+         : key == "width_m"  ? kWidth
+         : key == "height_m" ? kHeight
+                             : kScale;
+}
+
+// The range of a spec key of an object type (ObjectSpecKey), within the bounds of the scene
+// parameter it draws (include/sonarsynth/object_types.hpp, the scene reader's own checks), with
+// their message. Sizes are written to 1 mm: each must stay > 0 there.
+NumberRange read_object_range(const Fields& d, const ObjectType& type, const ObjectSpecKey& k) {
+  const ObjectParam& p = *type.param(k.param);
+  const std::string key(k.key);
+  const NumberRange r = read_range(d, key, {k.spec_default, k.spec_default}, -kInf, kInf);
+  if (!p.accepts(r.lo) || !p.accepts(r.hi)) d.fail_value(key, p.constraint(k.key));
+  if (p.unit == "m" && !(rounded(r.lo, 3) > 0.0)) {
+    d.fail_value(key, key + " >= 0.0005 (written to 1 mm)");
+  }
+  return r;
+}
+
+// An entry of `objects.types` (docs/dataset.md): its weight and the ranges of its keys.
+DatasetObjectType read_object_type(const Fields& d, const ObjectType& type) {
+  DatasetObjectType ot;
+  ot.type = std::string(type.name);
+  ot.weight = d.number_in("weight", 1.0, 0.0, kInf, true);
+  if (type.shape == ObjectShape::kMesh) {
+    read_mesh_type(d, ot);
+    return ot;
+  }
+  std::set<std::string> keys{"weight"};
+  for (const ObjectSpecKey& k : type.spec_keys) keys.insert(std::string(k.key));
+  d.only(keys);
+  for (const ObjectSpecKey& k : type.spec_keys) {
+    ot.*range_member(k.key) = read_object_range(d, type, k);
+  }
+  if (type.name == "moored" && !(rounded(ot.height_m.lo, 3) > rounded(ot.diameter_m.hi, 3) / 2.0)) {
+    d.fail_value("height_m",
+                 "the lowest height_m > half the largest diameter_m (the "
+                 "target's centre above the seabed)");
+  }
+  return ot;
 }
 
 // Counter-based draws of one item: each value is keyed by (field, sub-index), so a change to
@@ -459,13 +538,24 @@ class ItemWriter {
   ItemDraws draws_;
 };
 
+// Largest horizontal distance of a point of an object from its position, metres.
 double max_object_extent_m(const DatasetSpec& s) {
   double e = 0.0;
   for (const DatasetObjectType& t : s.object_types) {
-    if (t.type == "rock" || t.type == "moored") e = std::max(e, t.diameter_m.hi);
-    if (t.type == "pipe") e = std::max(e, t.length_m.hi / 2.0 + t.diameter_m.hi);
-    if (t.type == "box") e = std::max(e, std::hypot(t.length_m.hi, t.width_m.hi) / 2.0);
-    if (t.type == "mesh") e = std::max(e, t.model_radius_m * t.scale.hi);
+    switch (find_object_type(t.type)->shape) {
+      case ObjectShape::kEllipsoid:  // rock, moored sphere
+        e = std::max(e, t.diameter_m.hi);
+        break;
+      case ObjectShape::kCylinder:  // pipe
+        e = std::max(e, t.length_m.hi / 2.0 + t.diameter_m.hi);
+        break;
+      case ObjectShape::kBox:
+        e = std::max(e, std::hypot(t.length_m.hi, t.width_m.hi) / 2.0);
+        break;
+      case ObjectShape::kMesh:
+        e = std::max(e, t.model_radius_m * t.scale.hi);
+        break;
+    }
   }
   return e;
 }
@@ -714,44 +804,12 @@ DatasetSpec parse_spec(const YAML::Node& root, const std::string& file, std::str
     s.across_track_m = read_range(o, "across_track_m", s.across_track_m, 0.0, max_range_m);
     if (o.has("types")) {
       const Fields t = o.child("types");
-      t.only({"rock", "box", "pipe", "moored", "mesh"});
-      for (const std::string type : {"rock", "box", "pipe", "moored", "mesh"}) {
-        if (!t.has(type)) continue;
-        const Fields d = t.child(type);
-        DatasetObjectType ot;
-        ot.type = type;
-        ot.weight = d.number_in("weight", 1.0, 0.0, kInf, true);
-        // Sizes are written to 1 mm: each must stay > 0 there.
-        const auto size = [&](const std::string& key, NumberRange fallback, double max) {
-          const NumberRange r = read_range(d, key, fallback, 0.0, max, true);
-          if (!(rounded(r.lo, 3) > 0.0)) d.fail_value(key, key + " >= 0.0005 (written to 1 mm)");
-          return r;
-        };
-        if (type == "rock") {
-          d.only({"weight", "diameter_m"});
-          ot.diameter_m = size("diameter_m", {1.0, 1.0}, 100.0);
-        } else if (type == "box") {
-          d.only({"weight", "length_m", "width_m", "height_m"});
-          ot.length_m = size("length_m", {2.0, 2.0}, 500.0);
-          ot.width_m = size("width_m", {1.0, 1.0}, 500.0);
-          ot.height_m = size("height_m", {1.0, 1.0}, 100.0);
-        } else if (type == "pipe") {
-          d.only({"weight", "diameter_m", "length_m"});
-          ot.diameter_m = size("diameter_m", {0.3, 0.3}, 20.0);
-          ot.length_m = size("length_m", {20.0, 20.0}, 1e4);
-        } else if (type == "moored") {
-          d.only({"weight", "diameter_m", "height_m"});
-          ot.diameter_m = size("diameter_m", {1.0, 1.0}, 50.0);
-          ot.height_m = size("height_m", {3.0, 3.0}, 1000.0);
-          if (!(rounded(ot.height_m.lo, 3) > rounded(ot.diameter_m.hi, 3) / 2.0)) {
-            d.fail_value("height_m",
-                         "the lowest height_m > half the largest diameter_m (the "
-                         "target's centre above the seabed)");
-          }
-        } else {
-          read_mesh_type(d, ot);
+      t.only(spec_type_names());
+      for (const std::string_view name : kSpecTypeOrder) {
+        if (t.has(std::string(name))) {
+          s.object_types.push_back(
+              read_object_type(t.child(std::string(name)), *find_object_type(name)));
         }
-        s.object_types.push_back(ot);
       }
     }
     if (s.object_count.hi > 0 && s.object_types.empty()) {
@@ -837,25 +895,24 @@ std::string object_entry(const DatasetSpec& s, ItemWriter& w, DatasetItemScene& 
   y << "  - {type: " << t.type << ", id: " << k + 1 << ", name: " << t.type << "-" << k + 1
     << ", position: {east_m: " << fx(east) << ", north_m: " << fx(north)
     << "}, heading_deg: " << draw("heading_deg", s.object_heading_deg, kHeading);
-  const auto embed = [&] { return ", embed: " + draw("burial", s.burial, kEmbed); };
-  if (t.type == "rock") {
-    y << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter) << embed();
-  } else if (t.type == "box") {
-    y << ", size_m: [" << draw("length_m", t.length_m, kLength) << ", "
-      << draw("width_m", t.width_m, kWidth) << ", " << draw("height_m", t.height_m, kHeight) << "]"
-      << embed();
-  } else if (t.type == "pipe") {
-    y << ", length_m: " << draw("length_m", t.length_m, kLength)
-      << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter) << embed();
-  } else if (t.type == "moored") {
-    y << ", diameter_m: " << draw("diameter_m", t.diameter_m, kDiameter)
-      << ", height_m: " << draw("height_m", t.height_m, kHeight);
-  } else {
+  const ObjectType& type = *find_object_type(t.type);
+  if (type.shape == ObjectShape::kMesh) {
     const std::size_t m = d.pick(t.models.weights, kObject, key(kModel));
     w.text(o + "model", t.models.names[m]);
-    y << ", file: " << yaml_quoted(t.model_files[m])
-      << ", scale: " << draw("scale", t.scale, kScale) << embed();
+    y << ", file: " << yaml_quoted(t.model_files[m]);
   }
+  // The drawn keys, as the scene entry names them: size_m's elements as one list.
+  for (std::size_t i = 0; i < type.spec_keys.size(); ++i) {
+    const ObjectSpecKey& sk = type.spec_keys[i];
+    const std::string value =
+        draw(std::string(sk.key), t.*range_member(sk.key), attribute_of(sk.key));
+    const bool list = sk.param != sk.key;
+    const bool first = !list || sk.index == 0, last = !list || i + 1 == type.spec_keys.size() ||
+                                                      type.spec_keys[i + 1].param != sk.param;
+    y << (first ? ", " + std::string(sk.param) + ": " + (list ? "[" : "") : ", ") << value
+      << (list && last ? "]" : "");
+  }
+  if (type.takes("embed")) y << ", embed: " << draw("burial", s.burial, kEmbed);
   y << "}\n";
   return y.str();
 }

@@ -305,20 +305,6 @@ Extents object_extents(const std::vector<const ObjectPrimitive*>& parts, double 
   return e;
 }
 
-const char* shape_name(ObjectShape s) {
-  switch (s) {
-    case ObjectShape::kCylinder:
-      return "cylinder";
-    case ObjectShape::kEllipsoid:
-      return "ellipsoid";
-    case ObjectShape::kMesh:
-      return "mesh";
-    case ObjectShape::kBox:
-      break;
-  }
-  return "box";
-}
-
 }  // namespace
 
 void GeoTruthWriter::finish() {
@@ -369,7 +355,7 @@ void GeoTruthWriter::finish() {
       r = *rec;
     } else if (!parts.empty()) {  // a scene built in code: the primitive's own numbers
       r.id = id;
-      r.type = shape_name(parts[0]->shape);
+      r.type = to_string(parts[0]->shape);
       r.position_xy_m = parts[0]->centre_xy_m;
       r.heading_rad = parts[0]->heading_rad;
       r.clearance_m = parts[0]->clearance_m;
@@ -379,7 +365,7 @@ void GeoTruthWriter::finish() {
     f.SetField("name",
                r.name.empty() ? (r.type + "-" + std::to_string(id)).c_str() : r.name.c_str());
     f.SetField("type", r.type.c_str());
-    f.SetField("shape", parts.empty() ? "" : shape_name(parts[0]->shape));
+    f.SetField("shape", parts.empty() ? "" : to_string(parts[0]->shape));
     f.SetField("material", r.material.c_str());
     const Geodetic g = frame.geodetic_from_local(r.position_xy_m);
     f.SetField("lat_deg", deg_from_rad(g.lat_rad));

@@ -11,12 +11,14 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <span>
 
 #include "mesh_file.hpp"
 #include "scene_bathymetry.hpp"
 #include "scene_objects.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/gdal_util.hpp"
+#include "sonarsynth/object_types.hpp"
 #include "yaml_fields.hpp"
 
 namespace sonarsynth {
@@ -24,9 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Largest box or wreck-part side, metres: a ship, not a typo (a 1.8e19 m box was accepted).
-constexpr int kMaxObjectSizeInt = 1000;
-constexpr double kMaxObjectSizeM = kMaxObjectSizeInt;
 using yaml::Fields;
 
 using yaml::resolve_path;
@@ -97,18 +96,51 @@ struct Builder {
                                     clearance_m, embed});
   }
 
+  // The keys an entry of `t` takes (include/sonarsynth/object_types.hpp).
+  static std::set<std::string> keys_of(std::span<const std::string_view> keys) {
+    return {keys.begin(), keys.end()};
+  }
+
+  // Parameter `key` of `t`, checked against the table's bounds, with the table's message.
+  static double param(const Fields& f, const ObjectType& t, const std::string& key,
+                      double fallback = 0.0) {
+    const ObjectParam& p = *t.param(key);
+    const double v = f.number(key, fallback);
+    if (!p.accepts(v)) f.fail_value(key, p.constraint());
+    return v;
+  }
+
+  // The half sizes of a `size_m: [length, width, height]` list.
+  static Eigen::Vector3d half_size(const Fields& f, const ObjectType& t) {
+    const ObjectParam& p = *t.param("size_m");
+    const auto s = f.numbers("size_m", 3);
+    for (const double v : s) {
+      if (!p.accepts(v)) f.fail_value("size_m", p.constraint());
+    }
+    return 0.5 * Eigen::Vector3d(s[0], s[1], s[2]);
+  }
+
+  // What every type reads before its own keys.
+  struct Pose {
+    double clearance_m, embed, heading_rad;
+  };
+
   void add_object(const Fields& o) {
     const std::string type = o.text("type");
-    const double clearance = o.number_in("clearance_m", 0.0, 0.0, 1e4);
-    const double embed = o.number_in("embed", 0.0, 0.0, 0.99);
-    const double heading = rad_from_deg(o.number("heading_deg", 0.0));
+    const ObjectType* t = find_object_type(type);
+    const ObjectType& any = t ? *t : object_types().front();
+    const Pose pose{param(o, any, "clearance_m"), param(o, any, "embed"),
+                    rad_from_deg(o.number("heading_deg", 0.0))};
+    if (!t) o.fail_value("type", "one of " + object_type_names());
+    if (t->name == "mesh") return add_mesh(o, *t, pose);
+    o.only(keys_of(t->keys));
+    if (t->name == "wreck") return add_wreck(o, *t, pose);
+    if (t->name == "moored") return add_moored(o, *t);
     ObjectPrimitive p;
-    if (type == "pipe" || type == "cylinder") {
-      o.only({"type", "id", "name", "material", "position", "heading_deg", "length_m", "start",
-              "end", "diameter_m", "clearance_m", "embed"});
-      p.shape = ObjectShape::kCylinder;
-      p.material = material(o, "steel");
-      const double radius = 0.5 * o.number_in("diameter_m", 0.0, 0.0, 1e3, true);
+    p.shape = t->shape;
+    p.material = material(o, t->default_material.data());
+    if (t->shape == ObjectShape::kCylinder) {  // pipe, cylinder
+      const double radius = 0.5 * param(o, *t, "diameter_m");
       if (o.has("start") || o.has("end")) {
         const Eigen::Vector2d a = position(o, "start"), b = position(o, "end");
         const Eigen::Vector2d d = b - a;
@@ -118,110 +150,89 @@ struct Builder {
         p.half_extent_m = {0.5 * d.norm(), radius, radius};
       } else {
         p.centre_xy_m = position(o, "position");
-        p.heading_rad = heading;
-        p.half_extent_m = {0.5 * o.number_in("length_m", 0.0, 0.0, 1e5, true), radius, radius};
+        p.heading_rad = pose.heading_rad;
+        p.half_extent_m = {0.5 * param(o, *t, "length_m"), radius, radius};
       }
-      p.id = take_id(o);
-      record(o, p.id, type, p.centre_xy_m, p.heading_rad, clearance, embed, "steel");
-      place(p, o, clearance, embed);
-    } else if (type == "box" || type == "rock") {
-      o.only({"type", "id", "name", "material", "position", "heading_deg", "size_m", "diameter_m",
-              "clearance_m", "embed"});
-      p.shape = type == "box" ? ObjectShape::kBox : ObjectShape::kEllipsoid;
-      p.material = material(o, type == "box" ? "steel" : "rock");
+    } else {  // box, rock
       p.centre_xy_m = position(o, "position");
-      p.heading_rad = heading;
-      if (type == "rock" && o.has("diameter_m")) {
-        const double r = 0.5 * o.number_in("diameter_m", 0.0, 0.0, 1e3, true);
+      p.heading_rad = pose.heading_rad;
+      if (t->param("diameter_m") && o.has("diameter_m")) {
+        const double r = 0.5 * param(o, *t, "diameter_m");
         p.half_extent_m = {r, r, r};
       } else {
-        const auto s = o.numbers("size_m", 3);
-        for (int i = 0; i < 3; ++i) {
-          const double v = s[static_cast<std::size_t>(i)];
-          if (!(v > 0.0 && v <= kMaxObjectSizeM)) {
-            o.fail_value("size_m",
-                         "every size > 0 and <= " + std::to_string(kMaxObjectSizeInt) + " m");
-          }
-        }
-        p.half_extent_m = 0.5 * Eigen::Vector3d(s[0], s[1], s[2]);
+        p.half_extent_m = half_size(o, *t);
       }
-      p.id = take_id(o);
-      record(o, p.id, type, p.centre_xy_m, p.heading_rad, clearance, embed,
-             type == "box" ? "steel" : "rock");
-      place(p, o, clearance, embed);
-    } else if (type == "wreck") {
-      o.only({"type", "id", "name", "material", "position", "heading_deg", "parts", "clearance_m",
-              "embed"});
-      const Eigen::Vector2d centre = position(o, "position");
-      const std::uint16_t mat = material(o, "steel");
-      const auto parts = o.sequence("parts");
-      if (parts.empty()) o.fail("parts", "a wreck needs at least one part (a box)");
-      const std::int32_t id = take_id(o);
-      record(o, id, type, centre, heading, clearance, embed, "steel");
-      const Eigen::Vector2d fwd(std::sin(heading), std::cos(heading)), stbd(fwd.y(), -fwd.x());
-      for (const Fields& part : parts) {
-        part.only({"offset_m", "size_m", "heading_deg", "lift_m"});
-        const auto off =
-            part.has("offset_m") ? part.numbers("offset_m", 2) : std::vector<double>{0, 0};
-        const auto s = part.numbers("size_m", 3);
-        for (const double v : s) {
-          if (!(v > 0.0 && v <= kMaxObjectSizeM)) {
-            part.fail_value("size_m",
-                            "every size > 0 and <= " + std::to_string(kMaxObjectSizeInt) + " m");
-          }
-        }
-        ObjectPrimitive b;
-        b.shape = ObjectShape::kBox;
-        b.id = id;
-        b.material = mat;
-        b.centre_xy_m = centre + off[0] * fwd + off[1] * stbd;
-        b.heading_rad = heading + rad_from_deg(part.number("heading_deg", 0.0));
-        b.half_extent_m = 0.5 * Eigen::Vector3d(s[0], s[1], s[2]);
-        place(b, part, clearance + part.number_in("lift_m", 0.0, 0.0, 1e3), embed);
-      }
-    } else if (type == "moored") {
-      // A target held off the seabed by a tether (not rendered): a sphere or a level horizontal
-      // cylinder whose centre is height_m above the seabed under it.
-      o.only({"type", "id", "name", "material", "position", "heading_deg", "shape", "diameter_m",
-              "length_m", "height_m"});
-      const std::string shape = o.text("shape", "sphere");
-      const double radius = 0.5 * o.number_in("diameter_m", 0.0, 0.0, 1e3, true);
-      const double height = o.number_in("height_m", 0.0, 0.0, 1e4, true);
-      if (!(height > radius)) {
-        o.fail_value("height_m", "height_m > diameter_m / 2 (the target is off the seabed)");
-      }
-      p.material = material(o, "steel");
-      p.centre_xy_m = position(o, "position");
-      p.heading_rad = heading;
-      if (shape == "sphere") {
-        if (o.has("length_m")) o.fail("length_m", "a sphere has no length_m");
-        p.shape = ObjectShape::kEllipsoid;
-        p.half_extent_m = {radius, radius, radius};
-      } else if (shape == "cylinder") {
-        p.shape = ObjectShape::kCylinder;
-        p.half_extent_m = {0.5 * o.number_in("length_m", 0.0, 0.0, 1e5, true), radius, radius};
-      } else {
-        o.fail_value("shape", "sphere or cylinder");
-      }
-      p.id = take_id(o);
-      record(o, p.id, type, p.centre_xy_m, p.heading_rad, height - radius, 0.0, "steel");
-      p.place_on_seabed(scene.bathymetry, height - radius, 0.0, o.file() + ": " + o.path());
-      if (p.shape == ObjectShape::kCylinder) {  // level, not draped: the seabed under its centre
-        p.base_z_m = {static_cast<float>(p.base_at(0.0))};
-        p.base_step_m = 0.0;
-      }
-      scene.objects.add(std::move(p));
-    } else if (type == "mesh") {
-      add_mesh(o, heading, clearance, embed);
-    } else {
-      o.fail_value("type", "one of pipe, cylinder, box, rock, wreck, moored, mesh");
+    }
+    p.id = take_id(o);
+    record(o, p.id, type, p.centre_xy_m, p.heading_rad, pose.clearance_m, pose.embed,
+           t->default_material.data());
+    place(p, o, pose.clearance_m, pose.embed);
+  }
+
+  // Boxes sharing one id (docs/scene-format.md "objects").
+  void add_wreck(const Fields& o, const ObjectType& t, const Pose& pose) {
+    const double heading = pose.heading_rad;
+    const Eigen::Vector2d centre = position(o, "position");
+    const std::uint16_t mat = material(o, t.default_material.data());
+    const auto parts = o.sequence("parts");
+    if (parts.empty()) o.fail("parts", "a wreck needs at least one part (a box)");
+    const std::int32_t id = take_id(o);
+    record(o, id, "wreck", centre, heading, pose.clearance_m, pose.embed,
+           t.default_material.data());
+    const Eigen::Vector2d fwd(std::sin(heading), std::cos(heading)), stbd(fwd.y(), -fwd.x());
+    for (const Fields& part : parts) {
+      part.only(keys_of(t.part_keys));
+      const auto off =
+          part.has("offset_m") ? part.numbers("offset_m", 2) : std::vector<double>{0, 0};
+      ObjectPrimitive b;
+      b.half_extent_m = half_size(part, t);
+      b.shape = t.shape;
+      b.id = id;
+      b.material = mat;
+      b.centre_xy_m = centre + off[0] * fwd + off[1] * stbd;
+      b.heading_rad = heading + rad_from_deg(part.number("heading_deg", 0.0));
+      place(b, part, pose.clearance_m + param(part, t, "lift_m"), pose.embed);
     }
   }
 
+  // A target held off the seabed by a tether (not rendered): a sphere or a level horizontal
+  // cylinder whose centre is height_m above the seabed under it.
+  void add_moored(const Fields& o, const ObjectType& t) {
+    ObjectPrimitive p;
+    const std::string shape = o.text("shape", "sphere");
+    const double radius = 0.5 * param(o, t, "diameter_m");
+    const double height = param(o, t, "height_m");
+    if (!(height > radius)) {
+      o.fail_value("height_m", "height_m > diameter_m / 2 (the target is off the seabed)");
+    }
+    p.material = material(o, t.default_material.data());
+    p.centre_xy_m = position(o, "position");
+    p.heading_rad = rad_from_deg(o.number("heading_deg", 0.0));
+    if (shape == "sphere") {
+      if (o.has("length_m")) o.fail("length_m", "a sphere has no length_m");
+      p.shape = ObjectShape::kEllipsoid;
+      p.half_extent_m = {radius, radius, radius};
+    } else if (shape == "cylinder") {
+      p.shape = ObjectShape::kCylinder;
+      p.half_extent_m = {0.5 * param(o, t, "length_m"), radius, radius};
+    } else {
+      o.fail_value("shape", "sphere or cylinder");
+    }
+    p.id = take_id(o);
+    record(o, p.id, "moored", p.centre_xy_m, p.heading_rad, height - radius, 0.0,
+           t.default_material.data());
+    p.place_on_seabed(scene.bathymetry, height - radius, 0.0, o.file() + ": " + o.path());
+    if (p.shape == ObjectShape::kCylinder) {  // level, not draped: the seabed under its centre
+      p.base_z_m = {static_cast<float>(p.base_at(0.0))};
+      p.base_step_m = 0.0;
+    }
+    scene.objects.add(std::move(p));
+  }
+
   // A triangle mesh from a file (docs/scene-format.md "mesh").
-  void add_mesh(const Fields& o, double heading, double clearance, double embed) {
-    o.only({"type", "id", "name", "material", "position", "heading_deg", "file", "scale",
-            "face_materials", "up_axis", "clearance_m", "embed"});
+  void add_mesh(const Fields& o, const ObjectType& t, const Pose& pose) {
+    o.only(keys_of(t.keys));
+    const double heading = pose.heading_rad, clearance = pose.clearance_m, embed = pose.embed;
     const std::string path = resolve_path(base_dir, o.text("file"));
     const std::string up = o.text("up_axis", "z");
     if (up != "z" && up != "y") o.fail_value("up_axis", "z or y");
@@ -238,11 +249,13 @@ struct Builder {
         const double v = o.number("scale");
         where.scale = {v, v, v};
       }
-      if (!(where.scale.minCoeff() > 0.0 && where.scale.maxCoeff() <= 1e4)) {
-        o.fail_value("scale", "0 < scale <= 1e4 (one number or [x, y, z])");
+      const ObjectParam& p = *t.param("scale");
+      if (!p.accepts(where.scale.x()) || !p.accepts(where.scale.y()) ||
+          !p.accepts(where.scale.z())) {
+        o.fail_value("scale", p.constraint());
       }
     }
-    const std::uint16_t fallback = material(o, "steel");
+    const std::uint16_t fallback = material(o, t.default_material.data());
     mesh_file::Model model;
     try {
       model = mesh_file::load(path, up == "y");
@@ -281,7 +294,8 @@ struct Builder {
     }
     for (auto& m : model.mesh.material) m = m < lut.size() ? lut[m] : fallback;
     const std::int32_t id = take_id(o);
-    record(o, id, "mesh", where.position_xy_m, heading, clearance, embed, "steel");
+    record(o, id, "mesh", where.position_xy_m, heading, clearance, embed,
+           t.default_material.data());
     scene.objects.add(place_mesh(std::move(model.mesh), where, scene.bathymetry, id, fallback,
                                  o.file() + ": " + o.path() + " (" + path + ")"));
   }

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/object_types.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -25,17 +26,7 @@ bool clip_slab(double p, double d, double lo, double hi, double& s0, double& s1)
 }  // namespace
 
 const char* to_string(ObjectShape s) {
-  switch (s) {
-    case ObjectShape::kCylinder:
-      return "cylinder";
-    case ObjectShape::kBox:
-      return "box";
-    case ObjectShape::kEllipsoid:
-      return "ellipsoid";
-    case ObjectShape::kMesh:
-      return "mesh";
-  }
-  return "?";
+  return shape_info(s).name.data();
 }
 
 Eigen::Vector2d ObjectPrimitive::axis_u() const {
@@ -133,8 +124,8 @@ void ObjectPrimitive::validate(const std::string& what) const {
                        ". Violated constraint: " + name + " > 0");
     }
   };
-  positive(half_extent_m.x(), shape == ObjectShape::kCylinder ? "length_m" : "size x");
-  positive(half_extent_m.y(), shape == ObjectShape::kCylinder ? "radius_m" : "size y");
+  positive(half_extent_m.x(), shape_info(shape).size_u.data());
+  positive(half_extent_m.y(), shape_info(shape).size_v.data());
   positive(half_extent_m.z(), "height");
   if (id <= 0) {
     throw InputError(what + ": id = " + std::to_string(id) + ". Violated constraint: id > 0");

@@ -15,6 +15,7 @@
 #include "scene_objects.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/object_types.hpp"
 #include "sonarsynth/scene_object.hpp"
 #include "sonarsynth/triangle_mesh.hpp"
 
@@ -250,7 +251,8 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       "add_object(type, **keys) or add_object(entry_dict). Types: 'pipe' / 'cylinder' "
       "(position + length_m + heading_deg, or start + end; diameter_m), 'box' (size_m = [length, "
       "width, height]), 'rock' (size_m or diameter_m), 'wreck' (parts), 'moored' (shape, "
-      "diameter_m, height_m), 'mesh' (file, scale, up_axis, face_materials). Common keys: id "
+      "diameter_m, height_m), 'mesh' (file, scale, up_axis, face_materials); object_types() lists "
+      "them with their keys and bounds. Common keys: id "
       "(> 0, unique; default: one above the largest), name, material (a name, or an index of "
       "material_index()), heading_deg, clearance_m, embed. A position is {'east_m': e, "
       "'north_m': n} in metres from the centre of the bathymetry grid (the scene file's form; "
@@ -328,11 +330,14 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
           const auto k = scale.cast<std::array<double, 3>>();
           where.scale = {k[0], k[1], k[2]};
         }
-        if (!(where.scale.minCoeff() > 0.0 && where.scale.maxCoeff() <= 1e4)) {
+        // The bounds and message of a scene file's mesh scale (the object table).
+        const ObjectParam& bound = *find_object_type("mesh")->param("scale");
+        if (!bound.accepts(where.scale.x()) || !bound.accepts(where.scale.y()) ||
+            !bound.accepts(where.scale.z())) {
           throw InputError(what + ": scale = (" + std::to_string(where.scale.x()) + ", " +
                            std::to_string(where.scale.y()) + ", " +
                            std::to_string(where.scale.z()) +
-                           "). Violated constraint: 0 < scale <= 1e4");
+                           "). Violated constraint: " + bound.constraint());
         }
         Scene& scene = s.mutable_scene();
         scene.objects.add(
