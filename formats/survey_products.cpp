@@ -2,6 +2,7 @@
 #include "sonarsynth/formats/survey_products.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -33,20 +34,10 @@ std::vector<std::string> product_option_flags(const SurveyProductOptions& o) {
   if (!o.waterfalls) flags.emplace_back("--no-waterfall");
   if (!o.truth) flags.emplace_back("--no-truth");
   if (o.mosaic_pixel_m != d.mosaic_pixel_m) {
-    std::ostringstream s;
-    s.precision(17);
-    s << "--res " << o.mosaic_pixel_m;
     // The shortest text that reads back as the same double.
-    for (int p = 1; p <= 17; ++p) {
-      std::ostringstream t;
-      t.precision(p);
-      t << o.mosaic_pixel_m;
-      if (std::stod(t.str()) == o.mosaic_pixel_m) {
-        s.str("--res " + t.str());
-        break;
-      }
-    }
-    flags.push_back(s.str());
+    char text[32];
+    const auto r = std::to_chars(text, text + sizeof text, o.mosaic_pixel_m);
+    flags.push_back("--res " + std::string(text, r.ptr));
   }
   if (o.write_options.format != d.write_options.format) flags.emplace_back("--of GTiff");
   for (const auto& [key, value] : o.write_options.creation_options) {

@@ -645,6 +645,26 @@ void detect_speckle_exact(const SensorModel& m, const SpeckleNoise& speckle,
   }
 }
 
+// The arguments both vector detectors take (sensor_kernel::DetectorCommon); `s.base` holds the
+// textured mean.
+void set_detector_common(const SensorModel& m, const SpeckleNoise& speckle,
+                         std::span<const std::uint64_t> keys,
+                         std::span<const std::uint64_t> noise_keys,
+                         std::span<const double> out_gain, int looks, const DetectorScratch& s,
+                         std::span<double> io, sensor_kernel::DetectorCommon& a) {
+  a.keys = keys.data();
+  a.noise_keys = noise_keys.data();
+  a.base = s.base.data();
+  a.gain = out_gain.data();
+  a.out = io.data();
+  a.n = io.size();
+  a.looks = looks;
+  a.max_detector = looks == 1 || m.detector == DetectorMode::max;
+  a.thermal_power = speckle.thermal_noise_power;
+  a.floor_power = m.floor_power;
+  a.seed = speckle.seed;
+}
+
 // detect_speckle with the range filter (docs/physics.md §1.6): the vector kernel of
 // sensor_kernel.hpp (the frozen complex speckle from the lattice or the speckle words, thermal
 // noise, the taps as a FIR in range, the floor and the detector). `s.base` holds the textured
@@ -661,10 +681,7 @@ void detect_filtered(const SensorModel& m, const SpeckleNoise& speckle,
   const bool lattice_on = field != nullptr && lattice::look_sums(*field, at, n, 0, looks, at.re,
                                                                  at.im, at.norm, s.base.data()) > 0;
   sensor_kernel::FilteredArgs a;
-  a.keys = keys.data();
-  a.noise_keys = noise_keys.data();
-  a.base = s.base.data();
-  a.gain = out_gain.data();
+  set_detector_common(m, speckle, keys, noise_keys, out_gain, looks, s, io, a);
   if (lattice_on) {
     a.field_re = at.re.data();
     a.field_im = at.im.data();
@@ -673,13 +690,6 @@ void detect_filtered(const SensorModel& m, const SpeckleNoise& speckle,
   }
   a.taps = m.range_taps.data();
   a.taps_n = m.range_taps.size();
-  a.out = io.data();
-  a.n = n;
-  a.looks = looks;
-  a.max_detector = looks == 1 || m.detector == DetectorMode::max;
-  a.thermal_power = speckle.thermal_noise_power;
-  a.floor_power = m.floor_power;
-  a.seed = speckle.seed;
   sensor_kernel::detect_filtered(a);
 }
 
@@ -718,18 +728,8 @@ void detect_speckle(const SensorModel& m, const SpeckleNoise& speckle,
   }
   if (field != nullptr) along_track_speckle_looks(*field, n, 0, looks, s.along_track, s.field);
   sensor_kernel::DetectorArgs a;
-  a.keys = keys.data();
-  a.noise_keys = noise_keys.data();
-  a.base = s.base.data();
-  a.gain = out_gain.data();
+  set_detector_common(m, speckle, keys, noise_keys, out_gain, looks, s, io, a);
   a.field = field != nullptr ? s.field.data() : nullptr;
-  a.out = io.data();
-  a.n = n;
-  a.looks = looks;
-  a.max_detector = looks == 1 || m.detector == DetectorMode::max;
-  a.thermal_power = speckle.thermal_noise_power;
-  a.floor_power = m.floor_power;
-  a.seed = speckle.seed;
   sensor_kernel::detect(a);
 }
 

@@ -24,21 +24,25 @@ counter_hash::Stream noise_stream(std::uint64_t seed);
 constexpr std::uint32_t kNoiseWordsPerLook = 3;
 
 /// What detect() reads and writes; n samples each.
-struct DetectorArgs {
+/// What both detectors (detect, detect_filtered) take.
+struct DetectorCommon {
   const std::uint64_t* keys = nullptr;        ///< frozen-speckle keys
   const std::uint64_t* noise_keys = nullptr;  ///< fresh-noise keys
   const double* base = nullptr;               ///< textured mean intensity before TVG
   const double* gain = nullptr;               ///< TVG x quantiser gain
-  /// Frozen speckle power of every look, look-major (look j at field[j n .. (j + 1) n)), NaN
-  /// where it is drawn from the speckle stream instead; nullptr: drawn everywhere.
-  const double* field = nullptr;
-  double* out = nullptr;  ///< detected output power
+  double* out = nullptr;                      ///< detected output power
   std::size_t n = 0;
   int looks = 1;
   bool max_detector = true;    ///< max over looks (else the square of the mean envelope)
   double thermal_power = 0.0;  ///< N, before the gain; 0 = off
   double floor_power = 0.0;    ///< mean receiver-noise power, output domain; 0 = off
   std::uint64_t seed = 0;
+};
+
+struct DetectorArgs : DetectorCommon {
+  /// Frozen speckle power of every look, look-major (look j at field[j n .. (j + 1) n)), NaN
+  /// where it is drawn from the speckle stream instead; nullptr: drawn everywhere.
+  const double* field = nullptr;
 };
 
 /// Per sample i and look j (docs/physics.md §1.6): A = base gain E_s (E_s = field, or
@@ -79,11 +83,7 @@ void texture(const TextureArgs& a);
 /// (y_i = sum_k taps[k] z_(i + k - K), K = taps_n / 2, taps outside the record dropped and the
 /// rest renormalised to unit power gain), detected as |y|^2 gain plus the floor (word 3 j + 2);
 /// the looks combined as detect() does. Float32 in blocks with a halo of K samples.
-struct FilteredArgs {
-  const std::uint64_t* keys = nullptr;
-  const std::uint64_t* noise_keys = nullptr;
-  const double* base = nullptr;  ///< textured mean intensity before TVG
-  const double* gain = nullptr;
+struct FilteredArgs : DetectorCommon {
   /// The lattice's look sums (look j at field_re + j field_stride) and their norm per sample
   /// (NaN where the lattice does not apply); nullptr: drawn everywhere.
   const float* field_re = nullptr;
@@ -92,13 +92,6 @@ struct FilteredArgs {
   std::size_t field_stride = 0;
   const double* taps = nullptr;  ///< 2 K + 1 taps, K <= kMaxHalfTaps
   std::size_t taps_n = 0;
-  double* out = nullptr;
-  std::size_t n = 0;
-  int looks = 1;
-  bool max_detector = true;
-  double thermal_power = 0.0;
-  double floor_power = 0.0;
-  std::uint64_t seed = 0;
 };
 constexpr std::size_t kMaxHalfTaps = 64;
 void detect_filtered(const FilteredArgs& a);
