@@ -33,8 +33,6 @@ class FieldReader {
   void u8(std::uint8_t& v) { v = r_.u8(); }
   void u16(std::uint16_t& v) { v = r_.u16(); }
   void u32(std::uint32_t& v) { v = r_.u32(); }
-  void u64(std::uint64_t& v) { v = r_.u64(); }
-  void i8(std::int8_t& v) { v = r_.i8(); }
   void i16(std::int16_t& v) { v = r_.i16(); }
   void i32(std::int32_t& v) { v = r_.i32(); }
   void f32(float& v) { v = r_.f32(); }
@@ -61,8 +59,6 @@ class FieldWriter {
   void u8(std::uint8_t v) { w_.u8(v); }
   void u16(std::uint16_t v) { w_.u16(v); }
   void u32(std::uint32_t v) { w_.u32(v); }
-  void u64(std::uint64_t v) { w_.u64(v); }
-  void i8(std::int8_t v) { w_.i8(v); }
   void i16(std::int16_t v) { w_.i16(v); }
   void i32(std::int32_t v) { w_.i32(v); }
   void f32(float v) { w_.f32(v); }
@@ -89,8 +85,6 @@ class FieldCounter {
   constexpr void u8(std::uint8_t) { size_ += 1; }
   constexpr void u16(std::uint16_t) { size_ += 2; }
   constexpr void u32(std::uint32_t) { size_ += 4; }
-  constexpr void u64(std::uint64_t) { size_ += 8; }
-  constexpr void i8(std::int8_t) { size_ += 1; }
   constexpr void i16(std::int16_t) { size_ += 2; }
   constexpr void i32(std::int32_t) { size_ += 4; }
   constexpr void f32(float) { size_ += 4; }
