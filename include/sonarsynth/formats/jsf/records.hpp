@@ -3,15 +3,18 @@
 
 // EdgeTech JSF messages as docs/jsf.md §1 describes them: the 16-byte message header, the
 // 240-byte header of sonar data message 80 and the system information message 182. Each struct
-// keeps the documents' fields in file order, has kSize and encodes/decodes field by field in
-// explicit little-endian (never cast from raw bytes). Units are those of the file (minutes of
-// arc x 10 000, millimetres, 1/100 degree...); conversion to SI happens in writer.cpp/reader.cpp.
+// keeps the documents' fields in file order, has kSize and lists its fields once, with their
+// widths, in a field table (`fields`, io/fields.hpp) that both encode and decode walk, field by
+// field in explicit little-endian (never cast from raw bytes). Units are those of the file (minutes
+// of arc x 10 000, millimetres, 1/100 degree...); conversion to SI happens in
+// writer.cpp/reader.cpp.
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 
 #include "sonarsynth/formats/io/byte_io.hpp"
+#include "sonarsynth/formats/io/fields.hpp"
 #include "sonarsynth/formats/xtf/records.hpp"
 
 namespace sonarsynth::jsf {
@@ -87,8 +90,21 @@ struct MessageHeader {
   std::uint8_t sequence = 0;
   std::uint16_t reserved = 0;
   std::int32_t byte_count = 0;  ///< bytes after this header up to the next message
-  void encode(ByteWriter& w) const;
-  static MessageHeader decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    io.u16(s.start_marker);
+    io.u8(s.protocol_version);
+    io.u8(s.session_id);
+    io.u16(s.message_type);
+    io.u8(s.command_type);
+    io.u8(s.subsystem);
+    io.u8(s.channel);
+    io.u8(s.sequence);
+    io.u16(s.reserved);
+    io.i32(s.byte_count);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static MessageHeader decode(ByteReader& r) { return read_fields<MessageHeader>(r); }
 };
 
 /// The 240-byte header of a sonar data message (type 80), offsets of docs/jsf.md §1.2.
@@ -175,8 +191,84 @@ struct SonarDataHeader {
   /// int16 values per sample: 2 for the complex formats 1 and 9, else 1.
   std::uint32_t values_per_sample() const { return data_format == 1 || data_format == 9 ? 2 : 1; }
 
-  void encode(ByteWriter& w) const;
-  static SonarDataHeader decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    io.i32(s.ping_time_s);
+    io.u32(s.starting_depth);
+    io.u32(s.ping_number);
+    for (auto& v : s.reserved0) io.i16(v);
+    io.u16(s.msb1);
+    io.u16(s.lsb1);
+    io.u16(s.lsb2);
+    for (auto& v : s.reserved1) io.i16(v);
+    io.i16(s.id_code);
+    io.u16(s.validity_flags);
+    io.u16(s.reserved2);
+    io.i16(s.data_format);
+    io.i16(s.tow_aft_cm);
+    io.i16(s.tow_starboard_cm);
+    for (auto& v : s.reserved3) io.i16(v);
+    io.f32(s.km_of_pipe);
+    io.f32(s.heave_m);
+    for (auto& v : s.reserved4) io.i16(v);
+    io.f32(s.gap_filler_offset_m);
+    io.i32(s.longitude);
+    io.i32(s.latitude);
+    io.i16(s.coordinate_units);
+    io.chars(s.annotation);
+    io.u16(s.samples);
+    io.u32(s.sample_interval_ns);
+    io.u16(s.adc_gain);
+    io.i16(s.transmit_level);
+    io.i16(s.reserved5);
+    io.u16(s.start_frequency_dahz);
+    io.u16(s.end_frequency_dahz);
+    io.u16(s.sweep_length_ms);
+    io.i32(s.pressure_mpsi);
+    io.i32(s.depth_mm);
+    io.u16(s.sample_frequency_hz);
+    io.u16(s.pulse_id);
+    io.i32(s.altitude_mm);
+    io.f32(s.sound_speed_mps);
+    io.f32(s.mixer_frequency_hz);
+    io.i16(s.year);
+    io.i16(s.day_of_year);
+    io.i16(s.hour);
+    io.i16(s.minute);
+    io.i16(s.second);
+    io.i16(s.time_basis);
+    io.i16(s.weighting_factor);
+    io.i16(s.pulses_in_water);
+    io.u16(s.heading_cdeg);
+    io.i16(s.pitch);
+    io.i16(s.roll);
+    io.i16(s.reserved6);
+    io.i16(s.reserved7);
+    io.i16(s.trigger_source);
+    io.u16(s.mark_number);
+    io.i16(s.fix_hour);
+    io.i16(s.fix_minute);
+    io.i16(s.fix_second);
+    io.i16(s.course_deg);
+    io.i16(s.speed_dkn);
+    io.i16(s.fix_day_of_year);
+    io.i16(s.fix_year);
+    io.u32(s.ms_today);
+    io.u16(s.max_abs_adc);
+    for (auto& v : s.reserved8) io.i16(v);
+    io.chars(s.software_version);
+    io.i32(s.spherical_correction);
+    io.u16(s.packet_number);
+    io.i16(s.adc_decimation);
+    io.i16(s.reserved9);
+    io.i16(s.water_temperature_dc);
+    io.f32(s.layback_m);
+    io.i32(s.reserved10);
+    io.u16(s.cable_out_dm);
+    io.u16(s.reserved11);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static SonarDataHeader decode(ByteReader& r) { return read_fields<SonarDataHeader>(r); }
 };
 
 /// System information (type 182): the first 24 bytes (vendor bytes may follow).
@@ -188,9 +280,22 @@ struct SystemInformation {
   std::int32_t subsystems = 0;
   std::int32_t serial_port_devices = 0;
   std::int32_t serial_number = 0;
-  void encode(ByteWriter& w) const;
-  static SystemInformation decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    io.i32(s.system_type);
+    io.i32(s.low_rate_io);
+    io.i32(s.software_version);
+    io.i32(s.subsystems);
+    io.i32(s.serial_port_devices);
+    io.i32(s.serial_number);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static SystemInformation decode(ByteReader& r) { return read_fields<SystemInformation>(r); }
 };
+
+/// Bytes in front of XtfFileFields and XtfPingFields: the tag "sonarsynth-xtf" (16 bytes, NUL
+/// padded) and the layout number (u32).
+inline constexpr std::size_t kXtfTagSize = 20;
 
 /// What an XTF file held that JSF has no field for, carried by `convert` XTF -> JSF so that
 /// JSF -> XTF restores it (docs/conversion.md, "Lossless round trip").
@@ -207,6 +312,19 @@ struct XtfFileFields {
   float horizontal_beam_angle_deg = 0.0f;
   float tilt_angle_deg = 0.0f;
   float beam_width_deg = 0.0f;
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    io.chars(s.sonar_name);
+    io.chars(s.note);
+    io.u16(s.bytes_per_sample);
+    io.u8(s.sample_format);
+    io.u8(s.uni_polar);
+    io.f32(s.frequency_khz);
+    io.f32(s.horizontal_beam_angle_deg);
+    io.f32(s.tilt_angle_deg);
+    io.f32(s.beam_width_deg);
+    io.reserved(4);
+  }
   /// Tag "sonarsynth-xtf" (16 bytes), layout (u32), then the fields in order, 4 bytes reserved.
   void encode(ByteWriter& w) const;
   /// nullopt-like: false if the bytes do not start with the tag and layout.
@@ -216,9 +334,14 @@ struct XtfFileFields {
 /// A ping's: body of message kSonarsynthXtfPing, written right before the ping's port message.
 struct XtfPingFields {
   static constexpr std::size_t kSize =
-      20 + xtf::XtfPingHeader::kSize + 2 * xtf::XtfPingChanHeader::kSize;
+      kXtfTagSize + xtf::XtfPingHeader::kSize + 2 * xtf::XtfPingChanHeader::kSize;
   xtf::XtfPingHeader ping;                           ///< as the XTF stored it
   std::array<xtf::XtfPingChanHeader, 2> channels{};  ///< port, starboard
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    xtf::XtfPingHeader::fields(io, s.ping);
+    for (auto& c : s.channels) xtf::XtfPingChanHeader::fields(io, c);
+  }
   /// Tag "sonarsynth-xtf" (16 bytes), layout (u32), then the three XTF records.
   void encode(ByteWriter& w) const;
   static bool decode(ByteReader& r, XtfPingFields& out);

@@ -2,8 +2,9 @@
 #pragma once
 
 // XTF (eXtended Triton Format) records, laid out as the Triton XTF specification (Rev. 41) and
-// docs/xtf.md §1 describe them. Each struct keeps the spec's field names
-// and order, has kSize (its exact size in bytes) and encodes/decodes field by field in explicit
+// docs/xtf.md §1 describe them. Each struct keeps the spec's field names and order, has kSize
+// (its exact size in bytes) and lists its fields once, with their widths, in a field table
+// (`fields`, io/fields.hpp) that both encode and decode walk, field by field in explicit
 // little-endian through ByteWriter/ByteReader. No struct is ever cast from raw bytes.
 // Units are those of the file (degrees, knots, decimetres...); conversion to radians and SI
 // units happens in writer.cpp / reader.cpp.
@@ -13,6 +14,7 @@
 #include <cstdint>
 
 #include "sonarsynth/formats/io/byte_io.hpp"
+#include "sonarsynth/formats/io/fields.hpp"
 
 namespace sonarsynth::xtf {
 
@@ -86,8 +88,32 @@ struct XtfChanInfo {
   std::uint8_t SampleFormat = 0;
   std::array<std::uint8_t, 53> ReservedArea2{};
 
-  void encode(ByteWriter& w) const;
-  static XtfChanInfo decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    io.u8(s.TypeOfChannel);
+    io.u8(s.SubChannelNumber);
+    io.u16(s.CorrectionFlags);
+    io.u16(s.UniPolar);
+    io.u16(s.BytesPerSample);
+    io.u32(s.Reserved);
+    io.chars(s.ChannelName);
+    io.f32(s.VoltScale);
+    io.f32(s.Frequency);
+    io.f32(s.HorizBeamAngle);
+    io.f32(s.TiltAngle);
+    io.f32(s.BeamWidth);
+    io.f32(s.OffsetX);
+    io.f32(s.OffsetY);
+    io.f32(s.OffsetZ);
+    io.f32(s.OffsetYaw);
+    io.f32(s.OffsetPitch);
+    io.f32(s.OffsetRoll);
+    io.u16(s.BeamsPerArray);
+    io.u8(s.SampleFormat);
+    io.bytes(s.ReservedArea2);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static XtfChanInfo decode(ByteReader& r) { return read_fields<XtfChanInfo>(r); }
   bool operator==(const XtfChanInfo&) const = default;
 };
 
@@ -130,8 +156,45 @@ struct XtfFileHeader {
   float MRUOffsetRoll = 0.0f;
   std::array<XtfChanInfo, kChanInfoPerFileHeader> ChanInfo{};
 
-  void encode(ByteWriter& w) const;
-  static XtfFileHeader decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    io.u8(s.FileFormat);
+    io.u8(s.SystemType);
+    io.chars(s.RecordingProgramName);
+    io.chars(s.RecordingProgramVersion);
+    io.chars(s.SonarName);
+    io.u16(s.SonarType);
+    io.chars(s.NoteString);
+    io.chars(s.ThisFileName);
+    io.u16(s.NavUnits);
+    io.u16(s.NumberOfSonarChannels);
+    io.u16(s.NumberOfBathymetryChannels);
+    io.u8(s.NumberOfSnippetChannels);
+    io.u8(s.NumberOfForwardLookArrays);
+    io.u16(s.NumberOfEchoStrengthChannels);
+    io.u8(s.NumberOfInterferometryChannels);
+    io.u8(s.Reserved1);
+    io.u16(s.Reserved2);
+    io.f32(s.ReferencePointHeight);
+    io.bytes(s.ProjectionType);
+    io.bytes(s.SpheriodType);
+    io.i32(s.NavigationLatency);
+    io.f32(s.OriginY);
+    io.f32(s.OriginX);
+    io.f32(s.NavOffsetY);
+    io.f32(s.NavOffsetX);
+    io.f32(s.NavOffsetZ);
+    io.f32(s.NavOffsetYaw);
+    io.f32(s.MRUOffsetY);
+    io.f32(s.MRUOffsetX);
+    io.f32(s.MRUOffsetZ);
+    io.f32(s.MRUOffsetYaw);
+    io.f32(s.MRUOffsetPitch);
+    io.f32(s.MRUOffsetRoll);
+    for (auto& c : s.ChanInfo) XtfChanInfo::fields(io, c);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static XtfFileHeader decode(ByteReader& r) { return read_fields<XtfFileHeader>(r); }
   bool operator==(const XtfFileHeader&) const = default;
 
   /// Sum of every channel count in the header (sonar + bathymetry + snippet + forward-look +
@@ -151,8 +214,18 @@ struct XtfPacketHeader {
   std::array<std::uint16_t, 2> Reserved1{};
   std::uint32_t NumBytesThisRecord = 0;
 
-  void encode(ByteWriter& w) const;
-  static XtfPacketHeader decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    io.u16(s.MagicNumber);
+    io.u8(s.HeaderType);
+    io.u8(s.SubChannelNumber);
+    io.u16(s.NumChansToFollow);
+    io.u16(s.Reserved1[0]);
+    io.u16(s.Reserved1[1]);
+    io.u32(s.NumBytesThisRecord);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static XtfPacketHeader decode(ByteReader& r) { return read_fields<XtfPacketHeader>(r); }
   bool operator==(const XtfPacketHeader&) const = default;
 };
 
@@ -234,8 +307,85 @@ struct XtfPingHeader {
   std::uint8_t CableOutHundredths = 0;
   std::array<std::uint8_t, 6> ReservedSpace2{};
 
-  void encode(ByteWriter& w) const;
-  static XtfPingHeader decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    XtfPacketHeader::fields(io, s.Header);
+    io.u16(s.Year);
+    io.u8(s.Month);
+    io.u8(s.Day);
+    io.u8(s.Hour);
+    io.u8(s.Minute);
+    io.u8(s.Second);
+    io.u8(s.HSeconds);
+    io.u16(s.JulianDay);
+    io.u32(s.EventNumber);
+    io.u32(s.PingNumber);
+    io.f32(s.SoundVelocity);
+    io.f32(s.OceanTide);
+    io.u32(s.Reserved2);
+    io.f32(s.ConductivityFreq);
+    io.f32(s.TemperatureFreq);
+    io.f32(s.PressureFreq);
+    io.f32(s.PressureTemp);
+    io.f32(s.Conductivity);
+    io.f32(s.WaterTemperature);
+    io.f32(s.Pressure);
+    io.f32(s.ComputedSoundVelocity);
+    io.f32(s.MagX);
+    io.f32(s.MagY);
+    io.f32(s.MagZ);
+    io.f32(s.AuxVal1);
+    io.f32(s.AuxVal2);
+    io.f32(s.AuxVal3);
+    io.f32(s.AuxVal4);
+    io.f32(s.AuxVal5);
+    io.f32(s.AuxVal6);
+    io.f32(s.SpeedLog);
+    io.f32(s.Turbidity);
+    io.f32(s.ShipSpeed);
+    io.f32(s.ShipGyro);
+    io.f64(s.ShipYcoordinate);
+    io.f64(s.ShipXcoordinate);
+    io.u16(s.ShipAltitude);
+    io.u16(s.ShipDepth);
+    io.u8(s.FixTimeHour);
+    io.u8(s.FixTimeMinute);
+    io.u8(s.FixTimeSecond);
+    io.u8(s.FixTimeHsecond);
+    io.f32(s.SensorSpeed);
+    io.f32(s.KP);
+    io.f64(s.SensorYcoordinate);
+    io.f64(s.SensorXcoordinate);
+    io.u16(s.SonarStatus);
+    io.u16(s.RangeToFish);
+    io.u16(s.BearingToFish);
+    io.u16(s.CableOut);
+    io.f32(s.Layback);
+    io.f32(s.CableTension);
+    io.f32(s.SensorDepth);
+    io.f32(s.SensorPrimaryAltitude);
+    io.f32(s.SensorAuxAltitude);
+    io.f32(s.SensorPitch);
+    io.f32(s.SensorRoll);
+    io.f32(s.SensorHeading);
+    io.f32(s.Heave);
+    io.f32(s.Yaw);
+    io.u32(s.AttitudeTimeTag);
+    io.f32(s.DOT);
+    io.u32(s.NavFixMilliseconds);
+    io.u8(s.ComputerClockHour);
+    io.u8(s.ComputerClockMinute);
+    io.u8(s.ComputerClockSecond);
+    io.u8(s.ComputerClockHsec);
+    io.i16(s.FishPositionDeltaX);
+    io.i16(s.FishPositionDeltaY);
+    io.u8(s.FishPositionErrorCode);
+    io.u32(s.OptionalOffset);
+    io.u8(s.CableOutHundredths);
+    io.bytes(s.ReservedSpace2);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static XtfPingHeader decode(ByteReader& r) { return read_fields<XtfPingHeader>(r); }
   bool operator==(const XtfPingHeader&) const = default;
 };
 
@@ -267,8 +417,35 @@ struct XtfPingChanHeader {
   std::int16_t Weight = 0;
   std::array<std::uint8_t, 4> ReservedSpace{};
 
-  void encode(ByteWriter& w) const;
-  static XtfPingChanHeader decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    io.u16(s.ChannelNumber);
+    io.u16(s.DownsampleMethod);
+    io.f32(s.SlantRange);
+    io.f32(s.GroundRange);
+    io.f32(s.TimeDelay);
+    io.f32(s.TimeDuration);
+    io.f32(s.SecondsPerPing);
+    io.u16(s.ProcessingFlags);
+    io.u16(s.Frequency);
+    io.u16(s.InitialGainCode);
+    io.u16(s.GainCode);
+    io.u16(s.BandWidth);
+    io.u32(s.ContactNumber);
+    io.u16(s.ContactClassification);
+    io.u8(s.ContactSubNumber);
+    io.u8(s.ContactType);
+    io.u32(s.NumSamples);
+    io.u16(s.MillivoltScale);
+    io.f32(s.ContactTimeOffTrack);
+    io.u8(s.ContactCloseNumber);
+    io.u8(s.Reserved2);
+    io.f32(s.FixedVSOP);
+    io.i16(s.Weight);
+    io.bytes(s.ReservedSpace);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static XtfPingChanHeader decode(ByteReader& r) { return read_fields<XtfPingChanHeader>(r); }
   bool operator==(const XtfPingChanHeader&) const = default;
 };
 
@@ -285,8 +462,20 @@ struct XtfNotesHeader {
   std::array<std::uint8_t, 35> ReservedBytes{};
   std::array<char, 200> NotesText{};
 
-  void encode(ByteWriter& w) const;
-  static XtfNotesHeader decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    XtfPacketHeader::fields(io, s.Header);
+    io.u16(s.Year);
+    io.u8(s.Month);
+    io.u8(s.Day);
+    io.u8(s.Hour);
+    io.u8(s.Minute);
+    io.u8(s.Second);
+    io.bytes(s.ReservedBytes);
+    io.chars(s.NotesText);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static XtfNotesHeader decode(ByteReader& r) { return read_fields<XtfNotesHeader>(r); }
   bool operator==(const XtfNotesHeader&) const = default;
 };
 
@@ -312,8 +501,30 @@ struct XtfAttitudeData {
   std::uint16_t Milliseconds = 0;
   std::uint8_t Reserved3 = 0;
 
-  void encode(ByteWriter& w) const;
-  static XtfAttitudeData decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    XtfPacketHeader::fields(io, s.Header);
+    io.u32(s.Reserved2[0]);
+    io.u32(s.Reserved2[1]);
+    io.u32(s.EpochMicroseconds);
+    io.u32(s.SourceEpoch);
+    io.f32(s.Pitch);
+    io.f32(s.Roll);
+    io.f32(s.Heave);
+    io.f32(s.Yaw);
+    io.u32(s.TimeTag);
+    io.f32(s.Heading);
+    io.u16(s.Year);
+    io.u8(s.Month);
+    io.u8(s.Day);
+    io.u8(s.Hour);
+    io.u8(s.Minutes);
+    io.u8(s.Seconds);
+    io.u16(s.Milliseconds);
+    io.u8(s.Reserved3);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static XtfAttitudeData decode(ByteReader& r) { return read_fields<XtfAttitudeData>(r); }
   bool operator==(const XtfAttitudeData&) const = default;
 };
 
@@ -340,8 +551,29 @@ struct XtfHeaderNavigation {
   std::uint8_t TimeFlag = 0;
   std::array<std::uint8_t, 6> Reserved1{};
 
-  void encode(ByteWriter& w) const;
-  static XtfHeaderNavigation decode(ByteReader& r);
+  template <class IO, class Self>
+  static constexpr void fields(IO& io, Self& s) {
+    io.u16(s.MagicNumber);
+    io.u8(s.HeaderType);
+    io.bytes(s.Reserved);
+    io.u32(s.NumBytesThisRecord);
+    io.u16(s.Year);
+    io.u8(s.Month);
+    io.u8(s.Day);
+    io.u8(s.Hour);
+    io.u8(s.Minute);
+    io.u8(s.Second);
+    io.u32(s.Microseconds);
+    io.u32(s.SourceEpoch);
+    io.u32(s.TimeTag);
+    io.f64(s.RawYcoordinate);
+    io.f64(s.RawXcoordinate);
+    io.f64(s.RawAltitude);
+    io.u8(s.TimeFlag);
+    io.bytes(s.Reserved1);
+  }
+  void encode(ByteWriter& w) const { write_fields(w, *this); }
+  static XtfHeaderNavigation decode(ByteReader& r) { return read_fields<XtfHeaderNavigation>(r); }
   bool operator==(const XtfHeaderNavigation&) const = default;
 };
 
