@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "sonarsynth/bathy_gen.hpp"
-#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
 
 namespace bench {
 

@@ -25,7 +25,7 @@
 #include "realism_stats.hpp"
 #include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/sidescan_source.hpp"
+#include "sonarsynth/formats/registry/sidescan_source.hpp"
 
 namespace rs = bench::realism;
 using namespace sonarsynth;

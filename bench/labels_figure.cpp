@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "sonarsynth/formats/run_simulation.hpp"
+#include "sonarsynth/formats/config/run_simulation.hpp"
 
 namespace fs = std::filesystem;
 

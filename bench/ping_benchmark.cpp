@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
 #include "sonarsynth/simulator.hpp"
 #include "sonarsynth/sonar_presets.hpp"
 

@@ -19,7 +19,7 @@
 #include "bench_metrics.hpp"
 #include "bench_scenes.hpp"
 #include "sonarsynth/bathy_gen.hpp"
-#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/simulator.hpp"
 

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 # Finds Intel's ISA-L (Debian: libisal-dev ships a pkg-config file, no CMake package config) and
 # defines the imported target ISAL::ISAL. sonarsynth uses its igzip deflate compressor for the
-# waterfall PNGs (formats/png_stream.cpp).
+# waterfall PNGs (formats/raster/png_stream.cpp).
 find_path(ISAL_INCLUDE_DIR isa-l/igzip_lib.h)
 find_library(ISAL_LIBRARY NAMES isal)
 include(FindPackageHandleStandardArgs)

@@ -8,8 +8,8 @@
 #include <memory>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/scene_file.hpp"
-#include "sonarsynth/formats/survey_writer.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
+#include "sonarsynth/formats/xtf/survey_writer.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/simulator.hpp"
 

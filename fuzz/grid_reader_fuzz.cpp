@@ -17,7 +17,7 @@
 #include <string>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
 
 namespace {
 

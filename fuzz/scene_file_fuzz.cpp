@@ -16,7 +16,7 @@
 #include <string>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/formats/config/simulation_file.hpp"
 
 namespace {
 

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/formats/config/simulation_file.hpp"
 #include "sonarsynth/simulator.hpp"
 
 namespace {

@@ -15,12 +15,12 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
-#include "sonarsynth/formats/run_simulation.hpp"
-#include "sonarsynth/formats/sonar_formats.hpp"
-#include "sonarsynth/formats/waterfall.hpp"
+#include "sonarsynth/formats/config/run_simulation.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
+#include "sonarsynth/formats/products/waterfall.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
-#include "sonarsynth/formats/xtf_mosaic.hpp"
+#include "sonarsynth/formats/products/xtf_mosaic.hpp"
 
 namespace sonarsynth {
 namespace {

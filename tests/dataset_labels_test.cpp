@@ -13,7 +13,7 @@
 
 #include "cli_test_util.hpp"
 #include "label_check_util.hpp"
-#include "sonarsynth/formats/dataset.hpp"
+#include "sonarsynth/formats/config/dataset.hpp"
 
 namespace sonarsynth {
 namespace {

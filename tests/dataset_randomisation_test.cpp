@@ -13,13 +13,13 @@
 #include <numbers>
 #include <set>
 
-#include "../formats/option_table.hpp"
+#include "sonarsynth/formats/config/option_table.hpp"
 #include "cli_test_util.hpp"
 #include "dataset_test_spec.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/dataset.hpp"
-#include "sonarsynth/formats/run_check.hpp"
-#include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/formats/config/dataset.hpp"
+#include "sonarsynth/formats/config/run_check.hpp"
+#include "sonarsynth/formats/config/simulation_file.hpp"
 #include "sonarsynth/sonar_presets.hpp"
 
 namespace sonarsynth {

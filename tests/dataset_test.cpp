@@ -2,7 +2,7 @@
 // The dataset generator (docs/dataset.md): spec validation, items as pure functions of (spec,
 // seed, index), atomic and resumable items, shards that partition the items, failures recorded
 // with their index and seed.
-#include "sonarsynth/formats/dataset.hpp"
+#include "sonarsynth/formats/config/dataset.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -21,8 +21,8 @@
 #include "cli_test_util.hpp"
 #include "dataset_test_spec.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/scene_file.hpp"
-#include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
+#include "sonarsynth/formats/config/simulation_file.hpp"
 
 namespace sonarsynth {
 namespace {

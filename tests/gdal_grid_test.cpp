@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
@@ -18,7 +18,7 @@
 
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/gdal_util.hpp"
+#include "sonarsynth/formats/raster/gdal_util.hpp"
 
 namespace sonarsynth {
 namespace {

@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/run_simulation.hpp"
-#include "sonarsynth/formats/survey_products.hpp"
+#include "sonarsynth/formats/config/run_simulation.hpp"
+#include "sonarsynth/formats/products/survey_products.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/geo_frame.hpp"
 

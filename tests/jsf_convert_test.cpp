@@ -9,7 +9,7 @@
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/format.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
-#include "sonarsynth/formats/sonar_formats.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"

@@ -13,7 +13,7 @@
 #include "cli_test_util.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
-#include "sonarsynth/formats/sonar_formats.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "xtf_test_util.hpp"

@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "../formats/truth_labels.hpp"
+#include "sonarsynth/formats/products/truth_labels.hpp"
 
 namespace sonarsynth::test {
 

@@ -24,12 +24,12 @@
 #include <tuple>
 #include <vector>
 
-#include "../formats/label_sets.hpp"
-#include "../formats/truth_labels.hpp"
+#include "sonarsynth/formats/config/label_sets.hpp"
+#include "sonarsynth/formats/products/truth_labels.hpp"
 #include "label_check_util.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/run_simulation.hpp"
-#include "sonarsynth/formats/waterfall.hpp"
+#include "sonarsynth/formats/config/run_simulation.hpp"
+#include "sonarsynth/formats/products/waterfall.hpp"
 #include "sonarsynth/mosaic.hpp"
 
 namespace sonarsynth {

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
 #include "sonarsynth/scene.hpp"
 
 namespace sonarsynth {

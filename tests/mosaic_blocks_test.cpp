@@ -4,7 +4,7 @@
 // (MosaicGrid::finish() of an untiled grid) and the files written from it (write_mosaic of a
 // MosaicImage: in-memory GDAL datasets): the same bits in every band at full resolution and in
 // every overview, the same metadata; no temporary file left after success or after a failure.
-#include "../formats/mosaic_blocks.hpp"
+#include "sonarsynth/formats/products/mosaic_blocks.hpp"
 
 #include <cpl_conv.h>
 #include <gdal_priv.h>
@@ -24,7 +24,7 @@
 
 #include "mosaic_test_util.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/mosaic_writer.hpp"
+#include "sonarsynth/formats/products/mosaic_writer.hpp"
 #include "sonarsynth/mosaic.hpp"
 
 namespace sonarsynth {

@@ -14,9 +14,9 @@
 
 #include "mosaic_test_util.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/mosaic_writer.hpp"
-#include "sonarsynth/formats/waterfall.hpp"
-#include "sonarsynth/formats/xtf_mosaic.hpp"
+#include "sonarsynth/formats/products/mosaic_writer.hpp"
+#include "sonarsynth/formats/products/waterfall.hpp"
+#include "sonarsynth/formats/products/xtf_mosaic.hpp"
 
 namespace sonarsynth {
 namespace {

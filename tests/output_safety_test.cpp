@@ -12,8 +12,8 @@
 
 #include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/atomic_file.hpp"
-#include "sonarsynth/formats/output_dir.hpp"
+#include "sonarsynth/formats/io/atomic_file.hpp"
+#include "sonarsynth/formats/registry/output_dir.hpp"
 
 namespace sonarsynth {
 namespace {

@@ -14,7 +14,7 @@
 #include "analytic/circle_section.hpp"
 #include "analytic/flat_seabed.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
 #include "sonarsynth/render_side.hpp"
 #include "sonarsynth/scene.hpp"
 #include "sonarsynth/scene_profile.hpp"

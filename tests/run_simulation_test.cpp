@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // run_simulation, the library entry point behind `sonarsynth simulate`: what it returns agrees
 // with what it wrote, and a refused run leaves the output directory as it was.
-#include "sonarsynth/formats/run_simulation.hpp"
+#include "sonarsynth/formats/config/run_simulation.hpp"
 
 #include <gtest/gtest.h>
 

@@ -12,8 +12,8 @@
 
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/gdal_grid.hpp"
-#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
 
 namespace sonarsynth {
 namespace {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>

@@ -10,8 +10,8 @@
 #include <string>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/scene_file.hpp"
-#include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
+#include "sonarsynth/formats/config/simulation_file.hpp"
 
 namespace sonarsynth {
 namespace {

@@ -2,14 +2,14 @@
 // add_scene_object: an entry of a scene file's `objects` list added to a scene built elsewhere
 // gives the primitives the file gives (automatic ids included), refuses what the file refuses
 // with the file's message, and leaves the scene unchanged when it refuses.
-#include "scene_objects.hpp"
+#include "sonarsynth/formats/config/scene_objects.hpp"
 
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
 
 namespace sonarsynth {
 namespace {

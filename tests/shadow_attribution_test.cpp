@@ -20,11 +20,11 @@
 #include <string>
 #include <vector>
 
-#include "../formats/truth_labels.hpp"
+#include "sonarsynth/formats/products/truth_labels.hpp"
 #include "label_check_util.hpp"
 #include "sonarsynth/beam_profile.hpp"
-#include "sonarsynth/formats/run_simulation.hpp"
-#include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/formats/config/run_simulation.hpp"
+#include "sonarsynth/formats/config/simulation_file.hpp"
 #include "sonarsynth/render_side.hpp"
 #include "sonarsynth/scene_object.hpp"
 #include "sonarsynth/survey.hpp"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/formats/config/simulation_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <set>
 
-#include "../formats/option_table.hpp"
+#include "sonarsynth/formats/config/option_table.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {

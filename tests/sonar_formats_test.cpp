@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The format list (formats/sonar_formats.cpp): every descriptor complete, lookups by name,
+// The format list (formats/registry/sonar_formats.cpp): every descriptor complete, lookups by name,
 // extension and content, the output directory and `info` going through it.
-#include "sonarsynth/formats/sonar_formats.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,8 +12,8 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/format.hpp"
-#include "sonarsynth/formats/output_dir.hpp"
-#include "sonarsynth/formats/sidescan_source.hpp"
+#include "sonarsynth/formats/registry/output_dir.hpp"
+#include "sonarsynth/formats/registry/sidescan_source.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "xtf_test_util.hpp"
 

@@ -15,7 +15,7 @@
 
 #include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/formats/config/simulation_file.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/simulator.hpp"

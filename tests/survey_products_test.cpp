@@ -2,7 +2,7 @@
 // SurveyProducts: the hook after the mosaic's last use of the bathymetry
 // (SurveyProductOptions::after_last_bathymetry_use), through which run_simulation frees the
 // scene's grid before the mosaic files are written.
-#include "sonarsynth/formats/survey_products.hpp"
+#include "sonarsynth/formats/products/survey_products.hpp"
 
 #include <gtest/gtest.h>
 

@@ -9,7 +9,7 @@
 #include <filesystem>
 
 #include "cli_test_util.hpp"
-#include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
 
 namespace sonarsynth {
 namespace {

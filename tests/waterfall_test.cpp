@@ -3,7 +3,7 @@
 // assembling them in memory gives, the written PNG/GeoTIFF hold the expected colours (percentile
 // scaling identical to robust_db_range of the whole image), the truth waterfall keeps its
 // layout and padding, and the spool file never shows up and is released with its owner.
-#include "sonarsynth/formats/waterfall.hpp"
+#include "sonarsynth/formats/products/waterfall.hpp"
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/survey_writer.hpp"
+#include "sonarsynth/formats/xtf/survey_writer.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
 namespace sonarsynth {

@@ -11,9 +11,9 @@
 #include "commands.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/bathy_spec_parser.hpp"
-#include "sonarsynth/formats/gdal_grid.hpp"
-#include "sonarsynth/formats/gdal_util.hpp"
+#include "sonarsynth/formats/config/bathy_spec_parser.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
+#include "sonarsynth/formats/raster/gdal_util.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::cli {

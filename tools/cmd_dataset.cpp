@@ -6,7 +6,7 @@
 
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/dataset.hpp"
+#include "sonarsynth/formats/config/dataset.hpp"
 
 namespace sonarsynth::cli {
 namespace {

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "commands.hpp"
-#include "sonarsynth/formats/sonar_formats.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
 
 namespace sonarsynth::cli {
 

@@ -17,7 +17,7 @@
 #include <sstream>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/formats/io/atomic_file.hpp"
 #include "sonarsynth/match/feature_matcher.hpp"
 #include "sonarsynth/match/image_source.hpp"
 #include "sonarsynth/match/match_accuracy.hpp"

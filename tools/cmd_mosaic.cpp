@@ -13,10 +13,10 @@
 
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/gdal_grid.hpp"
-#include "sonarsynth/formats/mosaic_writer.hpp"
-#include "sonarsynth/formats/sonar_formats.hpp"
-#include "sonarsynth/formats/xtf_mosaic.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
+#include "sonarsynth/formats/products/mosaic_writer.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
+#include "sonarsynth/formats/products/xtf_mosaic.hpp"
 
 namespace sonarsynth::cli {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/run_simulation.hpp"
+#include "sonarsynth/formats/config/run_simulation.hpp"
 
 namespace sonarsynth::cli {
 namespace {

@@ -6,8 +6,8 @@
 
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/sonar_formats.hpp"
-#include "sonarsynth/formats/waterfall.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
+#include "sonarsynth/formats/products/waterfall.hpp"
 
 namespace sonarsynth::cli {
 

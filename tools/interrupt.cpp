@@ -7,7 +7,7 @@
 
 #include <thread>
 
-#include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/formats/io/atomic_file.hpp"
 
 namespace sonarsynth::cli {
 

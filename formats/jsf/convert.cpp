@@ -10,7 +10,7 @@
 #include <sstream>
 #include <vector>
 
-#include "../xtf/time_fields.hpp"
+#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/format.hpp"
@@ -248,7 +248,7 @@ bool carried_agrees(const jsf::XtfPingFields& f, const jsf::Ping& p) {
                 near(deg_from_rad(s.sensor_position.lon_rad), h.SensorXcoordinate, 1.0 / 6e5)
           : true;
   // The XTF time to 10 ms (HSeconds); the JSF's is that time, to 1 ms.
-  const std::optional<UtcTime> t = xtf::detail::time_from_fields(
+  const std::optional<UtcTime> t = calendar::time_from_fields(
       h.Year, h.Month, h.Day, h.Hour, h.Minute, h.Second, std::uint32_t{h.HSeconds} * 10000u);
   const bool time =
       !p.time_valid || (t && std::chrono::abs(s.time_utc - *t) <= std::chrono::milliseconds{10});

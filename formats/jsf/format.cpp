@@ -9,8 +9,8 @@
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/jsf/records.hpp"
-#include "sonarsynth/formats/jsf_survey_writer.hpp"
-#include "sonarsynth/formats/sidescan_source.hpp"
+#include "sonarsynth/formats/jsf/survey_writer.hpp"
+#include "sonarsynth/formats/registry/sidescan_source.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::jsf {

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <string>
 
-#include "sonarsynth/formats/info_json.hpp"
+#include "sonarsynth/formats/xtf/info_json.hpp"
 #include "sonarsynth/formats/jsf/format.hpp"
 #include "sonarsynth/formats/jsf/summary.hpp"
 

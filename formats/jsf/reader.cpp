@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "../xtf/time_fields.hpp"
+#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
@@ -330,7 +330,7 @@ void Reader::make_ping(Message* port, Message* stbd, Ping& ping) {
     t = UtcTime{seconds{h.ping_time_s}} + frac;
   } else if (h.year >= 1 && h.day_of_year >= 1 && h.day_of_year <= 366 && h.hour >= 0 &&
              h.minute >= 0 && h.second >= 0) {
-    const auto jan1 = xtf::detail::time_from_fields(h.year, 1, 1, 0, 0, 0, 0);
+    const auto jan1 = calendar::time_from_fields(h.year, 1, 1, 0, 0, 0, 0);
     if (jan1 && h.hour <= 23 && h.minute <= 59 && h.second <= 60) {
       t = *jan1 + days{h.day_of_year - 1} + hours{h.hour} + minutes{h.minute} + seconds{h.second} +
           frac;

@@ -7,7 +7,7 @@
 #include <cstring>
 #include <sstream>
 
-#include "../xtf/time_fields.hpp"
+#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/version.hpp"
@@ -112,7 +112,7 @@ SonarDataHeader sonar_header(const SonarPing& p, const WriterOptions& options) {
   using namespace std::chrono;
   SonarDataHeader h;
   const auto t_ms = floor<milliseconds>(p.time_utc);
-  const xtf::detail::TimeFields tf = xtf::detail::fields_from_time(t_ms);
+  const calendar::TimeFields tf = calendar::fields_from_time(t_ms);
   const auto day = floor<days>(t_ms);
   h.ping_time_s = static_cast<std::int32_t>(floor<seconds>(t_ms).time_since_epoch().count());
   h.ms_today = static_cast<std::uint32_t>((t_ms - day).count());
@@ -273,7 +273,7 @@ void Writer::write_ping(const SonarPing& p, const XtfPingFields* xtf_fields) {
     violated(who + "sensor_position", "(lat " + num(g.lat_rad) + ", lon " + num(g.lon_rad) + ")",
              "finite, |lat| <= pi/2, |lon| <= pi");
   }
-  const int year = xtf::detail::fields_from_time(p.time_utc).year;
+  const int year = calendar::fields_from_time(p.time_utc).year;
   if (year < kMinYear || year > kMaxYear) {
     violated(who + "time_utc year", std::to_string(year), "1970 <= year <= 2100");
   }
@@ -327,7 +327,7 @@ void Writer::write_attitude(const AttitudeSample& a) {
   for (const double v : {a.heading_rad, a.pitch_rad, a.roll_rad, a.heave_m, a.yaw_rad}) {
     if (!std::isfinite(v)) violated("attitude", "non-finite", "heading, pitch, roll, heave finite");
   }
-  const int year = xtf::detail::fields_from_time(a.time_utc).year;
+  const int year = calendar::fields_from_time(a.time_utc).year;
   if (year < kMinYear || year > kMaxYear) {
     violated("attitude time_utc year", std::to_string(year), "1970 <= year <= 2100");
   }

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "sonarsynth/formats/sidescan_source.hpp"
-#include "sonarsynth/formats/survey_writer.hpp"
+#include "sonarsynth/formats/registry/sidescan_source.hpp"
+#include "sonarsynth/formats/xtf/survey_writer.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/records.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"

@@ -4,7 +4,7 @@
 #include <sstream>
 #include <string>
 
-#include "sonarsynth/formats/info_json.hpp"
+#include "sonarsynth/formats/xtf/info_json.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/summary.hpp"
 

@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "sonarsynth/error.hpp"
-#include "time_fields.hpp"
+#include "sonarsynth/formats/io/time_fields.hpp"
 
 namespace sonarsynth::xtf {
 namespace {
@@ -540,7 +540,7 @@ void Reader::normalise(PingRecord& ping, std::uint64_t offset) {
   SonarPing& s = ping.sonar;
 
   const auto t = h.HSeconds < 100
-                     ? detail::time_from_fields(h.Year, h.Month, h.Day, h.Hour, h.Minute, h.Second,
+                     ? calendar::time_from_fields(h.Year, h.Month, h.Day, h.Hour, h.Minute, h.Second,
                                                 std::uint32_t{h.HSeconds} * 10000u)
                      : std::nullopt;
   ping.time_valid = t.has_value();

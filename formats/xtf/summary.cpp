@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "time_fields.hpp"
+#include "sonarsynth/formats/io/time_fields.hpp"
 
 namespace sonarsynth::xtf {
 
@@ -80,7 +80,7 @@ FileSummary summarize_file(const std::filesystem::path& path, ReaderOptions opti
 }
 
 std::string iso8601(UtcTime t) {
-  const detail::TimeFields f = detail::fields_from_time(t);
+  const calendar::TimeFields f = calendar::fields_from_time(t);
   char buf[64];
   std::snprintf(buf, sizeof buf, "%04d-%02u-%02uT%02u:%02u:%02u.%06uZ", f.year, f.month, f.day,
                 f.hour, f.minute, f.second, static_cast<unsigned>(f.microsecond));

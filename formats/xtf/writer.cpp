@@ -10,7 +10,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/version.hpp"
-#include "time_fields.hpp"
+#include "sonarsynth/formats/io/time_fields.hpp"
 
 namespace sonarsynth::xtf {
 namespace {
@@ -213,7 +213,7 @@ void Writer::start(UtcTime first_time, std::uint32_t port_samples, std::uint32_t
   append(buffer_, XtfFileHeader::kSize);
 
   // A NOTES packet first: libxtf/auvlib skip the first packet of every file.
-  const detail::TimeFields tf = detail::fields_from_time(first_time);
+  const calendar::TimeFields tf = calendar::fields_from_time(first_time);
   XtfNotesHeader n;
   n.Header.HeaderType = static_cast<std::uint8_t>(HeaderType::kNotes);
   n.Header.NumBytesThisRecord = static_cast<std::uint32_t>(XtfNotesHeader::kSize);
@@ -245,7 +245,7 @@ void Writer::validate_ping(const SonarPing& p, bool check_position) const {
     check_position_of(p.sensor_position, "sensor_position");
     if (p.ship_position) check_position_of(*p.ship_position, "ship_position");
   }
-  const detail::TimeFields tf = detail::fields_from_time(to_hundredths(p.time_utc));
+  const calendar::TimeFields tf = calendar::fields_from_time(to_hundredths(p.time_utc));
   if (tf.year < kMinYear || tf.year > kMaxYear) {
     violated(who + "time_utc year", std::to_string(tf.year), "1970 <= year <= 2100");
   }
@@ -352,7 +352,7 @@ void Writer::write_ping(const SonarPing& p, const StoredPingHeaders* stored) {
   buffer_.assign(static_cast<std::size_t>(total), 0);
   ByteWriter w(buffer_);
 
-  const detail::TimeFields tf = detail::fields_from_time(to_hundredths(p.time_utc));
+  const calendar::TimeFields tf = calendar::fields_from_time(to_hundredths(p.time_utc));
   const Geodetic ship = p.ship_position.value_or(p.sensor_position);
   const double sv = p.sound_speed_mps / 2.0;  // XTF stores the one-way ("half") speed
   const double heading = heading_deg(p.heading_rad);
@@ -385,7 +385,7 @@ void Writer::write_ping(const SonarPing& p, const StoredPingHeaders* stored) {
   h.SensorRoll = static_cast<float>(deg_from_rad(p.roll_rad));
   h.SensorHeading = static_cast<float>(heading);
   h.Heave = static_cast<float>(p.heave_m);
-  h.AttitudeTimeTag = detail::time_tag_ms(p.time_utc);
+  h.AttitudeTimeTag = calendar::time_tag_ms(p.time_utc);
   if (stored) {
     const XtfPacketHeader packet = h.Header;
     h = stored->ping;
@@ -429,7 +429,7 @@ void Writer::write_attitude(const AttitudeSample& a) {
   if (!finite_all({a.heading_rad, a.pitch_rad, a.roll_rad, a.heave_m, a.yaw_rad})) {
     violated("attitude", "non-finite", "heading, pitch, roll, heave, yaw finite");
   }
-  const detail::TimeFields tf = detail::fields_from_time(a.time_utc);
+  const calendar::TimeFields tf = calendar::fields_from_time(a.time_utc);
   if (tf.year < kMinYear || tf.year > kMaxYear) {
     violated("attitude time_utc year", std::to_string(tf.year), "1970 <= year <= 2100");
   }
@@ -438,12 +438,12 @@ void Writer::write_attitude(const AttitudeSample& a) {
   d.Header.HeaderType = static_cast<std::uint8_t>(HeaderType::kAttitude);
   d.Header.NumBytesThisRecord = static_cast<std::uint32_t>(XtfAttitudeData::kSize);
   d.EpochMicroseconds = tf.microsecond;
-  d.SourceEpoch = static_cast<std::uint32_t>(detail::epoch_seconds(a.time_utc));
+  d.SourceEpoch = static_cast<std::uint32_t>(calendar::epoch_seconds(a.time_utc));
   d.Pitch = static_cast<float>(deg_from_rad(a.pitch_rad));
   d.Roll = static_cast<float>(deg_from_rad(a.roll_rad));
   d.Heave = static_cast<float>(a.heave_m);
   d.Yaw = static_cast<float>(deg_from_rad(a.yaw_rad));
-  d.TimeTag = detail::time_tag_ms(a.time_utc);
+  d.TimeTag = calendar::time_tag_ms(a.time_utc);
   d.Heading = static_cast<float>(heading_deg(a.heading_rad));
   d.Year = static_cast<std::uint16_t>(tf.year);
   d.Month = static_cast<std::uint8_t>(tf.month);
@@ -468,7 +468,7 @@ void Writer::write_navigation(const NavigationFix& fix) {
     violated("navigation position", lat_lon_text(g),
              "not (0, 0), which XTF readers take as 'no fix'");
   }
-  const detail::TimeFields tf = detail::fields_from_time(fix.time_utc);
+  const calendar::TimeFields tf = calendar::fields_from_time(fix.time_utc);
   if (tf.year < kMinYear || tf.year > kMaxYear) {
     violated("navigation time_utc year", std::to_string(tf.year), "1970 <= year <= 2100");
   }
@@ -481,8 +481,8 @@ void Writer::write_navigation(const NavigationFix& fix) {
   n.Minute = static_cast<std::uint8_t>(tf.minute);
   n.Second = static_cast<std::uint8_t>(tf.second);
   n.Microseconds = tf.microsecond;
-  n.SourceEpoch = static_cast<std::uint32_t>(detail::epoch_seconds(fix.time_utc));
-  n.TimeTag = detail::time_tag_ms(fix.time_utc);
+  n.SourceEpoch = static_cast<std::uint32_t>(calendar::epoch_seconds(fix.time_utc));
+  n.TimeTag = calendar::time_tag_ms(fix.time_utc);
   n.RawYcoordinate = coordinate_deg(g.lat_rad);
   n.RawXcoordinate = coordinate_deg(g.lon_rad);
   n.RawAltitude = g.height_m;

@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-#include "sonarsynth/formats/simulation_file.hpp"
+#include "sonarsynth/formats/config/simulation_file.hpp"
 #include "sonarsynth/scene.hpp"
 #include "sonarsynth/simulator.hpp"
 

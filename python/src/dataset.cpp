@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The dataset generator (docs/dataset.md): specs, single items and whole (sharded) runs.
-#include "sonarsynth/formats/dataset.hpp"
+#include "sonarsynth/formats/config/dataset.hpp"
 
 #include <pybind11/functional.h>
 #include <pybind11/stl.h>

@@ -10,9 +10,9 @@
 
 #include "bindings.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/run_simulation.hpp"
-#include "sonarsynth/formats/sidescan_source.hpp"
-#include "sonarsynth/formats/sonar_formats.hpp"
+#include "sonarsynth/formats/config/run_simulation.hpp"
+#include "sonarsynth/formats/registry/sidescan_source.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
 
 namespace sonarsynth::python {
 
@@ -227,7 +227,7 @@ void bind_files(py::module_& m) {
          "from its first bytes) into numpy: " +
          arrays)
             .c_str());
-  // The format list (formats/sonar_formats.cpp), as `sonarsynth info` and `simulate` see it.
+  // The format list (formats/registry/sonar_formats.cpp), as `sonarsynth info` and `simulate` see it.
   m.def(
       "formats",
       [] {

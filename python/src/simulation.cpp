@@ -12,9 +12,9 @@
 #include <optional>
 
 #include "bindings.hpp"
-#include "scene_objects.hpp"
+#include "sonarsynth/formats/config/scene_objects.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
 #include "sonarsynth/object_types.hpp"
 #include "sonarsynth/scene_object.hpp"
 #include "sonarsynth/triangle_mesh.hpp"
@@ -163,8 +163,8 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       [](py::array_t<float, py::array::c_style | py::array::forcecast> heights_m, double x0_m,
          double y0_m, double dx_m, double dy_m, double lat_deg, double lon_deg,
          const std::string& name) {
-        // The checks of a scene file's grid (formats/gdal_grid.cpp) and of its seabed
-        // (formats/scene_bathymetry.cpp), with the arguments' names.
+        // The checks of a scene file's grid (formats/raster/gdal_grid.cpp) and of its seabed
+        // (formats/config/scene_bathymetry.cpp), with the arguments' names.
         const std::string what = name + ": from_heights";
         if (heights_m.ndim() != 2) {
           throw InputError(what + ": heights_m has " + std::to_string(heights_m.ndim()) +

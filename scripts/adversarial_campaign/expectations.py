@@ -96,7 +96,7 @@ NUMERIC_RULES = {
     # Below ~36 dB under the automatic gain the seabed rounds to 0 and sonarsynth refuses the gain.
     "gain_db": lambda x: True if 40 <= x <= 120 else (None if -150 <= x < 150 else False),
     "band": lambda x: True if x == 1 else False,
-    # sensor stage (docs/physics.md §1.10); the bounds of formats/option_table.cpp are "either"
+    # sensor stage (docs/physics.md §1.10); the bounds of formats/config/option_table.cpp are "either"
     "noise_floor_dbfs": lambda x: True if -120 <= x <= -20 else (None if -300 <= x <= 0 else False),
     "volume_reverberation_db": lambda x: True if -80 <= x <= -10 else (
         None if -300 <= x <= 100 else False),

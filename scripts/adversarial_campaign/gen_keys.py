@@ -13,7 +13,7 @@ from .scene import Raw, base_scene, scene_text
 # docs/sonar-presets.md; the first two are chirp presets, the others CW.
 PRESETS = ["edgetech-4200-300", "edgetech-4200-600", "seascan-hds-600", "klein-3900-445",
            "klein-3900-900"]
-# sensor keys that take `off` (formats/option_table.cpp: sensor_level)
+# sensor keys that take `off` (formats/config/option_table.cpp: sensor_level)
 OFF_KEYS = ["noise_floor_dbfs", "volume_reverberation_db", "shadow_fill_db",
             "first_return_reflection_db", "ring_down_m"]
 # docs/scene-format.md says every sensor key takes `off`; these two are parameters of the first

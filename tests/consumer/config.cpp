@@ -4,7 +4,7 @@
 #include <fstream>
 #include <iostream>
 
-#include "sonarsynth/formats/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_file.hpp"
 
 int main() {
   const auto path = std::filesystem::temp_directory_path() / "sonarsynth_consumer_scene.yaml";

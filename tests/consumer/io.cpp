@@ -4,7 +4,7 @@
 #include <fstream>
 #include <iostream>
 
-#include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/formats/io/atomic_file.hpp"
 
 int main() {
   const auto path = std::filesystem::temp_directory_path() / "sonarsynth_consumer_io.txt";

@@ -4,7 +4,7 @@
 #include <iostream>
 #include <vector>
 
-#include "sonarsynth/formats/mosaic_writer.hpp"
+#include "sonarsynth/formats/products/mosaic_writer.hpp"
 #include "sonarsynth/mosaic.hpp"
 
 int main() {

@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "sonarsynth/bathy_gen.hpp"
-#include "sonarsynth/formats/gdal_grid.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
 
 int main() {
   sonarsynth::BathyGenSpec spec;

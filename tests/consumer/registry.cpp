@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <iostream>
 
-#include "sonarsynth/formats/sidescan_source.hpp"
-#include "sonarsynth/formats/sonar_formats.hpp"
+#include "sonarsynth/formats/registry/sidescan_source.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 
 int main() {

@@ -9,7 +9,7 @@
 namespace sonarsynth::jsf {
 
 /// The JSF format (docs/jsf.md): names, identification, reader, `simulate` writer, `info`, the XTF
-/// <-> JSF conversions (formats/jsf/format.cpp). formats/sonar_formats.cpp lists it.
+/// <-> JSF conversions (formats/jsf/format.cpp). formats/registry/sonar_formats.cpp lists it.
 const SonarFormat& sonar_format();
 
 /// What `sonarsynth info` prints about the JSF file `path` (formats/jsf/info.cpp). Throws

@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/formats/io/atomic_file.hpp"
 #include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/jsf/records.hpp"
 

@@ -9,7 +9,7 @@
 namespace sonarsynth::xtf {
 
 /// The XTF format (docs/xtf.md): names, identification, reader, `simulate` writer, `info`
-/// (formats/xtf/format.cpp). formats/sonar_formats.cpp lists it.
+/// (formats/xtf/format.cpp). formats/registry/sonar_formats.cpp lists it.
 const SonarFormat& sonar_format();
 
 /// What `sonarsynth info` prints about the XTF file `path` (formats/xtf/info.cpp). Throws

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "sonarsynth/formats/atomic_file.hpp"
+#include "sonarsynth/formats/io/atomic_file.hpp"
 #include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/xtf/records.hpp"
 #include "sonarsynth/geo_frame.hpp"
