@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # Installs the Debian packages sonarsynth needs, only those that are missing (non-interactive).
 # Usage: scripts/install-deps.sh [--dev]   (--dev adds the CI/developer tools: clang, clang-format,
-# and OpenCV for the optional `sonarsynth match`)
+# OpenCV for the optional `sonarsynth match`, and the ROS 1 bag reader and message packages that
+# python/tests/test_rosbag.py checks the bags with)
 set -euo pipefail
 
 packages=(
@@ -14,7 +15,8 @@ packages=(
   python3-torch python3-torchvision
 )
 if [[ "${1:-}" == "--dev" ]]; then
-  packages+=(clang libclang-rt-dev clang-format libopencv-dev)
+  packages+=(clang libclang-rt-dev clang-format libopencv-dev
+    python3-rosbag python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-tf2-msgs)
 fi
 
 missing=()

@@ -54,7 +54,7 @@ TEST(SonarFormats, EveryDescriptorHasWhatItsCapabilitiesPromise) {
     }
   }
   EXPECT_EQ(sonar_formats()[0], &xtf::sonar_format());  // the default output comes first
-  EXPECT_EQ(sonar_format_names(), "xtf, jsf");
+  EXPECT_EQ(sonar_format_names(), "xtf, jsf, rosbag");
 }
 
 TEST(SonarFormats, LooksUpByNameAndExtensionInAnyCase) {
@@ -70,7 +70,7 @@ TEST(SonarFormats, LooksUpByNameAndExtensionInAnyCase) {
   } catch (const InputError& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find("output.formats = 'sss'"), std::string::npos) << m;
-    EXPECT_NE(m.find("one of xtf, jsf"), std::string::npos) << m;
+    EXPECT_NE(m.find("one of xtf, jsf, rosbag"), std::string::npos) << m;
   }
 }
 

@@ -17,7 +17,7 @@ int run_convert(const std::vector<std::string>& args) {
   // clang-format off
   opts.add_options()
     ("input", po::value(&input)->required(), "XTF or JSF file (positional; format from content)")
-    ("output,o", po::value(&output)->required(), "output file: .jsf or .xtf (format from extension)")
+    ("output,o", po::value(&output)->required(), "output file: .jsf, .xtf or .bag (format from extension)")
     ("altitude-source", po::value(&altitude_source)->default_value("header"),
      "header | auto | track: header copies the altitude; auto writes the altitude tracked from "
      "the first return where the header's is missing, <= 0 or disagrees; track everywhere "
@@ -28,11 +28,14 @@ int run_convert(const std::vector<std::string>& args) {
   po::positional_options_description positional;
   positional.add("input", 1);
   po::variables_map vm;
-  if (!parse(args, opts, positional, vm,
-             "usage: sonarsynth convert IN.xtf -o OUT.jsf | IN.jsf -o OUT.xtf [options]\n\n"
-             "Converts side-scan pings (port and starboard samples, time, navigation, attitude,\n"
-             "altitude, depth, speed, sound speed, range) between XTF and JSF. Samples survive\n"
-             "XTF -> JSF -> XTF bit-exactly; positions to JSF's 1/600 000 degree (docs/jsf.md).")) {
+  if (!parse(
+          args, opts, positional, vm,
+          "usage: sonarsynth convert IN.xtf -o OUT.jsf | IN.jsf -o OUT.xtf | IN.xtf -o OUT.bag "
+          "[options]\n\n"
+          "Converts side-scan pings (port and starboard samples, time, navigation, attitude,\n"
+          "altitude, depth, speed, sound speed, range) between XTF and JSF. Samples survive\n"
+          "XTF -> JSF -> XTF bit-exactly; positions to JSF's 1/600 000 degree (docs/jsf.md).\n"
+          "XTF -> ROS 1 bag: samples, time, position, attitude, sound speed (docs/rosbag.md).")) {
     return 0;
   }
   refuse_output_over_input({output}, {input});

@@ -13,6 +13,7 @@
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/format.hpp"
 #include "sonarsynth/formats/registry/sidescan_source.hpp"
+#include "sonarsynth/formats/rosbag/format.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
@@ -61,9 +62,10 @@ std::span<const SonarFormat* const> sonar_formats() {
   // One line per format, in the order files are written and formats are tried (the first is
   // the default output of `simulate`). Explicit calls, not self-registering statics: a static
   // archive drops objects nothing references.
-  static const std::array<const SonarFormat*, 2> kFormats = {
+  static const std::array<const SonarFormat*, 3> kFormats = {
       &xtf::sonar_format(),
       &jsf::sonar_format(),
+      &rosbag::sonar_format(),
   };
   return kFormats;
 }

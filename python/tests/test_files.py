@@ -119,10 +119,11 @@ def test_read_jsf_matches_the_xtf_of_the_same_run(scene_path, tmp_path):
 
 def test_formats_lists_the_library_format_list():
     formats = sonarsynth.formats()
-    assert [f["name"] for f in formats] == ["xtf", "jsf"]
+    assert [f["name"] for f in formats] == ["xtf", "jsf", "rosbag"]
     by_name = {f["name"]: f for f in formats}
     assert by_name["xtf"]["extensions"] == [".xtf"] and by_name["jsf"]["extensions"] == [".jsf"]
-    assert all(f["read"] and f["simulate"] for f in formats)
+    assert all(f["simulate"] for f in formats)
+    assert by_name["xtf"]["read"] and by_name["jsf"]["read"] and not by_name["rosbag"]["read"]
     assert set(by_name["jsf"]["conversions"]) == {("xtf", "jsf"), ("jsf", "xtf")}
 
 

@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: MIT
+// ROS 1 bag write throughput against XTF's, alternating in one run (docs/rosbag.md, "Throughput"):
+// the same pings (2 x 4096 u16 samples) written with rosbag::Writer and xtf::Writer; medians of
+// several runs, MB/s of each file and the bag/XTF time ratio.
+// Usage: rosbag_throughput [pings=10000] [samples=4096] [runs=5] [directory=temp]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "sonarsynth/formats/rosbag/writer.hpp"
+#include "sonarsynth/formats/xtf/writer.hpp"
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+template <class W, class Options>
+double write_seconds(const fs::path& path, Options options, sonarsynth::SonarPing& ping,
+                     std::uint32_t pings, std::uint64_t& bytes) {
+  const auto t0 = sonarsynth::UtcTime{std::chrono::sys_days{std::chrono::year{2024} / 1 / 1}};
+  options.overwrite = true;
+  const auto start = Clock::now();
+  W w(path, options);
+  for (std::uint32_t k = 0; k < pings; ++k) {
+    ping.ping_number = k;
+    ping.time_utc = t0 + std::chrono::milliseconds(100) * k;
+    w.write_ping(ping);
+  }
+  w.close();
+  const double s = std::chrono::duration<double>(Clock::now() - start).count();
+  bytes = fs::file_size(path);
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::uint32_t pings = argc > 1 ? static_cast<std::uint32_t>(std::atoi(argv[1])) : 10000;
+  const std::size_t samples = argc > 2 ? static_cast<std::size_t>(std::atoi(argv[2])) : 4096;
+  const int runs = argc > 3 ? std::atoi(argv[3]) : 5;
+  const fs::path dir = argc > 4 ? fs::path(argv[4]) : fs::temp_directory_path();
+
+  sonarsynth::SonarPing ping;
+  ping.sensor_position = {sonarsynth::rad_from_deg(48.4), sonarsynth::rad_from_deg(-68.8), 0.0};
+  ping.altitude_m = 10.0;
+  ping.slant_range_m = 75.0;
+  ping.port.resize(samples);
+  ping.starboard.resize(samples);
+  for (std::size_t i = 0; i < samples; ++i) {
+    ping.port[i] = static_cast<float>((i * 7919) % 32768);
+    ping.starboard[i] = static_cast<float>((i * 104729) % 32768);
+  }
+  std::vector<double> bag_s, xtf_s, ratio;
+  std::uint64_t bag_bytes = 0, xtf_bytes = 0;
+  for (int run = 0; run < runs; ++run) {
+    bag_s.push_back(write_seconds<sonarsynth::rosbag::Writer>(
+        dir / "sonarsynth_rosbag_throughput.bag", sonarsynth::rosbag::WriterOptions{}, ping, pings,
+        bag_bytes));
+    xtf_s.push_back(write_seconds<sonarsynth::xtf::Writer>(dir / "sonarsynth_rosbag_throughput.xtf",
+                                                           sonarsynth::xtf::WriterOptions{}, ping,
+                                                           pings, xtf_bytes));
+    ratio.push_back(bag_s.back() / xtf_s.back());
+  }
+  fs::remove(dir / "sonarsynth_rosbag_throughput.bag");
+  fs::remove(dir / "sonarsynth_rosbag_throughput.xtf");
+  const double bag_mb = static_cast<double>(bag_bytes) / 1e6;
+  const double xtf_mb = static_cast<double>(xtf_bytes) / 1e6;
+  std::printf("pings %u, samples %zu, runs %d\n", pings, samples, runs);
+  std::printf("bag write: %.1f MB in %.3f s median: %.0f MB/s\n", bag_mb, median(bag_s),
+              bag_mb / median(bag_s));
+  std::printf("xtf write: %.1f MB in %.3f s median: %.0f MB/s\n", xtf_mb, median(xtf_s),
+              xtf_mb / median(xtf_s));
+  std::printf("bag/xtf time ratio (median of per-run ratios): %.2f\n", median(ratio));
+  return 0;
+}

@@ -1,0 +1,146 @@
+// SPDX-License-Identifier: MIT
+// The ROS 1 bag format's descriptor, `simulate` writer and XTF -> bag conversion
+// (docs/rosbag.md, docs/architecture.md "Adding a sonar format").
+#include "sonarsynth/formats/rosbag/format.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/rosbag/writer.hpp"
+#include "sonarsynth/formats/xtf/format.hpp"
+#include "sonarsynth/formats/xtf/reader.hpp"
+#include "sonarsynth/formats/xtf/survey_writer.hpp"
+
+namespace sonarsynth::rosbag {
+namespace {
+
+/// One bag per survey line (`<dir>/<line name>.bag`), the same pings as the XTF of the run.
+class RosbagSurveyWriter : public LineFileWriter<Writer, WriterOptions> {
+ public:
+  RosbagSurveyWriter(const SurveyWriterContext& c, WriterOptions o)
+      : LineFileWriter(c.dir, c.line_names, *c.frame, *c.sonar, std::move(o), ".bag") {}
+};
+
+std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& c) {
+  WriterOptions o;
+  o.overwrite = true;  // inside the run's own fresh temporary directory
+  o.sample_format = c.sample_format;
+  o.frequency_hz = c.sonar->frequency_hz;
+  o.horizontal_beam_width_rad = c.sonar->horizontal_beam_width_rad;
+  o.vertical_beam_width_rad = c.sonar->vertical_beam.width_3db_full_rad();
+  o.tilt_rad = c.sonar->tilt_rad;
+  return std::make_unique<RosbagSurveyWriter>(c, std::move(o));
+}
+
+// Per ping: two image messages (record header ~60 bytes, message ~110 bytes plus the samples),
+// a NavSatFix (~150) and an Imu (~380) with their index entries (12 bytes each); per line the
+// 4 KiB bag header, the definitions (~8 KiB, twice) and the transforms.
+double estimated_bytes(const SonarConfig& sonar, const std::string& sample_format, double pings,
+                       std::size_t lines) {
+  const double bps = sample_format == "u8" ? 1.0 : (sample_format == "f32" ? 4.0 : 2.0);
+  const double samples = static_cast<double>(sonar.samples_per_channel);
+  return pings * (2.0 * (200.0 + bps * samples) + 800.0) +
+         static_cast<double>(lines) * (4096.0 + 24000.0);
+}
+
+/// A finite XTF CHANINFO angle in degrees as radians, or 0 (unknown) outside [0, max_deg].
+double angle_or_unknown(float deg, double max_deg) {
+  const double d = static_cast<double>(deg);
+  return d > 0.0 && d <= max_deg ? d * std::numbers::pi / 180.0 : 0.0;
+}
+
+WriterOptions conversion_options(const xtf::Reader& reader, bool overwrite) {
+  WriterOptions o;
+  o.overwrite = overwrite;
+  o.u16_full_range = true;
+  if (reader.chan_info().empty()) return o;
+  const xtf::XtfChanInfo& c = reader.chan_info()[0];
+  const bool ieee =
+      c.SampleFormat == static_cast<std::uint8_t>(xtf::SampleFormatCode::kIeeeFloat32);
+  o.sample_format = ieee || c.BytesPerSample == 4 ? "f32" : (c.BytesPerSample == 1 ? "u8" : "u16");
+  const double khz = static_cast<double>(c.Frequency);
+  o.frequency_hz = std::isfinite(khz) && khz > 0.0 ? khz * 1e3 : 0.0;
+  o.horizontal_beam_width_rad = angle_or_unknown(c.HorizBeamAngle, 179.0);
+  o.vertical_beam_width_rad = angle_or_unknown(c.BeamWidth, 179.0);
+  o.tilt_rad = angle_or_unknown(c.TiltAngle, 90.0);
+  return o;
+}
+
+void note(ConvertResult& r, std::string w) {
+  if (r.warnings.size() < 10) r.warnings.push_back(std::move(w));
+}
+
+}  // namespace
+
+ConvertResult xtf_to_rosbag(const std::filesystem::path& in, const std::filesystem::path& out,
+                            bool overwrite, AltitudeSource /*altitude_source*/) {
+  ConvertResult r;
+  r.from = &xtf::sonar_format();
+  r.to = &sonar_format();
+  xtf::Reader reader(in);
+  Writer writer(out, conversion_options(reader, overwrite));
+  xtf::Packet packet;
+  while (reader.next(packet)) {
+    if (packet.kind == xtf::PacketKind::kAttitude) {
+      const xtf::XtfAttitudeData& d = packet.attitude;
+      AttitudeSample a;
+      a.time_utc = UtcTime{std::chrono::seconds{d.SourceEpoch}} +
+                   std::chrono::microseconds{std::min<std::uint32_t>(d.EpochMicroseconds, 999999)};
+      a.heading_rad = d.Heading * std::numbers::pi / 180.0;
+      a.pitch_rad = d.Pitch * std::numbers::pi / 180.0;
+      a.roll_rad = d.Roll * std::numbers::pi / 180.0;
+      try {
+        writer.write_attitude(a);
+        ++r.attitude_records;
+      } catch (const InputError& e) {
+        note(r, "attitude packet " + std::to_string(packet.index) + " skipped: " + e.what());
+      }
+      continue;
+    }
+    if (packet.kind != xtf::PacketKind::kPing) continue;
+    SonarPing& s = packet.ping.sonar;
+    if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
+      s.sensor_position = {};  // NavSatFix status STATUS_NO_FIX
+    }
+    const std::string reason = !packet.ping.time_valid ? "no valid time" : "";
+    try {
+      if (!reason.empty()) throw InputError(reason);
+      writer.write_ping(s);
+      ++r.pings;
+    } catch (const InputError& e) {
+      ++r.pings_skipped;
+      ++r.dropped[reason.empty() ? "not storable in a ROS 1 bag" : reason];
+      note(r, "XTF packet " + std::to_string(packet.index) + " (ping " +
+                  std::to_string(s.ping_number) + ") dropped: " + e.what());
+    }
+  }
+  r.reader_anomalies = reader.total_anomalies();
+  for (const xtf::Anomaly& a : reader.anomalies()) note(r, a.message);
+  if (r.pings == 0) {
+    throw FormatError("convert: " + in.string() + ": no ping to write (" +
+                      std::to_string(r.pings_skipped) + " dropped)");
+  }
+  writer.close();
+  return r;
+}
+
+const SonarFormat& sonar_format() {
+  static const SonarFormat format{
+      .name = "rosbag",
+      .display_name = "ROS 1 bag",
+      .description = "ROS 1 bag, format 2.0 (marine_acoustic_msgs side-scan images, navigation)",
+      .extensions = {".bag"},
+      .capabilities = {.read = false, .simulate = true},
+      .create_survey_writer = create_survey_writer,
+      .estimated_bytes = estimated_bytes,
+      .conversions = {{"xtf", "rosbag", xtf_to_rosbag}},
+  };
+  return format;
+}
+
+}  // namespace sonarsynth::rosbag
