@@ -62,7 +62,7 @@ std::span<const SonarFormat* const> sonar_formats() {
   // One line per format, in the order files are written and formats are tried (the first is
   // the default output of `simulate`). Explicit calls, not self-registering statics: a static
   // archive drops objects nothing references.
-  static const std::array<const SonarFormat*, 3> kFormats = {
+  static const SonarFormat* const kFormats[] = {
       &xtf::sonar_format(),
       &jsf::sonar_format(),
       &rosbag::sonar_format(),

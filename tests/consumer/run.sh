@@ -4,8 +4,9 @@
 #   tests/consumer/run.sh <install prefix> <scratch directory>
 # 1. every component (one program each), the umbrella target, every installed header alone;
 # 2. find_package(sonarsynth COMPONENTS <c>) for every component alone (tests/consumer/alone); for
-#    core, io, xtf, jsf and registry with GDAL and yaml-cpp made unfindable, and no GDAL or yaml-cpp on the
-#    compile and link lines.
+#    those that need neither GDAL nor yaml-cpp (core, io, the codecs, registry) with GDAL and
+#    yaml-cpp made unfindable, and no GDAL or yaml-cpp on the compile and link lines. The
+#    components and their kind come from the installed package (components.txt of step 1).
 set -euo pipefail
 prefix=$(realpath "$1")
 out=$2
@@ -15,14 +16,14 @@ mkdir -p "$out"
 
 cmake -S "$here" -B "$out/all" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
 cmake --build "$out/all" >/dev/null
-for program in consumer consumer_core consumer_io consumer_xtf consumer_jsf consumer_registry consumer_raster \
-  consumer_products consumer_config; do
-  "$out/all/$program"
-done
+"$out/all/consumer"
+while read -r only kind <&3; do
+  "$out/all/consumer_$only"
+done 3<"$out/all/components.txt"
 
-for only in core io xtf jsf registry raster products config; do
+while read -r only kind <&3; do
   lean=OFF
-  case $only in core | io | xtf | jsf | registry) lean=ON ;; esac
+  [ "$kind" = lean ] && lean=ON
   flags=()
   if [ $lean = ON ]; then
     flags=(-DCMAKE_DISABLE_FIND_PACKAGE_GDAL=ON -DCMAKE_DISABLE_FIND_PACKAGE_yaml-cpp=ON)
@@ -44,4 +45,4 @@ for only in core io xtf jsf registry raster products config; do
   fi
   "$out/$only/consumer_$only"
   echo "find_package(sonarsynth COMPONENTS $only) alone: built and ran"
-done
+done 3<"$out/all/components.txt"
