@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Dataset generation (docs/dataset.md): each item is drawn (formats/config/dataset_spec.cpp), rendered
-// with run_simulation into a staging directory and renamed into place when complete; the
+// Dataset generation (docs/dataset.md): each item is drawn (formats/config/dataset_spec.cpp),
+// rendered with run_simulation into a staging directory and renamed into place when complete; the
 // manifest and summary are rebuilt from the items' own records.
 #include "sonarsynth/formats/config/dataset.hpp"
 
@@ -18,8 +18,8 @@
 #include <sstream>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/io/atomic_file.hpp"
 #include "sonarsynth/formats/config/run_simulation.hpp"
+#include "sonarsynth/formats/io/atomic_file.hpp"
 
 namespace sonarsynth {
 namespace {
