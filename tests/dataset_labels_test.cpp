@@ -64,6 +64,72 @@ json read_json(const fs::path& p) {
   return json::parse(read_text(p));
 }
 
+// The items of each split, as the manifest of dataset `d` records them.
+std::map<std::string, std::set<std::size_t>> manifest_splits(const fs::path& d) {
+  std::map<std::string, std::set<std::size_t>> split_items;
+  std::istringstream m(read_text(d / "manifest.jsonl"));
+  std::string line;
+  while (std::getline(m, line)) {
+    const json j = json::parse(line);
+    split_items[j["split"].get<std::string>()].insert(j["index"].get<std::size_t>());
+  }
+  return split_items;
+}
+
+// Pascal VOC: the split's list names every chip's XML (`images` of them); its boxes (1-based,
+// inclusive) are the chip's COCO boxes (`coco_of_file`, by image file).
+void check_voc_chips(const fs::path& d, const std::string& split,
+                     std::map<std::string, std::vector<test::BoxRow>>& coco_of_file,
+                     std::size_t images) {
+  std::istringstream list(read_text(d / ("voc_chips_" + split + ".txt")));
+  std::string xml_path;
+  std::size_t xml_files = 0;
+  while (std::getline(list, xml_path)) {
+    ++xml_files;
+    const std::string xml = read_text(d / xml_path);
+    const std::size_t name_at = xml.find("<filename>") + 10;
+    const std::string image = xml.substr(name_at, xml.find("</filename>") - name_at);
+    const std::string item_dir = xml_path.substr(0, std::string("items/000000").size());
+    const std::string key = item_dir + "/chips/images/" + image;
+    ASSERT_EQ(coco_of_file.count(key), 1u) << xml_path;
+    std::vector<test::BoxRow> voc;
+    for (std::size_t at = xml.find("<object>"); at != std::string::npos;
+         at = xml.find("<object>", at + 1)) {
+      const std::size_t name = xml.find("<name>", at) + 6;
+      voc.push_back({xml_number(xml, "object_id", at),
+                     xml.compare(name, 6, "object") == 0 ? std::size_t{1} : std::size_t{2},
+                     xml_number(xml, "xmin", at) - 1, xml_number(xml, "ymin", at) - 1,
+                     xml_number(xml, "xmax", at), xml_number(xml, "ymax", at)});
+    }
+    std::sort(voc.begin(), voc.end());
+    EXPECT_EQ(voc, coco_of_file[key]) << xml_path;
+  }
+  EXPECT_EQ(xml_files, images) << split;
+}
+
+// The YOLO lists of dataset `d` name images whose label file is where Ultralytics looks for it,
+// each of an item of the split; `listed`: the count of images listed.
+void check_yolo_chip_lists(const fs::path& d,
+                           const std::map<std::string, std::set<std::size_t>>& split_items,
+                           std::size_t& listed) {
+  listed = 0;
+  for (const auto& [split, items] : split_items) {
+    std::istringstream list(read_text(d / ("yolo_chips_" + split + ".txt")));
+    std::string line;
+    while (std::getline(list, line)) {
+      ASSERT_EQ(line.rfind("./items/", 0), 0u) << line;
+      const fs::path image = d / line.substr(2);
+      EXPECT_TRUE(fs::exists(image)) << line;
+      const fs::path label =
+          image.parent_path().parent_path() / "labels" / (image.stem().string() + ".txt");
+      EXPECT_TRUE(fs::exists(label)) << label;
+      const std::size_t item = std::stoul(line.substr(8, 6));
+      EXPECT_EQ(items.count(item), 1u) << line;
+      ++listed;
+    }
+  }
+}
+
 class DatasetLabels : public test::ScratchDirTest {};
 
 // The target's 200 items grown to 250; under the sanitizers (10-20x slower) 20 grown to 25,
@@ -83,15 +149,7 @@ TEST_F(DatasetLabels, TwoHundredItemsMergeSplitRepeatAndGrow) {
   ASSERT_EQ(r.failed, 0u);
 
   // Split: every item's split in the manifest, each within one item of its fraction.
-  std::map<std::string, std::set<std::size_t>> split_items;
-  {
-    std::istringstream m(read_text(d / "manifest.jsonl"));
-    std::string line;
-    while (std::getline(m, line)) {
-      const json j = json::parse(line);
-      split_items[j["split"].get<std::string>()].insert(j["index"].get<std::size_t>());
-    }
-  }
+  std::map<std::string, std::set<std::size_t>> split_items = manifest_splits(d);
   const std::map<std::string, double> fraction = {{"train", 0.8}, {"val", 0.1}, {"test", 0.1}};
   for (const auto& [name, f] : fraction) {
     EXPECT_LE(
@@ -145,32 +203,7 @@ TEST_F(DatasetLabels, TwoHundredItemsMergeSplitRepeatAndGrow) {
       if (set == "waterfalls") {
         EXPECT_EQ(seen_items, items) << split;
       } else {
-        // Pascal VOC: the split's list names every chip's XML; its boxes (1-based, inclusive)
-        // are the chip's COCO boxes.
-        std::istringstream list(read_text(d / ("voc_chips_" + split + ".txt")));
-        std::string xml_path;
-        std::size_t xml_files = 0;
-        while (std::getline(list, xml_path)) {
-          ++xml_files;
-          const std::string xml = read_text(d / xml_path);
-          const std::size_t name_at = xml.find("<filename>") + 10;
-          const std::string image = xml.substr(name_at, xml.find("</filename>") - name_at);
-          const std::string item_dir = xml_path.substr(0, std::string("items/000000").size());
-          const std::string key = item_dir + "/chips/images/" + image;
-          ASSERT_EQ(coco_of_file.count(key), 1u) << xml_path;
-          std::vector<test::BoxRow> voc;
-          for (std::size_t at = xml.find("<object>"); at != std::string::npos;
-               at = xml.find("<object>", at + 1)) {
-            const std::size_t name = xml.find("<name>", at) + 6;
-            voc.push_back({xml_number(xml, "object_id", at),
-                           xml.compare(name, 6, "object") == 0 ? std::size_t{1} : std::size_t{2},
-                           xml_number(xml, "xmin", at) - 1, xml_number(xml, "ymin", at) - 1,
-                           xml_number(xml, "xmax", at), xml_number(xml, "ymax", at)});
-          }
-          std::sort(voc.begin(), voc.end());
-          EXPECT_EQ(voc, coco_of_file[key]) << xml_path;
-        }
-        EXPECT_EQ(xml_files, coco["images"].size()) << split;
+        ASSERT_NO_FATAL_FAILURE(check_voc_chips(d, split, coco_of_file, coco["images"].size()));
       }
     }
   }
@@ -179,21 +212,7 @@ TEST_F(DatasetLabels, TwoHundredItemsMergeSplitRepeatAndGrow) {
   // YOLO: the lists name images whose label file is where Ultralytics looks for it.
   EXPECT_TRUE(fs::exists(d / "data.yaml"));
   std::size_t listed = 0;
-  for (const auto& [split, items] : split_items) {
-    std::istringstream list(read_text(d / ("yolo_chips_" + split + ".txt")));
-    std::string line;
-    while (std::getline(list, line)) {
-      ASSERT_EQ(line.rfind("./items/", 0), 0u) << line;
-      const fs::path image = d / line.substr(2);
-      EXPECT_TRUE(fs::exists(image)) << line;
-      const fs::path label =
-          image.parent_path().parent_path() / "labels" / (image.stem().string() + ".txt");
-      EXPECT_TRUE(fs::exists(label)) << label;
-      const std::size_t item = std::stoul(line.substr(8, 6));
-      EXPECT_EQ(items.count(item), 1u) << line;
-      ++listed;
-    }
-  }
+  ASSERT_NO_FATAL_FAILURE(check_yolo_chip_lists(d, split_items, listed));
   EXPECT_GE(listed, kItems);
 
   // A second run into another directory: the same bytes, file for file.

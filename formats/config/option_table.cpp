@@ -48,22 +48,8 @@ Option choice(std::string_view sec, std::string_view key, std::vector<std::strin
   return {sec, key, "", Kind::choice, 0, 0, false, "", "", std::move(names), constraint, get, set};
 }
 
-std::vector<Option> make_table() {
-  std::vector<Option> t;
-  t.push_back({"",
-               "seed",
-               "",
-               Kind::seed,
-               0,
-               kInf,
-               false,
-               "--seed",
-               "",
-               {},
-               "",
-               [](const S& s) { return static_cast<double>(s.config.seed); },
-               [](S& s, double v) { s.config.seed = static_cast<std::uint64_t>(v); }});
-  // sonar
+// The rows of `sonar`: the sonar, its beams and pulse.
+void add_sonar_options(std::vector<Option>& t) {
   t.push_back(
       real("sonar", "frequency_khz", "kHz", 0, 1e5, true, SCALED(config.sonar.frequency_hz, 1e3)));
   t.push_back(
@@ -119,7 +105,10 @@ std::vector<Option> make_table() {
                    SCALED(config.sonar.pulse_length_s, 1e-6)));
   t.push_back(real("sonar.pulse", "bandwidth_khz", "kHz", 0, 1e5, true,
                    SCALED(config.sonar.bandwidth_hz, 1e3)));
-  // render
+}
+
+// The rows of `render`: the backscatter model and the render quality.
+void add_render_options(std::vector<Option>& t) {
   t.push_back(choice(
       "render", "backscatter", {"paper", "lambert"}, "paper or lambert",
       [](const S& s) {
@@ -170,7 +159,10 @@ std::vector<Option> make_table() {
       boolean("render.quality", "small_object_planes", BOOL(config.quality.small_object_planes));
   small.flag = "--quality";
   t.push_back(small);
-  // noise
+}
+
+// The rows of `noise`: the noise model and its correlations.
+void add_noise_options(std::vector<Option>& t) {
   t.push_back(choice(
       "noise", "model", {"none", "paper", "speckle"}, "none, paper or speckle",
       [](const S& s) { return static_cast<double>(static_cast<int>(s.config.noise.model)); },
@@ -189,7 +181,10 @@ std::vector<Option> make_table() {
   t.push_back(boolean("noise", "range_correlation", BOOL(config.noise.range_correlation)));
   t.push_back(
       real("noise", "freeze_cell_m", "m", 0, 1e3, false, PLAIN(config.noise.freeze_cell_m)));
-  // output
+}
+
+// The rows of `output`: gain, display, products and the mosaic's processing.
+void add_output_options(std::vector<Option>& t) {
   t.push_back(choice(
       "output", "tvg", {"spherical", "none"}, "spherical (k log R + 2 a alpha R) or none",
       [](const S& s) { return s.config.output.tvg == TvgLaw::none ? 1.0 : 0.0; },
@@ -273,7 +268,10 @@ std::vector<Option> make_table() {
       [](S& s, double v) {
         s.mosaic_processing.gain = static_cast<GainNormalisation>(static_cast<int>(v));
       }));
-  // sensor effects: a level or `off`
+}
+
+// The rows of `sensor`: the sensor effects, each a level or `off`.
+void add_sensor_options(std::vector<Option>& t) {
   auto sensor_level = [](std::string_view key, std::string_view unit, double lo, double hi,
                          double (*get)(const S&), void (*set)(S&, double)) {
     Option o = real("sensor", key, unit, lo, hi, false, get, set);
@@ -304,11 +302,17 @@ std::vector<Option> make_table() {
                    PLAIN(config.sensor.shadow_fill_patch_along_track_m)));
   t.push_back(real("sensor", "shadow_fill_patch_range_m", "m", 1e-3, 1e6, false,
                    PLAIN(config.sensor.shadow_fill_patch_range_m)));
-  // limits
+}
+
+// The rows of `limits`: the run's size limits.
+void add_limits_options(std::vector<Option>& t) {
   t.push_back(integer("limits", "max_pings", 0, 1e15, true, PLAIN(limits.max_pings)));
   t.push_back(real("limits", "max_output_gb", "GB", 0, 1e6, true, PLAIN(limits.max_output_gb)));
   t.push_back(real("limits", "max_memory_gb", "GB", 0, 1e6, true, PLAIN(limits.max_memory_gb)));
-  // survey
+}
+
+// The rows of `survey`: the vehicle and its disturbance.
+void add_survey_options(std::vector<Option>& t) {
   t.push_back(real("survey", "speed_m_s", "m/s", 0, 100, true, PLAIN(vehicle.speed_m_s)));
   t.push_back(real("survey", "altitude_m", "m", 0, 12000, true, PLAIN(vehicle.altitude_m)));
   t.push_back(real(
@@ -338,6 +342,31 @@ std::vector<Option> make_table() {
                    DEG(vehicle.disturbance.heading_wander_rad)));
   t.push_back(real("survey.disturbance", "wander_period_s", "s", 0, 1e5, true,
                    PLAIN(vehicle.disturbance.wander_period_s)));
+}
+
+// The option table: the seed, then each section's rows (all() keeps this order).
+std::vector<Option> make_table() {
+  std::vector<Option> t;
+  t.push_back({"",
+               "seed",
+               "",
+               Kind::seed,
+               0,
+               kInf,
+               false,
+               "--seed",
+               "",
+               {},
+               "",
+               [](const S& s) { return static_cast<double>(s.config.seed); },
+               [](S& s, double v) { s.config.seed = static_cast<std::uint64_t>(v); }});
+  add_sonar_options(t);
+  add_render_options(t);
+  add_noise_options(t);
+  add_output_options(t);
+  add_sensor_options(t);
+  add_limits_options(t);
+  add_survey_options(t);
   return t;
 }
 

@@ -67,23 +67,12 @@ fs::path existing_ancestor(const fs::path& p) {
   return a;
 }
 
-}  // namespace
-
-RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& setup,
-                         const ProductPlan& products, const fs::path& out_dir) {
-  const std::string& file = scene_path;
+// The pings of the survey, from the line lengths alone (before the Survey counts them in
+// integers); throws if they exceed limits.max_pings.
+double checked_ping_count(const std::string& file, const SimulationSetup& setup) {
   const SonarConfig& sonar = setup.config.sonar;
   const VehicleConfig& v = setup.vehicle;
-  const HeightGrid& seabed = setup.scene.bathymetry;
   const RunLimits& limits = setup.limits;
-  RunPlan plan;
-  if (products.mosaic &&
-      !(products.mosaic_pixel_m > 0.0 && std::isfinite(products.mosaic_pixel_m))) {
-    throw InputError("--res = " + num(products.mosaic_pixel_m) +
-                     ". Violated constraint: mosaic pixel size > 0 (metres)");
-  }
-
-  // 1. Pings, from the line lengths alone (before the Survey counts them in integers).
   const double period_s = sonar.effective_ping_period_s();
   const double spacing_m = v.speed_m_s * period_s;
   double total_pings = 0.0, worst = -1.0;
@@ -105,9 +94,18 @@ RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& s
         num(period_s) + " s = " + num(spacing_m, 4) + " m between pings). Violated constraint: " +
         "total pings <= limits.max_pings; raise limits.max_pings in the scene file if intended");
   }
-  plan.total_pings = static_cast<std::uint64_t>(total_pings);
 
-  // 2. Output bytes and memory.
+  return total_pings;
+}
+
+// The output bytes and memory of the run (into `plan`); throws if they exceed the limits or the
+// free disk space under `out_dir`.
+void check_output_and_memory(const std::string& file, const SimulationSetup& setup,
+                             const ProductPlan& products, const fs::path& out_dir,
+                             double total_pings, RunPlan& plan) {
+  const SonarConfig& sonar = setup.config.sonar;
+  const HeightGrid& seabed = setup.scene.bathymetry;
+  const RunLimits& limits = setup.limits;
   const double samples = static_cast<double>(sonar.samples_per_channel);
   double bytes = 0.0;  // each format's own estimate (formats/<codec>/format.cpp)
   for (const SonarFormat* f : sonar_formats()) {
@@ -189,106 +187,132 @@ RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& s
                        " free. Violated constraint: estimated output <= free disk space");
     }
   }
+}
 
-  // 3. Every line over valid seabed, the sensor between seabed and surface, range > altitude.
+// Line `i` of the survey (its first ping `first`) over valid seabed, the sensor between seabed
+// and surface, range > altitude: throws if not, else its check (warnings into `plan`).
+LineCheck check_line(const std::string& file, const SimulationSetup& setup, const Survey& survey,
+                     std::size_t i, std::uint64_t first, RunPlan& plan) {
+  const SonarConfig& sonar = setup.config.sonar;
+  const VehicleConfig& v = setup.vehicle;
+  const HeightGrid& seabed = setup.scene.bathymetry;
+  const Eigen::Vector4d bb = seabed.bounds();
+  const SurveyLine& l = survey.line(i);
+  LineCheck lc;
+  lc.name = l.name;
+  lc.pings = survey.pings_in_line(i);
+  const std::size_t k =
+      static_cast<std::size_t>(std::min<std::uint64_t>(lc.pings, kSamplesPerLine));
+  std::size_t over = 0, short_range = 0, above_surface = 0, below_seabed = 0, dry = 0;
+  double min_altitude = INFINITY, max_seabed_z = -INFINITY, min_sensor_z = INFINITY;
+  double max_sensor_z = -INFINITY;
+  Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+  for (std::size_t j = 0; j < k; ++j) {
+    const std::uint64_t in_line =
+        k == 1 ? 0
+               : static_cast<std::uint64_t>(
+                     std::llround(static_cast<double>(j) * static_cast<double>(lc.pings - 1) /
+                                  static_cast<double>(k - 1)));
+    const PingPose p = survey.pose(first + in_line, seabed);
+    lo = lo.cwiseMin(p.sensor_xy_m);
+    hi = hi.cwiseMax(p.sensor_xy_m);
+    const double z = seabed.height_m(p.sensor_xy_m.x(), p.sensor_xy_m.y());
+    if (std::isnan(z)) continue;
+    ++over;
+    const double alt = p.sensor_z_m - z;
+    if (z > 0.0) ++dry;
+    if (p.sensor_z_m > 0.0) ++above_surface;
+    if (!(alt > 0.0)) ++below_seabed;
+    if (alt > 0.0 && sonar.max_range_m <= alt) ++short_range;
+    min_altitude = std::min(min_altitude, alt);
+    max_seabed_z = std::max(max_seabed_z, z);
+    min_sensor_z = std::min(min_sensor_z, p.sensor_z_m);
+    max_sensor_z = std::max(max_sensor_z, p.sensor_z_m);
+  }
+  lc.sampled = k;
+  lc.seabed_fraction = static_cast<double>(over) / static_cast<double>(k);
+  lc.short_range_fraction = over ? static_cast<double>(short_range) / static_cast<double>(over) : 0;
+  const std::string where = file + ": survey line '" + l.name + "'";
+  const Eigen::Vector2d centre(0.5 * (bb[0] + bb[2]), 0.5 * (bb[1] + bb[3]));
+  const std::string extents = "the sensor track spans " + extent(lo, hi, centre) +
+                              "; the bathymetry grid spans " +
+                              extent({bb[0], bb[1]}, {bb[2], bb[3]}, centre) +
+                              " (metres from the grid's centre, as east_m/north_m)";
+  if (over == 0) {
+    throw InputError(where + ": no ping is over valid seabed (" + extents +
+                     "). Violated constraint: every line crosses the bathymetry");
+  }
+  auto frac = [&](std::size_t n) {
+    return percent(static_cast<double>(n) / static_cast<double>(over));
+  };
+  if (dry > 0) {
+    throw InputError(where + ": the seabed is above sea level (height up to " +
+                     num(max_seabed_z, 4) + " m) under " + frac(dry) +
+                     " of its pings over seabed. Violated constraint: bathymetry heights < 0 "
+                     "(the sea surface is height 0; see bathymetry.depth_positive_down)");
+  }
+  if (above_surface > 0) {
+    const std::string key = v.depth_mode == VehicleConfig::DepthMode::kAltitude
+                                ? "survey.altitude_m = " + num(v.altitude_m)
+                                : "survey.depth_m = " + num(v.depth_m);
+    throw InputError(where + ": " + key + " puts the sensor above the sea surface (height up to " +
+                     num(max_sensor_z, 4) + " m) on " + frac(above_surface) +
+                     " of its pings over seabed. Violated constraint: sensor below the surface "
+                     "(altitude smaller than the water depth)");
+  }
+  if (below_seabed > 0) {
+    const std::string key =
+        v.depth_mode == VehicleConfig::DepthMode::kDepth
+            ? "survey.depth_m = " + num(v.depth_m)
+            : "survey.lever_arm_m / altitude_time_constant_s / disturbance.heave_m / "
+              "disturbance.altitude_m";
+    throw InputError(where + ": " + key + " puts the sensor below the seabed (altitude down to " +
+                     num(min_altitude, 4) + " m) on " + frac(below_seabed) +
+                     " of its pings over seabed. Violated constraint: sensor above the seabed");
+  }
+  if (short_range == over) {
+    throw InputError(where + ": " + setup.range_key + " = " + num(sonar.max_range_m) +
+                     " m is not longer than the sensor's altitude (at least " +
+                     num(min_altitude, 4) +
+                     " m): every ping would be empty. Violated "
+                     "constraint: range > altitude");
+  }
+  if (short_range > 0) {
+    plan.warnings.push_back("survey line '" + l.name + "': on " + frac(short_range) +
+                            " of its pings the altitude exceeds " + setup.range_key + " = " +
+                            num(sonar.max_range_m) + " m (those pings see no seabed)");
+  }
+  if (over < k) {
+    plan.warnings.push_back(
+        "survey line '" + l.name + "': " + percent(1.0 - lc.seabed_fraction) +
+        " of its pings are not over valid seabed (" + extents +
+        "); they are written with altitude 0 (no seabed) and counted by `sonarsynth info`");
+  }
+  return lc;
+}
+
+}  // namespace
+
+RunPlan check_simulation(const std::string& scene_path, const SimulationSetup& setup,
+                         const ProductPlan& products, const fs::path& out_dir) {
+  const std::string& file = scene_path;
+  RunPlan plan;
+  if (products.mosaic &&
+      !(products.mosaic_pixel_m > 0.0 && std::isfinite(products.mosaic_pixel_m))) {
+    throw InputError("--res = " + num(products.mosaic_pixel_m) +
+                     ". Violated constraint: mosaic pixel size > 0 (metres)");
+  }
+
+  const double total_pings = checked_ping_count(file, setup);
+  plan.total_pings = static_cast<std::uint64_t>(total_pings);
+  check_output_and_memory(file, setup, products, out_dir, total_pings, plan);
+
+  // Every line over valid seabed, the sensor between seabed and surface, range > altitude.
   const Survey survey = setup.make_survey();
   std::uint64_t first = 0;
   for (std::size_t i = 0; i < survey.line_count(); ++i) {
-    const SurveyLine& l = survey.line(i);
-    LineCheck lc;
-    lc.name = l.name;
-    lc.pings = survey.pings_in_line(i);
-    const std::size_t k =
-        static_cast<std::size_t>(std::min<std::uint64_t>(lc.pings, kSamplesPerLine));
-    std::size_t over = 0, short_range = 0, above_surface = 0, below_seabed = 0, dry = 0;
-    double min_altitude = INFINITY, max_seabed_z = -INFINITY, min_sensor_z = INFINITY;
-    double max_sensor_z = -INFINITY;
-    Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
-    for (std::size_t j = 0; j < k; ++j) {
-      const std::uint64_t in_line =
-          k == 1 ? 0
-                 : static_cast<std::uint64_t>(
-                       std::llround(static_cast<double>(j) * static_cast<double>(lc.pings - 1) /
-                                    static_cast<double>(k - 1)));
-      const PingPose p = survey.pose(first + in_line, seabed);
-      lo = lo.cwiseMin(p.sensor_xy_m);
-      hi = hi.cwiseMax(p.sensor_xy_m);
-      const double z = seabed.height_m(p.sensor_xy_m.x(), p.sensor_xy_m.y());
-      if (std::isnan(z)) continue;
-      ++over;
-      const double alt = p.sensor_z_m - z;
-      if (z > 0.0) ++dry;
-      if (p.sensor_z_m > 0.0) ++above_surface;
-      if (!(alt > 0.0)) ++below_seabed;
-      if (alt > 0.0 && sonar.max_range_m <= alt) ++short_range;
-      min_altitude = std::min(min_altitude, alt);
-      max_seabed_z = std::max(max_seabed_z, z);
-      min_sensor_z = std::min(min_sensor_z, p.sensor_z_m);
-      max_sensor_z = std::max(max_sensor_z, p.sensor_z_m);
-    }
-    lc.sampled = k;
-    lc.seabed_fraction = static_cast<double>(over) / static_cast<double>(k);
-    lc.short_range_fraction =
-        over ? static_cast<double>(short_range) / static_cast<double>(over) : 0;
-    const std::string where = file + ": survey line '" + l.name + "'";
-    const Eigen::Vector2d centre(0.5 * (bb[0] + bb[2]), 0.5 * (bb[1] + bb[3]));
-    const std::string extents = "the sensor track spans " + extent(lo, hi, centre) +
-                                "; the bathymetry grid spans " +
-                                extent({bb[0], bb[1]}, {bb[2], bb[3]}, centre) +
-                                " (metres from the grid's centre, as east_m/north_m)";
-    if (over == 0) {
-      throw InputError(where + ": no ping is over valid seabed (" + extents +
-                       "). Violated constraint: every line crosses the bathymetry");
-    }
-    auto frac = [&](std::size_t n) {
-      return percent(static_cast<double>(n) / static_cast<double>(over));
-    };
-    if (dry > 0) {
-      throw InputError(where + ": the seabed is above sea level (height up to " +
-                       num(max_seabed_z, 4) + " m) under " + frac(dry) +
-                       " of its pings over seabed. Violated constraint: bathymetry heights < 0 "
-                       "(the sea surface is height 0; see bathymetry.depth_positive_down)");
-    }
-    if (above_surface > 0) {
-      const std::string key = v.depth_mode == VehicleConfig::DepthMode::kAltitude
-                                  ? "survey.altitude_m = " + num(v.altitude_m)
-                                  : "survey.depth_m = " + num(v.depth_m);
-      throw InputError(where + ": " + key +
-                       " puts the sensor above the sea surface (height up to " +
-                       num(max_sensor_z, 4) + " m) on " + frac(above_surface) +
-                       " of its pings over seabed. Violated constraint: sensor below the surface "
-                       "(altitude smaller than the water depth)");
-    }
-    if (below_seabed > 0) {
-      const std::string key =
-          v.depth_mode == VehicleConfig::DepthMode::kDepth
-              ? "survey.depth_m = " + num(v.depth_m)
-              : "survey.lever_arm_m / altitude_time_constant_s / disturbance.heave_m / "
-                "disturbance.altitude_m";
-      throw InputError(where + ": " + key + " puts the sensor below the seabed (altitude down to " +
-                       num(min_altitude, 4) + " m) on " + frac(below_seabed) +
-                       " of its pings over seabed. Violated constraint: sensor above the seabed");
-    }
-    if (short_range == over) {
-      throw InputError(where + ": " + setup.range_key + " = " + num(sonar.max_range_m) +
-                       " m is not longer than the sensor's altitude (at least " +
-                       num(min_altitude, 4) +
-                       " m): every ping would be empty. Violated "
-                       "constraint: range > altitude");
-    }
-    if (short_range > 0) {
-      plan.warnings.push_back("survey line '" + l.name + "': on " + frac(short_range) +
-                              " of its pings the altitude exceeds " + setup.range_key + " = " +
-                              num(sonar.max_range_m) + " m (those pings see no seabed)");
-    }
-    if (over < k) {
-      plan.warnings.push_back(
-          "survey line '" + l.name + "': " + percent(1.0 - lc.seabed_fraction) +
-          " of its pings are not over valid seabed (" + extents +
-          "); they are written with altitude 0 (no seabed) and counted by `sonarsynth info`");
-    }
-    plan.lines.push_back(lc);
-    first += lc.pings;
+    plan.lines.push_back(check_line(file, setup, survey, i, first, plan));
+    first += plan.lines.back().pings;
   }
   return plan;
 }

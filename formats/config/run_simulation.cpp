@@ -9,9 +9,9 @@
 #include <optional>
 
 #include "sonarsynth/formats/config/label_sets.hpp"
+#include "sonarsynth/formats/products/product_metadata.hpp"
 #include "sonarsynth/formats/products/sink_threads.hpp"
 #include "sonarsynth/formats/registry/output_dir.hpp"
-#include "sonarsynth/formats/products/product_metadata.hpp"
 #include "sonarsynth/formats/registry/sonar_formats.hpp"
 #include "sonarsynth/formats/xtf/survey_writer.hpp"
 
@@ -63,6 +63,78 @@ double first_return_extent_m(const SonarConfig& s) {
   return s.pulse_window_m() + s.sample_spacing_m();
 }
 
+// The products' options of a run: those asked for, with what the simulation file sets (truth,
+// display window, output.mosaic).
+SurveyProductOptions product_options(const SimulationSetup& setup,
+                                     const SurveyProductOptions& asked) {
+  SurveyProductOptions po = asked;
+  po.truth = po.truth && setup.config.truth;
+  po.truth_grazing = setup.truth_grazing;
+  if (setup.display_linear) po.display_linear_full_scale = setup.config.output.max_value;
+  if (setup.display_window_db) {
+    // 10 log10(sample / full scale) to the display's 10 log10(sample) (docs/labels.md).
+    const double full_scale_db = 10.0 * std::log10(setup.config.output.max_value);
+    po.display_window_db =
+        std::pair<double, double>{setup.display_window_db->first + full_scale_db,
+                                  setup.display_window_db->second + full_scale_db};
+  }
+  // output.mosaic: nadir blanking and gain normalisation (docs/scene-format.md).
+  const MosaicProcessing& mp = setup.mosaic_processing;
+  po.mosaic_options.nadir_fill = mp.nadir != MosaicProcessing::Nadir::blank;
+  po.mosaic_options.nadir_blank_m =
+      mp.nadir == MosaicProcessing::Nadir::raw ? 0.0 : first_return_extent_m(setup.config.sonar);
+  po.gain_normalisation = mp.gain;
+  return po;
+}
+
+// One writer per format of output.formats into `dir`, each to run on a thread of its own
+// (appended to `threaded`); their compatibility warnings into `result`.
+std::vector<std::unique_ptr<SurveyFileSink>> sonar_file_writers(
+    const SimulationSetup& setup, const Simulator& sim, const std::filesystem::path& dir,
+    RunResult& result, std::vector<detail::ParallelSink::Threaded>& threaded) {
+  SurveyWriterContext files_context;
+  files_context.dir = dir;
+  files_context.line_names = result.line_names;
+  files_context.frame = &setup.scene.frame;
+  files_context.sonar = &setup.config.sonar;
+  files_context.simulator = &sim;
+  files_context.scene_name = setup.scene.name;
+  files_context.sample_format = setup.sample_format;
+  files_context.allow_more_than_8192_samples = setup.allow_more_than_8192_samples;
+  std::vector<std::unique_ptr<SurveyFileSink>> sonar_files;
+  for (const SonarFormat* f : sonar_formats()) {
+    if (!setup.writes_format(f->name)) continue;
+    sonar_files.push_back(f->create_survey_writer(files_context));
+    for (const auto& w : sonar_files.back()->compatibility_warnings()) {
+      result.compatibility_warnings.push_back(w);
+    }
+    threaded.push_back({sonar_files.back().get(), std::string(f->name)});
+  }
+  return sonar_files;
+}
+
+// What the label sets need of the run: its geometry, the lines' tracks and the display window.
+labels::LabelContext label_context(const SimulationSetup& setup, const SurveyProductOptions& po,
+                                   const std::vector<std::string>& line_names,
+                                   const std::vector<labels::LineTrack>* tracks,
+                                   const std::filesystem::path& final_dir) {
+  labels::LabelContext context;
+  context.frame = &setup.scene.frame;
+  context.sample_spacing_m = setup.config.sonar.sample_spacing_m();
+  context.side_cols = setup.config.sonar.samples_per_channel;
+  context.line_names = line_names;
+  context.tracks = tracks;
+  context.final_dir = std::filesystem::absolute(final_dir);
+  if (po.display_linear_full_scale > 0.0) {
+    context.display_fixed = true;
+    context.display = {0.0, 1.0, po.display_linear_full_scale};
+  } else if (po.display_window_db) {
+    context.display_fixed = true;
+    context.display = {po.display_window_db->first, po.display_window_db->second, 0.0};
+  }
+  return context;
+}
+
 }  // namespace
 
 RunResult run_simulation(const std::string& scene_path, const std::filesystem::path& out_dir,
@@ -79,23 +151,7 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   const auto setup =
       std::make_shared<SimulationSetup>(load_simulation(scene_path, options.overrides));
   const std::shared_ptr<const Scene> scene(setup, &setup->scene);
-  SurveyProductOptions po = options.products;
-  po.truth = po.truth && setup->config.truth;
-  po.truth_grazing = setup->truth_grazing;
-  if (setup->display_linear) po.display_linear_full_scale = setup->config.output.max_value;
-  if (setup->display_window_db) {
-    // 10 log10(sample / full scale) to the display's 10 log10(sample) (docs/labels.md).
-    const double full_scale_db = 10.0 * std::log10(setup->config.output.max_value);
-    po.display_window_db =
-        std::pair<double, double>{setup->display_window_db->first + full_scale_db,
-                                  setup->display_window_db->second + full_scale_db};
-  }
-  // output.mosaic: nadir blanking and gain normalisation (docs/scene-format.md).
-  const MosaicProcessing& mp = setup->mosaic_processing;
-  po.mosaic_options.nadir_fill = mp.nadir != MosaicProcessing::Nadir::blank;
-  po.mosaic_options.nadir_blank_m =
-      mp.nadir == MosaicProcessing::Nadir::raw ? 0.0 : first_return_extent_m(setup->config.sonar);
-  po.gain_normalisation = mp.gain;
+  SurveyProductOptions po = product_options(*setup, options.products);
 
   // Check the whole run before anything is created (formats/config/run_check.cpp).
   result.plan = check_simulation(scene_path, *setup,
@@ -110,25 +166,9 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   for (const SurveyLine& l : setup->lines) result.line_names.push_back(l.name);
   // The sonar files: one writer per format of output.formats, in the order of the format list
   // (formats/registry/sonar_formats.cpp).
-  SurveyWriterContext files_context;
-  files_context.dir = out.file("");
-  files_context.line_names = result.line_names;
-  files_context.frame = &scene->frame;
-  files_context.sonar = &setup->config.sonar;
-  files_context.simulator = &sim;
-  files_context.scene_name = scene->name;
-  files_context.sample_format = setup->sample_format;
-  files_context.allow_more_than_8192_samples = setup->allow_more_than_8192_samples;
-  std::vector<std::unique_ptr<SurveyFileSink>> sonar_files;
   std::vector<detail::ParallelSink::Threaded> threaded;
-  for (const SonarFormat* f : sonar_formats()) {
-    if (!setup->writes_format(f->name)) continue;
-    sonar_files.push_back(f->create_survey_writer(files_context));
-    for (const auto& w : sonar_files.back()->compatibility_warnings()) {
-      result.compatibility_warnings.push_back(w);
-    }
-    threaded.push_back({sonar_files.back().get(), std::string(f->name)});
-  }
+  const std::vector<std::unique_ptr<SurveyFileSink>> sonar_files =
+      sonar_file_writers(*setup, sim, out.file(""), result, threaded);
 
   po.write_options.overwrite = true;  // inside our own fresh temporary directory
   po.write_options.metadata = run_metadata(scene->name, setup->config, sim.gain_db());
@@ -180,20 +220,8 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
   labels::LabelSetResult label_sets;
   if (setup->labels.any() && po.truth) {
     const auto t_labels = std::chrono::steady_clock::now();
-    labels::LabelContext context;
-    context.frame = &scene->frame;
-    context.sample_spacing_m = setup->config.sonar.sample_spacing_m();
-    context.side_cols = setup->config.sonar.samples_per_channel;
-    context.line_names = result.line_names;
-    if (track) context.tracks = &track->tracks();
-    context.final_dir = std::filesystem::absolute(out.final_dir());
-    if (po.display_linear_full_scale > 0.0) {
-      context.display_fixed = true;
-      context.display = {0.0, 1.0, po.display_linear_full_scale};
-    } else if (po.display_window_db) {
-      context.display_fixed = true;
-      context.display = {po.display_window_db->first, po.display_window_db->second, 0.0};
-    }
+    const labels::LabelContext context = label_context(
+        *setup, po, result.line_names, track ? &track->tracks() : nullptr, out.final_dir());
     label_sets = labels::write_label_sets(
         out.file(""), waterfall_label_images(out.file(""), po, result.line_names),
         mosaic_label_images(out.file(""), po), setup->labels, context,

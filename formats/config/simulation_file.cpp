@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
+// Simulation files (docs/scene-format.md): the run's sections beside the scene. The `survey`
+// section is read in simulation_survey.cpp, effective.yaml written in effective_config.cpp.
 #include "sonarsynth/formats/config/simulation_file.hpp"
-
-#include <ogrsf_frmts.h>
 
 #include <algorithm>
 #include <cctype>
@@ -9,59 +9,36 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <functional>
 #include <iomanip>
 #include <set>
 #include <sstream>
 
-#include "sonarsynth/formats/config/option_table.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/raster/gdal_util.hpp"
+#include "sonarsynth/formats/config/option_table.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
+#include "sonarsynth/formats/config/simulation_file_parts.hpp"
+#include "sonarsynth/formats/config/yaml_fields.hpp"
 #include "sonarsynth/formats/registry/sonar_formats.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/sonar_presets.hpp"
-#include "sonarsynth/formats/config/yaml_fields.hpp"
 
 namespace sonarsynth {
-namespace {
+namespace simulation_file {
 
-namespace fs = std::filesystem;
-using yaml::Fields;
-
-// Farthest a waypoint may be from the bathymetry grid's centre, metres per axis: beyond it the
-// local coordinates leave the scene's UTM zone by far.
-constexpr double kMaxWaypointOffsetM = 1e6;
-
-Eigen::Vector2d position(const Scene& scene, const Eigen::Vector2d& centre, const Fields& p) {
-  p.only({"lat_deg", "lon_deg", "east_m", "north_m"});
-  const bool geographic = p.node()["lat_deg"].IsDefined() || p.node()["lon_deg"].IsDefined();
-  if (geographic) {
-    // Both are required (a null or missing one is not taken as 0).
-    const double lat = p.number("lat_deg"), lon = p.number("lon_deg");
-    if (!(lat >= -90.0 && lat <= 90.0)) p.fail_value("lat_deg", "-90 <= lat_deg <= 90");
-    if (!(lon >= -180.0 && lon <= 360.0)) p.fail_value("lon_deg", "-180 <= lon_deg <= 360");
-    try {
-      return scene.frame.local_from_geodetic({rad_from_deg(lat), rad_from_deg(lon), 0.0});
-    } catch (const InputError& e) {
-      p.fail("", e.what());
-    }
-  }
-  const Eigen::Vector2d xy = centre + Eigen::Vector2d(p.number("east_m"), p.number("north_m"));
-  for (const char* key : {"east_m", "north_m"}) {
-    if (!(std::abs(p.number(key)) <= kMaxWaypointOffsetM)) {
-      p.fail_value(key, std::string("|") + key + "| <= 1e6 (metres from the grid centre)");
-    }
-  }
-  return xy;
-}
-
-// Keys of one section: its declared options (formats/config/option_table.cpp) and `extra` sub-sections.
-std::set<std::string> keys_of(std::string_view section, std::set<std::string> extra = {}) {
+// Keys of one section: its declared options (formats/config/option_table.cpp) and `extra`
+// sub-sections.
+std::set<std::string> keys_of(std::string_view section, std::set<std::string> extra) {
   for (const options::Option* o : options::in_section(section)) extra.insert(std::string(o->key));
   return extra;
 }
+
+}  // namespace simulation_file
+
+using namespace simulation_file;
+
+namespace {
+
+namespace fs = std::filesystem;
 
 // sonar.vertical_beam: the keys of its shape only; a beam given without `shape` keeps the shape
 // it had (gaussian, or a preset's). Keys left out keep the values of the beam it had (the
@@ -188,15 +165,6 @@ void check_override(const options::Option& o, T value) {
   }
 }
 
-template <class F>
-void wrap(const Fields& f, F&& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    f.fail("", e.what());
-  }
-}
-
 }  // namespace
 
 UtcTime parse_utc(const std::string& text, const std::string& what) {
@@ -237,28 +205,6 @@ LabelOutput read_label_output(const Fields& f, bool truth) {
   return l;
 }
 }  // namespace yaml
-
-void check_survey_line(const Scene& scene, const SurveyLine& line, const std::string& name) {
-  const Eigen::Vector2d centre = scene.bathymetry.centre_xy_m();
-  for (std::size_t k = 0; k < line.waypoints_xy_m.size(); ++k) {
-    const Eigen::Vector2d& w = line.waypoints_xy_m[k];
-    const double offset_m = (w - centre).cwiseAbs().maxCoeff();
-    if (w.allFinite() && offset_m <= kMaxWaypointOffsetM) continue;
-    std::ostringstream os;
-    os.precision(10);
-    os << name << ": survey line '" << line.name << "' waypoint " << k << " = (" << w.x() << ", "
-       << w.y() << ") m";
-    if (w.allFinite()) {
-      os << " is " << offset_m
-         << " m from the bathymetry grid's centre. Violated constraint: <= " << kMaxWaypointOffsetM
-         << " m";
-    } else {
-      os << ". Violated constraint: finite x and y";
-    }
-    os << " (waypoints counted from 0)";
-    throw InputError(os.str());
-  }
-}
 
 namespace {
 
@@ -322,19 +268,10 @@ Survey SimulationSetup::make_survey() const {
 
 namespace {
 
-// The simulation of the YAML document `doc` over the scene `loaded`; `path` names it in messages.
-SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std::string& path,
-                                 const fs::path& base_dir, const SimulationOverrides& overrides) {
-  SimulationSetup setup{.scene = std::move(loaded)};
-  const Fields top(doc, path, "");
-  Scene& scene = setup.scene;
-  SimulationConfig& cfg = setup.config;
-  const Eigen::Vector2d centre = scene.bathymetry.centre_xy_m();
-  options::read(top, options::at("seed"), setup);
-  if (overrides.seed) cfg.seed = *overrides.seed;
-
-  // Sonar.
-  SonarConfig& s = cfg.sonar;
+// `sonar`: a preset, then the keys given beside it; --range and --samples override them.
+void read_sonar_section(const Fields& top, const SimulationOverrides& overrides,
+                        SimulationSetup& setup) {
+  SonarConfig& s = setup.config.sonar;
   if (top.has("sonar")) {
     const Fields f = top.child("sonar");
     f.only(keys_of("sonar", {"preset", "vertical_beam", "pulse"}));
@@ -375,8 +312,12 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   // A ping period shorter than the two-way travel time to the maximum range overlaps pings.
   if (const auto v = ping_period_violation(setup))
     top.child("sonar").fail_value("ping_period_s", *v);
+}
 
-  // Render: physics switches and quality.
+// `render`: physics switches and quality; --quality overrides the quality.
+void read_render_section(const Fields& top, const SimulationOverrides& overrides,
+                         SimulationSetup& setup) {
+  SimulationConfig& cfg = setup.config;
   if (top.has("render")) {
     const Fields f = top.child("render");
     f.only(keys_of("render", {"water", "quality"}));
@@ -393,8 +334,10 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     throw InputError("--quality = '" + *overrides.quality +
                      "'. Violated constraint: " + QualityConfig::kPresetNames);
   }
+}
 
-  // Noise.
+// `noise`.
+void read_noise_section(const Fields& top, SimulationSetup& setup) {
   if (top.has("noise")) {
     const Fields f = top.child("noise");
     f.only(keys_of("noise"));
@@ -405,8 +348,10 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     }
     options::read_all(f, "noise", setup);
   }
+}
 
-  // Sensor effects.
+// `sensor`: the sensor effects.
+void read_sensor_section(const Fields& top, SimulationSetup& setup) {
   if (top.has("sensor")) {
     const Fields f = top.child("sensor");
     f.only(keys_of("sensor"));
@@ -416,8 +361,10 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
       if (const auto v = ring_down_violation(setup)) f.fail_value("ring_down_m", *v);
     }
   }
+}
 
-  // Output scaling and format.
+// `output`: scaling, formats, labels, the mosaic and the display window.
+void read_output_section(const Fields& top, SimulationSetup& setup) {
   if (top.has("output")) {
     const Fields f = top.child("output");
     f.only(keys_of("output", {"labels", "display_window_db", "mosaic", "formats"}));
@@ -440,7 +387,12 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
       setup.display_window_db = std::pair<double, double>{w[0], w[1]};
     }
   }
-  // Common XTF readers take at most 8192 samples per channel: more only on request.
+}
+
+// Common XTF readers take at most 8192 samples per channel: more only on request.
+void check_sample_count(const Fields& top, const SimulationOverrides& overrides,
+                        const SimulationSetup& setup) {
+  const SonarConfig& s = setup.config.sonar;
   if (const auto v = sample_count_violation(setup)) {
     const std::string& c = *v;
     if (overrides.samples) {
@@ -449,6 +401,23 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
     }
     top.child("sonar").fail_value("samples", c);
   }
+}
+
+// The simulation of the YAML document `doc` over the scene `loaded`; `path` names it in messages.
+SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std::string& path,
+                                 const fs::path& base_dir, const SimulationOverrides& overrides) {
+  SimulationSetup setup{.scene = std::move(loaded)};
+  const Fields top(doc, path, "");
+  SimulationConfig& cfg = setup.config;
+  options::read(top, options::at("seed"), setup);
+  if (overrides.seed) cfg.seed = *overrides.seed;
+
+  read_sonar_section(top, overrides, setup);
+  read_render_section(top, overrides, setup);
+  read_noise_section(top, setup);
+  read_sensor_section(top, setup);
+  read_output_section(top, setup);
+  check_sample_count(top, overrides, setup);
 
   // Limits on the run (checked before rendering, formats/config/run_check.cpp).
   if (top.has("limits")) {
@@ -458,91 +427,9 @@ SimulationSetup build_simulation(Scene loaded, const YAML::Node& doc, const std:
   }
   cfg.threads = overrides.threads.value_or(0);
 
-  // Survey.
-  const Fields sv = top.child("survey");
-  sv.only(keys_of("survey", {"start_time", "lever_arm_m", "disturbance", "lines"}));
-  if (sv.given("start_time")) {
-    setup.start_time = parse_utc(sv.text("start_time"), path + ": survey.start_time");
-  }
-  VehicleConfig& v = setup.vehicle;
-  if (sv.has("altitude_m") && sv.has("depth_m"))
-    sv.fail("", "give altitude_m or depth_m, not both");
-  options::read_all(sv, "survey", setup);
-  if (v.depth_mode == VehicleConfig::DepthMode::kDepth) {
-    const auto [lo, hi] = scene.bathymetry.height_range();
-    setup.reference_altitude_m = std::max(0.5, -v.depth_m - 0.5 * (lo + hi));
-  } else {
-    setup.reference_altitude_m = v.altitude_m;
-  }
-  if (sv.has("lever_arm_m")) {
-    const auto la = sv.numbers("lever_arm_m", 3);
-    v.lever_arm_m = {la[0], la[1], la[2]};
-  }
-  if (sv.has("disturbance")) {
-    const Fields d = sv.child("disturbance");
-    d.only(keys_of("survey.disturbance"));
-    options::read_all(d, "survey.disturbance", setup);
-  }
-  wrap(sv, [&] { v.validate(); });
-  for (const Fields& l : sv.sequence("lines")) {
-    if (l.has("file")) {
-      l.only({"file", "layer"});
-      const std::string vpath = yaml::resolve_path(base_dir, l.text("file"));
-      gdal::VectorLayer vl =
-          gdal::open_vector_layer(vpath, l.text("layer", ""), scene.frame.epsg(), false, "survey");
-      OGRLayer* layer = vl.layer;
-      for (auto& feature : *layer) {
-        OGRGeometry* g = feature->GetGeometryRef();
-        if (!g || wkbFlatten(g->getGeometryType()) != wkbLineString) continue;
-        std::unique_ptr<OGRGeometry> gc(g->clone());
-        if (gc->transform(vl.to_target.get()) != OGRERR_NONE)
-          throw FormatError(vpath + ": cannot transform a line");
-        SurveyLine line;
-        const int name_idx = feature->GetFieldIndex("name");
-        line.name = name_idx >= 0 ? feature->GetFieldAsString(name_idx)
-                                  : "line" + std::to_string(setup.lines.size() + 1);
-        for (const OGRPoint& pt : *gc->toLineString()) {
-          const Eigen::Vector2d xy = scene.frame.local_from_projected({pt.getX(), pt.getY()});
-          if (!((xy - centre).cwiseAbs().maxCoeff() <= kMaxWaypointOffsetM)) {
-            std::ostringstream os;
-            os.precision(10);
-            os << vpath << ": line '" << line.name << "' vertex (" << pt.getX() << ", " << pt.getY()
-               << ") in EPSG:" << scene.frame.epsg() << " is "
-               << (xy - centre).cwiseAbs().maxCoeff()
-               << " m from the bathymetry grid's centre. Violated constraint: <= 1e6 m";
-            throw InputError(os.str());
-          }
-          line.waypoints_xy_m.push_back(xy);
-        }
-        setup.lines.push_back(std::move(line));
-      }
-      continue;
-    }
-    l.only({"name", "waypoints"});
-    SurveyLine line;
-    line.name = l.text("name", "line" + std::to_string(setup.lines.size() + 1));
-    for (const Fields& w : l.sequence("waypoints"))
-      line.waypoints_xy_m.push_back(position(scene, centre, w));
-    if (line.waypoints_xy_m.size() < 2) l.fail("waypoints", "a line needs at least 2 waypoints");
-    setup.lines.push_back(std::move(line));
-  }
-  if (setup.lines.empty()) sv.fail("lines", "no survey lines");
-  // Line names become file names: unique, and made of letters, digits, '-', '_' and '.'.
-  std::set<std::string> names;
-  for (const SurveyLine& line : setup.lines) {
-    const bool safe = !line.name.empty() && line.name[0] != '.' &&
-                      std::all_of(line.name.begin(), line.name.end(), [](char ch) {
-                        return std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' ||
-                               ch == '_' || ch == '.';
-                      });
-    if (!safe)
-      sv.fail("lines",
-              "line name '" + line.name + "' must use only letters, digits, '-', '_', '.'");
-    if (!names.insert(line.name).second)
-      sv.fail("lines", "line name '" + line.name + "' is used twice");
-  }
-  // --range and --samples passed check_override above, within bounds that SonarConfig's own
-  // (range > 0 and finite, 1-65535 samples) contain: an error here is the file's.
+  read_survey_section(top.child("survey"), path, base_dir, setup);
+  // --range and --samples passed check_override in read_sonar_section, within bounds that
+  // SonarConfig's own (range > 0 and finite, 1-65535 samples) contain: an error here is the file's.
   wrap(top, [&] { cfg.validate(); });
   return setup;
 }
@@ -620,132 +507,6 @@ SimulationSetup load_simulation_from_string(const std::string& yaml_text, const 
     return build_simulation(std::move(scene), yaml::load_string(yaml_text, name), name, base_dir,
                             overrides);
   });
-}
-
-namespace {
-
-// The resolved sonar of a run into the `sonar` map of effective.yaml: every declared key of the
-// section, the vertical beam and the pulse (the keys of their shape and type).
-void write_resolved_sonar(YAML::Node sonar, const SimulationSetup& setup) {
-  const auto put = [&setup](YAML::Node n, std::string_view path) {
-    const options::Option& o = options::at(path);
-    n[std::string(o.key)] = options::emit(o, setup);
-  };
-  for (const options::Option* o : options::in_section("sonar")) put(sonar, o->path());
-  YAML::Node beam(YAML::NodeType::Map);
-  put(beam, "sonar.vertical_beam.shape");
-  const VerticalBeamPattern& v = setup.config.sonar.vertical_beam;
-  switch (v.shape) {
-    case VerticalBeamShape::uniform:
-      break;
-    case VerticalBeamShape::gaussian:
-      put(beam, "sonar.vertical_beam.width_deg");
-      break;
-    case VerticalBeamShape::paper_sine_pair:
-      put(beam, "sonar.vertical_beam.upper_half_width_deg");
-      put(beam, "sonar.vertical_beam.lower_half_width_deg");
-      break;
-    case VerticalBeamShape::sinc:
-      put(beam, "sonar.vertical_beam.height_over_wavelength");
-      break;
-    case VerticalBeamShape::table:
-      for (std::size_t i = 0; i < v.table_off_axis_rad.size(); ++i) {
-        beam["off_axis_deg"].push_back(deg_from_rad(v.table_off_axis_rad[i]));
-        beam["gain_db"].push_back(v.table_gain_db[i]);
-      }
-      break;
-  }
-  sonar["vertical_beam"] = beam;
-  YAML::Node pulse(YAML::NodeType::Map);
-  put(pulse, "sonar.pulse.type");
-  put(pulse, setup.config.sonar.pulse == SonarConfig::Pulse::kCw ? "sonar.pulse.length_us"
-                                                                 : "sonar.pulse.bandwidth_khz");
-  sonar["pulse"] = pulse;
-}
-
-}  // namespace
-
-void write_effective_config(const std::string& scene_path, const SimulationOverrides& overrides,
-                            const SimulationSetup& setup, const Simulator& sim,
-                            const std::filesystem::path& out_path,
-                            const std::vector<std::string>& product_flags) {
-  YAML::Node root = yaml::load_file(scene_path);
-  // `derived` is ignored on input and replaced below: dropped before any traversal, so that
-  // aliases nested in it (a "billion laughs" document) cost nothing.
-  root.remove("derived");
-  // Relative `file:` entries are made absolute so the copy works from anywhere.
-  const fs::path base = fs::absolute(fs::path(scene_path)).parent_path();
-  std::function<void(YAML::Node)> absolutize = [&](YAML::Node n) {
-    if (n.IsMap()) {
-      for (auto kv : n) {
-        // Keys are not all checked (e.g. under `description`): compare only plain ones.
-        if (kv.first.IsScalar() && kv.first.Scalar() == "file" && kv.second.IsScalar()) {
-          const fs::path f(kv.second.Scalar());
-          if (!f.is_absolute()) kv.second = (base / f).lexically_normal().string();
-        } else {
-          absolutize(kv.second);
-        }
-      }
-    } else if (n.IsSequence()) {
-      for (auto e : n) absolutize(e);
-    }
-  };
-  absolutize(root);
-  // A sonar preset stays named, with the values it resolved to beside it: they win over it when
-  // the file is read again, so the run is reproduced whatever the preset later becomes.
-  if (root["sonar"].IsMap() && root["sonar"]["preset"].IsDefined()) {
-    write_resolved_sonar(root["sonar"], setup);
-  }
-  // The overridden options, from the declarations (formats/config/option_table.cpp); the seed always.
-  std::set<std::string_view> flags{"--seed"};
-  if (overrides.range_m) flags.insert("--range");
-  if (overrides.samples) flags.insert("--samples");
-  if (overrides.quality) flags.insert("--quality");
-  for (const options::Option& o : options::all()) {
-    if (o.flag.empty() || !flags.count(o.flag)) continue;
-    YAML::Node n = root;
-    std::string_view section = o.section;
-    while (!section.empty()) {
-      const std::size_t dot = section.find('.');
-      n.reset(n[std::string(section.substr(0, dot))]);
-      section = dot == std::string_view::npos ? std::string_view{} : section.substr(dot + 1);
-    }
-    n[std::string(o.key)] = options::emit(o, setup);
-  }
-  YAML::Node d;
-  d["note"] = "values derived by sonarsynth for this run (informational; ignored on input)";
-  d["epsg"] = setup.scene.frame.epsg();
-  d["absorption_db_per_km"] = sim.absorption_db_per_m() * 1000.0;
-  d["gain_db"] = sim.gain_db();
-  d["thermal_noise_power"] = sim.thermal_noise_power();
-  d["ping_period_s"] = setup.config.sonar.effective_ping_period_s();
-  d["sample_spacing_m"] = setup.config.sonar.sample_spacing_m();
-  d["beta_eff_deg"] = deg_from_rad(setup.config.sonar.beta_eff_rad());
-  const AlongTrackChoice& at = sim.along_track();
-  d["along_track_planes"] = at.planes;
-  if (at.automatic) {
-    d["along_track_estimated_error_db"] = at.estimated_error_db;
-    d["along_track_pilot_pings"] = at.pilot_pings;
-    if (at.object_planes > at.planes) {
-      // The count over the range window of objects and their shadows (docs/physics.md §1.3).
-      d["along_track_object_planes"] = at.object_planes;
-      d["along_track_object_estimated_error_db"] = at.object_estimated_error_db;
-    }
-  }
-  root["derived"] = d;
-  YAML::Emitter e;
-  e << root;
-  std::ofstream os(out_path);
-  os << "# Effective configuration of a sonarsynth run: `sonarsynth simulate` on this file\n"
-        "# reproduces the run exactly (same seed, same settings).\n";
-  if (!product_flags.empty()) {
-    os << "# The products were made with these options; give them again for the same files:\n"
-          "# product options:";
-    for (const std::string& f : product_flags) os << " " << f;
-    os << "\n";
-  }
-  os << e.c_str() << "\n";
-  if (!os) throw FormatError(out_path.string() + ": cannot write");
 }
 
 }  // namespace sonarsynth

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+// The fixture and scenes shared by the simulation file tests (simulation_file_test.cpp,
+// simulation_options_test.cpp).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace sonarsynth::simulation_file_test {
+
+namespace fs = std::filesystem;
+
+class SimulationFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("sonarsynth_simfile_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  fs::path dir_;
+};
+
+inline constexpr const char* kScene = R"(
+seed: 12
+bathymetry:
+  generate: {centre: {lat_deg: 48.45, lon_deg: -68.83}, size_m: [200, 200], cell_m: 1, depth_m: 30}
+sonar: {frequency_khz: 300, range_m: 50, samples: 2000, pulse: {type: chirp, bandwidth_khz: 50}}
+render: {backscatter: lambert, absorption: false, quality: {gauss_points: 3, along_track_planes: 3}}
+noise: {model: paper, uniform_half_width: 0.2}
+output: {tvg: none, gain_db: 12, sample_format: u8}
+)";
+
+inline constexpr const char* kLine =
+    "  lines: [{name: a, waypoints: [{east_m: -20, north_m: 0}, {east_m: 20, north_m: 0}]}]\n";
+inline constexpr const char* kBathy =
+    "bathymetry:\n  generate: {centre: {lat_deg: 48.45, lon_deg: -68.83}, size_m: [200, 200], "
+    "cell_m: 1, depth_m: 30}\n";
+
+// Equal as option values: NaN (auto) equals NaN.
+inline bool same(double a, double b) {
+  return a == b || (std::isnan(a) && std::isnan(b));
+}
+
+}  // namespace sonarsynth::simulation_file_test
