@@ -15,12 +15,12 @@
 #include <span>
 #include <sstream>
 
-#include "sonarsynth/formats/products/mosaic_blocks.hpp"
-#include "sonarsynth/formats/raster/raster_util.hpp"
 #include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/atomic_file.hpp"
+#include "sonarsynth/formats/products/mosaic_blocks.hpp"
 #include "sonarsynth/formats/raster/gdal_util.hpp"
+#include "sonarsynth/formats/raster/raster_util.hpp"
 #include "sonarsynth/version.hpp"
 
 namespace sonarsynth {
@@ -321,6 +321,12 @@ void MosaicWriteOptions::validate() const {
                                   creation_options, kWho);
 }
 
+MosaicRasterFormat parse_mosaic_raster_format(const std::string& text, const std::string& what) {
+  if (text == "COG" || text == "cog") return MosaicRasterFormat::cog;
+  if (text == "GTiff" || text == "gtiff") return MosaicRasterFormat::gtiff;
+  throw InputError(what + " = '" + text + "'. Violated constraint: COG or GTiff");
+}
+
 std::string default_rgb_path(const std::string& mosaic_path) {
   std::filesystem::path p(mosaic_path);
   return (p.parent_path() / (p.stem().string() + "_rgb.tif")).string();
@@ -380,8 +386,9 @@ void write_mosaic(const std::string& path, const GeoFrame& frame, MosaicGrid& gr
   grid.finalize();
   const GridGeometry& g = grid.geometry();
   gdal::ensure_registered();
-  // Every file is read from the grid's tiles window by window (formats/private/sonarsynth/formats/products/mosaic_blocks.hpp); the
-  // GeoTIFFs' overview levels are computed in a temporary file (raster::copy_with_overviews).
+  // Every file is read from the grid's tiles window by window
+  // (formats/private/sonarsynth/formats/products/mosaic_blocks.hpp); the GeoTIFFs' overview levels
+  // are computed in a temporary file (raster::copy_with_overviews).
   const Job intensity = [&](const std::string& temp) {
     const bool count_band = options.count_band;
     gdal::DatasetPtr src = raster::grid_dataset(

@@ -22,10 +22,10 @@ class GeoTruthWriter;
 
 /// What `simulate` derives from the rendered pings besides the XTF files.
 struct SurveyProductOptions {
-  bool mosaic = true;            ///< mosaic.tif (+ mosaic_rgb.tif, truth_mosaic.tif)
-  bool waterfalls = true;        ///< <line>_waterfall.png per line
-  bool truth = true;             ///< <line>_truth.tif per line and truth_mosaic.tif
-  double mosaic_pixel_m = 0.25;  ///< > 0
+  bool mosaic = true;      ///< mosaic.tif (+ mosaic_rgb.tif, truth_mosaic.tif)
+  bool waterfalls = true;  ///< <line>_waterfall.png per line
+  bool truth = true;       ///< <line>_truth.tif per line and truth_mosaic.tif
+  double mosaic_pixel_m = kDefaultMosaicPixelM;  ///< > 0
   /// Largest waterfall image (pixels); a longer line is decimated along track to fit.
   std::size_t waterfall_max_pixels = WaterfallOptions{}.max_pixels;
   MosaicOptions mosaic_options;
