@@ -19,10 +19,10 @@
 #include <tuple>
 #include <utility>
 
+#include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/products/geo_truth.hpp"
 #include "sonarsynth/formats/products/row_spool.hpp"
 #include "sonarsynth/formats/products/sink_threads.hpp"
-#include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/products/truth_labels.hpp"
 
 namespace sonarsynth {
@@ -115,7 +115,8 @@ class SurveyProducts::MosaicPart final : public PingSink {
     m.port = p.port.samples;
     m.starboard = p.starboard.samples;
     if (codes_ && !p.port.truth_class.empty()) {
-      // Class, id and shadow caster in one gridded code (formats/private/sonarsynth/formats/products/truth_labels.hpp).
+      // Class, id and shadow caster in one gridded code
+      // (formats/private/sonarsynth/formats/products/truth_labels.hpp).
       codes_->encode(p.port.truth_class, p.port.truth_label, port_codes_);
       codes_->encode(p.starboard.truth_class, p.starboard.truth_label, stbd_codes_);
       m.port_labels = port_codes_;
@@ -325,7 +326,8 @@ class SurveyProducts::MosaicPart final : public PingSink {
     if (codes_ && grid_->has_labels()) {
       label_files = {dir_ / "truth_mosaic_class.tif", dir_ / "truth_mosaic_instance.tif"};
       labels::write_mosaic_label_rasters(label_files[0].string(), label_files[1].string(),
-                                         scene_->frame, *grid_, *codes_, w.overwrite, w.metadata);
+                                         scene_->frame, *grid_, *codes_, w.overwrite, w.metadata,
+                                         w.format == MosaicRasterFormat::cog);
     }
     std::function<void(std::span<std::int32_t>)> label_map;
     if (codes_) label_map = [this](std::span<std::int32_t> c) { codes_->decode_labels(c); };
@@ -505,6 +507,7 @@ class SurveyProducts::TruthPart final : public LinePart {
     if (!t || t->rows() == 0) return {};
     t->set_ground_control(thinned_gcps());
     t->set_grazing(options_.truth_grazing);
+    t->set_cog_layout(options_.write_options.format == MosaicRasterFormat::cog);
     // The label rasters (docs/labels.md) next to the truth of the line, from the same spool rows.
     TruthWaterfall::LabelRowTap tap = options_.label_rows ? options_.label_rows(name) : nullptr;
     return

@@ -14,18 +14,18 @@
 #include <utility>
 #include <vector>
 
-#include "sonarsynth/formats/products/mosaic_blocks.hpp"
-#include "sonarsynth/formats/raster/raster_util.hpp"
-#include "sonarsynth/formats/products/row_spool.hpp"
 #include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/atomic_file.hpp"
+#include "sonarsynth/formats/products/mosaic_blocks.hpp"
+#include "sonarsynth/formats/products/row_spool.hpp"
+#include "sonarsynth/formats/products/truth_labels.hpp"
+#include "sonarsynth/formats/products/xtf_mosaic.hpp"
+#include "sonarsynth/formats/raster/raster_util.hpp"
 #include "sonarsynth/formats/registry/sidescan_source.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
-#include "sonarsynth/formats/products/xtf_mosaic.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/version.hpp"
-#include "sonarsynth/formats/products/truth_labels.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -687,7 +687,8 @@ void TruthWaterfall::write(const std::string& path, bool overwrite,
                          "GTiff", stream, stream_options(kTruthTiffOptions),
                          truth_labels(metadata, grazing_), kWho, path);
   raster::copy_adding_overviews(stream, out.temp_path().string(), kTruthResampling,
-                                kTruthTiffOptions, pixel_gcps(gcps_, cols()), kWho, path);
+                                kTruthTiffOptions, pixel_gcps(gcps_, cols()), kWho, path,
+                                cog_layout_);
   out.commit();
 }
 
@@ -735,11 +736,12 @@ void TruthWaterfall::write_with_labels(
   // those of one sample; the grazing angle: average) and the ground control points.
   const raster::GroundControl gcps = pixel_gcps(gcps_, cols());
   raster::copy_adding_overviews(targets[0].temp_path, out.temp_path().string(), kTruthResampling,
-                                kTruthTiffOptions, gcps, kWho, path);
+                                kTruthTiffOptions, gcps, kWho, path, cog_layout_);
   raster::copy_adding_overviews(targets[1].temp_path, class_out.temp_path().string(), {"NEAREST"},
-                                label_options(), gcps, kWho, class_path);
+                                label_options(), gcps, kWho, class_path, cog_layout_);
   raster::copy_adding_overviews(targets[2].temp_path, instance_out.temp_path().string(),
-                                {"NEAREST"}, label_options(), gcps, kWho, instance_path);
+                                {"NEAREST"}, label_options(), gcps, kWho, instance_path,
+                                cog_layout_);
   out.commit();
   class_out.commit();
   instance_out.commit();
