@@ -336,9 +336,46 @@ TEST(TruthWaterfall, LabelRastersAreThoseOfTheLabelWaterfall) {
     EXPECT_EQ(got.band_items, want.band_items) << name;
     EXPECT_TRUE(got.values == want.values) << name;
   }
-  // `--of GTiff` (set_cog_layout(false)): plain tiled GeoTIFFs, each image before its overviews
-  // in the file where the default has the COG layout (overviews first), with the same pixels at
-  // every level.
+  // Hand-worked row: port NEAR -> FAR seabed, object 2^24 + 1, shadow (its caster), starboard
+  // empty; columns port FAR -> NEAR | starboard.
+  TruthWaterfall one(dir);
+  const std::vector<SampleClass> port = {SampleClass::seabed, SampleClass::object,
+                                         SampleClass::shadow};
+  const std::vector<std::int32_t> port_id = {0, 16777217, -1};
+  const std::vector<float> port_g = {0.1f, 0.2f, 0.3f};
+  one.add_ping(port, {}, port_id, {}, port_g, {});
+  one.write_with_labels((dir / "one.tif").string(), (dir / "one_class.tif").string(),
+                        (dir / "one_instance.tif").string(), false, items);
+  EXPECT_EQ(read(dir / "one_class.tif").values,
+            (std::vector<std::uint32_t>{3, 2, 1, 255, 255, 255}));
+  EXPECT_EQ(
+      read(dir / "one_instance.tif").values,
+      (std::vector<std::uint32_t>{16777217, 16777217, 0, 0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu}));
+  fs::remove_all(dir);
+}
+
+// `--of GTiff` (set_cog_layout(false)): plain tiled GeoTIFFs, each image before its overviews
+// in the file where the default has the COG layout (overviews first), with the same pixels at
+// every level.
+TEST(TruthWaterfall, PlainLayoutHasTheImageFirstAndTheSamePixels) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("sonarsynth_truth_plain_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  TruthWaterfall truth(dir);
+  for (std::int32_t p = 0; p < 300; ++p) {  // 300 rows: one overview level
+    std::vector<SampleClass> c(120, SampleClass::seabed);
+    std::vector<std::int32_t> id(120, 0);
+    std::vector<float> g(120, 0.5f);
+    for (std::size_t i = 40 + static_cast<std::size_t>(p % 30); i < 60; ++i) {
+      c[i] = SampleClass::object;
+      id[i] = 7 + p / 100;
+    }
+    truth.add_ping(c, c, id, id, g, g);
+  }
+  const std::vector<std::pair<std::string, std::string>> items = {{"RUN", "test"}};
+  truth.write_with_labels((dir / "truth.tif").string(), (dir / "class.tif").string(),
+                          (dir / "instance.tif").string(), false, items);
   truth.set_cog_layout(false);
   truth.write_with_labels((dir / "truth_plain.tif").string(), (dir / "class_plain.tif").string(),
                           (dir / "instance_plain.tif").string(), false, items);
@@ -356,21 +393,6 @@ TEST(TruthWaterfall, LabelRastersAreThoseOfTheLabelWaterfall) {
     EXPECT_TRUE(plain.levels == cog.levels) << name;
     EXPECT_TRUE(plain.tiled) << name;
   }
-  // Hand-worked row: port NEAR -> FAR seabed, object 2^24 + 1, shadow (its caster), starboard
-  // empty; columns port FAR -> NEAR | starboard.
-  TruthWaterfall one(dir);
-  const std::vector<SampleClass> port = {SampleClass::seabed, SampleClass::object,
-                                         SampleClass::shadow};
-  const std::vector<std::int32_t> port_id = {0, 16777217, -1};
-  const std::vector<float> port_g = {0.1f, 0.2f, 0.3f};
-  one.add_ping(port, {}, port_id, {}, port_g, {});
-  one.write_with_labels((dir / "one.tif").string(), (dir / "one_class.tif").string(),
-                        (dir / "one_instance.tif").string(), false, items);
-  EXPECT_EQ(read(dir / "one_class.tif").values,
-            (std::vector<std::uint32_t>{3, 2, 1, 255, 255, 255}));
-  EXPECT_EQ(
-      read(dir / "one_instance.tif").values,
-      (std::vector<std::uint32_t>{16777217, 16777217, 0, 0xFFFFFFFFu, 0xFFFFFFFFu, 0xFFFFFFFFu}));
   fs::remove_all(dir);
 }
 
