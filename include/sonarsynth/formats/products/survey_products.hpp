@@ -19,6 +19,9 @@ namespace sonarsynth {
 namespace geo_truth {
 class GeoTruthWriter;
 }
+namespace detail {
+class SurveyMosaic;
+}
 
 /// What `simulate` derives from the rendered pings besides the XTF files.
 struct SurveyProductOptions {
@@ -114,12 +117,11 @@ class SurveyProducts : public PingSink {
   std::vector<std::string> notes() const;
 
  private:
-  class MosaicPart;
   class LinePart;
   class WaterfallPart;
   class TruthPart;
   SurveyProductOptions options_;
-  std::unique_ptr<MosaicPart> mosaic_;
+  std::unique_ptr<detail::SurveyMosaic> mosaic_;
   std::unique_ptr<LinePart> waterfall_;
   std::unique_ptr<LinePart> truth_;
   std::unique_ptr<geo_truth::GeoTruthWriter> vectors_;
