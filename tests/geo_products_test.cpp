@@ -511,6 +511,33 @@ TEST_F(GeoProductsTest, EveryLargeTiffHasOverviewsInCloudOptimisedOrder) {
     EXPECT_GT(data, ifd) << f;
   }
   EXPECT_GE(large, 7u);  // mosaic, rgb, truth mosaic, its class and instance, the line's three
+  // `--of GTiff`: every one of them a plain tiled GeoTIFF instead, each level's data after the
+  // full resolution's, and no LAYOUT=COG.
+  o.products.write_options.format = MosaicRasterFormat::gtiff;
+  const fs::path plain_out = dir_ / "plain";
+  const RunResult plain = run_simulation(write_scene(text, "plain.yaml"), plain_out, o);
+  std::size_t plain_large = 0;
+  for (const fs::path& f : plain.files) {
+    if (f.extension() != ".tif") continue;
+    std::unique_ptr<GDALDataset> ds(GDALDataset::Open(f.string().c_str(), GDAL_OF_RASTER));
+    ASSERT_TRUE(ds) << f;
+    EXPECT_EQ(ds->GetMetadataItem("LAYOUT", "IMAGE_STRUCTURE"), nullptr) << f;
+    GDALRasterBand* b = ds->GetRasterBand(1);
+    if (ds->GetRasterXSize() <= 512 && ds->GetRasterYSize() <= 512) continue;
+    ++plain_large;
+    ASSERT_GT(b->GetOverviewCount(), 0) << f;
+    int bx = 0, by = 0;
+    b->GetBlockSize(&bx, &by);
+    EXPECT_LT(bx, ds->GetRasterXSize()) << f << ": tiled, not strips of the full width";
+    const char* full = b->GetMetadataItem("BLOCK_OFFSET_0_0", "TIFF");
+    ASSERT_TRUE(full) << f;
+    for (int i = 0; i < b->GetOverviewCount(); ++i) {
+      const char* ov = b->GetOverview(i)->GetMetadataItem("BLOCK_OFFSET_0_0", "TIFF");
+      ASSERT_TRUE(ov) << f << " overview " << i;
+      EXPECT_GT(std::stoll(ov), std::stoll(full)) << f << " overview " << i;
+    }
+  }
+  EXPECT_EQ(plain_large, large);
   // The line rasters' GCPs: in EPSG:32631, on the line's swath (within range of the track).
   for (const char* suffix : {"_truth.tif", "_truth_class.tif", "_truth_instance.tif"}) {
     std::unique_ptr<GDALDataset> ds(

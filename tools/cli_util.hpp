@@ -68,19 +68,3 @@ inline constexpr long long kMaxThreadsOption = 1024;
 unsigned checked_thread_count(long long value, long long min_value);
 
 }  // namespace sonarsynth::cli
-
-namespace sonarsynth::cli {
-
-/// Throws InputError if an output path names the same file as one of the inputs (after
-/// resolving "." / ".." and symbolic links): `waterfall a.xtf -o a.xtf --overwrite` would
-/// otherwise replace the input with its own product. Empty paths are ignored.
-void refuse_output_over_input(const std::vector<std::string>& outputs,
-                              const std::vector<std::string>& inputs);
-
-/// Throws InputError if two outputs name the same file (after resolving "." / ".." and symbolic
-/// links, whether or not the file exists): `mosaic a.xtf -o m.tif --rgb m.tif` would otherwise
-/// leave only the one written last. `names` are the option names shown ("-o", "--rgb").
-void refuse_equal_outputs(const std::vector<std::string>& outputs,
-                          const std::vector<std::string>& names);
-
-}  // namespace sonarsynth::cli

@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
+#include "sonarsynth/formats/products/output_paths.hpp"
 #include "sonarsynth/formats/registry/sonar_formats.hpp"
 
 namespace sonarsynth::cli {

@@ -18,6 +18,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/atomic_file.hpp"
+#include "sonarsynth/formats/products/output_paths.hpp"
 #include "sonarsynth/match/feature_matcher.hpp"
 #include "sonarsynth/match/image_source.hpp"
 #include "sonarsynth/match/match_accuracy.hpp"

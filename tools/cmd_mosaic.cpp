@@ -1,22 +1,14 @@
 // SPDX-License-Identifier: MIT
 // `sonarsynth mosaic`: sonar files of any listed format (ours or any vendor's) gridded into a
 // GeoTIFF mosaic.
-#include <algorithm>
-#include <cmath>
-#include <filesystem>
 #include <iostream>
-#include <optional>
-#include <sstream>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/raster/gdal_grid.hpp"
-#include "sonarsynth/formats/products/mosaic_writer.hpp"
+#include "sonarsynth/formats/products/mosaic_files.hpp"
 #include "sonarsynth/formats/registry/sonar_formats.hpp"
-#include "sonarsynth/formats/products/xtf_mosaic.hpp"
 
 namespace sonarsynth::cli {
 namespace {
@@ -35,13 +27,6 @@ const char* const kUsage =
     "swath (nadir and far edge yield to mid-swath samples); max = strongest sample\n"
     "(shine-through); nearest = sample nearest to nadir.";
 
-MosaicRule parse_rule(const std::string& s) {
-  if (s == "mean") return MosaicRule::weighted_mean;
-  if (s == "max") return MosaicRule::max;
-  if (s == "nearest") return MosaicRule::nearest;
-  throw InputError("--rule = '" + s + "'. Violated constraint: one of mean, max, nearest");
-}
-
 }  // namespace
 
 int run_mosaic(const std::vector<std::string>& args) {
@@ -50,15 +35,15 @@ int run_mosaic(const std::vector<std::string>& args) {
   std::string output, rule = "mean", bathymetry, format = "COG", rgb_path;
   std::string altitude_source = "auto", gain_normalisation = "off";
   double wo_linear = 0.0;
-  XtfMosaicOptions mo;
+  MosaicRequest q;
   // clang-format off
   opts.add_options()
     ("input", po::value(&inputs)->composing(),
      ("sonar files: " + sonar_format_names() + " (positional; format from content)").c_str())
     ("output,o", po::value(&output)->required(), "output GeoTIFF")
-    ("res", po::value(&mo.pixel_size_m)->default_value(0.25), "pixel size, metres, > 0")
+    ("res", po::value(&q.options.pixel_size_m)->default_value(kDefaultMosaicPixelM), "pixel size, metres, > 0")
     ("rule", po::value(&rule)->default_value("mean"), "mean | max | nearest")
-    ("taper", po::value(&mo.gridding.taper_fraction)->default_value(0.1, "0.1"),
+    ("taper", po::value(&q.options.gridding.taper_fraction)->default_value(0.1, "0.1"),
      "mean: fraction of the swath tapered at nadir and at the far edge, [0, 0.5]")
     ("bathymetry", po::value(&bathymetry),
      "slant->ground against this elevation grid (any GDAL raster; its UTM zone is used)")
@@ -72,7 +57,7 @@ int run_mosaic(const std::vector<std::string>& args) {
     ("gain-normalisation", po::value(&gain_normalisation)->default_value("off"),
      "off | range | angle: empirical across-track gain over all the files, by slant range or "
      "depression angle (docs/conversion.md)")
-    ("max-pixels", po::value(&mo.max_pixels)->default_value(mo.max_pixels),
+    ("max-pixels", po::value(&q.options.max_pixels)->default_value(q.options.max_pixels),
      "refuse a mosaic of more pixels than this (about 20 bytes each while gridding)")
     ("count", "add band 2: number of contributions per pixel")
     ("of", po::value(&format)->default_value("COG"), "COG | GTiff")
@@ -92,7 +77,8 @@ int run_mosaic(const std::vector<std::string>& args) {
   if (!parse(args, opts, positional, vm, kUsage)) return 0;
   if (inputs.empty())
     throw InputError("no input file. Violated constraint: at least one sonar file");
-  mo.gridding.rule = parse_rule(rule);
+  XtfMosaicOptions& mo = q.options;
+  mo.gridding.rule = parse_mosaic_rule(rule, "--rule");
   mo.apply_layback = vm.count("layback") > 0;
   mo.gridding.nadir_fill = vm.count("no-nadir-fill") == 0;
   mo.altitude_source = parse_altitude_source(altitude_source, "--altitude-source");
@@ -106,14 +92,8 @@ int run_mosaic(const std::vector<std::string>& args) {
   mo.gain_normalisation = parse_gain_normalisation(gain_normalisation, "--gain-normalisation");
   mo.validate();
 
-  MosaicWriteOptions wo;
-  if (format == "COG" || format == "cog") {
-    wo.format = MosaicRasterFormat::cog;
-  } else if (format == "GTiff" || format == "gtiff") {
-    wo.format = MosaicRasterFormat::gtiff;
-  } else {
-    throw InputError("--of = '" + format + "'. Violated constraint: COG or GTiff");
-  }
+  MosaicWriteOptions& wo = q.write;
+  wo.format = parse_mosaic_raster_format(format, "--of");
   wo.count_band = vm.count("count") > 0;
   wo.overwrite = vm.count("overwrite") > 0;
   wo.creation_options = parse_key_values(co, "co");
@@ -127,125 +107,15 @@ int run_mosaic(const std::vector<std::string>& args) {
   std::string command = "sonarsynth mosaic";
   for (const std::string& a : args) command += " " + a;
   wo.metadata.push_back({"SONARSYNTH_COMMAND", command});
-  wo.metadata.push_back({"SONARSYNTH_MOSAIC_RULE", rule});
-  wo.metadata.push_back({"SONARSYNTH_ALTITUDE_SOURCE", to_string(mo.altitude_source)});
-  wo.metadata.push_back({"SONARSYNTH_GAIN_NORMALISATION", to_string(mo.gain_normalisation)});
-  // Refuse existing outputs (and inputs named as outputs) before the (long) gridding.
-  refuse_equal_outputs({output, wo.rgb_path}, {"-o", "--rgb"});
-  {
-    std::vector<std::string> all_inputs = inputs;
-    all_inputs.push_back(bathymetry);
-    refuse_output_over_input({output, wo.rgb_path}, all_inputs);
-  }
-  wo.validate();  // display copy name, creation options: before the (long) gridding
-  for (const std::string& p : {output, wo.rgb_path}) {
-    if (!p.empty() && !wo.overwrite && std::filesystem::exists(p)) {
-      throw InputError("output " + p + " already exists (use --overwrite to replace it)");
-    }
-  }
-
-  std::optional<LoadedGrid> bathy;
-  if (!bathymetry.empty()) {
-    GridReadOptions ro;
-    ro.depth_positive_down = vm.count("depth-positive") > 0;
-    bathy = read_height_grid(bathymetry, ro);
-  } else if (vm.count("depth-positive") > 0) {
-    throw InputError(
-        "--depth-positive given without --bathymetry. Violated constraint: "
-        "--depth-positive describes the --bathymetry grid");
-  }
-  const std::vector<std::filesystem::path> files(inputs.begin(), inputs.end());
-  const XtfMosaicResult r = mosaic_xtf(files, mo, bathy ? &*bathy : nullptr);
-  for (const std::string& m : r.skipped_files) {
-    std::cerr << "sonarsynth mosaic: warning: skipped " << m << "\n";
-  }
-  if (r.pings_gridded == 0 && bathy) {
-    // With a bathymetry, a ping places nothing where its swath misses the grid: say so when the
-    // grid and the survey do not overlap at all.
-    const GridGeometry& m = r.image.geometry;
-    const double half_x = 0.5 * m.dx_m, half_y = 0.5 * std::abs(m.dy_m);
-    const double mx0 = m.x_of_col(0) - half_x;
-    const double mx1 = m.x_of_col(static_cast<double>(m.cols) - 1.0) + half_x;
-    const double my_a = m.y_of_row(0), my_b = m.y_of_row(static_cast<double>(m.rows) - 1.0);
-    const double my0 = std::min(my_a, my_b) - half_y, my1 = std::max(my_a, my_b) + half_y;
-    const Eigen::Vector4d bb = bathy->grid.bounds();
-    if (bb[2] < mx0 || bb[0] > mx1 || bb[3] < my0 || bb[1] > my1) {
-      const auto corner = [&](double x, double y) {
-        const Eigen::Vector2d p = r.frame.projected_from_local({x, y});
-        std::ostringstream os;
-        os.setf(std::ios::fixed);
-        os.precision(1);
-        os << "(" << p.x() << ", " << p.y() << ")";
-        return os.str();
-      };
-      throw InputError("--bathymetry " + bathymetry + ": the grid " + corner(bb[0], bb[1]) +
-                       " .. " + corner(bb[2], bb[3]) + " does not overlap the survey " +
-                       corner(mx0, my0) + " .. " + corner(mx1, my1) + " (EPSG:" +
-                       std::to_string(r.frame.epsg()) + " metres): no ping could be gridded");
-    }
-  }
-  if (r.pings_gridded == 0) {
-    std::string names;
-    for (const std::string& f : inputs) names += (names.empty() ? "" : ", ") + f;
-    throw FormatError(names + ": no ping could be gridded (" + std::to_string(r.pings) +
-                      " pings, " + std::to_string(r.pings_no_navigation) + " without navigation, " +
-                      std::to_string(r.pings_no_altitude) + " without altitude)");
-  }
-  if (r.pings_dropped > 0) {
-    std::cerr << "sonarsynth mosaic: warning: dropped " << r.pings_dropped << " of " << r.pings
-              << " pings as navigation outliers (" << r.dropped_position_jump << " position jumps, "
-              << r.dropped_slant_range << " slant ranges, " << r.dropped_heading << " headings):\n";
-    for (const std::string& e : r.dropped_examples) std::cerr << "  " << e << "\n";
-    if (r.dropped_examples.size() < r.pings_dropped) {
-      std::cerr << "  ... (" << r.pings_dropped - r.dropped_examples.size() << " more)\n";
-    }
-  }
-  if (r.reader_anomalies > 0) {
-    std::cerr << "sonarsynth mosaic: warning: " << r.reader_anomalies
-              << " anomalies while reading (malformed packets skipped; see sonarsynth info):\n";
-    for (const std::string& m : r.reader_anomaly_messages) std::cerr << "  " << m << "\n";
-    if (r.reader_anomaly_messages.size() < r.reader_anomalies) {
-      std::cerr << "  ... (" << r.reader_anomalies - r.reader_anomaly_messages.size() << " more)\n";
-    }
-  }
-  if (r.pings_no_navigation > 0) {
-    std::cerr << "sonarsynth mosaic: warning: skipped " << r.pings_no_navigation << " of "
-              << r.pings << " pings with missing or zero navigation\n";
-  }
-  if (r.pings_no_samples > 0) {
-    std::cerr << "sonarsynth mosaic: warning: skipped " << r.pings_no_samples
-              << " pings without port/starboard samples\n";
-  }
-  if (r.pings_no_altitude > 0) {
-    std::cerr << "sonarsynth mosaic: warning: skipped " << r.pings_no_altitude
-              << " pings without altitude\n";
-  }
-  if (r.pings_tracked_altitude > 0 && mo.altitude_source == AltitudeSource::kAuto) {
-    std::cerr << "sonarsynth mosaic: warning: altitude of " << r.pings_tracked_altitude << " of "
-              << r.pings_tracked_altitude + r.pings_header_altitude
-              << " gridded pings tracked from the first bottom return (" << r.pings_header_disagreed
-              << " where the header altitude disagreed, the others without one)\n";
-  }
-  try {
-    write_mosaic(output, r.frame, r.image, wo);
-  } catch (const std::system_error& e) {
-    // The display copy is written on a thread of its own, alongside the mosaic.
-    if (e.code() != std::errc::resource_unavailable_try_again || wo.rgb_path.empty()) throw;
-    throw FormatError(output + ": could not start the thread that writes the display copy " +
-                      wo.rgb_path + " (" + e.code().message() +
-                      "; the limit on threads, ulimit -u, or on address space, ulimit -v, is "
-                      "reached); nothing written (--no-rgb needs no thread)");
-  }
-  if (!vm.count("quiet")) {
-    const GridGeometry& g = r.image.geometry;
-    std::cout << "wrote " << output << ": " << g.cols << " x " << g.rows << " pixels of "
-              << mo.pixel_size_m << " m, EPSG:" << r.frame.epsg() << ", " << r.pings_gridded
-              << " of " << r.pings << " pings, " << r.samples_placed << " samples ("
-              << r.fill_points << " fill points); altitude: " << r.pings_header_altitude
-              << " header, " << r.pings_tracked_altitude << " tracked";
-    if (!wo.rgb_path.empty()) std::cout << "; display copy " << wo.rgb_path;
-    std::cout << "\n";
-  }
+  q.inputs.assign(inputs.begin(), inputs.end());
+  q.output = output;
+  q.bathymetry = bathymetry;
+  q.bathymetry_depth_positive = vm.count("depth-positive") > 0;
+  q.on_warning = [](const std::string& w) {
+    std::cerr << "sonarsynth mosaic: warning: " << w << "\n";
+  };
+  const MosaicSummary s = mosaic_files(q);
+  if (!vm.count("quiet")) std::cout << s.text() << "\n";
   return 0;
 }
 

@@ -113,7 +113,7 @@ int run_simulate(const std::vector<std::string>& args) {
   double range_m = 0;
   std::size_t samples = 0;
   long long threads = 0;
-  double res_m = 0.25;
+  double res_m = kDefaultMosaicPixelM;
   std::string of = "COG";
   std::vector<std::string> co;
   bool no_mosaic = false, no_waterfall = false, no_truth = false;
@@ -129,7 +129,7 @@ int run_simulate(const std::vector<std::string>& args) {
     ("samples", po::value(&samples), "samples per channel (overrides sonar.samples)")
     ("quality", po::value(&quality), "renderer quality: fast, default or high")
     ("threads", po::value(&threads), "worker threads (default: all cores); output is identical for any value")
-    ("res", po::value(&res_m)->default_value(0.25), "mosaic pixel size, metres")
+    ("res", po::value(&res_m)->default_value(kDefaultMosaicPixelM), "mosaic pixel size, metres")
     ("of", po::value(&of)->default_value("COG"), "mosaic format: COG or GTiff")
     ("co", po::value(&co)->composing(), "mosaic creation option KEY=VALUE (repeatable)")
     ("no-mosaic", po::bool_switch(&no_mosaic), "skip the mosaics")
@@ -159,13 +159,7 @@ int run_simulate(const std::vector<std::string>& args) {
   po_opts.truth = !no_truth;
   po_opts.mosaic_pixel_m = res_m;
   po_opts.waterfall_max_pixels = waterfall_max_pixels;
-  if (of == "COG" || of == "cog") {
-    po_opts.write_options.format = MosaicRasterFormat::cog;
-  } else if (of == "GTiff" || of == "gtiff") {
-    po_opts.write_options.format = MosaicRasterFormat::gtiff;
-  } else {
-    throw InputError("--of = '" + of + "'. Violated constraint: COG or GTiff");
-  }
+  po_opts.write_options.format = parse_mosaic_raster_format(of, "--of");
   po_opts.write_options.creation_options = parse_key_values(co, "co");
   ProgressBar bar(quiet, "pings");
   bool bar_done = false;  // ended at the last ping, before the statistics' warnings

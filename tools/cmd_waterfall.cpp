@@ -6,8 +6,9 @@
 
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/registry/sonar_formats.hpp"
+#include "sonarsynth/formats/products/output_paths.hpp"
 #include "sonarsynth/formats/products/waterfall.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
 
 namespace sonarsynth::cli {
 

@@ -305,28 +305,23 @@ Extents object_extents(const std::vector<const ObjectPrimitive*>& parts, double 
   return e;
 }
 
-}  // namespace
+/// Local frame -> longitude, latitude (degrees at I/O only), in place.
+void to_geographic(OGRGeometry& g, const GeoFrame& frame) {
+  struct Visitor : public OGRDefaultGeometryVisitor {
+    const GeoFrame& frame;
+    explicit Visitor(const GeoFrame& f) : frame(f) {}
+    using OGRDefaultGeometryVisitor::visit;
+    void visit(OGRPoint* p) override {
+      const Geodetic q = frame.geodetic_from_local({p->getX(), p->getY()});
+      p->setX(deg_from_rad(q.lon_rad));
+      p->setY(deg_from_rad(q.lat_rad));
+    }
+  } v(frame);
+  g.accept(&v);
+}
 
-void GeoTruthWriter::finish() {
-  gdal::ensure_registered();
-  const GeoFrame& frame = scene_->frame;
-  const auto to_geographic = [&frame](OGRGeometry& g) {
-    // Local frame -> longitude, latitude (degrees at I/O only).
-    struct Visitor : public OGRDefaultGeometryVisitor {
-      const GeoFrame& frame;
-      explicit Visitor(const GeoFrame& f) : frame(f) {}
-      using OGRDefaultGeometryVisitor::visit;
-      void visit(OGRPoint* p) override {
-        const Geodetic q = frame.geodetic_from_local({p->getX(), p->getY()});
-        p->setX(deg_from_rad(q.lon_rad));
-        p->setY(deg_from_rad(q.lat_rad));
-      }
-    } v(frame);
-    g.accept(&v);
-  };
-
-  // Targets.
-  VectorFile targets(dir_ / "targets.geojson", overwrite_, "targets", wkbPoint);
+/// The fields of targets.geojson.
+void add_target_fields(VectorFile& targets) {
   targets.field("id", OFTInteger);
   for (const char* f : {"name", "type", "shape", "material"}) targets.field(f, OFTString);
   for (const char* f :
@@ -340,50 +335,69 @@ void GeoTruthWriter::finish() {
   }
   targets.field("pings", OFTInteger64);
   targets.field("seen_by", OFTString, OFSTJSON);
+}
+
+/// The fields of object `id` of `scene` but its sightings: from its record, or for a scene built
+/// in code from its first primitive. Returns its position.
+Geodetic set_target_fields(OGRFeature& f, const Scene& scene, std::int32_t id,
+                           const Eigen::Vector2d& centre_xy_m) {
+  const GeoFrame& frame = scene.frame;
+  std::vector<const ObjectPrimitive*> parts;
+  for (const ObjectPrimitive& o : scene.objects.primitives()) {
+    if (o.id == id) parts.push_back(&o);
+  }
+  const ObjectRecord* rec = nullptr;
+  for (const ObjectRecord& r : scene.object_records) {
+    if (r.id == id) rec = &r;
+  }
+  ObjectRecord r;
+  if (rec) {
+    r = *rec;
+  } else if (!parts.empty()) {  // a scene built in code: the primitive's own numbers
+    r.id = id;
+    r.type = to_string(parts[0]->shape);
+    r.position_xy_m = parts[0]->centre_xy_m;
+    r.heading_rad = parts[0]->heading_rad;
+    r.clearance_m = parts[0]->clearance_m;
+  }
+  f.SetField("id", id);
+  f.SetField("name", r.name.empty() ? (r.type + "-" + std::to_string(id)).c_str() : r.name.c_str());
+  f.SetField("type", r.type.c_str());
+  f.SetField("shape", parts.empty() ? "" : to_string(parts[0]->shape));
+  f.SetField("material", r.material.c_str());
+  const Geodetic g = frame.geodetic_from_local(r.position_xy_m);
+  f.SetField("lat_deg", deg_from_rad(g.lat_rad));
+  f.SetField("lon_deg", deg_from_rad(g.lon_rad));
+  f.SetField("east_m", r.position_xy_m.x() - centre_xy_m.x());
+  f.SetField("north_m", r.position_xy_m.y() - centre_xy_m.y());
+  const Eigen::Vector2d en = frame.projected_from_local(r.position_xy_m);
+  f.SetField("utm_easting_m", en.x());
+  f.SetField("utm_northing_m", en.y());
+  f.SetField("epsg", frame.epsg());
+  const Extents e = object_extents(parts, r.heading_rad);
+  set_real(f, "length_m", e.length);
+  set_real(f, "width_m", e.width);
+  set_real(f, "height_m", e.height);
+  set_real(f, "diameter_m", e.diameter);
+  f.SetField("heading_deg", deg_from_rad(r.heading_rad));
+  f.SetField("clearance_m", r.clearance_m);
+  f.SetField("embed", r.embed_fraction);
+  return g;
+}
+
+}  // namespace
+
+void GeoTruthWriter::finish() {
+  gdal::ensure_registered();
+  const GeoFrame& frame = scene_->frame;
+
+  // Targets.
+  VectorFile targets(dir_ / "targets.geojson", overwrite_, "targets", wkbPoint);
+  add_target_fields(targets);
   for (std::size_t k = 0; k < ids_.size(); ++k) {
     const std::int32_t id = ids_[k];
-    std::vector<const ObjectPrimitive*> parts;
-    for (const ObjectPrimitive& o : scene_->objects.primitives()) {
-      if (o.id == id) parts.push_back(&o);
-    }
-    const ObjectRecord* rec = nullptr;
-    for (const ObjectRecord& r : scene_->object_records) {
-      if (r.id == id) rec = &r;
-    }
-    ObjectRecord r;
-    if (rec) {
-      r = *rec;
-    } else if (!parts.empty()) {  // a scene built in code: the primitive's own numbers
-      r.id = id;
-      r.type = to_string(parts[0]->shape);
-      r.position_xy_m = parts[0]->centre_xy_m;
-      r.heading_rad = parts[0]->heading_rad;
-      r.clearance_m = parts[0]->clearance_m;
-    }
     OGRFeature f(targets.layer->GetLayerDefn());
-    f.SetField("id", id);
-    f.SetField("name",
-               r.name.empty() ? (r.type + "-" + std::to_string(id)).c_str() : r.name.c_str());
-    f.SetField("type", r.type.c_str());
-    f.SetField("shape", parts.empty() ? "" : to_string(parts[0]->shape));
-    f.SetField("material", r.material.c_str());
-    const Geodetic g = frame.geodetic_from_local(r.position_xy_m);
-    f.SetField("lat_deg", deg_from_rad(g.lat_rad));
-    f.SetField("lon_deg", deg_from_rad(g.lon_rad));
-    f.SetField("east_m", r.position_xy_m.x() - centre_xy_m_.x());
-    f.SetField("north_m", r.position_xy_m.y() - centre_xy_m_.y());
-    const Eigen::Vector2d en = frame.projected_from_local(r.position_xy_m);
-    f.SetField("utm_easting_m", en.x());
-    f.SetField("utm_northing_m", en.y());
-    f.SetField("epsg", frame.epsg());
-    const Extents e = object_extents(parts, r.heading_rad);
-    set_real(f, "length_m", e.length);
-    set_real(f, "width_m", e.width);
-    set_real(f, "height_m", e.height);
-    set_real(f, "diameter_m", e.diameter);
-    f.SetField("heading_deg", deg_from_rad(r.heading_rad));
-    f.SetField("clearance_m", r.clearance_m);
-    f.SetField("embed", r.embed_fraction);
+    const Geodetic g = set_target_fields(f, *scene_, id, centre_xy_m_);
     std::ostringstream json;
     json << "[";
     std::uint64_t total = 0;
@@ -435,7 +449,7 @@ void GeoTruthWriter::finish() {
       if (!d.coverage[side]) continue;
       std::unique_ptr<OGRGeometry> g(
           OGRGeometryFactory::forceToMultiPolygon(d.coverage[side]->clone()));
-      to_geographic(*g);
+      to_geographic(*g, frame);
       OGRFeature c(coverage.layer->GetLayerDefn());
       c.SetField("line", names_[l].c_str());
       c.SetField("side", side == 0 ? "port" : "starboard");

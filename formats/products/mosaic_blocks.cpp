@@ -13,9 +13,9 @@
 #include <stdexcept>
 #include <utility>
 
-#include "sonarsynth/formats/raster/raster_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/atomic_file.hpp"
+#include "sonarsynth/formats/raster/raster_util.hpp"
 
 namespace sonarsynth::raster {
 namespace {
@@ -401,11 +401,96 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
   std::filesystem::remove(temp_path + ".aux.xml", ec);
 }
 
+void copy_plain_with_overviews(
+    GDALDataset& src, const char* resampling,
+    const std::vector<std::pair<std::string, std::string>>& creation_options,
+    const std::string& temp_path, const char* who, const std::string& final_path) {
+  copy_to_file(src, "GTiff", temp_path, creation_options, who, final_path);
+  std::vector<int> factors = overview_factors(static_cast<std::size_t>(src.GetRasterXSize()),
+                                              static_cast<std::size_t>(src.GetRasterYSize()));
+  if (factors.empty()) return;
+  CPLErrorReset();
+  gdal::DatasetPtr ds(GDALDataset::Open(temp_path.c_str(), GDAL_OF_RASTER | GDAL_OF_UPDATE));
+  if (!ds) {
+    throw FormatError(std::string(who) + ": " + final_path +
+                      ": cannot reopen to add overviews: " + gdal::last_error_message());
+  }
+  std::vector<int> bands;
+  for (int b = 1; b <= ds->GetRasterCount(); ++b) bands.push_back(b);
+  if (ds->BuildOverviews(resampling, static_cast<int>(factors.size()), factors.data(),
+                         static_cast<int>(bands.size()), bands.data(), nullptr,
+                         nullptr) != CE_None) {
+    throw FormatError(std::string(who) + ": " + final_path +
+                      ": cannot build overviews: " + gdal::last_error_message());
+  }
+  gdal::close_checked(std::move(ds), final_path, who);
+}
+
+namespace {
+
+/// Internal overviews of every band of `ds` (GTiff, opened for update) at `factors`, band b
+/// computed with `resampling[b - 1]` (the last entry for further bands; NEAREST if empty).
+template <typename Fail>
+void add_overviews(GDALDataset& ds, std::vector<int>& factors,
+                   const std::vector<std::string>& resampling, const Fail& fail) {
+  const int bands = ds.GetRasterCount();
+  std::vector<int> band_list;
+  for (int b = 1; b <= bands; ++b) band_list.push_back(b);
+  // The levels' IFDs and blocks, then their pixels band by band with the band's resampling
+  // (the GTiff driver builds internal overviews for all bands at once only).
+  if (ds.BuildOverviews("NONE", static_cast<int>(factors.size()), factors.data(), bands,
+                        band_list.data(), nullptr, nullptr) != CE_None) {
+    fail("cannot create overviews");
+  }
+  for (int b = 1; b <= bands; ++b) {
+    GDALRasterBand* band = ds.GetRasterBand(b);
+    std::vector<GDALRasterBandH> targets;
+    for (int o = 0; o < band->GetOverviewCount(); ++o) {
+      targets.push_back(GDALRasterBand::ToHandle(band->GetOverview(o)));
+    }
+    const std::string& method =
+        resampling.empty()
+            ? std::string("NEAREST")
+            : resampling[std::min(resampling.size(), static_cast<std::size_t>(b)) - 1];
+    if (GDALRegenerateOverviews(GDALRasterBand::ToHandle(band), static_cast<int>(targets.size()),
+                                targets.data(), method.c_str(), nullptr, nullptr) != CE_None) {
+      fail("cannot compute overviews");
+    }
+    flush_blocks(ds);
+  }
+}
+
+/// Sets `gcps` (if it has points) on `ds`.
+template <typename Fail>
+void set_gcps(GDALDataset& ds, const GroundControl& gcps, const Fail& fail) {
+  if (gcps.points.empty()) return;
+  std::vector<GDAL_GCP> list(gcps.points.size());
+  std::vector<std::string> ids(gcps.points.size());
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const GroundControl::Point& p = gcps.points[i];
+    ids[i] = std::to_string(i + 1);
+    list[i].pszId = ids[i].data();
+    list[i].pszInfo = const_cast<char*>("");
+    list[i].dfGCPPixel = p.pixel;
+    list[i].dfGCPLine = p.line;
+    list[i].dfGCPX = p.easting_m;
+    list[i].dfGCPY = p.northing_m;
+    list[i].dfGCPZ = 0.0;
+  }
+  OGRSpatialReference srs;
+  srs.importFromEPSG(gcps.epsg);
+  if (ds.SetGCPs(static_cast<int>(list.size()), list.data(), &srs) != CE_None) {
+    fail("cannot set the ground control points");
+  }
+}
+
+}  // namespace
+
 void copy_adding_overviews(const std::string& from, const std::string& to,
                            const std::vector<std::string>& resampling,
                            const std::vector<std::pair<std::string, std::string>>& creation_options,
                            const GroundControl& gcps, const char* who,
-                           const std::string& final_path) {
+                           const std::string& final_path, bool cog_layout) {
   TemporaryFile source_file(from);
   auto fail = [&](const std::string& what) {
     const std::string msg = gdal::last_error_message();
@@ -416,64 +501,26 @@ void copy_adding_overviews(const std::string& from, const std::string& to,
   CPLErrorReset();
   gdal::DatasetPtr ds(GDALDataset::Open(from.c_str(), GDAL_OF_RASTER | GDAL_OF_UPDATE));
   if (!ds) fail("cannot reopen " + from);
-  const int bands = ds->GetRasterCount();
   std::vector<int> factors = overview_factors(static_cast<std::size_t>(ds->GetRasterXSize()),
                                               static_cast<std::size_t>(ds->GetRasterYSize()));
-  if (!factors.empty()) {
-    std::vector<int> band_list;
-    for (int b = 1; b <= bands; ++b) band_list.push_back(b);
-    // The levels' IFDs and blocks, then their pixels band by band with the band's resampling
-    // (the GTiff driver builds internal overviews for all bands at once only).
-    if (ds->BuildOverviews("NONE", static_cast<int>(factors.size()), factors.data(), bands,
-                           band_list.data(), nullptr, nullptr) != CE_None) {
-      fail("cannot create overviews");
-    }
-    for (int b = 1; b <= bands; ++b) {
-      GDALRasterBand* band = ds->GetRasterBand(b);
-      std::vector<GDALRasterBandH> targets;
-      for (int o = 0; o < band->GetOverviewCount(); ++o) {
-        targets.push_back(GDALRasterBand::ToHandle(band->GetOverview(o)));
-      }
-      const std::string& method =
-          resampling.empty()
-              ? std::string("NEAREST")
-              : resampling[std::min(resampling.size(), static_cast<std::size_t>(b)) - 1];
-      if (GDALRegenerateOverviews(GDALRasterBand::ToHandle(band), static_cast<int>(targets.size()),
-                                  targets.data(), method.c_str(), nullptr, nullptr) != CE_None) {
-        fail("cannot compute overviews");
-      }
-      flush_blocks(*ds);
-    }
-  }
-  if (!gcps.points.empty()) {
-    std::vector<GDAL_GCP> list(gcps.points.size());
-    std::vector<std::string> ids(gcps.points.size());
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      const GroundControl::Point& p = gcps.points[i];
-      ids[i] = std::to_string(i + 1);
-      list[i].pszId = ids[i].data();
-      list[i].pszInfo = const_cast<char*>("");
-      list[i].dfGCPPixel = p.pixel;
-      list[i].dfGCPLine = p.line;
-      list[i].dfGCPX = p.easting_m;
-      list[i].dfGCPY = p.northing_m;
-      list[i].dfGCPZ = 0.0;
-    }
-    OGRSpatialReference srs;
-    srs.importFromEPSG(gcps.epsg);
-    if (ds->SetGCPs(static_cast<int>(list.size()), list.data(), &srs) != CE_None) {
-      fail("cannot set the ground control points");
-    }
-  }
+  if (cog_layout && !factors.empty()) add_overviews(*ds, factors, resampling, fail);
+  set_gcps(*ds, gcps, fail);
   GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
   if (!gtiff) fail("GDAL has no GTiff driver");
   CPLStringList co;
   for (const auto& [k, v] : creation_options) co.SetNameValue(k.c_str(), v.c_str());
-  if (!factors.empty()) co.SetNameValue("COPY_SRC_OVERVIEWS", "YES");
+  if (cog_layout && !factors.empty()) co.SetNameValue("COPY_SRC_OVERVIEWS", "YES");
   CPLErrorReset();
   GDALDataset* out = gtiff->CreateCopy(to.c_str(), ds.get(), FALSE, co.List(), nullptr, nullptr);
   if (!out) fail("cannot write GTiff");
   gdal::close_checked(gdal::DatasetPtr(out), final_path, who);
+  if (!cog_layout && !factors.empty()) {
+    // A plain tiled GeoTIFF: the image written and closed first, its overviews appended.
+    gdal::DatasetPtr copy(GDALDataset::Open(to.c_str(), GDAL_OF_RASTER | GDAL_OF_UPDATE));
+    if (!copy) fail("cannot reopen " + to + " to add overviews");
+    add_overviews(*copy, factors, resampling, fail);
+    gdal::close_checked(std::move(copy), final_path, who);
+  }
   ds.reset();
   std::error_code ec;
   std::filesystem::remove(to + ".aux.xml", ec);

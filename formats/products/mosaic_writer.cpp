@@ -15,12 +15,12 @@
 #include <span>
 #include <sstream>
 
-#include "sonarsynth/formats/products/mosaic_blocks.hpp"
-#include "sonarsynth/formats/raster/raster_util.hpp"
 #include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/atomic_file.hpp"
+#include "sonarsynth/formats/products/mosaic_blocks.hpp"
 #include "sonarsynth/formats/raster/gdal_util.hpp"
+#include "sonarsynth/formats/raster/raster_util.hpp"
 #include "sonarsynth/version.hpp"
 
 namespace sonarsynth {
@@ -62,38 +62,13 @@ bool build_overviews(GDALDataset& mem, const GridGeometry& g, const char* resamp
   return true;
 }
 
-/// Copies `src` to `temp` as a plain tiled GeoTIFF (`co`): the full resolution image first,
-/// then `resampling` overviews appended to the file (`--of GTiff`; GDAL's COPY_SRC_OVERVIEWS
-/// would write the COG layout, which GDAL reports as LAYOUT=COG).
-void copy_plain(GDALDataset& src, const GridGeometry& g, const char* resampling,
-                const KeyValues& co, const std::string& temp, const std::string& path) {
-  raster::copy_to_file(src, "GTiff", temp, co, kWho, path);
-  std::vector<int> factors = raster::overview_factors(g.cols, g.rows);
-  if (factors.empty()) return;
-  CPLErrorReset();
-  gdal::DatasetPtr ds(GDALDataset::Open(temp.c_str(), GDAL_OF_RASTER | GDAL_OF_UPDATE));
-  if (!ds) {
-    throw FormatError(std::string(kWho) + ": " + path +
-                      ": cannot reopen to add overviews: " + gdal::last_error_message());
-  }
-  std::vector<int> bands;
-  for (int b = 1; b <= ds->GetRasterCount(); ++b) bands.push_back(b);
-  if (ds->BuildOverviews(resampling, static_cast<int>(factors.size()), factors.data(),
-                         static_cast<int>(bands.size()), bands.data(), nullptr,
-                         nullptr) != CE_None) {
-    throw FormatError(std::string(kWho) + ": " + path +
-                      ": cannot build overviews: " + gdal::last_error_message());
-  }
-  gdal::close_checked(std::move(ds), path, kWho);
-}
-
 /// Copies `src` to `temp` as a GeoTIFF (`co`) with `resampling` overviews made as `overviews`
 /// says, in the COG layout (overviews before the image) unless `format` is gtiff.
 void copy_with_overviews(GDALDataset& src, const GridGeometry& g, Overviews overviews,
                          const char* resampling, KeyValues co, const std::string& temp,
                          const std::string& path, MosaicRasterFormat format) {
   if (format == MosaicRasterFormat::gtiff) {
-    copy_plain(src, g, resampling, co, temp, path);
+    raster::copy_plain_with_overviews(src, resampling, co, temp, kWho, path);
     return;
   }
   if (overviews == Overviews::on_source && build_overviews(src, g, resampling, path)) {
@@ -321,6 +296,12 @@ void MosaicWriteOptions::validate() const {
                                   creation_options, kWho);
 }
 
+MosaicRasterFormat parse_mosaic_raster_format(const std::string& text, const std::string& what) {
+  if (text == "COG" || text == "cog") return MosaicRasterFormat::cog;
+  if (text == "GTiff" || text == "gtiff") return MosaicRasterFormat::gtiff;
+  throw InputError(what + " = '" + text + "'. Violated constraint: COG or GTiff");
+}
+
 std::string default_rgb_path(const std::string& mosaic_path) {
   std::filesystem::path p(mosaic_path);
   return (p.parent_path() / (p.stem().string() + "_rgb.tif")).string();
@@ -380,8 +361,9 @@ void write_mosaic(const std::string& path, const GeoFrame& frame, MosaicGrid& gr
   grid.finalize();
   const GridGeometry& g = grid.geometry();
   gdal::ensure_registered();
-  // Every file is read from the grid's tiles window by window (formats/private/sonarsynth/formats/products/mosaic_blocks.hpp); the
-  // GeoTIFFs' overview levels are computed in a temporary file (raster::copy_with_overviews).
+  // Every file is read from the grid's tiles window by window
+  // (formats/private/sonarsynth/formats/products/mosaic_blocks.hpp); the GeoTIFFs' overview levels
+  // are computed in a temporary file (raster::copy_with_overviews).
   const Job intensity = [&](const std::string& temp) {
     const bool count_band = options.count_band;
     gdal::DatasetPtr src = raster::grid_dataset(

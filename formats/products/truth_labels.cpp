@@ -5,11 +5,11 @@
 #include <array>
 #include <limits>
 
-#include "sonarsynth/formats/products/mosaic_blocks.hpp"
-#include "sonarsynth/formats/raster/raster_util.hpp"
-#include "sonarsynth/formats/products/row_spool.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/atomic_file.hpp"
+#include "sonarsynth/formats/products/mosaic_blocks.hpp"
+#include "sonarsynth/formats/products/row_spool.hpp"
+#include "sonarsynth/formats/raster/raster_util.hpp"
 #include "sonarsynth/mosaic.hpp"
 #include "sonarsynth/version.hpp"
 
@@ -357,15 +357,16 @@ void MosaicLabelCodes::decode_labels(std::span<std::int32_t> codes) const {
 void write_mosaic_label_rasters(const std::string& class_path, const std::string& instance_path,
                                 const GeoFrame& frame, const MosaicGrid& grid,
                                 const MosaicLabelCodes& codes, bool overwrite,
-                                const MetadataItems& metadata) {
+                                const MetadataItems& metadata, bool cog_layout) {
   constexpr const char* kWho = "truth mosaic labels";
   const GridGeometry& g = grid.geometry();
   gdal::ensure_registered();
   AtomicOutput class_out(class_path, overwrite);
   AtomicOutput instance_out(instance_path, overwrite);
   const std::string what = " of the sample nearest to nadir (machine-learning label)";
-  // Each raster read from the grid window by window (formats/private/sonarsynth/formats/products/mosaic_blocks.hpp), the codes
-  // decoded as they are read.
+  // Each raster read from the grid window by window
+  // (formats/private/sonarsynth/formats/products/mosaic_blocks.hpp), the codes decoded as they are
+  // read.
   auto write = [&](bool instance) {
     const std::string& path = instance ? instance_path : class_path;
     gdal::DatasetPtr src = raster::grid_dataset(
@@ -391,9 +392,12 @@ void write_mosaic_label_rasters(const std::string& class_path, const std::string
     raster::describe_dataset(*src, l, 1);
     // Overviews as truth_mosaic.tif's: nearest (an overview pixel is one of its source pixels,
     // class and instance of the same sample).
-    raster::copy_with_overviews(*src, "NEAREST", kTiffOptions,
-                                (instance ? instance_out : class_out).temp_path().string(), kWho,
-                                path);
+    const std::string temp = (instance ? instance_out : class_out).temp_path().string();
+    if (cog_layout) {
+      raster::copy_with_overviews(*src, "NEAREST", kTiffOptions, temp, kWho, path);
+    } else {
+      raster::copy_plain_with_overviews(*src, "NEAREST", kTiffOptions, temp, kWho, path);
+    }
   };
   write(false);
   write(true);

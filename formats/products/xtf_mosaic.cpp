@@ -195,14 +195,13 @@ std::vector<double> track_file_altitudes(const std::filesystem::path& file,
   return tracker.altitudes_m();
 }
 
-XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
-                           const XtfMosaicOptions& options, const LoadedGrid* bathymetry) {
-  options.validate();
-  if (files.empty()) throw InputError("xtf mosaic: no input file");
-  XtfMosaicResult result;
-  result.files = files.size();
+namespace {
 
-  // Pass 1: navigation, extent, sanity of every file.
+/// Pass 1: the navigation of every file (positions, margins, tracked altitudes); files without
+/// any port/starboard channel are skipped and named in result.skipped_files. Throws
+/// FormatError if every file is skipped.
+std::vector<FileNav> read_navigation(const std::vector<std::filesystem::path>& files,
+                                     const XtfMosaicOptions& options, XtfMosaicResult& result) {
   std::vector<FileNav> nav(files.size());
   SideScanRecord rec;
   for (std::size_t fi = 0; fi < files.size(); ++fi) {
@@ -244,18 +243,24 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
     for (const std::string& m : result.skipped_files) all += (all.empty() ? "" : "; ") + m;
     throw FormatError("xtf mosaic: nothing usable: " + all);
   }
-  // The altitude of the k-th ping with samples of file fi.
-  const auto altitude_of = [&](std::size_t fi, std::size_t k, const SonarPing& s) {
-    const std::vector<double>& tr = nav[fi].tracked_m;
-    const double tracked = k < tr.size() ? tr[k] : kNaN;
-    const std::size_t n = std::max(s.port.size(), s.starboard.size());
-    return choose_altitude(options.altitude_source, s.altitude_m, tracked,
-                           s.slant_range_m / static_cast<double>(n), options.tracking);
-  };
+  return nav;
+}
 
-  // Across-track gain statistics over all the files (docs/conversion.md).
-  GainNormaliser gain(options.gain_normalisation);
+/// The altitude of the k-th ping with samples `s` of a file.
+AltitudeChoice altitude_of(const FileNav& nav, std::size_t k, const SonarPing& s,
+                           const XtfMosaicOptions& options) {
+  const std::vector<double>& tr = nav.tracked_m;
+  const double tracked = k < tr.size() ? tr[k] : kNaN;
+  const std::size_t n = std::max(s.port.size(), s.starboard.size());
+  return choose_altitude(options.altitude_source, s.altitude_m, tracked,
+                         s.slant_range_m / static_cast<double>(n), options.tracking);
+}
+
+/// Across-track gain statistics over all the files (docs/conversion.md); finished.
+void gather_gain(const std::vector<std::filesystem::path>& files, const std::vector<FileNav>& nav,
+                 const XtfMosaicOptions& options, GainNormaliser& gain) {
   if (options.gain_normalisation != GainNormalisation::kOff) {
+    SideScanRecord rec;
     for (std::size_t fi = 0; fi < files.size(); ++fi) {
       if (nav[fi].skipped) continue;
       const std::unique_ptr<SideScanSource> reader = SideScanSource::open(files[fi]);
@@ -263,35 +268,20 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
       while (reader->next(rec)) {
         const SonarPing& s = rec.sonar;
         if (!has_samples(s)) continue;
-        const AltitudeChoice a = altitude_of(fi, k++, s);
+        const AltitudeChoice a = altitude_of(nav[fi], k++, s, options);
         gain.add_ping(s.port, s.starboard, s.slant_range_m, a.altitude_m);
       }
     }
   }
   gain.finish();
-  const auto where = [&] {
-    return files.size() == 1 ? files.front().string() : std::to_string(files.size()) + " files";
-  };
-  std::size_t located = 0;
-  for (const FileNav& f : nav) located += f.points.size();
-  if (located == 0) {
-    throw FormatError("xtf mosaic: no ping has valid navigation in " + where() +
-                      " (SensorX/Ycoordinate zero, invalid, or not geographic: NavUnits != 3)");
-  }
+}
 
-  // Navigation outliers, judged in metres in the zone of a robust centre of all positions.
-  const GeoFrame provisional = GeoFrame::around(robust_centre(nav));
-  for (std::size_t fi = 0; fi < files.size(); ++fi) {
-    if (nav[fi].skipped) continue;
-    drop_outliers(files[fi].string(), nav[fi], provisional, options, result);
-  }
-  if (result.pings_dropped == located) {
-    throw FormatError("xtf mosaic: every ping with a position in " + where() + " (" +
-                      std::to_string(located) +
-                      ") is a navigation outlier; first: " + result.dropped_examples.front());
-  }
-
-  // Frame: the zone of the centroid (longitude averaged on the circle: dateline-safe).
+/// The frame of the kept positions (the zone of their centroid, longitude averaged on the
+/// circle: dateline-safe; or the bathymetry's) into result.frame, and the extent of their
+/// swaths in it (the points are released).
+std::pair<Eigen::Vector2d, Eigen::Vector2d> mosaic_extent(std::vector<FileNav>& nav,
+                                                          const LoadedGrid* bathymetry,
+                                                          XtfMosaicResult& result) {
   double lat = 0.0, sx = 0.0, sy = 0.0;
   std::size_t kept = 0;
   for (const FileNav& f : nav) {
@@ -318,6 +308,110 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
     f.points.clear();
     f.points.shrink_to_fit();
   }
+  return {lo, hi};
+}
+
+/// Pass 2 over one file: every ping with samples, navigation and an altitude gridded.
+void grid_file(const std::filesystem::path& file, const FileNav& nav,
+               const XtfMosaicOptions& options, const GainNormaliser& gain, MosaicGrid& grid,
+               XtfMosaicResult& result) {
+  const std::unique_ptr<SideScanSource> reader = SideScanSource::open(file);
+  const std::vector<std::uint64_t>& dropped = nav.dropped_packets;
+  auto next_dropped = dropped.begin();
+  std::size_t k = 0;  // pings with samples so far
+  SideScanRecord rec;
+  while (reader->next(rec)) {
+    ++result.pings;
+    SonarPing& s = rec.sonar;
+    if (!has_samples(s)) {
+      ++result.pings_no_samples;
+      continue;
+    }
+    const AltitudeChoice alt = altitude_of(nav, k++, s, options);
+    if (!rec.nav_valid) {
+      ++result.pings_no_navigation;
+      grid.break_line();
+      continue;
+    }
+    while (next_dropped != dropped.end() && *next_dropped < rec.index) ++next_dropped;
+    if (next_dropped != dropped.end() && *next_dropped == rec.index) {
+      grid.break_line();  // a navigation outlier (counted in pass 1)
+      continue;
+    }
+    MosaicPing mp;
+    mp.sensor_xy_m = result.frame.local_from_geodetic(s.sensor_position);
+    mp.heading_grid_rad = result.frame.grid_azimuth_from_true_rad(s.heading_rad, mp.sensor_xy_m);
+    mp.pitch_rad = std::isfinite(s.pitch_rad) && std::abs(s.pitch_rad) < rad_from_deg(45.0)
+                       ? s.pitch_rad
+                       : 0.0;
+    mp.slant_range_m = s.slant_range_m;
+    if (options.apply_layback) {
+      const double layback = rec.layback_m;
+      if (std::isfinite(layback) && layback > 0.0) {
+        mp.sensor_xy_m -=
+            layback * Eigen::Vector2d(std::sin(mp.heading_grid_rad), std::cos(mp.heading_grid_rad));
+      }
+    }
+    if (std::isnan(alt.altitude_m)) {
+      ++result.pings_no_altitude;
+      continue;
+    }
+    if (alt.tracked) {
+      ++result.pings_tracked_altitude;
+      if (alt.header_disagreed) ++result.pings_header_disagreed;
+    } else {
+      ++result.pings_header_altitude;
+    }
+    mp.altitude_m = alt.altitude_m;
+    gain.apply(s.port, s.starboard, s.slant_range_m, alt.altitude_m);
+    mp.port = std::move(s.port);
+    mp.starboard = std::move(s.starboard);
+    const MosaicAddStats st = grid.add(mp);
+    if (st.samples_placed > 0) ++result.pings_gridded;
+    result.samples_placed += st.samples_placed;
+    result.fill_points += st.fill_points + st.along_fill_points;
+  }
+  grid.break_line();  // no along-track fill from one file into the next
+  result.reader_anomalies += reader->total_anomalies();
+  for (std::string& m : reader->anomaly_messages(kMaxExamples)) {
+    if (result.reader_anomaly_messages.size() >= kMaxExamples) break;
+    result.reader_anomaly_messages.push_back(std::move(m));
+  }
+}
+
+}  // namespace
+
+XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
+                           const XtfMosaicOptions& options, const LoadedGrid* bathymetry) {
+  options.validate();
+  if (files.empty()) throw InputError("xtf mosaic: no input file");
+  XtfMosaicResult result;
+  result.files = files.size();
+  std::vector<FileNav> nav = read_navigation(files, options, result);
+  GainNormaliser gain(options.gain_normalisation);
+  gather_gain(files, nav, options, gain);
+  const auto where = [&] {
+    return files.size() == 1 ? files.front().string() : std::to_string(files.size()) + " files";
+  };
+  std::size_t located = 0;
+  for (const FileNav& f : nav) located += f.points.size();
+  if (located == 0) {
+    throw FormatError("xtf mosaic: no ping has valid navigation in " + where() +
+                      " (SensorX/Ycoordinate zero, invalid, or not geographic: NavUnits != 3)");
+  }
+
+  // Navigation outliers, judged in metres in the zone of a robust centre of all positions.
+  const GeoFrame provisional = GeoFrame::around(robust_centre(nav));
+  for (std::size_t fi = 0; fi < files.size(); ++fi) {
+    if (nav[fi].skipped) continue;
+    drop_outliers(files[fi].string(), nav[fi], provisional, options, result);
+  }
+  if (result.pings_dropped == located) {
+    throw FormatError("xtf mosaic: every ping with a position in " + where() + " (" +
+                      std::to_string(located) +
+                      ") is a navigation outlier; first: " + result.dropped_examples.front());
+  }
+  const auto [lo, hi] = mosaic_extent(nav, bathymetry, result);
   // The pixel count before anything is allocated (geometry_covering rounds the edges outwards
   // to whole pixels: at most one more on each side).
   const double res = options.pixel_size_m;
@@ -335,71 +429,8 @@ XtfMosaicResult mosaic_xtf(const std::vector<std::filesystem::path>& files,
   }
   const GridGeometry geometry = MosaicGrid::geometry_covering(lo, hi, options.pixel_size_m);
   MosaicGrid grid(geometry, options.gridding, bathymetry ? &bathymetry->grid : nullptr);
-
-  // Pass 2: gridding.
   for (std::size_t fi = 0; fi < files.size(); ++fi) {
-    if (nav[fi].skipped) continue;
-    const std::unique_ptr<SideScanSource> reader = SideScanSource::open(files[fi]);
-    const std::vector<std::uint64_t>& dropped = nav[fi].dropped_packets;
-    auto next_dropped = dropped.begin();
-    std::size_t k = 0;  // pings with samples so far
-    while (reader->next(rec)) {
-      ++result.pings;
-      SonarPing& s = rec.sonar;
-      if (!has_samples(s)) {
-        ++result.pings_no_samples;
-        continue;
-      }
-      const AltitudeChoice alt = altitude_of(fi, k++, s);
-      if (!rec.nav_valid) {
-        ++result.pings_no_navigation;
-        grid.break_line();
-        continue;
-      }
-      while (next_dropped != dropped.end() && *next_dropped < rec.index) ++next_dropped;
-      if (next_dropped != dropped.end() && *next_dropped == rec.index) {
-        grid.break_line();  // a navigation outlier (counted in pass 1)
-        continue;
-      }
-      MosaicPing mp;
-      mp.sensor_xy_m = result.frame.local_from_geodetic(s.sensor_position);
-      mp.heading_grid_rad = result.frame.grid_azimuth_from_true_rad(s.heading_rad, mp.sensor_xy_m);
-      mp.pitch_rad = std::isfinite(s.pitch_rad) && std::abs(s.pitch_rad) < rad_from_deg(45.0)
-                         ? s.pitch_rad
-                         : 0.0;
-      mp.slant_range_m = s.slant_range_m;
-      if (options.apply_layback) {
-        const double layback = rec.layback_m;
-        if (std::isfinite(layback) && layback > 0.0) {
-          mp.sensor_xy_m -= layback * Eigen::Vector2d(std::sin(mp.heading_grid_rad),
-                                                      std::cos(mp.heading_grid_rad));
-        }
-      }
-      if (std::isnan(alt.altitude_m)) {
-        ++result.pings_no_altitude;
-        continue;
-      }
-      if (alt.tracked) {
-        ++result.pings_tracked_altitude;
-        if (alt.header_disagreed) ++result.pings_header_disagreed;
-      } else {
-        ++result.pings_header_altitude;
-      }
-      mp.altitude_m = alt.altitude_m;
-      gain.apply(s.port, s.starboard, s.slant_range_m, alt.altitude_m);
-      mp.port = std::move(s.port);
-      mp.starboard = std::move(s.starboard);
-      const MosaicAddStats st = grid.add(mp);
-      if (st.samples_placed > 0) ++result.pings_gridded;
-      result.samples_placed += st.samples_placed;
-      result.fill_points += st.fill_points + st.along_fill_points;
-    }
-    grid.break_line();  // no along-track fill from one file into the next
-    result.reader_anomalies += reader->total_anomalies();
-    for (std::string& m : reader->anomaly_messages(kMaxExamples)) {
-      if (result.reader_anomaly_messages.size() >= kMaxExamples) break;
-      result.reader_anomaly_messages.push_back(std::move(m));
-    }
+    if (!nav[fi].skipped) grid_file(files[fi], nav[fi], options, gain, grid, result);
   }
   result.image = grid.finish();
   return result;

@@ -165,6 +165,111 @@ void GridReadOptions::validate() const {
   }
 }
 
+namespace {
+
+/// read_height_grid() of a raster not aligned with a UTM/UPS zone: band options.band of `src`
+/// (CRS `srs`, geotransform `gt`) warped bilinearly into the zone of the raster's centre.
+LoadedGrid read_warped(const std::string& path, GDALDataset& src, const OGRSpatialReference& srs,
+                       const double (&gt)[6], const std::string& crs_label,
+                       const std::string& source_wkt, const GridReadOptions& options) {
+  OGRSpatialReference wgs84;
+  wgs84.SetWellKnownGeogCS("WGS84");
+  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> to_wgs84(
+      OGRCreateCoordinateTransformation(&srs, &wgs84));
+  if (!to_wgs84) {
+    fail(kReader, path, "unknown CRS '" + crs_label + "' (no transformation to WGS 84)");
+  }
+  const double half_c = 0.5 * src.GetRasterXSize();
+  const double half_r = 0.5 * src.GetRasterYSize();
+  double cx = gt[0] + gt[1] * half_c + gt[2] * half_r;
+  double cy = gt[3] + gt[4] * half_c + gt[5] * half_r;
+  if (!to_wgs84->Transform(1, &cx, &cy) || !std::isfinite(cx) || !std::isfinite(cy)) {
+    fail(kReader, path,
+         "the raster's centre cannot be transformed from '" + crs_label + "' to WGS 84");
+  }
+  Geodetic centre;
+  centre.lat_rad = rad_from_deg(cy);
+  centre.lon_rad = rad_from_deg(cx);
+  const int target_epsg = GeoFrame::around(centre).epsg();
+
+  // Output cells: square, the smaller of the source pixel's two sides (measured at the centre in
+  // the target zone). Every direction is then upsampled (ratio <= 1), where GDAL's bilinear is
+  // the plain 2 x 2 interpolation; when downsampling GDAL widens the kernel, whose discrete
+  // weights then no longer reproduce even a linear surface exactly.
+  OGRSpatialReference target;
+  target.importFromEPSG(target_epsg);
+  target.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> to_target(
+      OGRCreateCoordinateTransformation(&srs, &target));
+  double px[3] = {half_c, half_c + 1.0, half_c};
+  double py[3] = {half_r, half_r, half_r + 1.0};
+  double tx[3], ty[3];
+  for (int i = 0; i < 3; ++i) {
+    tx[i] = gt[0] + gt[1] * px[i] + gt[2] * py[i];
+    ty[i] = gt[3] + gt[4] * px[i] + gt[5] * py[i];
+  }
+  if (!to_target || !to_target->Transform(3, tx, ty)) {
+    fail(kReader, path,
+         "cannot transform from '" + crs_label + "' to EPSG:" + std::to_string(target_epsg) +
+             gdal_message());
+  }
+  const double res_m =
+      std::min(std::hypot(tx[1] - tx[0], ty[1] - ty[0]), std::hypot(tx[2] - tx[0], ty[2] - ty[0]));
+  if (!(res_m > 0.0) || !std::isfinite(res_m)) {
+    fail(kReader, path,
+         "zero or undefined cell size after projecting to EPSG:" + std::to_string(target_epsg));
+  }
+
+  // One band only (gdalwarp 3.6 warps every band): an in-memory VRT selecting it.
+  gdal::DatasetPtr selected;
+  GDALDatasetH warp_input = GDALDataset::ToHandle(&src);
+  if (src.GetRasterCount() > 1) {
+    CPLStringList targs;
+    targs.AddString("-of");
+    targs.AddString("VRT");
+    targs.AddString("-b");
+    targs.AddString(std::to_string(options.band).c_str());
+    GDALTranslateOptions* topts = GDALTranslateOptionsNew(targs.List(), nullptr);
+    int usage_error = 0;
+    GDALDatasetH h = GDALTranslate("", warp_input, topts, &usage_error);
+    GDALTranslateOptionsFree(topts);
+    if (!h)
+      fail(kReader, path, "cannot select band " + std::to_string(options.band) + gdal_message());
+    selected.reset(GDALDataset::FromHandle(h));
+    warp_input = h;
+  }
+  CPLStringList wargs;
+  for (const char* a : {"-of", "VRT", "-r", "bilinear", "-ot", "Float32", "-dstnodata", "nan"}) {
+    wargs.AddString(a);
+  }
+  wargs.AddString("-s_srs");
+  wargs.AddString(source_wkt.c_str());
+  wargs.AddString("-t_srs");
+  wargs.AddString(("EPSG:" + std::to_string(target_epsg)).c_str());
+  wargs.AddString("-tr");
+  wargs.AddString(CPLSPrintf("%.17g", res_m));
+  wargs.AddString(CPLSPrintf("%.17g", res_m));
+  wargs.AddString("-et");
+  wargs.AddString(std::to_string(options.warp_error_threshold_px).c_str());
+  GDALWarpAppOptions* wopts = GDALWarpAppOptionsNew(wargs.List(), nullptr);
+  int usage_error = 0;
+  GDALDatasetH warped_h = GDALWarp("", nullptr, 1, &warp_input, wopts, &usage_error);
+  GDALWarpAppOptionsFree(wopts);
+  if (!warped_h) {
+    fail(kReader, path,
+         "cannot warp from '" + crs_label + "' to EPSG:" + std::to_string(target_epsg) +
+             gdal_message());
+  }
+  gdal::DatasetPtr warped(GDALDataset::FromHandle(warped_h));
+  LoadedGrid out = read_aligned(path, warped.get(), warped->GetRasterBand(1),
+                                selected ? selected.get() : &src, target_epsg, options);
+  out.warped = true;
+  return out;
+}
+
+}  // namespace
+
 LoadedGrid read_height_grid(const std::string& path, const GridReadOptions& options) {
   options.validate();
   gdal::ensure_registered();
@@ -236,102 +341,9 @@ LoadedGrid read_height_grid(const std::string& path, const GridReadOptions& opti
     return out;
   }
 
-  // Warp into the UTM/UPS zone of the raster's centre.
-  OGRSpatialReference wgs84;
-  wgs84.SetWellKnownGeogCS("WGS84");
-  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  std::unique_ptr<OGRCoordinateTransformation> to_wgs84(
-      OGRCreateCoordinateTransformation(&srs, &wgs84));
-  if (!to_wgs84) {
-    fail(kReader, path, "unknown CRS '" + crs_label + "' (no transformation to WGS 84)");
-  }
-  const double half_c = 0.5 * src->GetRasterXSize();
-  const double half_r = 0.5 * src->GetRasterYSize();
-  double cx = gt[0] + gt[1] * half_c + gt[2] * half_r;
-  double cy = gt[3] + gt[4] * half_c + gt[5] * half_r;
-  if (!to_wgs84->Transform(1, &cx, &cy) || !std::isfinite(cx) || !std::isfinite(cy)) {
-    fail(kReader, path,
-         "the raster's centre cannot be transformed from '" + crs_label + "' to WGS 84");
-  }
-  Geodetic centre;
-  centre.lat_rad = rad_from_deg(cy);
-  centre.lon_rad = rad_from_deg(cx);
-  const int target_epsg = GeoFrame::around(centre).epsg();
-
-  // Output cells: square, the smaller of the source pixel's two sides (measured at the centre in
-  // the target zone). Every direction is then upsampled (ratio <= 1), where GDAL's bilinear is
-  // the plain 2 x 2 interpolation; when downsampling GDAL widens the kernel, whose discrete
-  // weights then no longer reproduce even a linear surface exactly.
-  OGRSpatialReference target;
-  target.importFromEPSG(target_epsg);
-  target.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  std::unique_ptr<OGRCoordinateTransformation> to_target(
-      OGRCreateCoordinateTransformation(&srs, &target));
-  double px[3] = {half_c, half_c + 1.0, half_c};
-  double py[3] = {half_r, half_r, half_r + 1.0};
-  double tx[3], ty[3];
-  for (int i = 0; i < 3; ++i) {
-    tx[i] = gt[0] + gt[1] * px[i] + gt[2] * py[i];
-    ty[i] = gt[3] + gt[4] * px[i] + gt[5] * py[i];
-  }
-  if (!to_target || !to_target->Transform(3, tx, ty)) {
-    fail(kReader, path,
-         "cannot transform from '" + crs_label + "' to EPSG:" + std::to_string(target_epsg) +
-             gdal_message());
-  }
-  const double res_m =
-      std::min(std::hypot(tx[1] - tx[0], ty[1] - ty[0]), std::hypot(tx[2] - tx[0], ty[2] - ty[0]));
-  if (!(res_m > 0.0) || !std::isfinite(res_m)) {
-    fail(kReader, path,
-         "zero or undefined cell size after projecting to EPSG:" + std::to_string(target_epsg));
-  }
-
-  // One band only (gdalwarp 3.6 warps every band): an in-memory VRT selecting it.
-  gdal::DatasetPtr selected;
-  GDALDatasetH warp_input = GDALDataset::ToHandle(src.get());
-  if (band_count > 1) {
-    CPLStringList targs;
-    targs.AddString("-of");
-    targs.AddString("VRT");
-    targs.AddString("-b");
-    targs.AddString(std::to_string(options.band).c_str());
-    GDALTranslateOptions* topts = GDALTranslateOptionsNew(targs.List(), nullptr);
-    int usage_error = 0;
-    GDALDatasetH h = GDALTranslate("", warp_input, topts, &usage_error);
-    GDALTranslateOptionsFree(topts);
-    if (!h)
-      fail(kReader, path, "cannot select band " + std::to_string(options.band) + gdal_message());
-    selected.reset(GDALDataset::FromHandle(h));
-    warp_input = h;
-  }
-  CPLStringList wargs;
-  for (const char* a : {"-of", "VRT", "-r", "bilinear", "-ot", "Float32", "-dstnodata", "nan"}) {
-    wargs.AddString(a);
-  }
-  wargs.AddString("-s_srs");
-  wargs.AddString(source_wkt.c_str());
-  wargs.AddString("-t_srs");
-  wargs.AddString(("EPSG:" + std::to_string(target_epsg)).c_str());
-  wargs.AddString("-tr");
-  wargs.AddString(CPLSPrintf("%.17g", res_m));
-  wargs.AddString(CPLSPrintf("%.17g", res_m));
-  wargs.AddString("-et");
-  wargs.AddString(std::to_string(options.warp_error_threshold_px).c_str());
-  GDALWarpAppOptions* wopts = GDALWarpAppOptionsNew(wargs.List(), nullptr);
-  int usage_error = 0;
-  GDALDatasetH warped_h = GDALWarp("", nullptr, 1, &warp_input, wopts, &usage_error);
-  GDALWarpAppOptionsFree(wopts);
-  if (!warped_h) {
-    fail(kReader, path,
-         "cannot warp from '" + crs_label + "' to EPSG:" + std::to_string(target_epsg) +
-             gdal_message());
-  }
-  gdal::DatasetPtr warped(GDALDataset::FromHandle(warped_h));
-  LoadedGrid out = read_aligned(path, warped.get(), warped->GetRasterBand(1),
-                                selected ? selected.get() : src.get(), target_epsg, options);
+  LoadedGrid out = read_warped(path, *src, srs, gt, crs_label, source_wkt, options);
   out.source_crs_wkt = std::move(source_wkt);
   out.driver = driver;
-  out.warped = true;
   return out;
 }
 

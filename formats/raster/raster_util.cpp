@@ -185,16 +185,6 @@ gdal::DatasetPtr wrap_mem(std::size_t cols, std::size_t rows, GDALDataType type,
   return ds;
 }
 
-void write_band(GDALDataset& ds, int band, const void* data, GDALDataType type, const char* who,
-                const std::string& path) {
-  const int cols = ds.GetRasterXSize();
-  const int rows = ds.GetRasterYSize();
-  if (ds.GetRasterBand(band)->RasterIO(GF_Write, 0, 0, cols, rows, const_cast<void*>(data), cols,
-                                       rows, type, 0, 0, nullptr) != CE_None) {
-    fail(who, path, "cannot fill band " + std::to_string(band));
-  }
-}
-
 void set_georeferencing(GDALDataset& ds, const GeoFrame& frame, const GridGeometry& g,
                         const char* who, const std::string& path) {
   double gt[6] = {g.x0_m - 0.5 * g.dx_m + frame.origin_easting_m(),  g.dx_m, 0.0,

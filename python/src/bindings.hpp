@@ -71,5 +71,6 @@ void bind_render(py::module_& m, py::class_<PySimulation>& cls);
 void bind_files(py::module_& m);
 void bind_dataset(py::module_& m);
 void bind_object_types(py::module_& m);
+void bind_products(py::module_& m);
 
 }  // namespace sonarsynth::python

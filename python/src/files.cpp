@@ -188,7 +188,8 @@ void bind_files(py::module_& m) {
       py::arg("range_m") = py::none(), py::arg("samples") = py::none(),
       py::arg("threads") = py::none(), py::arg("quality") = py::none(),
       py::arg("overwrite") = false, py::arg("mosaic") = true, py::arg("waterfalls") = true,
-      py::arg("truth") = true, py::arg("mosaic_pixel_m") = 0.25, py::arg("progress") = py::none(),
+      py::arg("truth") = true, py::arg("mosaic_pixel_m") = kDefaultMosaicPixelM,
+      py::arg("progress") = py::none(),
       "Everything `sonarsynth simulate SCENE -o OUT_DIR` does: one XTF file per survey line, "
       "the mosaics (mosaic_pixel_m: pixel size, metres), waterfalls and truth products, "
       "effective.yaml; the directory appears only when all is written. Overrides as the CLI's "

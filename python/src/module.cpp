@@ -68,4 +68,5 @@ PYBIND11_MODULE(_sonarsynth, m) {
   sonarsynth::python::bind_files(m);
   sonarsynth::python::bind_dataset(m);
   sonarsynth::python::bind_object_types(m);
+  sonarsynth::python::bind_products(m);
 }

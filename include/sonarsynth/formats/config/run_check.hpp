@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sonarsynth/formats/config/simulation_file.hpp"
+#include "sonarsynth/formats/products/mosaic_writer.hpp"
 #include "sonarsynth/simulator.hpp"
 
 namespace sonarsynth {
@@ -16,7 +17,7 @@ struct ProductPlan {
   bool mosaic = true;
   bool waterfalls = true;
   bool truth = true;
-  double mosaic_pixel_m = 0.25;
+  double mosaic_pixel_m = kDefaultMosaicPixelM;
 };
 
 /// What the check found about one survey line, from poses sampled evenly along it.

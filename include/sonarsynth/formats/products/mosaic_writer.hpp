@@ -14,10 +14,18 @@
 
 namespace sonarsynth {
 
+/// The mosaic pixel side, metres, of `mosaic`, `simulate` (--res) and Python unless told
+/// otherwise.
+inline constexpr double kDefaultMosaicPixelM = 0.25;
+
 enum class MosaicRasterFormat {
   cog,    ///< Cloud-Optimized GeoTIFF (GDAL COG driver)
   gtiff,  ///< plain tiled GeoTIFF with internal overviews
 };
+
+/// "COG"/"cog" or "GTiff"/"gtiff"; throws InputError "<what> = '<text>'. Violated constraint:
+/// COG or GTiff" for anything else.
+MosaicRasterFormat parse_mosaic_raster_format(const std::string& text, const std::string& what);
 
 /// How write_mosaic() writes a MosaicImage and its companions.
 struct MosaicWriteOptions {

@@ -19,13 +19,16 @@ namespace sonarsynth {
 namespace geo_truth {
 class GeoTruthWriter;
 }
+namespace detail {
+class SurveyMosaic;
+}
 
 /// What `simulate` derives from the rendered pings besides the XTF files.
 struct SurveyProductOptions {
-  bool mosaic = true;            ///< mosaic.tif (+ mosaic_rgb.tif, truth_mosaic.tif)
-  bool waterfalls = true;        ///< <line>_waterfall.png per line
-  bool truth = true;             ///< <line>_truth.tif per line and truth_mosaic.tif
-  double mosaic_pixel_m = 0.25;  ///< > 0
+  bool mosaic = true;      ///< mosaic.tif (+ mosaic_rgb.tif, truth_mosaic.tif)
+  bool waterfalls = true;  ///< <line>_waterfall.png per line
+  bool truth = true;       ///< <line>_truth.tif per line and truth_mosaic.tif
+  double mosaic_pixel_m = kDefaultMosaicPixelM;  ///< > 0
   /// Largest waterfall image (pixels); a longer line is decimated along track to fit.
   std::size_t waterfall_max_pixels = WaterfallOptions{}.max_pixels;
   MosaicOptions mosaic_options;
@@ -114,12 +117,11 @@ class SurveyProducts : public PingSink {
   std::vector<std::string> notes() const;
 
  private:
-  class MosaicPart;
   class LinePart;
   class WaterfallPart;
   class TruthPart;
   SurveyProductOptions options_;
-  std::unique_ptr<MosaicPart> mosaic_;
+  std::unique_ptr<detail::SurveyMosaic> mosaic_;
   std::unique_ptr<LinePart> waterfall_;
   std::unique_ptr<LinePart> truth_;
   std::unique_ptr<geo_truth::GeoTruthWriter> vectors_;

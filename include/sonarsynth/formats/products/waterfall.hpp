@@ -198,8 +198,10 @@ class TruthWaterfall {
   /// Ground control points written into the rasters by write() and write_with_labels() (none
   /// by default). Every file also gets internal overviews when larger than 256 pixels a side
   /// (nearest for classes and ids, average for the grazing angle), laid out as GDAL's COG
-  /// validator asks.
+  /// validator asks unless set_cog_layout(false).
   void set_ground_control(WaterfallGroundControl gcps) { gcps_ = std::move(gcps); }
+  /// false (`--of GTiff`): plain tiled GeoTIFFs, each image first and its overviews after it.
+  void set_cog_layout(bool cog_layout) { cog_layout_ = cog_layout; }
   /// The grazing angle's encoding in the files written (TruthGrazing::hundredths by default).
   void set_grazing(TruthGrazing grazing) { grazing_ = grazing; }
   /// `metadata`: items written before the writer's own (e.g. the run's run_metadata()).
@@ -207,8 +209,8 @@ class TruthWaterfall {
              const std::vector<std::pair<std::string, std::string>>& metadata = {}) const;
   /// As write(), and in the same pass over the rows the line's class (Byte) and instance
   /// (UInt32) label rasters of docs/labels.md at `class_path` and `instance_path`: the files the
-  /// label waterfall of the same pings writes (formats/private/sonarsynth/formats/products/truth_labels.hpp), without a spool of
-  /// their own.
+  /// label waterfall of the same pings writes
+  /// (formats/private/sonarsynth/formats/products/truth_labels.hpp), without a spool of their own.
   /// `tap` (if any) sees each row's class and instance labels once, in order, as they are made.
   using LabelRowTap = std::function<void(std::size_t row, std::span<const std::uint8_t> cls,
                                          std::span<const std::uint32_t> instance)>;
@@ -223,6 +225,7 @@ class TruthWaterfall {
   std::unique_ptr<detail::SideSpool> spool_;
   WaterfallGroundControl gcps_;
   TruthGrazing grazing_ = TruthGrazing::hundredths;
+  bool cog_layout_ = true;
 };
 
 }  // namespace sonarsynth

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sonarsynth/bottom_track.hpp"
+#include "sonarsynth/formats/products/mosaic_writer.hpp"
 #include "sonarsynth/formats/raster/gdal_grid.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/mosaic.hpp"
@@ -16,8 +17,8 @@ namespace sonarsynth {
 
 /// How mosaic_xtf() grids XTF files.
 struct XtfMosaicOptions {
-  double pixel_size_m = 0.25;  ///< square pixel side, metres, > 0
-  MosaicOptions gridding;      ///< rule, taper...
+  double pixel_size_m = kDefaultMosaicPixelM;  ///< square pixel side, metres, > 0
+  MosaicOptions gridding;                      ///< rule, taper...
   /// false (default): SensorX/Ycoordinate is the towfish position (XTF convention, AUVs).
   /// true: it is the tow point; the fish is placed Layback metres behind it along -heading.
   bool apply_layback = false;

@@ -97,8 +97,7 @@ class LineFileWriter : public SurveyFileSink {
   std::uint64_t clipped_ = 0, bytes_ = 0;
 };
 
-/// Writes one XTF file per survey line (`<dir>/<line name>.xtf`). Extra sinks (mosaic,
-/// waterfall, truth) can be chained through a TeeSink.
+/// Writes one XTF file per survey line (`<dir>/<line name>.xtf`).
 class XtfSurveyWriter : public LineFileWriter<xtf::Writer, xtf::WriterOptions> {
  public:
   /// `frame` and `sonar` are copied.
@@ -106,34 +105,6 @@ class XtfSurveyWriter : public LineFileWriter<xtf::Writer, xtf::WriterOptions> {
                   const GeoFrame& frame, const SonarConfig& sonar, xtf::WriterOptions options)
       : LineFileWriter(std::move(dir), std::move(line_names), frame, sonar, std::move(options),
                        ".xtf") {}
-};
-
-/// Passes every call on to several sinks, in order. The sinks are borrowed: they must outlive
-/// the TeeSink's use (as locals declared before it).
-class TeeSink : public PingSink {
- public:
-  explicit TeeSink(std::vector<PingSink*> sinks) : sinks_(std::move(sinks)) {}
-  void begin(const RunDescription& run) override {
-    for (auto* s : sinks_) s->begin(run);
-  }
-  void begin_line(std::size_t line) override {
-    for (auto* s : sinks_) s->begin_line(line);
-  }
-  void ping(const RenderedPing& p) override {
-    for (auto* s : sinks_) s->ping(p);
-  }
-  void end_line(std::size_t line) override {
-    for (auto* s : sinks_) s->end_line(line);
-  }
-  void finish() override {
-    for (auto* s : sinks_) s->finish();
-  }
-  void abort() noexcept override {
-    for (auto* s : sinks_) s->abort();
-  }
-
- private:
-  std::vector<PingSink*> sinks_;
 };
 
 }  // namespace sonarsynth

@@ -59,17 +59,27 @@ struct GroundControl {
   std::vector<Point> points;
 };
 
+/// Copies `src` to `temp_path` as a plain tiled GeoTIFF (`creation_options`): the full
+/// resolution image first, then `resampling` overviews down to < 256 pixels appended to the file
+/// (`--of GTiff`; GDAL's COPY_SRC_OVERVIEWS would write the COG layout, which GDAL reports as
+/// LAYOUT=COG). Throws FormatError("<who>: <final_path>: ...").
+void copy_plain_with_overviews(
+    GDALDataset& src, const char* resampling,
+    const std::vector<std::pair<std::string, std::string>>& creation_options,
+    const std::string& temp_path, const char* who, const std::string& final_path);
+
 /// Makes the tiled GeoTIFF `from` (written, closed) into `to` with internal overviews down to
 /// < 256 pixels (overview_factors(); none for a small image), laid out as GDAL's COG validator
 /// asks (overviews before the full resolution, COPY_SRC_OVERVIEWS): the levels are built in
 /// `from` first, band b with `resampling[b - 1]` (the last entry for further bands; NEAREST for
 /// classes and ids, AVERAGE for continuous values), then copied with `creation_options`. `gcps`
-/// (if it has points) are set on the copy. `from` is removed afterwards whatever happens.
-/// Throws FormatError("<who>: <final_path>: ...").
+/// (if it has points) are set on the copy. `cog_layout` false (`--of GTiff`): a plain tiled
+/// GeoTIFF instead, the image first and the same overviews appended after it. `from` is removed
+/// afterwards whatever happens. Throws FormatError("<who>: <final_path>: ...").
 void copy_adding_overviews(const std::string& from, const std::string& to,
                            const std::vector<std::string>& resampling,
                            const std::vector<std::pair<std::string, std::string>>& creation_options,
                            const GroundControl& gcps, const char* who,
-                           const std::string& final_path);
+                           const std::string& final_path, bool cog_layout = true);
 
 }  // namespace sonarsynth::raster

@@ -125,10 +125,11 @@ class MosaicLabelCodes {
 /// Writes the mosaic's class (Byte) and instance (UInt32) GeoTIFFs on its grid (the frame's UTM
 /// CRS, like write_mosaic), each atomically, decoding the grid's codes window by window as they
 /// are written (no image in memory; a finalized grid, MosaicGrid::finalize(), is read fastest).
+/// Overviews in the COG layout, or with `cog_layout` false (`--of GTiff`) plain tiled GeoTIFFs.
 void write_mosaic_label_rasters(const std::string& class_path, const std::string& instance_path,
                                 const GeoFrame& frame, const MosaicGrid& grid,
                                 const MosaicLabelCodes& codes, bool overwrite,
-                                const MetadataItems& metadata);
+                                const MetadataItems& metadata, bool cog_layout = true);
 
 }  // namespace labels
 }  // namespace sonarsynth

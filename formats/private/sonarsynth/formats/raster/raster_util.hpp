@@ -131,10 +131,6 @@ void stream_to_png(RowSource& source, std::size_t cols, std::size_t rows, int ba
                    const std::vector<std::pair<std::string, std::string>>& metadata,
                    const std::string& temp_path, const char* who, const std::string& final_path);
 
-/// Writes a whole band from a row-major buffer of `type`.
-void write_band(GDALDataset& ds, int band, const void* data, GDALDataType type, const char* who,
-                const std::string& path);
-
 /// North-up geotransform with the origin at the corner of the top-left pixel (nodes of
 /// `geometry` are pixel centres), the frame's EPSG CRS and AREA_OR_POINT=Area.
 void set_georeferencing(GDALDataset& ds, const GeoFrame& frame, const GridGeometry& geometry,
