@@ -93,9 +93,6 @@ std::string summary_text(const FileSummary& s, std::size_t max_anomalies) {
      << "Attitude (deg): " << info::attitude_text(s.heading_deg, s.pitch_deg, s.roll_deg) << "\n"
      << "Altitude " << text_range(s.altitude_m, 3) << " m, depth " << text_range(s.depth_m, 3)
      << " m, sound speed " << text_range(s.sound_speed_mps, 1) << " m/s\n";
-  std::uint64_t total = 0;
-  for (auto c : s.anomaly_counts) total += c;
-  os << "Anomalies: " << (total == 0 ? "none" : std::to_string(total)) << "\n";
   info::anomaly_lines(os, s, max_anomalies);
   return os.str();
 }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // `sonarsynth info` of an XTF file (docs/xtf.md), as JSON and as text.
+#include <array>
 #include <sstream>
 #include <string>
 
@@ -16,18 +17,8 @@ using info::json_range;
 using info::text_range;
 
 const char* channel_type_name(std::uint8_t t) {
-  switch (t) {
-    case 0:
-      return "SUBBOTTOM";
-    case 1:
-      return "PORT";
-    case 2:
-      return "STBD";
-    case 3:
-      return "BATHYMETRY";
-    default:
-      return "UNKNOWN";
-  }
+  static constexpr std::array<const char*, 4> kNames = {"SUBBOTTOM", "PORT", "STBD", "BATHYMETRY"};
+  return t < kNames.size() ? kNames[t] : "UNKNOWN";
 }
 
 std::string summary_json(const FileSummary& s) {
@@ -141,15 +132,9 @@ std::string summary_text(const FileSummary& s, std::size_t max_anomalies) {
        << info::attitude_text(s.attitude_heading_deg, s.attitude_pitch_deg, s.attitude_roll_deg)
        << "\n";
   }
-  std::uint64_t total = 0;
-  for (auto c : s.anomaly_counts) total += c;
-  total += s.pings_without_altitude;
-  os << "Anomalies: " << (total == 0 ? "none" : std::to_string(total)) << "\n";
-  if (s.pings_without_altitude > 0) {
-    os << "  pings_without_altitude: " << s.pings_without_altitude
-       << " (SensorPrimaryAltitude 0: no seabed under the sensor)\n";
-  }
-  info::anomaly_lines(os, s, max_anomalies);
+  info::anomaly_lines(os, s, max_anomalies, s.pings_without_altitude,
+                      "  pings_without_altitude: " + std::to_string(s.pings_without_altitude) +
+                          " (SensorPrimaryAltitude 0: no seabed under the sensor)\n");
   if (s.anomalies.size() > max_anomalies) {
     os << "  ... (" << s.anomalies.size() - max_anomalies << " more; see --json)\n";
   }

@@ -109,9 +109,15 @@ inline std::string attitude_text(const xtf::ValueRange& heading, const xtf::Valu
          text_range(roll, 2);
 }
 
-/// One line per anomaly kind found ("  name: count"), then the first `max_anomalies` messages.
+/// "Anomalies: N" (N counting `extra_count` too), `extra_line` if N has some, one line per
+/// anomaly kind found ("  name: count"), then the first `max_anomalies` messages.
 template <class Summary>
-void anomaly_lines(std::ostream& os, const Summary& s, std::size_t max_anomalies) {
+void anomaly_lines(std::ostream& os, const Summary& s, std::size_t max_anomalies,
+                   std::uint64_t extra_count = 0, const std::string& extra_line = {}) {
+  std::uint64_t total = extra_count;
+  for (auto c : s.anomaly_counts) total += c;
+  os << "Anomalies: " << (total == 0 ? "none" : std::to_string(total)) << "\n";
+  if (extra_count > 0) os << extra_line;
   using Kind = decltype(s.anomalies.front().kind);
   for (std::size_t k = 0; k < s.anomaly_counts.size(); ++k) {
     if (s.anomaly_counts[k] == 0) continue;
