@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/run_simulation.hpp"
 #include "sonarsynth/formats/products/survey_products.hpp"
@@ -53,23 +54,17 @@ survey:
 sonar: {frequency_khz: 600, range_m: 20, samples: 400}
 )";
 
-class GeoProductsTest : public ::testing::Test {
+class GeoProductsTest : public test::ScratchDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_geo_products_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
     GDALAllRegister();
   }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string write_scene(const std::string& text, const std::string& name = "scene.yaml") {
     const std::string path = (dir_ / name).string();
     std::ofstream(path) << text;
     return path;
   }
-  fs::path dir_;
 };
 
 struct Layer {

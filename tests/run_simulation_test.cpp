@@ -14,6 +14,7 @@
 #include <set>
 #include <string>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
@@ -38,20 +39,13 @@ survey:
 sonar: {frequency_khz: 600, range_m: 20, samples: 400}
 )";
 
-class RunSimulationTest : public ::testing::Test {
+class RunSimulationTest : public test::ScratchDirTest {
  protected:
   void SetUp() override {
-    // One directory per test: ctest runs the tests of this fixture in parallel.
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_run_simulation_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
     scene_ = (dir_ / "scene.yaml").string();
     std::ofstream(scene_) << kScene;
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
   std::string scene_;
 };
 
