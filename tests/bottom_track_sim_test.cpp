@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli_test_util.hpp"
+#include "scene_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/run_simulation.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
@@ -26,16 +27,7 @@ namespace sonarsynth {
 namespace {
 namespace fs = std::filesystem;
 
-const char* const kScene = R"(
-name: track
-seed: 9
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [120, 120], cell_m: 0.5, depth_m: 15}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 3.0
-  altitude_m: 6
-  lines:
+const std::string kScene = test::flat_scene("track", 9, 120, 120, 15, 3.0, 6) + R"(
     - {name: a, waypoints: [{lat_deg: 43.0, lon_deg: 4.9997}, {lat_deg: 43.0, lon_deg: 5.0003}]}
 sonar: {frequency_khz: 600, range_m: 25, samples: 500}
 )";
