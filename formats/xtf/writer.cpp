@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/version.hpp"
 #include "sonarsynth/formats/io/time_fields.hpp"
+#include "sonarsynth/version.hpp"
 
 namespace sonarsynth::xtf {
 namespace {
@@ -89,6 +89,17 @@ double heading_deg(double rad) {
 
 bool finite_all(std::initializer_list<double> values) {
   return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+}
+
+/// The date and time fields (Year, Month, Day, Hour, Minute, Second) of an XTF record.
+template <class Record>
+void set_date_time(Record& r, const calendar::TimeFields& tf) {
+  r.Year = static_cast<std::uint16_t>(tf.year);
+  r.Month = static_cast<std::uint8_t>(tf.month);
+  r.Day = static_cast<std::uint8_t>(tf.day);
+  r.Hour = static_cast<std::uint8_t>(tf.hour);
+  r.Minute = static_cast<std::uint8_t>(tf.minute);
+  r.Second = static_cast<std::uint8_t>(tf.second);
 }
 
 }  // namespace
@@ -207,27 +218,16 @@ void Writer::start(UtcTime first_time, std::uint32_t port_samples, std::uint32_t
     c.TiltAngle = static_cast<float>(deg_from_rad(options_.tilt_angle_rad));
     c.BeamWidth = static_cast<float>(deg_from_rad(options_.vertical_beam_width_rad));
   }
-  buffer_.assign(XtfFileHeader::kSize, 0);
-  ByteWriter w(buffer_);
-  h.encode(w);
-  append(buffer_, XtfFileHeader::kSize);
+  append_record(h);
 
   // A NOTES packet first: libxtf/auvlib skip the first packet of every file.
   const calendar::TimeFields tf = calendar::fields_from_time(first_time);
   XtfNotesHeader n;
   n.Header.HeaderType = static_cast<std::uint8_t>(HeaderType::kNotes);
   n.Header.NumBytesThisRecord = static_cast<std::uint32_t>(XtfNotesHeader::kSize);
-  n.Year = static_cast<std::uint16_t>(tf.year);
-  n.Month = static_cast<std::uint8_t>(tf.month);
-  n.Day = static_cast<std::uint8_t>(tf.day);
-  n.Hour = static_cast<std::uint8_t>(tf.hour);
-  n.Minute = static_cast<std::uint8_t>(tf.minute);
-  n.Second = static_cast<std::uint8_t>(tf.second);
+  set_date_time(n, tf);
   n.NotesText = fixed_string<200>(options_.note);
-  buffer_.assign(XtfNotesHeader::kSize, 0);
-  ByteWriter nw(buffer_);
-  n.encode(nw);
-  append(buffer_, XtfNotesHeader::kSize);
+  append_record(n);
 }
 
 void Writer::validate_ping(const SonarPing& p, bool check_position) const {
@@ -360,12 +360,7 @@ void Writer::write_ping(const SonarPing& p, const StoredPingHeaders* stored) {
   h.Header.HeaderType = static_cast<std::uint8_t>(HeaderType::kSonar);
   h.Header.NumChansToFollow = 2;
   h.Header.NumBytesThisRecord = static_cast<std::uint32_t>(total);
-  h.Year = static_cast<std::uint16_t>(tf.year);
-  h.Month = static_cast<std::uint8_t>(tf.month);
-  h.Day = static_cast<std::uint8_t>(tf.day);
-  h.Hour = static_cast<std::uint8_t>(tf.hour);
-  h.Minute = static_cast<std::uint8_t>(tf.minute);
-  h.Second = static_cast<std::uint8_t>(tf.second);
+  set_date_time(h, tf);
   h.HSeconds = static_cast<std::uint8_t>(tf.microsecond / 10000);
   h.JulianDay = static_cast<std::uint16_t>(tf.day_of_year0);
   h.PingNumber = p.ping_number;
@@ -452,10 +447,7 @@ void Writer::write_attitude(const AttitudeSample& a) {
   d.Minutes = static_cast<std::uint8_t>(tf.minute);
   d.Seconds = static_cast<std::uint8_t>(tf.second);
   d.Milliseconds = static_cast<std::uint16_t>(tf.microsecond / 1000);
-  buffer_.assign(XtfAttitudeData::kSize, 0);
-  ByteWriter w(buffer_);
-  d.encode(w);
-  append(buffer_, buffer_.size());
+  append_record(d);
 }
 
 void Writer::write_navigation(const NavigationFix& fix) {
@@ -474,12 +466,7 @@ void Writer::write_navigation(const NavigationFix& fix) {
   }
   start(fix.time_utc, 0, 0);
   XtfHeaderNavigation n;
-  n.Year = static_cast<std::uint16_t>(tf.year);
-  n.Month = static_cast<std::uint8_t>(tf.month);
-  n.Day = static_cast<std::uint8_t>(tf.day);
-  n.Hour = static_cast<std::uint8_t>(tf.hour);
-  n.Minute = static_cast<std::uint8_t>(tf.minute);
-  n.Second = static_cast<std::uint8_t>(tf.second);
+  set_date_time(n, tf);
   n.Microseconds = tf.microsecond;
   n.SourceEpoch = static_cast<std::uint32_t>(calendar::epoch_seconds(fix.time_utc));
   n.TimeTag = calendar::time_tag_ms(fix.time_utc);
@@ -487,10 +474,7 @@ void Writer::write_navigation(const NavigationFix& fix) {
   n.RawXcoordinate = coordinate_deg(g.lon_rad);
   n.RawAltitude = g.height_m;
   n.TimeFlag = 1;  // source time valid
-  buffer_.assign(XtfHeaderNavigation::kSize, 0);
-  ByteWriter w(buffer_);
-  n.encode(w);
-  append(buffer_, buffer_.size());
+  append_record(n);
 }
 
 void Writer::close() {
