@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <mutex>
 #include <set>
 #include <string>
@@ -158,6 +159,17 @@ AtomicOutput::~AtomicOutput() {
     fs::remove(temp_path_, ec);
   }
   unregister_temporary(temp_path_);
+}
+
+void AtomicOutput::commit(std::ofstream& out, const std::string& who) {
+  out.flush();
+  if (!out) {
+    throw FormatError(who + ": flush failed for " + temp_path_.string() + ": " +
+                      std::strerror(errno));
+  }
+  out.close();
+  if (out.fail()) throw FormatError(who + ": close failed for " + temp_path_.string());
+  commit();
 }
 
 void AtomicOutput::commit() {

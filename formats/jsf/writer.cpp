@@ -7,8 +7,8 @@
 #include <cstring>
 #include <sstream>
 
-#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/version.hpp"
 
@@ -360,17 +360,8 @@ void Writer::write_attitude(const AttitudeSample& a) {
 void Writer::close() {
   if (closed_) return;
   start();  // an empty file still carries its system information message
-  out_.flush();
-  if (!out_) {
-    throw FormatError("jsf writer: flush failed for " + output_.temp_path().string() + ": " +
-                      std::strerror(errno));
-  }
-  out_.close();
-  if (out_.fail()) {
-    throw FormatError("jsf writer: close failed for " + output_.temp_path().string());
-  }
+  output_.commit(out_, "jsf writer");
   closed_ = true;
-  output_.commit();
 }
 
 }  // namespace sonarsynth::jsf

@@ -489,17 +489,8 @@ void Writer::close() {
                static_cast<std::streamsize>(buffer_.size()));
     out_.seekp(0, std::ios::end);
   }
-  out_.flush();
-  if (!out_) {
-    throw FormatError("xtf writer: flush failed for " + output_.temp_path().string() + ": " +
-                      std::strerror(errno));
-  }
-  out_.close();
-  if (out_.fail()) {
-    throw FormatError("xtf writer: close failed for " + output_.temp_path().string());
-  }
+  output_.commit(out_, "xtf writer");
   closed_ = true;
-  output_.commit();
 }
 
 }  // namespace sonarsynth::xtf

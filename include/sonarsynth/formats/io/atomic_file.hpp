@@ -2,6 +2,8 @@
 #pragma once
 
 #include <filesystem>
+#include <fstream>
+#include <string>
 
 namespace sonarsynth {
 
@@ -28,6 +30,9 @@ class AtomicOutput {
   const std::filesystem::path& final_path() const { return final_path_; }
   /// Renames the temporary file to the final name. Throws FormatError on failure.
   void commit();
+  /// Flushes and closes `out` (the stream writing temp_path()), then commits. Throws
+  /// FormatError ("<who>: flush failed for ..." or "close failed") on failure.
+  void commit(std::ofstream& out, const std::string& who);
   bool committed() const { return committed_; }
 
  private:
