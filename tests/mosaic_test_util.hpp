@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/mosaic.hpp"
@@ -27,11 +28,7 @@
 namespace sonarsynth::test {
 
 inline std::filesystem::path mosaic_temp_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("sonarsynth_mosaic_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+  return fresh_temp_dir("mosaic_" + name);
 }
 
 /// A point `distance_m` from (lat, lon) along true azimuth `azimuth_deg`, degrees.

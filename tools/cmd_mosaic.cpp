@@ -13,10 +13,10 @@
 
 #include "commands.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/raster/gdal_grid.hpp"
 #include "sonarsynth/formats/products/mosaic_writer.hpp"
-#include "sonarsynth/formats/registry/sonar_formats.hpp"
 #include "sonarsynth/formats/products/xtf_mosaic.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
 
 namespace sonarsynth::cli {
 namespace {
@@ -200,14 +200,7 @@ int run_mosaic(const std::vector<std::string>& args) {
       std::cerr << "  ... (" << r.pings_dropped - r.dropped_examples.size() << " more)\n";
     }
   }
-  if (r.reader_anomalies > 0) {
-    std::cerr << "sonarsynth mosaic: warning: " << r.reader_anomalies
-              << " anomalies while reading (malformed packets skipped; see sonarsynth info):\n";
-    for (const std::string& m : r.reader_anomaly_messages) std::cerr << "  " << m << "\n";
-    if (r.reader_anomaly_messages.size() < r.reader_anomalies) {
-      std::cerr << "  ... (" << r.reader_anomalies - r.reader_anomaly_messages.size() << " more)\n";
-    }
-  }
+  warn_reader_anomalies("mosaic", r.reader_anomalies, r.reader_anomaly_messages);
   if (r.pings_no_navigation > 0) {
     std::cerr << "sonarsynth mosaic: warning: skipped " << r.pings_no_navigation << " of "
               << r.pings << " pings with missing or zero navigation\n";

@@ -161,6 +161,15 @@ AtomicOutput::~AtomicOutput() {
   unregister_temporary(temp_path_);
 }
 
+void AtomicOutput::open(std::ofstream& out, std::vector<char>& buffer,
+                        const std::string& who) const {
+  out.rdbuf()->pubsetbuf(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+  out.open(temp_path_, std::ios::binary | std::ios::trunc);
+  if (!out) {
+    throw FormatError(who + ": cannot create " + temp_path_.string() + ": " + std::strerror(errno));
+  }
+}
+
 void AtomicOutput::commit(std::ofstream& out, const std::string& who) {
   out.flush();
   if (!out) {

@@ -195,13 +195,7 @@ Writer::Writer(std::filesystem::path path, WriterOptions options)
     : options_((options.validate(), std::move(options))),
       output_(std::move(path), options_.overwrite),
       stream_buffer_(std::size_t{1} << 20) {
-  out_.rdbuf()->pubsetbuf(stream_buffer_.data(),
-                          static_cast<std::streamsize>(stream_buffer_.size()));
-  out_.open(output_.temp_path(), std::ios::binary | std::ios::trunc);
-  if (!out_) {
-    throw FormatError("jsf writer: cannot create " + output_.temp_path().string() + ": " +
-                      std::strerror(errno));
-  }
+  output_.open(out_, stream_buffer_, "jsf writer");
 }
 
 Writer::~Writer() {

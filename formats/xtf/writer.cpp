@@ -160,13 +160,7 @@ Writer::Writer(std::filesystem::path path, WriterOptions options)
       output_(std::move(path), options_.overwrite),
       stream_buffer_(std::size_t{1} << 20),
       warnings_(options_.compatibility_warnings()) {
-  out_.rdbuf()->pubsetbuf(stream_buffer_.data(),
-                          static_cast<std::streamsize>(stream_buffer_.size()));
-  out_.open(output_.temp_path(), std::ios::binary | std::ios::trunc);
-  if (!out_) {
-    throw FormatError("xtf writer: cannot create " + output_.temp_path().string() + ": " +
-                      std::strerror(errno));
-  }
+  output_.open(out_, stream_buffer_, "xtf writer");
 }
 
 Writer::~Writer() {

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace sonarsynth {
 
@@ -28,6 +29,9 @@ class AtomicOutput {
 
   const std::filesystem::path& temp_path() const { return temp_path_; }
   const std::filesystem::path& final_path() const { return final_path_; }
+  /// Opens `out` on temp_path() (binary, truncated), writing through `buffer`. Throws FormatError
+  /// ("<who>: cannot create ...") on failure.
+  void open(std::ofstream& out, std::vector<char>& buffer, const std::string& who) const;
   /// Renames the temporary file to the final name. Throws FormatError on failure.
   void commit();
   /// Flushes and closes `out` (the stream writing temp_path()), then commits. Throws
