@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <random>
@@ -29,6 +30,25 @@ namespace sonarsynth::test {
 
 inline std::filesystem::path mosaic_temp_dir(const std::string& name) {
   return fresh_temp_dir("mosaic_" + name);
+}
+
+/// Expects `a` and `b` equal bit for bit: intensity, count and labels of every pixel.
+inline void expect_same_bits(const MosaicImage& a, const MosaicImage& b, const std::string& what) {
+  ASSERT_EQ(a.intensity.size(), b.intensity.size()) << what;
+  for (std::size_t i = 0; i < a.intensity.size(); ++i) {
+    std::uint32_t x = 0, y = 0;
+    std::memcpy(&x, &a.intensity[i], sizeof x);
+    std::memcpy(&y, &b.intensity[i], sizeof y);
+    ASSERT_EQ(x, y) << what << ", pixel " << i;
+  }
+  EXPECT_EQ(a.count, b.count) << what;
+  EXPECT_EQ(a.labels, b.labels) << what;
+}
+
+/// The pixels of `m` that hold at least one sample.
+inline std::size_t gridded_pixels(const MosaicImage& m) {
+  return static_cast<std::size_t>(
+      std::count_if(m.count.begin(), m.count.end(), [](auto c) { return c > 0; }));
 }
 
 /// A point `distance_m` from (lat, lon) along true azimuth `azimuth_deg`, degrees.
