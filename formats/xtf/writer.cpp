@@ -91,15 +91,18 @@ bool finite_all(std::initializer_list<double> values) {
   return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
 }
 
-/// The date and time fields (Year, Month, Day, Hour, Minute, Second) of an XTF record.
+/// The date and time fields of an XTF record: Year, Month, Day, Hour and the minute and second
+/// fields (Minute and Second; Minutes and Seconds in XTFATTITUDEDATA).
 template <class Record>
-void set_date_time(Record& r, const calendar::TimeFields& tf) {
+void set_date_time(Record& r, const calendar::TimeFields& tf,
+                   std::uint8_t Record::*minute = &Record::Minute,
+                   std::uint8_t Record::*second = &Record::Second) {
   r.Year = static_cast<std::uint16_t>(tf.year);
   r.Month = static_cast<std::uint8_t>(tf.month);
   r.Day = static_cast<std::uint8_t>(tf.day);
   r.Hour = static_cast<std::uint8_t>(tf.hour);
-  r.Minute = static_cast<std::uint8_t>(tf.minute);
-  r.Second = static_cast<std::uint8_t>(tf.second);
+  r.*minute = static_cast<std::uint8_t>(tf.minute);
+  r.*second = static_cast<std::uint8_t>(tf.second);
 }
 
 }  // namespace
@@ -434,12 +437,7 @@ void Writer::write_attitude(const AttitudeSample& a) {
   d.Yaw = static_cast<float>(deg_from_rad(a.yaw_rad));
   d.TimeTag = calendar::time_tag_ms(a.time_utc);
   d.Heading = static_cast<float>(heading_deg(a.heading_rad));
-  d.Year = static_cast<std::uint16_t>(tf.year);
-  d.Month = static_cast<std::uint8_t>(tf.month);
-  d.Day = static_cast<std::uint8_t>(tf.day);
-  d.Hour = static_cast<std::uint8_t>(tf.hour);
-  d.Minutes = static_cast<std::uint8_t>(tf.minute);
-  d.Seconds = static_cast<std::uint8_t>(tf.second);
+  set_date_time(d, tf, &XtfAttitudeData::Minutes, &XtfAttitudeData::Seconds);
   d.Milliseconds = static_cast<std::uint16_t>(tf.microsecond / 1000);
   append_record(d);
 }
