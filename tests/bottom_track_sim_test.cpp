@@ -12,42 +12,30 @@
 #include <vector>
 
 #include "cli_test_util.hpp"
+#include "scene_test_util.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/config/run_simulation.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
-#include "sonarsynth/formats/config/run_simulation.hpp"
-#include "sonarsynth/formats/registry/sonar_formats.hpp"
 #include "sonarsynth/formats/products/waterfall.hpp"
+#include "sonarsynth/formats/products/xtf_mosaic.hpp"
+#include "sonarsynth/formats/registry/sonar_formats.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
-#include "sonarsynth/formats/products/xtf_mosaic.hpp"
 
 namespace sonarsynth {
 namespace {
 namespace fs = std::filesystem;
 
-const char* const kScene = R"(
-name: track
-seed: 9
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [120, 120], cell_m: 0.5, depth_m: 15}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 3.0
-  altitude_m: 6
-  lines:
+const std::string kScene = test::flat_scene("track", 9, 120, 120, 15, 3.0, 6) + R"(
     - {name: a, waypoints: [{lat_deg: 43.0, lon_deg: 4.9997}, {lat_deg: 43.0, lon_deg: 5.0003}]}
 sonar: {frequency_khz: 600, range_m: 25, samples: 500}
 )";
 
-class BottomTrackSimTest : public ::testing::Test {
+class BottomTrackSimTest : public test::ScratchDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_bottom_track_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
     const fs::path scene = dir_ / "scene.yaml";
     std::ofstream(scene) << kScene;
     RunOptions o;
@@ -61,7 +49,6 @@ class BottomTrackSimTest : public ::testing::Test {
       if (p.kind == xtf::PacketKind::kPing) pings_.push_back(p.ping.sonar);
     }
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   /// A copy of the line with altitude(k, truth) as header altitude of ping k.
   fs::path rewrite(const std::string& name, double (*altitude)(std::size_t, double)) {
@@ -82,7 +69,7 @@ class BottomTrackSimTest : public ::testing::Test {
     return pings_.front().slant_range_m / static_cast<double>(pings_.front().port.size());
   }
 
-  fs::path dir_, xtf_;
+  fs::path xtf_;
   std::vector<SonarPing> pings_;
 };
 

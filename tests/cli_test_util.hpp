@@ -63,6 +63,15 @@ inline std::map<std::string, std::string> snapshot(const std::filesystem::path& 
   return out;
 }
 
+/// An empty directory <tmp>/sonarsynth_<stem>_<pid> (removed first if it exists).
+inline std::filesystem::path fresh_temp_dir(const std::string& stem) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("sonarsynth_" + stem + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
 /// The scratch directory of the running test: <tmp>/sonarsynth_<suite>_<pid>_<test>. The process
 /// id keeps apart two checkouts (or two runs) testing at the same time.
 inline std::filesystem::path scratch_path() {

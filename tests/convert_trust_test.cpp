@@ -14,6 +14,7 @@
 #include <limits>
 
 #include "cli_test_util.hpp"
+#include "scene_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
@@ -391,16 +392,7 @@ TEST_F(ConvertTrust, SimulateTurnsARefusedThreadIntoANamedError) {
 #ifdef SONARSYNTH_TEST_SANITIZED
   GTEST_SKIP() << "the sanitizers reserve more address space than the limit";
 #endif
-  write("scene.yaml", R"(
-name: quick
-seed: 3
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [60, 60], cell_m: 0.5, depth_m: 20}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 2.0
-  altitude_m: 8
-  lines:
+  write("scene.yaml", test::flat_scene("quick", 3, 60, 60, 20, 2.0, 8) + R"(
     - {name: L1, waypoints: [{lat_deg: 43.0, lon_deg: 4.9999}, {lat_deg: 43.0, lon_deg: 5.0001}]}
 sonar: {frequency_khz: 600, range_m: 25, samples: 128}
 )");

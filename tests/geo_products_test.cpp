@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "cli_test_util.hpp"
+#include "scene_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/run_simulation.hpp"
 #include "sonarsynth/formats/products/survey_products.hpp"
@@ -34,42 +36,27 @@ namespace fs = std::filesystem;
 // A flat seabed (no relief: the slant->ground mapping of the XTF samples is exact), two lines,
 // a pipe both lines cross, a rock given by latitude/longitude within the swath of line a, a box
 // 150 m from every line (the swath reaches 20 m).
-const char* const kScene = R"(
-name: geo-products
-seed: 11
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [400, 400], cell_m: 0.5, depth_m: 12}
+const std::string kScene = test::flat_scene("geo-products", 11, 400, 400, 12, 3.0, 5) + R"(
+    - {name: a, waypoints: [{east_m: -40, north_m: 0}, {east_m: 40, north_m: 0}]}
+    - {name: b, waypoints: [{east_m: 30, north_m: -20}, {east_m: -30, north_m: 15}]}
 objects:
   - {type: pipe, id: 3, name: cable, start: {east_m: 0, north_m: -30}, end: {east_m: 0, north_m: 30}, diameter_m: 0.4}
   - {type: rock, id: 5, position: {lat_deg: 43.00008, lon_deg: 5.0002}, diameter_m: 1.2}
   - {type: box, id: 8, position: {east_m: 150, north_m: 150}, size_m: [3, 2, 1], heading_deg: 30}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 3.0
-  altitude_m: 5
-  lines:
-    - {name: a, waypoints: [{east_m: -40, north_m: 0}, {east_m: 40, north_m: 0}]}
-    - {name: b, waypoints: [{east_m: 30, north_m: -20}, {east_m: -30, north_m: 15}]}
 sonar: {frequency_khz: 600, range_m: 20, samples: 400}
 )";
 
-class GeoProductsTest : public ::testing::Test {
+class GeoProductsTest : public test::ScratchDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_geo_products_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
     GDALAllRegister();
   }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string write_scene(const std::string& text, const std::string& name = "scene.yaml") {
     const std::string path = (dir_ / name).string();
     std::ofstream(path) << text;
     return path;
   }
-  fs::path dir_;
 };
 
 struct Layer {
@@ -342,16 +329,7 @@ Image read_image(const fs::path& path) {
   return im;
 }
 
-const char* const kFlatScene = R"(
-name: flat
-seed: 3
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [160, 160], cell_m: 0.5, depth_m: 20}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 2.0
-  altitude_m: 8
-  lines:
+const std::string kFlatScene = test::flat_scene("flat", 3, 160, 160, 20, 2.0, 8) + R"(
     - {name: a, waypoints: [{east_m: -40, north_m: 0}, {east_m: 40, north_m: 0}]}
 sonar: {frequency_khz: 600, range_m: 40, samples: 1000}
 )";

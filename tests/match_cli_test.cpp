@@ -20,18 +20,9 @@ using sonarsynth::test::run_cli;
 
 namespace {
 
-class MatchCli : public ::testing::Test {
+class MatchCli : public sonarsynth::test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_match_cli_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string p(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
 };
 
 #ifndef SONARSYNTH_HAVE_OPENCV

@@ -11,6 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/match/feature_matcher.hpp"
 #include "sonarsynth/match/image_source.hpp"
@@ -45,17 +46,8 @@ cv::Mat textured_scene(int cols, int rows, std::uint64_t seed) {
   return img;
 }
 
-class MatchTest : public ::testing::Test {
+class MatchTest : public sonarsynth::test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_match_test_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   /// Writes a grey image as a north-up GeoTIFF in UTM 52N with the given top-left corner.
   std::string write_geotiff(const std::string& name, const cv::Mat& grey, double x0, double y0,
                             double pixel_m) {
@@ -74,8 +66,6 @@ class MatchTest : public ::testing::Test {
     GDALClose(ds);
     return path;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(MatchTest, RecoversAKnownRotationAndShiftWithEveryDetector) {

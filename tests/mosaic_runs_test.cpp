@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "mosaic_test_util.hpp"
 #include "sonarsynth/mosaic.hpp"
 
 namespace sonarsynth {
@@ -46,19 +47,9 @@ struct Case {
   bool along_track_fill;
 };
 
-void expect_same(const MosaicImage& a, const MosaicImage& b, const char* what) {
-  ASSERT_EQ(a.intensity.size(), b.intensity.size()) << what;
-  std::size_t gridded = 0;
-  for (std::size_t i = 0; i < a.intensity.size(); ++i) {
-    std::uint32_t x = 0, y = 0;
-    std::memcpy(&x, &a.intensity[i], sizeof x);
-    std::memcpy(&y, &b.intensity[i], sizeof y);
-    ASSERT_EQ(x, y) << what << ", pixel " << i;
-    gridded += a.count[i] > 0 ? 1 : 0;
-  }
-  EXPECT_EQ(a.count, b.count) << what;
-  EXPECT_EQ(a.labels, b.labels) << what;
-  EXPECT_GT(gridded, 1000u) << what;  // the case grids something
+void expect_same(const MosaicImage& a, const MosaicImage& b, const std::string& what) {
+  test::expect_same_bits(a, b, what);
+  EXPECT_GT(test::gridded_pixels(a), 1000u) << what;  // the case grids something
 }
 
 TEST(MosaicRuns, RunsOfSamplesGiveThePointByPointImageBitForBit) {
@@ -121,7 +112,7 @@ TEST(MosaicRuns, RunsOfSamplesGiveThePointByPointImageBitForBit) {
     }
     const std::string what = "rule " + std::to_string(static_cast<int>(c.rule)) + ", pixel " +
                              std::to_string(c.pixel_m) + " m";
-    expect_same(std::move(by_runs).finish(), std::move(by_point).finish(), what.c_str());
+    expect_same(std::move(by_runs).finish(), std::move(by_point).finish(), what);
   }
 }
 

@@ -14,12 +14,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/mosaic.hpp"
@@ -27,11 +29,26 @@
 namespace sonarsynth::test {
 
 inline std::filesystem::path mosaic_temp_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("sonarsynth_mosaic_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+  return fresh_temp_dir("mosaic_" + name);
+}
+
+/// Expects `a` and `b` equal bit for bit: intensity, count and labels of every pixel.
+inline void expect_same_bits(const MosaicImage& a, const MosaicImage& b, const std::string& what) {
+  ASSERT_EQ(a.intensity.size(), b.intensity.size()) << what;
+  for (std::size_t i = 0; i < a.intensity.size(); ++i) {
+    std::uint32_t x = 0, y = 0;
+    std::memcpy(&x, &a.intensity[i], sizeof x);
+    std::memcpy(&y, &b.intensity[i], sizeof y);
+    ASSERT_EQ(x, y) << what << ", pixel " << i;
+  }
+  EXPECT_EQ(a.count, b.count) << what;
+  EXPECT_EQ(a.labels, b.labels) << what;
+}
+
+/// The pixels of `m` that hold at least one sample.
+inline std::size_t gridded_pixels(const MosaicImage& m) {
+  return static_cast<std::size_t>(
+      std::count_if(m.count.begin(), m.count.end(), [](auto c) { return c > 0; }));
 }
 
 /// A point `distance_m` from (lat, lon) along true azimuth `azimuth_deg`, degrees.

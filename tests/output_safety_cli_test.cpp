@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "cli_test_util.hpp"
+#include "scene_test_util.hpp"
 
 extern char** environ;
 
@@ -25,31 +26,13 @@ namespace {
 namespace fs = std::filesystem;
 
 // A quick scene: flat generated seabed, one 40 m line.
-const char* const kQuickScene = R"(
-name: quick
-seed: 3
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [100, 100], cell_m: 0.5, depth_m: 20}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 2.0
-  altitude_m: 8
-  lines:
+const std::string kQuickScene = test::flat_scene("quick", 3, 100, 100, 20, 2.0, 8) + R"(
     - {name: L1, waypoints: [{lat_deg: 43.0, lon_deg: 4.99975}, {lat_deg: 43.0, lon_deg: 5.00025}]}
 sonar: {frequency_khz: 600, range_m: 25, samples: 256}
 )";
 
 // A slow one (thousands of 4096-sample pings on one thread) to interrupt while it renders.
-const char* const kSlowScene = R"(
-name: slow
-seed: 3
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [400, 120], cell_m: 0.5, depth_m: 20}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 0.5
-  altitude_m: 8
-  lines:
+const std::string kSlowScene = test::flat_scene("slow", 3, 400, 120, 20, 0.5, 8) + R"(
     - {name: L1, waypoints: [{lat_deg: 43.0, lon_deg: 4.9983}, {lat_deg: 43.0, lon_deg: 4.9985}]}
     - {name: L2, waypoints: [{lat_deg: 43.0, lon_deg: 4.9983}, {lat_deg: 43.0, lon_deg: 5.0017}]}
 sonar: {frequency_khz: 600, range_m: 50, samples: 4096}

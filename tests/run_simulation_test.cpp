@@ -14,6 +14,8 @@
 #include <set>
 #include <string>
 
+#include "cli_test_util.hpp"
+#include "scene_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
@@ -23,35 +25,19 @@ namespace sonarsynth {
 namespace {
 namespace fs = std::filesystem;
 
-const char* const kScene = R"(
-name: lib-run
-seed: 5
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [100, 100], cell_m: 0.5, depth_m: 12}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 3.0
-  altitude_m: 5
-  lines:
+const std::string kScene = test::flat_scene("lib-run", 5, 100, 100, 12, 3.0, 5) + R"(
     - {name: a, waypoints: [{lat_deg: 43.0, lon_deg: 4.9998}, {lat_deg: 43.0, lon_deg: 5.0002}]}
     - {name: b, waypoints: [{lat_deg: 43.0001, lon_deg: 5.0002}, {lat_deg: 43.0001, lon_deg: 4.9998}]}
 sonar: {frequency_khz: 600, range_m: 20, samples: 400}
 )";
 
-class RunSimulationTest : public ::testing::Test {
+class RunSimulationTest : public test::ScratchDirTest {
  protected:
   void SetUp() override {
-    // One directory per test: ctest runs the tests of this fixture in parallel.
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_run_simulation_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
     scene_ = (dir_ / "scene.yaml").string();
     std::ofstream(scene_) << kScene;
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
   std::string scene_;
 };
 

@@ -10,38 +10,24 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cli_test_util.hpp"
+#include "dem_test_util.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/raster/gdal_grid.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
 
 namespace sonarsynth {
 namespace {
 
 namespace fs = std::filesystem;
 
-class SceneBathymetry : public ::testing::Test {
+class SceneBathymetry : public test::ScratchDirTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_scene_bathy_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    // A coarse 8 m DEM (21 x 17 nodes, 160 m x 128 m) of a smooth surface in UTM 56S.
-    GridGeometry g{0.0, 128.0, 8.0, -8.0, 21, 17};
-    std::vector<float> z(g.size());
-    for (std::size_t r = 0; r < g.rows; ++r) {
-      for (std::size_t c = 0; c < g.cols; ++c) {
-        const double x = g.x_of_col(static_cast<double>(c)), y = g.y_of_row(static_cast<double>(r));
-        z[r * g.cols + c] =
-            static_cast<float>(-25.0 + 3.0 * std::sin(x / 20.0) * std::cos(y / 25.0));
-      }
-    }
-    write_height_grid_geotiff((dir_ / "dem.tif").string(), GeoFrame(56, false, 334000.0, 6252000.0),
-                              HeightGrid(g, std::move(z)));
+    ScratchDirTest::SetUp();
+    test::write_smooth_dem(dir_ / "dem.tif");
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   Scene load(const std::string& yaml, const SceneLoadOptions& o = {}) {
     const fs::path p = dir_ / "s.yaml";
@@ -65,7 +51,6 @@ class SceneBathymetry : public ::testing::Test {
     g.set_interpolation(i);
     return g;
   }
-  fs::path dir_;
 };
 
 bool same_bytes(const std::vector<float>& a, const std::vector<float>& b) {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {
@@ -16,21 +17,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class SceneFile : public ::testing::Test {
+class SceneFile : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_scene_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p) << text;
-    return p.string();
-  }
   // Expects load_scene to throw E with every fragment in its message.
   template <class E>
   void expect_error(const std::string& yaml, std::initializer_list<const char*> fragments) {
@@ -45,7 +33,6 @@ class SceneFile : public ::testing::Test {
       }
     }
   }
-  fs::path dir_;
 };
 
 const char* kFlat = R"(

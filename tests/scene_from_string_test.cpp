@@ -25,6 +25,17 @@ std::string slurp(const fs::path& p) {
 
 // The real_ledges sample reads a BAG by a relative path: from the text with the samples
 // directory as base, the scene equals the one loaded from the file.
+// Expects `load()` (which loads `yaml`) to throw an InputError whose message holds `part`.
+template <class Load>
+void expect_input_error_from(Load load, const std::string& yaml, const std::string& part) {
+  try {
+    load();
+    ADD_FAILURE() << "no error for:\n" << yaml;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+}
+
 TEST(SceneFromString, EqualsTheSceneFromTheFile) {
   const fs::path file = fs::path(SONARSYNTH_SAMPLES_DIR) / "real_ledges.yaml";
   const SimulationSetup a = load_simulation(file.string());
@@ -73,12 +84,8 @@ TEST(SceneFromString, MalformedYamlNamesTheGivenName) {
 // directly, too. Both are InputErrors naming the file and the line.
 TEST(SceneFromString, KeysAndValuesOfTheWrongTypeAreInputErrors) {
   const auto expect_input_error = [](const std::string& yaml, const std::string& part) {
-    try {
-      load_simulation_from_string(yaml, "inline.yaml", ".");
-      ADD_FAILURE() << "no error for:\n" << yaml;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-    }
+    expect_input_error_from([&] { load_simulation_from_string(yaml, "inline.yaml", "."); }, yaml,
+                            part);
   };
   expect_input_error("? [a, b]\n: 1\n", "inline.yaml: key [a, b] (line 1) is not a plain name");
   const std::string flat = R"(bathymetry:
@@ -145,12 +152,7 @@ TEST(SceneFromString, MaterialSpecularKeysAreRead) {
   EXPECT_EQ(s.materials[s.materials.index_of("steel")].specular_rho, 0.0);
   EXPECT_EQ(s.materials[s.materials.index_of("sand")].specular_rho, 0.0);
   const auto expect_input_error = [](const std::string& yaml, const std::string& part) {
-    try {
-      load_scene_from_string(yaml, "inline.yaml", ".");
-      ADD_FAILURE() << "no error for:\n" << yaml;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-    }
+    expect_input_error_from([&] { load_scene_from_string(yaml, "inline.yaml", "."); }, yaml, part);
   };
   expect_input_error(flat + "materials:\n  - {name: rust, specular_reflection_db: 3}\n",
                      "specular_reflection_db");

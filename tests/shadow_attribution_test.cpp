@@ -20,11 +20,12 @@
 #include <string>
 #include <vector>
 
-#include "sonarsynth/formats/products/truth_labels.hpp"
 #include "label_check_util.hpp"
+#include "scene_test_util.hpp"
 #include "sonarsynth/beam_profile.hpp"
 #include "sonarsynth/formats/config/run_simulation.hpp"
 #include "sonarsynth/formats/config/simulation_file.hpp"
+#include "sonarsynth/formats/products/truth_labels.hpp"
 #include "sonarsynth/render_side.hpp"
 #include "sonarsynth/scene_object.hpp"
 #include "sonarsynth/survey.hpp"
@@ -259,16 +260,7 @@ TEST(ShadowAttribution, SideInstancesTakeTheRecordedCaster) {
 // of the waterfall or the mosaic is left without its object, and the box's shadow spans the pings
 // that cross the box (its length along track) and, in each, the slant ranges of its analytic shadow
 // across track.
-const char* const kScene = R"(
-name: shadow-attribution
-seed: 3
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [120, 120], cell_m: 0.5, depth_m: 15}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 2.0
-  altitude_m: 6
-  lines:
+const std::string kScene = test::flat_scene("shadow-attribution", 3, 120, 120, 15, 2.0, 6) + R"(
     - {name: a, waypoints: [{east_m: -30, north_m: 0}, {east_m: 30, north_m: 0}]}
 objects:
   - {type: box, id: 3, position: {east_m: -12, north_m: 14}, size_m: [4, 2, 1.5], heading_deg: 90,

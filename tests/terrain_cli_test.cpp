@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "cli_test_util.hpp"
+#include "dem_test_util.hpp"
 #include "sonarsynth/formats/raster/gdal_grid.hpp"
 
 namespace sonarsynth {
@@ -19,17 +20,7 @@ class TerrainCli : public test::ScratchDirTest {
  protected:
   // An 8 m DEM (160 m x 128 m) of a smooth surface in UTM 56S, and a scene on it.
   fs::path scene(const std::string& refine) {
-    GridGeometry g{0.0, 128.0, 8.0, -8.0, 21, 17};
-    std::vector<float> z(g.size());
-    for (std::size_t r = 0; r < g.rows; ++r) {
-      for (std::size_t c = 0; c < g.cols; ++c) {
-        const double x = g.x_of_col(static_cast<double>(c)), y = g.y_of_row(static_cast<double>(r));
-        z[r * g.cols + c] =
-            static_cast<float>(-25.0 + 3.0 * std::sin(x / 20.0) * std::cos(y / 25.0));
-      }
-    }
-    write_height_grid_geotiff((dir_ / "dem.tif").string(), GeoFrame(56, false, 334000.0, 6252000.0),
-                              HeightGrid(g, std::move(z)));
+    test::write_smooth_dem(dir_ / "dem.tif");
     // A name: the default (the file's stem) would differ for effective.yaml.
     return write("s.yaml",
                  "name: rough\nseed: 3\nbathymetry:\n  file: dem.tif\n  interpolation: bicubic\n" +

@@ -9,9 +9,10 @@
 #include <memory>
 #include <string>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/xtf/survey_writer.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
+#include "sonarsynth/formats/xtf/survey_writer.hpp"
 
 namespace sonarsynth {
 namespace {
@@ -85,17 +86,8 @@ Written write_and_read(const SimulationConfig& cfg, xtf::SampleEncoding enc, con
   return out;
 }
 
-class XtfConfigHeaderTest : public ::testing::Test {
+class XtfConfigHeaderTest : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_xtf_header_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
 };
 
 TEST_F(XtfConfigHeaderTest, EveryFieldFollowsANonDefaultSonarWithTvg) {

@@ -13,17 +13,14 @@
 #include <string>
 #include <vector>
 
+#include "cli_test_util.hpp"
 #include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/xtf/records.hpp"
 
 namespace sonarsynth::xtf::test {
 
 inline std::filesystem::path temp_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("sonarsynth_xtf_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
+  return sonarsynth::test::fresh_temp_dir("xtf_" + name);
 }
 
 inline std::vector<std::uint8_t> read_bytes(const std::filesystem::path& p) {

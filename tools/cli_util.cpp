@@ -9,6 +9,26 @@
 
 namespace sonarsynth::cli {
 
+void add_overwrite_quiet_options(po::options_description& options) {
+  options.add_options()("overwrite", "replace an existing output file")("quiet,q",
+                                                                        "print nothing on success");
+}
+
+po::positional_options_description one_input() {
+  po::positional_options_description positional;
+  positional.add("input", 1);
+  return positional;
+}
+
+void warn_reader_anomalies(const char* command, std::uint64_t count,
+                           const std::vector<std::string>& messages) {
+  if (count == 0) return;
+  std::cerr << "sonarsynth " << command << ": warning: " << count
+            << " anomalies while reading (malformed packets skipped; see sonarsynth info):\n";
+  for (const std::string& m : messages) std::cerr << "  " << m << "\n";
+  if (messages.size() < count) std::cerr << "  ... (" << count - messages.size() << " more)\n";
+}
+
 bool parse(const std::vector<std::string>& args, const po::options_description& options,
            const po::positional_options_description& positional, po::variables_map& vm,
            const std::string& usage) {

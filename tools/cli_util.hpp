@@ -25,6 +25,18 @@ bool parse(const std::vector<std::string>& args, const po::options_description& 
            const po::positional_options_description& positional, po::variables_map& vm,
            const std::string& usage);
 
+/// Adds --overwrite ("replace an existing output file") and --quiet/-q ("print nothing on
+/// success"), the last options of the commands that write one file.
+void add_overwrite_quiet_options(po::options_description& options);
+
+/// The positional argument of the commands that read one file: the option "input".
+po::positional_options_description one_input();
+
+/// If `count` > 0, warns on stderr ("sonarsynth <command>: warning: N anomalies while reading
+/// ...") with the `messages` kept and how many more there were.
+void warn_reader_anomalies(const char* command, std::uint64_t count,
+                           const std::vector<std::string>& messages);
+
 /// Parses "KEY=VALUE" strings (GDAL's --co style); throws InputError naming the option otherwise.
 std::vector<std::pair<std::string, std::string>> parse_key_values(
     const std::vector<std::string>& items, const char* option_name);

@@ -84,10 +84,9 @@ int run_bathy(const std::vector<std::string>& args) {
      "(right side higher by HEIGHT), width metres (default 2)")
     ("seed", po::value(&seed_text)->default_value("0"), "seed of the noise components")
     ("threads", po::value(&threads)->default_value(0), "worker threads (0 = all cores)")
-    ("co", po::value(&co)->composing(), "GTiff creation option KEY=VALUE (repeatable)")
-    ("overwrite", "replace an existing output file")
-    ("quiet,q", "print nothing on success");
+    ("co", po::value(&co)->composing(), "GTiff creation option KEY=VALUE (repeatable)");
   // clang-format on
+  add_overwrite_quiet_options(opts);
   po::variables_map vm;
   if (!parse(args, opts, {}, vm, kUsage)) return 0;
 

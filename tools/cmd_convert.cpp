@@ -22,15 +22,12 @@ int run_convert(const std::vector<std::string>& args) {
     ("altitude-source", po::value(&altitude_source)->default_value("header"),
      "header | auto | track: header copies the altitude; auto writes the altitude tracked from "
      "the first return where the header's is missing, <= 0 or disagrees; track everywhere "
-     "(docs/conversion.md)")
-    ("overwrite", "replace an existing output file")
-    ("quiet,q", "print nothing on success");
+     "(docs/conversion.md)");
   // clang-format on
-  po::positional_options_description positional;
-  positional.add("input", 1);
+  add_overwrite_quiet_options(opts);
   po::variables_map vm;
   if (!parse(
-          args, opts, positional, vm,
+          args, opts, one_input(), vm,
           "usage: sonarsynth convert IN.xtf -o OUT.jsf | IN.jsf -o OUT.xtf | IN.xtf -o OUT.bag "
           "[options]\n\n"
           "Converts side-scan pings (port and starboard samples, time, navigation, attitude,\n"

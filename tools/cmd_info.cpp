@@ -19,10 +19,8 @@ int run_info(const std::vector<std::string>& args) {
       "json", "print JSON instead of text")(
       "max-anomalies", po::value<std::size_t>(&max_anomalies)->default_value(20),
       "anomaly messages listed in the text output");
-  po::positional_options_description positional;
-  positional.add("input", 1);
   po::variables_map vm;
-  if (!parse(args, options, positional, vm,
+  if (!parse(args, options, one_input(), vm,
              "usage: sonarsynth info FILE [--json]\n"
              "Reports a sonar file's (" +
                  sonar_format_names() +

@@ -32,14 +32,11 @@ int run_waterfall(const std::vector<std::string>& args) {
      "linear scaling: sample / VALUE (e.g. 32767, the full scale of sonarsynth's u16 samples: "
      "the founding paper's grey level)")
     ("max-pixels", po::value(&wo.max_pixels)->default_value(wo.max_pixels),
-     "largest image (columns x rows); a longer line is decimated along track (mean of N pings per row)")
-    ("overwrite", "replace an existing output file")
-    ("quiet,q", "print nothing on success");
+     "largest image (columns x rows); a longer line is decimated along track (mean of N pings per row)");
   // clang-format on
-  po::positional_options_description positional;
-  positional.add("input", 1);
+  add_overwrite_quiet_options(opts);
   po::variables_map vm;
-  if (!parse(args, opts, positional, vm,
+  if (!parse(args, opts, one_input(), vm,
              "usage: sonarsynth waterfall FILE -o IMAGE.png [options]\n\n"
              "Draws one row per ping: port far -> near | starboard near -> far (nadir in the\n"
              "middle), 10 log10 of the samples between the 1st and 99th percentiles of the file\n"
@@ -66,14 +63,7 @@ int run_waterfall(const std::vector<std::string>& args) {
   wo.validate();
   refuse_output_over_input({output}, {input});
   const WaterfallResult r = write_xtf_waterfall(input, output, wo);
-  if (r.reader_anomalies > 0) {
-    std::cerr << "sonarsynth waterfall: warning: " << r.reader_anomalies
-              << " anomalies while reading (malformed packets skipped; see sonarsynth info):\n";
-    for (const std::string& m : r.reader_anomaly_messages) std::cerr << "  " << m << "\n";
-    if (r.reader_anomaly_messages.size() < r.reader_anomalies) {
-      std::cerr << "  ... (" << r.reader_anomalies - r.reader_anomaly_messages.size() << " more)\n";
-    }
-  }
+  warn_reader_anomalies("waterfall", r.reader_anomalies, r.reader_anomaly_messages);
   if (!vm.count("quiet")) {
     std::cout << "wrote " << output << ": " << r.cols << " x " << r.rows << " pixels";
     if (r.pings_per_row > 1) {

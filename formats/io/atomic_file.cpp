@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <mutex>
 #include <set>
 #include <string>
@@ -158,6 +159,26 @@ AtomicOutput::~AtomicOutput() {
     fs::remove(temp_path_, ec);
   }
   unregister_temporary(temp_path_);
+}
+
+void AtomicOutput::open(std::ofstream& out, std::vector<char>& buffer,
+                        const std::string& who) const {
+  out.rdbuf()->pubsetbuf(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+  out.open(temp_path_, std::ios::binary | std::ios::trunc);
+  if (!out) {
+    throw FormatError(who + ": cannot create " + temp_path_.string() + ": " + std::strerror(errno));
+  }
+}
+
+void AtomicOutput::commit(std::ofstream& out, const std::string& who) {
+  out.flush();
+  if (!out) {
+    throw FormatError(who + ": flush failed for " + temp_path_.string() + ": " +
+                      std::strerror(errno));
+  }
+  out.close();
+  if (out.fail()) throw FormatError(who + ": close failed for " + temp_path_.string());
+  commit();
 }
 
 void AtomicOutput::commit() {

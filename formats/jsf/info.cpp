@@ -1,12 +1,11 @@
 // SPDX-License-Identifier: MIT
 // `sonarsynth info` of a JSF file (docs/jsf.md), as JSON and as text.
-#include <chrono>
 #include <sstream>
 #include <string>
 
-#include "sonarsynth/formats/xtf/info_json.hpp"
 #include "sonarsynth/formats/jsf/format.hpp"
 #include "sonarsynth/formats/jsf/summary.hpp"
+#include "sonarsynth/formats/xtf/info_json.hpp"
 
 namespace sonarsynth::jsf {
 namespace {
@@ -21,10 +20,7 @@ std::string time_text(const std::optional<UtcTime>& t) {
 }
 
 std::string summary_json(const FileSummary& s) {
-  Json j;
-  j["file"] = file_text(s.name);
-  j["format"] = "JSF";
-  j["size_bytes"] = s.file_size;
+  Json j = info::file_json(s.name, "JSF", s.file_size);
   if (s.system_information) {
     const SystemInformation& si = *s.system_information;
     j["system_information"] = {{"system_type", si.system_type},
@@ -60,38 +56,13 @@ std::string summary_json(const FileSummary& s) {
   j["sample_interval_ns"] = json_range(s.sample_interval_ns);
   j["slant_range_m"] = json_range(s.slant_range_m);
   j["weighting_factor"] = json_range(s.weighting_factor);
-  Json time = {{"first", nullptr}, {"last", nullptr}, {"duration_s", nullptr}};
-  if (s.first_time) time["first"] = xtf::iso8601(*s.first_time);
-  if (s.last_time) time["last"] = xtf::iso8601(*s.last_time);
-  if (s.first_time && s.last_time) {
-    time["duration_s"] = std::chrono::duration<double>(*s.last_time - *s.first_time).count();
-  }
-  j["time"] = std::move(time);
+  j["time"] = info::time_json(s.first_time, s.last_time);
   j["navigation"] = {{"units", "degrees"},
                      {"longitude", json_range(s.longitude_deg)},
                      {"latitude", json_range(s.latitude_deg)},
                      {"pings_without_position", s.pings - s.pings_with_valid_nav}};
-  j["ping_attitude"] = {{"heading_deg", json_range(s.heading_deg)},
-                        {"pitch_deg", json_range(s.pitch_deg)},
-                        {"roll_deg", json_range(s.roll_deg)},
-                        {"heave_m", json_range(s.heave_m)},
-                        {"altitude_m", json_range(s.altitude_m)},
-                        {"pings_without_altitude", s.pings_without_altitude},
-                        {"depth_m", json_range(s.depth_m)},
-                        {"sound_speed_mps", json_range(s.sound_speed_mps)}};
-  Json anomaly_counts = Json::object();
-  for (std::size_t k = 0; k < jsf::kAnomalyKindCount; ++k) {
-    anomaly_counts[jsf::anomaly_kind_name(static_cast<jsf::AnomalyKind>(k))] = s.anomaly_counts[k];
-  }
-  j["anomaly_counts"] = std::move(anomaly_counts);
-  Json anomalies = Json::array();
-  for (const Anomaly& a : s.anomalies) {
-    anomalies.push_back({{"kind", jsf::anomaly_kind_name(a.kind)},
-                         {"offset", a.offset},
-                         {"message_index", a.message_index},
-                         {"message", file_text(a.message)}});
-  }
-  j["anomalies"] = std::move(anomalies);
+  j["ping_attitude"] = info::ping_attitude_json(s, "sound_speed_mps", s.sound_speed_mps);
+  info::add_anomalies_json(j, s, "message_index", &Anomaly::message_index);
   return j.dump(2, ' ', true);
 }
 
@@ -119,21 +90,10 @@ std::string summary_text(const FileSummary& s, std::size_t max_anomalies) {
      << "Navigation (sensor, degrees): longitude " << text_range(s.longitude_deg, 6)
      << ", latitude " << text_range(s.latitude_deg, 6) << " (" << s.pings - s.pings_with_valid_nav
      << " pings without a position)\n"
-     << "Attitude (deg): heading " << text_range(s.heading_deg, 2) << ", pitch "
-     << text_range(s.pitch_deg, 2) << ", roll " << text_range(s.roll_deg, 2) << "\n"
+     << "Attitude (deg): " << info::attitude_text(s.heading_deg, s.pitch_deg, s.roll_deg) << "\n"
      << "Altitude " << text_range(s.altitude_m, 3) << " m, depth " << text_range(s.depth_m, 3)
      << " m, sound speed " << text_range(s.sound_speed_mps, 1) << " m/s\n";
-  std::uint64_t total = 0;
-  for (auto c : s.anomaly_counts) total += c;
-  os << "Anomalies: " << (total == 0 ? "none" : std::to_string(total)) << "\n";
-  for (std::size_t k = 0; k < jsf::kAnomalyKindCount; ++k) {
-    if (s.anomaly_counts[k] == 0) continue;
-    os << "  " << jsf::anomaly_kind_name(static_cast<jsf::AnomalyKind>(k)) << ": "
-       << s.anomaly_counts[k] << "\n";
-  }
-  for (std::size_t i = 0; i < s.anomalies.size() && i < max_anomalies; ++i) {
-    os << "  - " << s.anomalies[i].message << "\n";
-  }
+  info::anomaly_lines(os, s, max_anomalies);
   return os.str();
 }
 

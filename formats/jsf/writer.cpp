@@ -7,8 +7,8 @@
 #include <cstring>
 #include <sstream>
 
-#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/version.hpp"
 
@@ -195,13 +195,7 @@ Writer::Writer(std::filesystem::path path, WriterOptions options)
     : options_((options.validate(), std::move(options))),
       output_(std::move(path), options_.overwrite),
       stream_buffer_(std::size_t{1} << 20) {
-  out_.rdbuf()->pubsetbuf(stream_buffer_.data(),
-                          static_cast<std::streamsize>(stream_buffer_.size()));
-  out_.open(output_.temp_path(), std::ios::binary | std::ios::trunc);
-  if (!out_) {
-    throw FormatError("jsf writer: cannot create " + output_.temp_path().string() + ": " +
-                      std::strerror(errno));
-  }
+  output_.open(out_, stream_buffer_, "jsf writer");
 }
 
 Writer::~Writer() {
@@ -360,17 +354,8 @@ void Writer::write_attitude(const AttitudeSample& a) {
 void Writer::close() {
   if (closed_) return;
   start();  // an empty file still carries its system information message
-  out_.flush();
-  if (!out_) {
-    throw FormatError("jsf writer: flush failed for " + output_.temp_path().string() + ": " +
-                      std::strerror(errno));
-  }
-  out_.close();
-  if (out_.fail()) {
-    throw FormatError("jsf writer: close failed for " + output_.temp_path().string());
-  }
+  output_.commit(out_, "jsf writer");
   closed_ = true;
-  output_.commit();
 }
 
 }  // namespace sonarsynth::jsf

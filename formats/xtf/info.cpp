@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // `sonarsynth info` of an XTF file (docs/xtf.md), as JSON and as text.
-#include <chrono>
+#include <array>
 #include <sstream>
 #include <string>
 
-#include "sonarsynth/formats/xtf/info_json.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
+#include "sonarsynth/formats/xtf/info_json.hpp"
 #include "sonarsynth/formats/xtf/summary.hpp"
 
 namespace sonarsynth::xtf {
@@ -17,26 +17,13 @@ using info::json_range;
 using info::text_range;
 
 const char* channel_type_name(std::uint8_t t) {
-  switch (t) {
-    case 0:
-      return "SUBBOTTOM";
-    case 1:
-      return "PORT";
-    case 2:
-      return "STBD";
-    case 3:
-      return "BATHYMETRY";
-    default:
-      return "UNKNOWN";
-  }
+  static constexpr std::array<const char*, 4> kNames = {"SUBBOTTOM", "PORT", "STBD", "BATHYMETRY"};
+  return t < kNames.size() ? kNames[t] : "UNKNOWN";
 }
 
 std::string summary_json(const FileSummary& s) {
   const XtfFileHeader& h = s.header;
-  Json j;
-  j["file"] = file_text(s.name);
-  j["format"] = "XTF";
-  j["size_bytes"] = s.file_size;
+  Json j = info::file_json(s.name, "XTF", s.file_size);
   j["header"] = {
       {"FileFormat", h.FileFormat},
       {"SystemType", h.SystemType},
@@ -81,42 +68,17 @@ std::string summary_json(const FileSummary& s) {
                         {"slant_range_m", json_range(c.slant_range_m)}});
   }
   j["channels"] = std::move(channels);
-  Json time = {{"first", nullptr}, {"last", nullptr}, {"duration_s", nullptr}};
-  if (s.first_time) time["first"] = xtf::iso8601(*s.first_time);
-  if (s.last_time) time["last"] = xtf::iso8601(*s.last_time);
-  if (s.first_time && s.last_time) {
-    time["duration_s"] = std::chrono::duration<double>(*s.last_time - *s.first_time).count();
-  }
-  j["time"] = std::move(time);
+  j["time"] = info::time_json(s.first_time, s.last_time);
   j["navigation"] = {
       {"units", h.NavUnits == 3 ? "degrees" : (h.NavUnits == 0 ? "metres" : "unknown")},
       {"x", json_range(s.sensor_x)},
       {"y", json_range(s.sensor_y)},
       {"pings_without_position", s.pings - s.pings_with_valid_nav}};
-  j["ping_attitude"] = {{"heading_deg", json_range(s.heading_deg)},
-                        {"pitch_deg", json_range(s.pitch_deg)},
-                        {"roll_deg", json_range(s.roll_deg)},
-                        {"heave_m", json_range(s.heave_m)},
-                        {"altitude_m", json_range(s.altitude_m)},
-                        {"pings_without_altitude", s.pings_without_altitude},
-                        {"depth_m", json_range(s.depth_m)},
-                        {"SoundVelocity", json_range(s.sound_velocity)}};
+  j["ping_attitude"] = info::ping_attitude_json(s, "SoundVelocity", s.sound_velocity);
   j["attitude_packets"] = {{"heading_deg", json_range(s.attitude_heading_deg)},
                            {"pitch_deg", json_range(s.attitude_pitch_deg)},
                            {"roll_deg", json_range(s.attitude_roll_deg)}};
-  Json anomaly_counts = Json::object();
-  for (std::size_t k = 0; k < xtf::kAnomalyKindCount; ++k) {
-    anomaly_counts[xtf::anomaly_kind_name(static_cast<xtf::AnomalyKind>(k))] = s.anomaly_counts[k];
-  }
-  j["anomaly_counts"] = std::move(anomaly_counts);
-  Json anomalies = Json::array();
-  for (const Anomaly& a : s.anomalies) {
-    anomalies.push_back({{"kind", xtf::anomaly_kind_name(a.kind)},
-                         {"offset", a.offset},
-                         {"packet", a.packet_index},
-                         {"message", file_text(a.message)}});
-  }
-  j["anomalies"] = std::move(anomalies);
+  info::add_anomalies_json(j, s, "packet", &Anomaly::packet_index);
   return j.dump(2, ' ', true);
 }
 
@@ -161,31 +123,18 @@ std::string summary_text(const FileSummary& s, std::size_t max_anomalies) {
   os << "Navigation (sensor, " << (h.NavUnits == 3 ? "degrees" : "file units") << "): X "
      << text_range(s.sensor_x, p) << ", Y " << text_range(s.sensor_y, p) << " ("
      << s.pings - s.pings_with_valid_nav << " pings without a position)\n"
-     << "Attitude (ping headers, deg): heading " << text_range(s.heading_deg, 2) << ", pitch "
-     << text_range(s.pitch_deg, 2) << ", roll " << text_range(s.roll_deg, 2) << "\n"
+     << "Attitude (ping headers, deg): "
+     << info::attitude_text(s.heading_deg, s.pitch_deg, s.roll_deg) << "\n"
      << "Altitude " << text_range(s.altitude_m, 2) << " m, depth " << text_range(s.depth_m, 2)
      << " m, SoundVelocity " << text_range(s.sound_velocity, 1) << " m/s\n";
   if (s.attitude_heading_deg.count > 0) {
-    os << "Attitude packets (deg): heading " << text_range(s.attitude_heading_deg, 2) << ", pitch "
-       << text_range(s.attitude_pitch_deg, 2) << ", roll " << text_range(s.attitude_roll_deg, 2)
+    os << "Attitude packets (deg): "
+       << info::attitude_text(s.attitude_heading_deg, s.attitude_pitch_deg, s.attitude_roll_deg)
        << "\n";
   }
-  std::uint64_t total = 0;
-  for (auto c : s.anomaly_counts) total += c;
-  total += s.pings_without_altitude;
-  os << "Anomalies: " << (total == 0 ? "none" : std::to_string(total)) << "\n";
-  if (s.pings_without_altitude > 0) {
-    os << "  pings_without_altitude: " << s.pings_without_altitude
-       << " (SensorPrimaryAltitude 0: no seabed under the sensor)\n";
-  }
-  for (std::size_t k = 0; k < xtf::kAnomalyKindCount; ++k) {
-    if (s.anomaly_counts[k] == 0) continue;
-    os << "  " << xtf::anomaly_kind_name(static_cast<xtf::AnomalyKind>(k)) << ": "
-       << s.anomaly_counts[k] << "\n";
-  }
-  for (std::size_t i = 0; i < s.anomalies.size() && i < max_anomalies; ++i) {
-    os << "  - " << s.anomalies[i].message << "\n";
-  }
+  info::anomaly_lines(os, s, max_anomalies, s.pings_without_altitude,
+                      "  pings_without_altitude: " + std::to_string(s.pings_without_altitude) +
+                          " (SensorPrimaryAltitude 0: no seabed under the sensor)\n");
   if (s.anomalies.size() > max_anomalies) {
     os << "  ... (" << s.anomalies.size() - max_anomalies << " more; see --json)\n";
   }

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <type_traits>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/time_fields.hpp"
@@ -390,6 +391,19 @@ bool Reader::next(Packet& packet) {
                  " is smaller than the " + std::to_string(need) + "-byte " + record +
                  "; packet skipped");
     };
+    // Decodes the packet's fixed-size record into `record`; false (reported) if it is smaller.
+    const auto read_record = [&](auto& record, const char* record_name) {
+      constexpr std::size_t kSize = std::remove_reference_t<decltype(record)>::kSize;
+      if (n < kSize) {
+        too_small(kSize, record_name);
+        return false;
+      }
+      buffer_.resize(kSize);
+      source_->read(offset, buffer_);
+      ByteReader r(buffer_);
+      record = std::remove_reference_t<decltype(record)>::decode(r);
+      return true;
+    };
     switch (h.HeaderType) {
       case static_cast<std::uint8_t>(HeaderType::kSonar): {
         ++sonar_packets_;
@@ -410,42 +424,18 @@ bool Reader::next(Packet& packet) {
         packet.kind = PacketKind::kPing;
         return true;
       }
-      case static_cast<std::uint8_t>(HeaderType::kNotes): {
-        if (n < XtfNotesHeader::kSize) {
-          too_small(XtfNotesHeader::kSize, "XTFNOTESHEADER");
-          continue;
-        }
-        buffer_.resize(XtfNotesHeader::kSize);
-        source_->read(offset, buffer_);
-        ByteReader r(buffer_);
-        packet.notes = XtfNotesHeader::decode(r);
+      case static_cast<std::uint8_t>(HeaderType::kNotes):
+        if (!read_record(packet.notes, "XTFNOTESHEADER")) continue;
         packet.kind = PacketKind::kNotes;
         return true;
-      }
-      case static_cast<std::uint8_t>(HeaderType::kAttitude): {
-        if (n < XtfAttitudeData::kSize) {
-          too_small(XtfAttitudeData::kSize, "XTFATTITUDEDATA");
-          continue;
-        }
-        buffer_.resize(XtfAttitudeData::kSize);
-        source_->read(offset, buffer_);
-        ByteReader r(buffer_);
-        packet.attitude = XtfAttitudeData::decode(r);
+      case static_cast<std::uint8_t>(HeaderType::kAttitude):
+        if (!read_record(packet.attitude, "XTFATTITUDEDATA")) continue;
         packet.kind = PacketKind::kAttitude;
         return true;
-      }
-      case static_cast<std::uint8_t>(HeaderType::kNavigation): {
-        if (n < XtfHeaderNavigation::kSize) {
-          too_small(XtfHeaderNavigation::kSize, "XTFHEADERNAVIGATION");
-          continue;
-        }
-        buffer_.resize(XtfHeaderNavigation::kSize);
-        source_->read(offset, buffer_);
-        ByteReader r(buffer_);
-        packet.navigation = XtfHeaderNavigation::decode(r);
+      case static_cast<std::uint8_t>(HeaderType::kNavigation):
+        if (!read_record(packet.navigation, "XTFHEADERNAVIGATION")) continue;
         packet.kind = PacketKind::kNavigation;
         return true;
-      }
       default:
         packet.kind = PacketKind::kOther;  // unknown or unused type: skipped without reading
         return true;
@@ -540,8 +530,8 @@ void Reader::normalise(PingRecord& ping, std::uint64_t offset) {
   SonarPing& s = ping.sonar;
 
   const auto t = h.HSeconds < 100
-                     ? calendar::time_from_fields(h.Year, h.Month, h.Day, h.Hour, h.Minute, h.Second,
-                                                std::uint32_t{h.HSeconds} * 10000u)
+                     ? calendar::time_from_fields(h.Year, h.Month, h.Day, h.Hour, h.Minute,
+                                                  h.Second, std::uint32_t{h.HSeconds} * 10000u)
                      : std::nullopt;
   ping.time_valid = t.has_value();
   s.time_utc = t.value_or(UtcTime{});

@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/version.hpp"
 #include "sonarsynth/formats/io/time_fields.hpp"
+#include "sonarsynth/version.hpp"
 
 namespace sonarsynth::xtf {
 namespace {
@@ -91,6 +91,20 @@ bool finite_all(std::initializer_list<double> values) {
   return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
 }
 
+/// The date and time fields of an XTF record: Year, Month, Day, Hour and the minute and second
+/// fields (Minute and Second; Minutes and Seconds in XTFATTITUDEDATA).
+template <class Record>
+void set_date_time(Record& r, const calendar::TimeFields& tf,
+                   std::uint8_t Record::*minute = &Record::Minute,
+                   std::uint8_t Record::*second = &Record::Second) {
+  r.Year = static_cast<std::uint16_t>(tf.year);
+  r.Month = static_cast<std::uint8_t>(tf.month);
+  r.Day = static_cast<std::uint8_t>(tf.day);
+  r.Hour = static_cast<std::uint8_t>(tf.hour);
+  r.*minute = static_cast<std::uint8_t>(tf.minute);
+  r.*second = static_cast<std::uint8_t>(tf.second);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -149,13 +163,7 @@ Writer::Writer(std::filesystem::path path, WriterOptions options)
       output_(std::move(path), options_.overwrite),
       stream_buffer_(std::size_t{1} << 20),
       warnings_(options_.compatibility_warnings()) {
-  out_.rdbuf()->pubsetbuf(stream_buffer_.data(),
-                          static_cast<std::streamsize>(stream_buffer_.size()));
-  out_.open(output_.temp_path(), std::ios::binary | std::ios::trunc);
-  if (!out_) {
-    throw FormatError("xtf writer: cannot create " + output_.temp_path().string() + ": " +
-                      std::strerror(errno));
-  }
+  output_.open(out_, stream_buffer_, "xtf writer");
 }
 
 Writer::~Writer() {
@@ -207,27 +215,16 @@ void Writer::start(UtcTime first_time, std::uint32_t port_samples, std::uint32_t
     c.TiltAngle = static_cast<float>(deg_from_rad(options_.tilt_angle_rad));
     c.BeamWidth = static_cast<float>(deg_from_rad(options_.vertical_beam_width_rad));
   }
-  buffer_.assign(XtfFileHeader::kSize, 0);
-  ByteWriter w(buffer_);
-  h.encode(w);
-  append(buffer_, XtfFileHeader::kSize);
+  append_record(h);
 
   // A NOTES packet first: libxtf/auvlib skip the first packet of every file.
   const calendar::TimeFields tf = calendar::fields_from_time(first_time);
   XtfNotesHeader n;
   n.Header.HeaderType = static_cast<std::uint8_t>(HeaderType::kNotes);
   n.Header.NumBytesThisRecord = static_cast<std::uint32_t>(XtfNotesHeader::kSize);
-  n.Year = static_cast<std::uint16_t>(tf.year);
-  n.Month = static_cast<std::uint8_t>(tf.month);
-  n.Day = static_cast<std::uint8_t>(tf.day);
-  n.Hour = static_cast<std::uint8_t>(tf.hour);
-  n.Minute = static_cast<std::uint8_t>(tf.minute);
-  n.Second = static_cast<std::uint8_t>(tf.second);
+  set_date_time(n, tf);
   n.NotesText = fixed_string<200>(options_.note);
-  buffer_.assign(XtfNotesHeader::kSize, 0);
-  ByteWriter nw(buffer_);
-  n.encode(nw);
-  append(buffer_, XtfNotesHeader::kSize);
+  append_record(n);
 }
 
 void Writer::validate_ping(const SonarPing& p, bool check_position) const {
@@ -360,12 +357,7 @@ void Writer::write_ping(const SonarPing& p, const StoredPingHeaders* stored) {
   h.Header.HeaderType = static_cast<std::uint8_t>(HeaderType::kSonar);
   h.Header.NumChansToFollow = 2;
   h.Header.NumBytesThisRecord = static_cast<std::uint32_t>(total);
-  h.Year = static_cast<std::uint16_t>(tf.year);
-  h.Month = static_cast<std::uint8_t>(tf.month);
-  h.Day = static_cast<std::uint8_t>(tf.day);
-  h.Hour = static_cast<std::uint8_t>(tf.hour);
-  h.Minute = static_cast<std::uint8_t>(tf.minute);
-  h.Second = static_cast<std::uint8_t>(tf.second);
+  set_date_time(h, tf);
   h.HSeconds = static_cast<std::uint8_t>(tf.microsecond / 10000);
   h.JulianDay = static_cast<std::uint16_t>(tf.day_of_year0);
   h.PingNumber = p.ping_number;
@@ -445,17 +437,9 @@ void Writer::write_attitude(const AttitudeSample& a) {
   d.Yaw = static_cast<float>(deg_from_rad(a.yaw_rad));
   d.TimeTag = calendar::time_tag_ms(a.time_utc);
   d.Heading = static_cast<float>(heading_deg(a.heading_rad));
-  d.Year = static_cast<std::uint16_t>(tf.year);
-  d.Month = static_cast<std::uint8_t>(tf.month);
-  d.Day = static_cast<std::uint8_t>(tf.day);
-  d.Hour = static_cast<std::uint8_t>(tf.hour);
-  d.Minutes = static_cast<std::uint8_t>(tf.minute);
-  d.Seconds = static_cast<std::uint8_t>(tf.second);
+  set_date_time(d, tf, &XtfAttitudeData::Minutes, &XtfAttitudeData::Seconds);
   d.Milliseconds = static_cast<std::uint16_t>(tf.microsecond / 1000);
-  buffer_.assign(XtfAttitudeData::kSize, 0);
-  ByteWriter w(buffer_);
-  d.encode(w);
-  append(buffer_, buffer_.size());
+  append_record(d);
 }
 
 void Writer::write_navigation(const NavigationFix& fix) {
@@ -474,12 +458,7 @@ void Writer::write_navigation(const NavigationFix& fix) {
   }
   start(fix.time_utc, 0, 0);
   XtfHeaderNavigation n;
-  n.Year = static_cast<std::uint16_t>(tf.year);
-  n.Month = static_cast<std::uint8_t>(tf.month);
-  n.Day = static_cast<std::uint8_t>(tf.day);
-  n.Hour = static_cast<std::uint8_t>(tf.hour);
-  n.Minute = static_cast<std::uint8_t>(tf.minute);
-  n.Second = static_cast<std::uint8_t>(tf.second);
+  set_date_time(n, tf);
   n.Microseconds = tf.microsecond;
   n.SourceEpoch = static_cast<std::uint32_t>(calendar::epoch_seconds(fix.time_utc));
   n.TimeTag = calendar::time_tag_ms(fix.time_utc);
@@ -487,10 +466,7 @@ void Writer::write_navigation(const NavigationFix& fix) {
   n.RawXcoordinate = coordinate_deg(g.lon_rad);
   n.RawAltitude = g.height_m;
   n.TimeFlag = 1;  // source time valid
-  buffer_.assign(XtfHeaderNavigation::kSize, 0);
-  ByteWriter w(buffer_);
-  n.encode(w);
-  append(buffer_, buffer_.size());
+  append_record(n);
 }
 
 void Writer::close() {
@@ -505,17 +481,8 @@ void Writer::close() {
                static_cast<std::streamsize>(buffer_.size()));
     out_.seekp(0, std::ios::end);
   }
-  out_.flush();
-  if (!out_) {
-    throw FormatError("xtf writer: flush failed for " + output_.temp_path().string() + ": " +
-                      std::strerror(errno));
-  }
-  out_.close();
-  if (out_.fail()) {
-    throw FormatError("xtf writer: close failed for " + output_.temp_path().string());
-  }
+  output_.commit(out_, "xtf writer");
   closed_ = true;
-  output_.commit();
 }
 
 }  // namespace sonarsynth::xtf

@@ -2,6 +2,7 @@
 # Shared fixtures of the Python module's tests (docs/python.md). ctest sets PYTHONPATH to the
 # built module and SONARSYNTH_CLI / SONARSYNTH_PY_HELPER to the C++ programs they compare with.
 import os
+import pathlib
 import subprocess
 
 import numpy as np
@@ -29,6 +30,15 @@ survey:
     - {name: b, waypoints: [{east_m: 6, north_m: 3}, {east_m: -6, north_m: 3}]}
 sonar: {frequency_khz: 600, range_m: 20, samples: 300}
 """
+
+
+def tiny_dataset(name="tiny", line_length_m=6, run=""):
+    """The dataset spec of tiny_dataset.yaml (its comment lines left out) named `name`, with a
+    `line_length_m` line and `run` (a "run:" section) appended."""
+    lines = (pathlib.Path(__file__).parent / "tiny_dataset.yaml").read_text().splitlines(True)
+    text = "".join(line for line in lines if not line.startswith("#"))
+    text = text.replace("name: tiny\n", f"name: {name}\n", 1)
+    return text.replace("line_length_m: 6,", f"line_length_m: {line_length_m},", 1) + run
 
 
 def helper(name):

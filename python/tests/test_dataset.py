@@ -18,28 +18,9 @@ import sonarsynth
 distributed = pytest.importorskip("distributed")
 import sonarsynth_dask  # noqa: E402  (after the skip: it needs Dask)
 
-# Tiny items: a 6 m line at 3 m/s, 10 m range, 200 samples (tens of pings each).
-TINY = """\
-name: tiny
-seed: 99
-count: 4
-location: {lat_deg: 43.0, lon_deg: 5.0}
-seabed:
-  depth_m: [10, 14]
-  cell_m: 0.5
-  material: {sand: 2, mud: 1}
-  roughness: {rms_m: [0.01, 0.05], wavelength_m: [5, 10]}
-objects:
-  count: [1, 3]
-  burial: [0, 0.3]
-  across_track_m: [2, 8]
-  types:
-    rock: {weight: 2, diameter_m: [0.5, 1.5]}
-    box: {length_m: [1, 3], width_m: [0.5, 1], height_m: [0.4, 1]}
-survey: {line_length_m: 6, altitude_m: [3, 5], speed_m_s: 3}
-sonar: {preset: seascan-hds-600, range_m: 10, samples: 200}
-noise: {model: speckle, snr_db: [15, 30]}
-"""
+from conftest import tiny_dataset  # noqa: E402
+
+TINY = tiny_dataset()
 
 
 def digests(root):

@@ -20,39 +20,20 @@ from osgeo import gdal  # noqa: E402
 import sonarsynth  # noqa: E402
 import sonarsynth_torch as st  # noqa: E402
 
-from conftest import helper  # noqa: E402
+from conftest import helper, tiny_dataset  # noqa: E402
 
 gdal.UseExceptions()
 
 # Tiny items with grey 64 px chips and every label format: a 12 m line at 3 m/s, 10 m range,
 # 200 samples a side (75 pings), 1-3 rocks and boxes 2-8 m from the track.
-SPEC = """\
-name: torch-tiny
-seed: 99
-count: 4
-location: {lat_deg: 43.0, lon_deg: 5.0}
-seabed:
-  depth_m: [10, 14]
-  cell_m: 0.5
-  material: {sand: 2, mud: 1}
-  roughness: {rms_m: [0.01, 0.05], wavelength_m: [5, 10]}
-objects:
-  count: [1, 3]
-  burial: [0, 0.3]
-  across_track_m: [2, 8]
-  types:
-    rock: {weight: 2, diameter_m: [0.5, 1.5]}
-    box: {length_m: [1, 3], width_m: [0.5, 1], height_m: [0.4, 1]}
-survey: {line_length_m: 12, altitude_m: [3, 5], speed_m_s: 3}
-sonar: {preset: seascan-hds-600, range_m: 10, samples: 200}
-noise: {model: speckle, snr_db: [15, 30]}
+SPEC = tiny_dataset("torch-tiny", line_length_m=12, run="""\
 run:
   products:
     waterfalls: true
     truth: true
     labels: {coco: true, yolo: true, chips: {size_px: 64, stride_px: 64}, chip_color: grey}
   split: {train: 0.5, val: 0.25, test: 0.25}
-"""
+""")
 
 # Class codes of the label rasters (docs/labels.md) by COCO category id.
 CLASS_OF_CATEGORY = {1: 2, 2: 3}

@@ -7,6 +7,7 @@
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/summary.hpp"
 #include "sonarsynth/formats/jsf/writer.hpp"
+#include "test_pings.hpp"
 
 int main() {
   namespace jsf = sonarsynth::jsf;
@@ -17,18 +18,7 @@ int main() {
     jsf::WriterOptions options;
     options.overwrite = true;
     jsf::Writer writer(path, options);
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      sonarsynth::SonarPing ping;
-      ping.time_utc = sonarsynth::UtcTime(std::chrono::seconds(1'700'000'000 + i));
-      ping.ping_number = i;
-      ping.sensor_position = {sonarsynth::rad_from_deg(48.45), sonarsynth::rad_from_deg(-68.83)};
-      ping.altitude_m = 10.0;
-      ping.slant_range_m = 48.0;
-      ping.port.assign(64, 100.0f);
-      ping.starboard.assign(64, 200.0f);
-      writer.write_ping(ping);
-    }
-    writer.close();
+    write_test_pings(writer, 3, 48.0);
   }
   const jsf::FileSummary summary = jsf::summarize_file(path);
   const sonarsynth::ConvertResult converted =

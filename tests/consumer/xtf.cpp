@@ -7,6 +7,7 @@
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/summary.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
+#include "test_pings.hpp"
 
 int main() {
   namespace xtf = sonarsynth::xtf;
@@ -15,18 +16,7 @@ int main() {
     xtf::WriterOptions options;
     options.overwrite = true;
     xtf::Writer writer(path, options);
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      sonarsynth::SonarPing ping;
-      ping.time_utc = sonarsynth::UtcTime(std::chrono::seconds(1'700'000'000 + i));
-      ping.ping_number = i;
-      ping.sensor_position = {sonarsynth::rad_from_deg(48.45), sonarsynth::rad_from_deg(-68.83)};
-      ping.altitude_m = 10.0;
-      ping.slant_range_m = 50.0;
-      ping.port.assign(64, 100.0f);
-      ping.starboard.assign(64, 200.0f);
-      writer.write_ping(ping);
-    }
-    writer.close();
+    write_test_pings(writer, 3, 50.0);
   }
   const xtf::FileSummary summary = xtf::summarize_file(path);
   std::filesystem::remove(path);

@@ -2,6 +2,9 @@
 #pragma once
 
 #include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
 
 namespace sonarsynth {
 
@@ -26,8 +29,14 @@ class AtomicOutput {
 
   const std::filesystem::path& temp_path() const { return temp_path_; }
   const std::filesystem::path& final_path() const { return final_path_; }
+  /// Opens `out` on temp_path() (binary, truncated), writing through `buffer`. Throws FormatError
+  /// ("<who>: cannot create ...") on failure.
+  void open(std::ofstream& out, std::vector<char>& buffer, const std::string& who) const;
   /// Renames the temporary file to the final name. Throws FormatError on failure.
   void commit();
+  /// Flushes and closes `out` (the stream writing temp_path()), then commits. Throws
+  /// FormatError ("<who>: flush failed for ..." or "close failed") on failure.
+  void commit(std::ofstream& out, const std::string& who);
   bool committed() const { return committed_; }
 
  private:

@@ -116,6 +116,14 @@ class Writer {
  private:
   void start(UtcTime first_time, std::uint32_t port_samples, std::uint32_t stbd_samples);
   void append(const std::vector<std::uint8_t>& bytes, std::size_t n);
+  /// Encodes a fixed-size record (its kSize bytes) and appends it.
+  template <class Record>
+  void append_record(const Record& record) {
+    buffer_.assign(Record::kSize, 0);
+    ByteWriter w(buffer_);
+    record.encode(w);
+    append(buffer_, Record::kSize);
+  }
   void encode_samples(const std::vector<float>& samples, bool reverse, ByteWriter& w);
   void validate_ping(const SonarPing& ping, bool check_position) const;
 
