@@ -137,9 +137,11 @@ void envelope_positions(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
 
 // Height of the upper envelope (seabed and object spans) just after (side = +1) or just before
 // (side = -1) position y, and which surface it belongs to (top_object; -1 = seabed).
-double envelope_height(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
-                       const Eigen::Vector2d& across_dir, const ProfileScratch& scratch, double y,
-                       int side, std::int64_t& top_object) {
+[[gnu::always_inline]] inline double envelope_height(const Scene& scene,
+                                                     const Eigen::Vector2d& nadir_xy_m,
+                                                     const Eigen::Vector2d& across_dir,
+                                                     const ProfileScratch& scratch, double y,
+                                                     int side, std::int64_t& top_object) {
   const auto& prims = scene.objects.primitives();
   const Eigen::Vector2d p = nadir_xy_m + y * across_dir;
   double z = scene.bathymetry.height_m(p.x(), p.y());
