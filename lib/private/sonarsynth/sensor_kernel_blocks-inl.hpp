@@ -54,12 +54,16 @@ HWY_INLINE hn::Vec<DF> exp1(DF df, DU du, hn::Vec<DU> w) {
   return hn::Neg(ln);
 }
 
-// cos(theta), theta uniform on (-pi, pi), from a word: cos of a uniform angle on (0, pi / 2)
-// (the high 24 bits) with the sign of the lowest bit, which has the same distribution. The
-// Taylor series to theta^12 errs by < 7e-9 there (below float's rounding).
+// theta uniform on (0, pi / 2) from a word's high 24 bits.
 template <class DF, class DU>
-HWY_INLINE hn::Vec<DF> cos_uniform(DF df, DU du, hn::Vec<DU> w) {
-  const auto theta = hn::Mul(ch::uniform_open(df, du, w), hn::Set(df, 1.57079632679489661923f));
+HWY_INLINE hn::Vec<DF> quarter_angle(DF df, DU du, hn::Vec<DU> w) {
+  return hn::Mul(ch::uniform_open(df, du, w), hn::Set(df, 1.57079632679489661923f));
+}
+
+// cos(theta) on (0, pi / 2): the Taylor series to theta^12 errs by < 7e-9 there (below float's
+// rounding).
+template <class DF>
+HWY_INLINE hn::Vec<DF> cos_quarter(DF df, hn::Vec<DF> theta) {
   const auto t = hn::Mul(theta, theta);
   auto c = hn::Set(df, 1.0f / 479001600.0f);
   c = hn::MulAdd(c, t, hn::Set(df, -1.0f / 3628800.0f));
@@ -67,7 +71,14 @@ HWY_INLINE hn::Vec<DF> cos_uniform(DF df, DU du, hn::Vec<DU> w) {
   c = hn::MulAdd(c, t, hn::Set(df, -1.0f / 720.0f));
   c = hn::MulAdd(c, t, hn::Set(df, 1.0f / 24.0f));
   c = hn::MulAdd(c, t, hn::Set(df, -0.5f));
-  c = hn::MulAdd(c, t, hn::Set(df, 1.0f));
+  return hn::MulAdd(c, t, hn::Set(df, 1.0f));
+}
+
+// cos(theta), theta uniform on (-pi, pi), from a word: cos of a uniform angle on (0, pi / 2)
+// (the high 24 bits) with the sign of the lowest bit, which has the same distribution.
+template <class DF, class DU>
+HWY_INLINE hn::Vec<DF> cos_uniform(DF df, DU du, hn::Vec<DU> w) {
+  const auto c = cos_quarter(df, quarter_angle(df, du, w));
   // The sign bit from the word's lowest bit.
   const auto sign = hn::BitCast(df, hn::ShiftLeft<31>(w));
   return hn::Xor(c, sign);
@@ -92,18 +103,10 @@ HWY_INLINE hn::Vec<DF> sin_quarter(DF df, hn::Vec<DF> theta) {
 // reflections of a uniform quarter turn cover the circle uniformly).
 template <class DF, class DU>
 HWY_INLINE void unit_phase(DF df, DU du, hn::Vec<DU> w, hn::Vec<DF>& c, hn::Vec<DF>& s) {
-  const auto theta = hn::Mul(ch::uniform_open(df, du, w), hn::Set(df, 1.57079632679489661923f));
-  const auto t = hn::Mul(theta, theta);
-  auto cc = hn::Set(df, 1.0f / 479001600.0f);
-  cc = hn::MulAdd(cc, t, hn::Set(df, -1.0f / 3628800.0f));
-  cc = hn::MulAdd(cc, t, hn::Set(df, 1.0f / 40320.0f));
-  cc = hn::MulAdd(cc, t, hn::Set(df, -1.0f / 720.0f));
-  cc = hn::MulAdd(cc, t, hn::Set(df, 1.0f / 24.0f));
-  cc = hn::MulAdd(cc, t, hn::Set(df, -0.5f));
-  cc = hn::MulAdd(cc, t, hn::Set(df, 1.0f));
+  const auto theta = quarter_angle(df, du, w);
   const auto sign_c = hn::BitCast(df, hn::ShiftLeft<31>(w));
   const auto sign_s = hn::BitCast(df, hn::And(hn::ShiftLeft<30>(w), hn::Set(du, 0x80000000U)));
-  c = hn::Xor(cc, sign_c);
+  c = hn::Xor(cos_quarter(df, theta), sign_c);
   s = hn::Xor(sin_quarter(df, theta), sign_s);
 }
 
