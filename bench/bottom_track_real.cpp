@@ -83,45 +83,32 @@ std::vector<rs::FirstReturn> smoothed(std::vector<rs::FirstReturn> fr, std::size
   return out;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) try {
-  if (argc < 2 || argc > 4) {
-    std::fprintf(
-        stderr,
-        "usage: bottom_track_real FILE.xtf|.jsf [REFERENCE_MEDIAN_PINGS [CHANGE_WINDOW_M]]\n");
-    return 2;
-  }
-  if (argc == 4) kChangeWindowM = std::atof(argv[3]);
-  if (!(kChangeWindowM > 0.0)) throw InputError("CHANGE_WINDOW_M must be > 0");
-  if (argc >= 3) kRefMedianPings = static_cast<std::size_t>(std::atoi(argv[2]));
-  const std::string path = argv[1];
+// The side-scan pings of a file (XTF or JSF), those with samples.
+std::vector<rs::Ping> read_pings(const std::string& path) {
   std::vector<rs::Ping> pings;
-  {
-    const auto src = SideScanSource::open(path);
-    SideScanRecord rec;
-    while (src->next(rec)) {
-      const SonarPing& s = rec.sonar;
-      if (s.port.empty() && s.starboard.empty()) continue;
-      rs::Ping p;
-      p.port = s.port;
-      p.starboard = s.starboard;
-      p.altitude_m = s.altitude_m;
-      p.slant_range_m = s.slant_range_m;
-      pings.push_back(std::move(p));
-    }
+  const auto src = SideScanSource::open(path);
+  SideScanRecord rec;
+  while (src->next(rec)) {
+    const SonarPing& s = rec.sonar;
+    if (s.port.empty() && s.starboard.empty()) continue;
+    rs::Ping p;
+    p.port = s.port;
+    p.starboard = s.starboard;
+    p.altitude_m = s.altitude_m;
+    p.slant_range_m = s.slant_range_m;
+    pings.push_back(std::move(p));
   }
-  if (pings.empty()) throw InputError(path + ": no side-scan ping");
-  BottomTracker tracker;
-  for (const rs::Ping& p : pings) tracker.add_ping(p.port, p.starboard, p.slant_range_m);
-  const std::vector<double> alt = tracker.altitudes_m();
+  return pings;
+}
+
+// The two references' first-return range per side and ping, refs[reference][side] (NaN where
+// it has none): 1 realism measure 4 smoothed along track, 2 the change point of `window`
+// samples.
+void reference_ranges(const std::vector<rs::Ping>& pings, std::size_t window,
+                      std::vector<double> (&refs)[2][2]) {
   const rs::Options ro;
   const auto ref_p = smoothed(rs::first_returns(pings, rs::Side::kPort, ro), kRefMedianPings);
   const auto ref_s = smoothed(rs::first_returns(pings, rs::Side::kStarboard, ro), kRefMedianPings);
-  const double dr = pings[0].slant_range_m / static_cast<double>(pings[0].port.size());
-  const auto window = static_cast<std::size_t>(std::lround(kChangeWindowM / dr));
-  // Per reference: the first-return range per side and ping (NaN where it has none).
-  std::vector<double> refs[2][2];
   for (int side = 0; side < 2; ++side) {
     const auto& old = side == 0 ? ref_p : ref_s;
     for (std::size_t k = 0; k < pings.size(); ++k) {
@@ -133,53 +120,47 @@ int main(int argc, char** argv) try {
                                           static_cast<double>(v.size()));
     }
   }
-  const std::vector<double> track_side[2] = {tracker.side_ranges_m(0), tracker.side_ranges_m(1)};
-  std::printf("file %s: %zu pings, sample %.4f m\n", path.c_str(), pings.size(), dr);
-  for (int r = 0; r < 2; ++r) {
-    if (r == 0) {
-      std::printf(
-          "agreement within 2 samples of the visible first return, reference 1: realism measure "
-          "4 (threshold 20 dB below the near seabed), along-track median of %zu pings:\n",
-          kRefMedianPings);
-    } else {
-      std::printf(
-          "reference 2: change point of a two-level model of the dB levels, seabed part %zu "
-          "samples (%.2f m):\n",
-          window, kChangeWindowM);
-    }
-    for (int side = 0; side < 2; ++side) {
-      std::size_t n = 0, ok = 0;
-      for (std::size_t k = 0; k < pings.size(); ++k) {
-        const double ref = refs[r][side][k];
-        if (!std::isfinite(ref)) continue;
-        ++n;
-        if (std::abs(track_side[side][k] - ref) <= 2.0 * dr + 1e-9) ++ok;
-        if (std::getenv("BT_DEBUG")) {
-          std::printf("dbg %d %d %zu %.1f %.1f\n", r, side, k, track_side[side][k] / dr, ref / dr);
-        }
-      }
-      std::printf("  %s: %zu of %zu pings (%.1f %%)\n", side == 0 ? "port" : "starboard", ok, n,
-                  100.0 * static_cast<double>(ok) / static_cast<double>(n));
-    }
-    std::size_t ping_n = 0, ping_ok = 0, header_near = 0;
+}
+
+// Prints the agreement of the tracker (per side, and the ping altitude alt) with reference r.
+void print_agreement(const std::vector<rs::Ping>& pings, const std::vector<double> (&refs)[2][2],
+                     int r, const std::vector<double> (&track_side)[2],
+                     const std::vector<double>& alt, double dr) {
+  for (int side = 0; side < 2; ++side) {
+    std::size_t n = 0, ok = 0;
     for (std::size_t k = 0; k < pings.size(); ++k) {
-      double sum = 0.0, c = 0.0;
-      for (int side = 0; side < 2; ++side) {
-        if (std::isfinite(refs[r][side][k])) {
-          sum += refs[r][side][k];
-          c += 1.0;
-        }
+      const double ref = refs[r][side][k];
+      if (!std::isfinite(ref)) continue;
+      ++n;
+      if (std::abs(track_side[side][k] - ref) <= 2.0 * dr + 1e-9) ++ok;
+      if (std::getenv("BT_DEBUG")) {
+        std::printf("dbg %d %d %zu %.1f %.1f\n", r, side, k, track_side[side][k] / dr, ref / dr);
       }
-      if (c == 0.0) continue;
-      ++ping_n;
-      if (std::abs(alt[k] - sum / c) <= 2.0 * dr + 1e-9) ++ping_ok;
-      if (std::abs(pings[k].altitude_m - sum / c) <= 2.0 * dr) ++header_near;
     }
-    std::printf("  ping altitude (mean of sides): %zu of %zu pings (%.1f %%)\n", ping_ok, ping_n,
-                100.0 * static_cast<double>(ping_ok) / static_cast<double>(ping_n));
-    std::printf("  header altitude within 2 samples of it: %zu of %zu pings\n", header_near,
-                ping_n);
+    std::printf("  %s: %zu of %zu pings (%.1f %%)\n", side == 0 ? "port" : "starboard", ok, n,
+                100.0 * static_cast<double>(ok) / static_cast<double>(n));
   }
+  std::size_t ping_n = 0, ping_ok = 0, header_near = 0;
+  for (std::size_t k = 0; k < pings.size(); ++k) {
+    double sum = 0.0, c = 0.0;
+    for (int side = 0; side < 2; ++side) {
+      if (std::isfinite(refs[r][side][k])) {
+        sum += refs[r][side][k];
+        c += 1.0;
+      }
+    }
+    if (c == 0.0) continue;
+    ++ping_n;
+    if (std::abs(alt[k] - sum / c) <= 2.0 * dr + 1e-9) ++ping_ok;
+    if (std::abs(pings[k].altitude_m - sum / c) <= 2.0 * dr) ++header_near;
+  }
+  std::printf("  ping altitude (mean of sides): %zu of %zu pings (%.1f %%)\n", ping_ok, ping_n,
+              100.0 * static_cast<double>(ping_ok) / static_cast<double>(ping_n));
+  std::printf("  header altitude within 2 samples of it: %zu of %zu pings\n", header_near, ping_n);
+}
+
+// Prints the quantiles of header altitude - tracked altitude alt.
+void print_header_minus_track(const std::vector<rs::Ping>& pings, const std::vector<double>& alt) {
   std::vector<double> header_minus_track;
   for (std::size_t k = 0; k < pings.size(); ++k) {
     if (pings[k].altitude_m > 0.0) header_minus_track.push_back(pings[k].altitude_m - alt[k]);
@@ -193,8 +174,12 @@ int main(int argc, char** argv) try {
     std::printf("header - tracked altitude: median %.3f m, 5 %% %.3f m, 95 %% %.3f m\n", q(0.5),
                 q(0.05), q(0.95));
   }
+}
 
-  // Before/after band levels.
+// Prints the band levels before and after the across-track gain normalisation (pass 0: header
+// altitude, no gain; 1: tracked altitude, no gain; 2: tracked altitude, angle gain).
+void print_band_levels(const std::vector<rs::Ping>& pings, const std::vector<double>& alt,
+                       double dr) {
   for (int pass = 0; pass < 3; ++pass) {
     const AltitudeSource source = pass == 0 ? AltitudeSource::kHeader : AltitudeSource::kAuto;
     GainNormaliser gain(pass < 2 ? GainNormalisation::kOff : GainNormalisation::kAngle);
@@ -232,6 +217,48 @@ int main(int argc, char** argv) try {
     for (double g = 0.0; g < 20.0; g += 0.5) std::printf(" %.1f", lv.mean(g, g + 0.5));
     std::printf("\n");
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  if (argc < 2 || argc > 4) {
+    std::fprintf(
+        stderr,
+        "usage: bottom_track_real FILE.xtf|.jsf [REFERENCE_MEDIAN_PINGS [CHANGE_WINDOW_M]]\n");
+    return 2;
+  }
+  if (argc == 4) kChangeWindowM = std::atof(argv[3]);
+  if (!(kChangeWindowM > 0.0)) throw InputError("CHANGE_WINDOW_M must be > 0");
+  if (argc >= 3) kRefMedianPings = static_cast<std::size_t>(std::atoi(argv[2]));
+  const std::string path = argv[1];
+  const std::vector<rs::Ping> pings = read_pings(path);
+  if (pings.empty()) throw InputError(path + ": no side-scan ping");
+  BottomTracker tracker;
+  for (const rs::Ping& p : pings) tracker.add_ping(p.port, p.starboard, p.slant_range_m);
+  const std::vector<double> alt = tracker.altitudes_m();
+  const double dr = pings[0].slant_range_m / static_cast<double>(pings[0].port.size());
+  const auto window = static_cast<std::size_t>(std::lround(kChangeWindowM / dr));
+  std::vector<double> refs[2][2];
+  reference_ranges(pings, window, refs);
+  const std::vector<double> track_side[2] = {tracker.side_ranges_m(0), tracker.side_ranges_m(1)};
+  std::printf("file %s: %zu pings, sample %.4f m\n", path.c_str(), pings.size(), dr);
+  for (int r = 0; r < 2; ++r) {
+    if (r == 0) {
+      std::printf(
+          "agreement within 2 samples of the visible first return, reference 1: realism measure "
+          "4 (threshold 20 dB below the near seabed), along-track median of %zu pings:\n",
+          kRefMedianPings);
+    } else {
+      std::printf(
+          "reference 2: change point of a two-level model of the dB levels, seabed part %zu "
+          "samples (%.2f m):\n",
+          window, kChangeWindowM);
+    }
+    print_agreement(pings, refs, r, track_side, alt, dr);
+  }
+  print_header_minus_track(pings, alt);
+  print_band_levels(pings, alt, dr);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "bottom_track_real: %s\n", e.what());

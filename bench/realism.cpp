@@ -160,15 +160,9 @@ double pct(std::uint64_t part, std::uint64_t whole) {
   return whole > 0 ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : rs::kNaN;
 }
 
-std::vector<Row> rows(const rs::Report& r) {
-  std::vector<Row> out;
-  const rs::SideReport* s[3] = {&r.port, &r.starboard, &r.pooled};
-  auto add = [&](std::string key, std::string label, std::string unit, auto f) {
-    Row row{std::move(key), std::move(label), std::move(unit), {}};
-    for (int i = 0; i < 3; ++i) row.v[i] = f(*s[i]);
-    out.push_back(std::move(row));
-  };
-  const double fs_db = rs::level_db(r.max_value);
+// The rows of measures 1 (seabed texture) and 2 (water column and levels); add(key, label, unit,
+// f) adds a row of f over port, starboard and both (rows).
+void texture_level_rows(const rs::Report& r, auto& add) {
   // 1. seabed texture
   add("tile_contrast", "1 seabed std/mean, median tile", "",
       [](auto& x) { return x.texture.median_tile_contrast(); });
@@ -216,6 +210,11 @@ std::vector<Row> rows(const rs::Report& r) {
       [](auto& x) { return pct(x.levels.seabed_zeros, x.levels.seabed.count()); });
   add("seabed_dark_pct", "2 seabed samples below 16", "%",
       [](auto& x) { return pct(x.levels.seabed_dark, x.levels.seabed.count()); });
+}
+
+// The rows of measures 3 (shadows), 4 (first return) and 5 (full scale).
+void shadow_first_return_rows(const rs::Report& r, auto& add) {
+  const double fs_db = rs::level_db(r.max_value);
   // 3. shadows
   add("shadow_pct", "3 shadow samples / seabed samples", "%",
       [](auto& x) { return pct(x.shadows.shadow, x.shadows.seabed); });
@@ -255,6 +254,10 @@ std::vector<Row> rows(const rs::Report& r) {
       [fs_db](auto& x) { return fs_db - x.levels.lead.median_db(); });
   add("lead_clipped_pct", "5 leading samples at full scale", "%",
       [](auto& x) { return pct(x.levels.lead_clipped, x.levels.lead.count()); });
+}
+
+// The rows of measures 6 and 7 (along- and across-track correlation, spectrum).
+void correlation_rows(const rs::Report& r, auto& add) {
   // 6. along-track correlation per band
   const std::size_t bands = r.pooled.texture.bands.size();
   auto band_label = [&](std::size_t b, const char* what) {
@@ -296,6 +299,10 @@ std::vector<Row> rows(const rs::Report& r) {
         [q](auto& x) { return x.texture.median_tile_spectrum_quarter(q); });
   add("across_spectrum_rows", "7 across-track spectrum rows", "",
       [](auto& x) { return static_cast<double>(x.texture.spectrum_rows()); });
+}
+
+// The rows of measures 9 (shadow fill), 10 (shadow edge) and 11 (water column statistics).
+void shadow_water_rows(auto& add) {
   // 9. shadow fill
   add("shadow_cv", "9 shadow samples std/mean (values)", "",
       [](auto& x) { return x.shadows.cv_shadow(); });
@@ -328,6 +335,10 @@ std::vector<Row> rows(const rs::Report& r) {
   add("water_min", "11 water lowest value", "count", [](auto& x) { return x.levels.water_min; });
   add("water_trend_db", "11 water median level, last - first third", "dB",
       [](auto& x) { return x.levels.water_trend_db(); });
+}
+
+// The rows of measures 12 (first return profile) to 15 (levels of all samples).
+void profile_level_rows(const rs::Report& r, auto& add) {
   // 12. first return profile
   const std::vector<double>& offsets = r.pooled.first.profile_offsets_m;
   for (bool from_altitude : {false, true})
@@ -358,6 +369,21 @@ std::vector<Row> rows(const rs::Report& r) {
   for (const auto& [q, name] : {std::pair{0.01, "p01"}, {0.5, "p50"}, {0.99, "p99"}})
     add(std::string("level_") + name + "_db", std::string("15 level of all samples, ") + name, "dB",
         [q](auto& x) { return x.levels.all.quantile_db(q); });
+}
+
+std::vector<Row> rows(const rs::Report& r) {
+  std::vector<Row> out;
+  const rs::SideReport* s[3] = {&r.port, &r.starboard, &r.pooled};
+  auto add = [&](std::string key, std::string label, std::string unit, auto f) {
+    Row row{std::move(key), std::move(label), std::move(unit), {}};
+    for (int i = 0; i < 3; ++i) row.v[i] = f(*s[i]);
+    out.push_back(std::move(row));
+  };
+  texture_level_rows(r, add);
+  shadow_first_return_rows(r, add);
+  correlation_rows(r, add);
+  shadow_water_rows(add);
+  profile_level_rows(r, add);
   return out;
 }
 

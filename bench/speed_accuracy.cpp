@@ -153,6 +153,89 @@ Method reference_method() {
   return m;
 }
 
+// The exact energies of the flat seabed per ping and sample (port then starboard, 2 n).
+void flat_reference(const Scene& base, const SideParams& side, std::size_t n,
+                    std::vector<std::vector<double>>& ref) {
+  const double coef = side.calibration_k *
+                      backscatter_coefficient(side.backscatter,
+                                              side.materials[base.material_map.default_material()]);
+  const double h = kFlatAltitudeM, dr = side.sample_spacing_m;
+  for (auto& r : ref) {
+    r.assign(2 * n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double e = coef * side.beta_eff_rad / (h * h) *
+                       (flat_seabed_F(static_cast<double>(i + 1) * dr, h) -
+                        flat_seabed_F(static_cast<double>(i) * dr, h));
+      r[i] = r[n + i] = e;
+    }
+  }
+}
+
+// A method's errors over the track and its median time per ping.
+struct Row {
+  Method m;
+  double time_ms;
+  ErrorStats e;
+};
+
+// The time per ping of each row's method (seconds, one entry per run). Runs outer, methods
+// inner, so that drifts of the machine load hit every method alike; each run starts at a
+// different method (the first one timed after a switch of scene pays for cold caches; without
+// the rotation that was always the default, ~10 % slower than identical settings).
+std::vector<std::vector<double>> time_methods(const std::vector<Row>& rows, int runs,
+                                              double min_time_s, auto& scene_at,
+                                              const SideParams& side, const SimulationConfig& cfg,
+                                              const std::vector<PingPose>& use_poses,
+                                              PingWorkspace& ws) {
+  std::vector<double> got;
+  std::vector<std::vector<double>> times(rows.size());
+  for (int r = 0; r < runs; ++r) {
+    for (std::size_t j = 0; j < rows.size(); ++j) {
+      const std::size_t i =
+          (j + static_cast<std::size_t>(r) * rows.size() / static_cast<std::size_t>(runs)) %
+          rows.size();
+      const Scene& sc = scene_at(rows[i].m.cell_m);
+      // Whole passes over the track until min_time has passed: a sample of a few milliseconds
+      // is at the mercy of the scheduler.
+      std::size_t rendered = 0;
+      const double t0 = now_s();
+      double elapsed = 0.0;
+      do {
+        for (const PingPose& pose : use_poses)
+          render_ping_energy(sc, side, cfg.sonar, pose, rows[i].m, ws, got);
+        rendered += use_poses.size();
+        elapsed = now_s() - t0;
+      } while (elapsed < min_time_s);
+      times[i].push_back(elapsed / static_cast<double>(rendered));
+    }
+  }
+  return times;
+}
+
+// Writes the rows with their Pareto flags to speed_accuracy_<scene>.csv in out_dir.
+void write_rows_csv(SceneKind kind, const std::string& out_dir, const std::vector<Row>& rows,
+                    const std::vector<bool>& front, const std::vector<bool>& strict,
+                    const std::vector<double>& iqr_rel) {
+  std::FILE* f = open_csv(out_dir + "/speed_accuracy_" + to_string(kind) + ".csv",
+                          "scene,family,label,cell_m,subdiv,gauss,planes,objseg,decimate,rays,"
+                          "time_ms,rms_db,worst_db,edge_rms_db,edge_worst_db,empty_frac,nonfinite,"
+                          "pareto,default,bins,edge_bins,all_rms_db,pareto_strict,time_iqr_rel");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    std::fprintf(
+        f,
+        "%s,%s,%s,%g,%d,%d,%d,%d,%d,%zu,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%zu,%d,%d,%zu,%zu,%.5g,%d,"
+        "%.3g\n",
+        to_string(kind), r.m.family.c_str(), r.m.label.c_str(), r.m.cell_m,
+        r.m.profile.grid_subdivisions, r.m.gauss_points, r.m.along_track_planes,
+        r.m.profile.object_segments, r.m.decimate, r.m.rays, r.time_ms, r.e.rms_db(), r.e.worst_db,
+        r.e.edge_rms_db(), r.e.edge_worst_db, r.e.empty_fraction(), r.e.nonfinite, front[i] ? 1 : 0,
+        r.m.is_default ? 1 : 0, r.e.bins, r.e.edge_bins, r.e.all_rms_db(), strict[i] ? 1 : 0,
+        iqr_rel[i]);
+  }
+  std::fclose(f);
+}
+
 void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, double min_time_s,
                double time_tolerance, bool tiny, std::size_t worst,
                const std::vector<RaySpec>& rays_only) {
@@ -187,19 +270,7 @@ void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, 
   std::vector<std::vector<double>> ref(poses.size());
   PingWorkspace ws;
   if (kind == SceneKind::flat) {
-    const double coef = side.calibration_k *
-                        backscatter_coefficient(
-                            side.backscatter, side.materials[base.material_map.default_material()]);
-    const double h = kFlatAltitudeM, dr = side.sample_spacing_m;
-    for (auto& r : ref) {
-      r.assign(2 * n, 0.0);
-      for (std::size_t i = 0; i < n; ++i) {
-        const double e = coef * side.beta_eff_rad / (h * h) *
-                         (flat_seabed_F(static_cast<double>(i + 1) * dr, h) -
-                          flat_seabed_F(static_cast<double>(i) * dr, h));
-        r[i] = r[n + i] = e;
-      }
-    }
+    flat_reference(base, side, n, ref);
   } else {
     Method rm = reference_method();
     if (tiny) rm.cell_m = 0.1;
@@ -215,11 +286,6 @@ void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, 
   // The same sensor positions for every method: heights from the reference DEM.
   const std::vector<PingPose> use_poses =
       kind == SceneKind::flat ? poses : track_poses(scene_at(tiny ? 0.1 : 0.02), track);
-  struct Row {
-    Method m;
-    double time_ms;
-    ErrorStats e;
-  };
   std::vector<Row> rows;
   std::vector<double> got;
   for (const Method& m : methods(tiny, choice.planes, rays_only)) {
@@ -232,31 +298,8 @@ void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, 
     rows.push_back(row);
     if (worst > 0 && m.is_default) print_worst(kind, use_poses, ref, got, side, cfg, m, sc, worst);
   }
-  // Timing: runs outer, methods inner, so that drifts of the machine load hit every method alike;
-  // each run starts at a different method (the first one timed after a switch of scene pays for
-  // cold caches; without the rotation that was always the default, ~10 % slower than identical
-  // settings).
-  std::vector<std::vector<double>> times(rows.size());
-  for (int r = 0; r < runs; ++r) {
-    for (std::size_t j = 0; j < rows.size(); ++j) {
-      const std::size_t i =
-          (j + static_cast<std::size_t>(r) * rows.size() / static_cast<std::size_t>(runs)) %
-          rows.size();
-      const Scene& sc = scene_at(rows[i].m.cell_m);
-      // Whole passes over the track until min_time has passed: a sample of a few milliseconds
-      // is at the mercy of the scheduler.
-      std::size_t rendered = 0;
-      const double t0 = now_s();
-      double elapsed = 0.0;
-      do {
-        for (const PingPose& pose : use_poses)
-          render_ping_energy(sc, side, cfg.sonar, pose, rows[i].m, ws, got);
-        rendered += use_poses.size();
-        elapsed = now_s() - t0;
-      } while (elapsed < min_time_s);
-      times[i].push_back(elapsed / static_cast<double>(rendered));
-    }
-  }
+  const std::vector<std::vector<double>> times =
+      time_methods(rows, runs, min_time_s, scene_at, side, cfg, use_poses, ws);
   std::vector<double> x, y, iqr_rel;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     Row& row = rows[i];
@@ -277,24 +320,7 @@ void run_scene(SceneKind kind, const std::string& out_dir, int pings, int runs, 
   }
   const std::vector<bool> front = pareto_front(x, y, time_tolerance);
   const std::vector<bool> strict = pareto_front(x, y);
-  std::FILE* f = open_csv(out_dir + "/speed_accuracy_" + to_string(kind) + ".csv",
-                          "scene,family,label,cell_m,subdiv,gauss,planes,objseg,decimate,rays,"
-                          "time_ms,rms_db,worst_db,edge_rms_db,edge_worst_db,empty_frac,nonfinite,"
-                          "pareto,default,bins,edge_bins,all_rms_db,pareto_strict,time_iqr_rel");
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const Row& r = rows[i];
-    std::fprintf(
-        f,
-        "%s,%s,%s,%g,%d,%d,%d,%d,%d,%zu,%.5g,%.5g,%.5g,%.5g,%.5g,%.5g,%zu,%d,%d,%zu,%zu,%.5g,%d,"
-        "%.3g\n",
-        to_string(kind), r.m.family.c_str(), r.m.label.c_str(), r.m.cell_m,
-        r.m.profile.grid_subdivisions, r.m.gauss_points, r.m.along_track_planes,
-        r.m.profile.object_segments, r.m.decimate, r.m.rays, r.time_ms, r.e.rms_db(), r.e.worst_db,
-        r.e.edge_rms_db(), r.e.edge_worst_db, r.e.empty_fraction(), r.e.nonfinite, front[i] ? 1 : 0,
-        r.m.is_default ? 1 : 0, r.e.bins, r.e.edge_bins, r.e.all_rms_db(), strict[i] ? 1 : 0,
-        iqr_rel[i]);
-  }
-  std::fclose(f);
+  write_rows_csv(kind, out_dir, rows, front, strict, iqr_rel);
 }
 
 int run(int argc, char** argv) {

@@ -6,12 +6,12 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
-#include <numbers>
 #include <span>
 #include <string>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/render_facet.hpp"
+#include "sonarsynth/render_gather.hpp"
 #include "sonarsynth/render_math.hpp"
 #include "sonarsynth/render_sections.hpp"
 #include "sonarsynth/simd.hpp"
@@ -21,8 +21,8 @@ namespace {
 
 using namespace render_math;
 using namespace render_facet;
+using render_gather::gather;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // y used in tan(depression) = (Hs - z) / y at nadir (docs/physics.md Appendix A: y_A = eps).
 constexpr double kMinTanY = 1e-9;
@@ -157,9 +157,10 @@ void render_sections(const BeamProfile& prof, const SideParams& par, const Grid&
   }
 }
 
-template <bool kTruth, class Grid>
-bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, SideEcho& out) {
-  auto& w = out.workspace;
+// The integrand's constants of a side (render_facet::Integrand); the beam's kinks in
+// kink_storage or its table.
+inline Integrand make_integrand(const BeamProfile& prof, const SideParams& par,
+                                double (&kink_storage)[3]) {
   const VerticalBeamShape shape = par.vertical_beam.shape;
   const double w3 = par.vertical_beam.width_3db_rad;
   // Two-way Gaussian: (exp(-4 ln2 (off/W)^2))^2 = exp(-8 ln2 off^2 / W^2), docs/physics.md §1.3.
@@ -178,13 +179,17 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
                shape == VerticalBeamShape::paper_sine_pair,
                par.vertical_beam.upper_half_width_rad,
                par.vertical_beam.lower_half_width_rad};
-  double kink_storage[3];
   if (in.beam != nullptr) in.kinks = beam_kinks(par.vertical_beam, kink_storage);
   if (shape == VerticalBeamShape::paper_sine_pair) {
     in.lit_lo = -par.vertical_beam.upper_half_width_rad;
     in.lit_hi = par.vertical_beam.lower_half_width_rad;
   }
-  // The vector kernel for the beams it evaluates (render_facet::Workspace::kernel).
+  return in;
+}
+
+// The vector kernel's arguments for the beams it evaluates (render_facet::Workspace::kernel).
+template <class Grid>
+render_kernel::PieceArgs piece_args(const Grid& grid, const Integrand& in) {
   render_kernel::PieceArgs kernel{};
   kernel.dr = grid.dr;
   kernel.split_f = split_width(grid);
@@ -198,6 +203,140 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
   kernel.gauss_points = in.rule->n;
   kernel.gauss_x = in.rule->x;
   kernel.gauss_w = in.rule->w;
+  return kernel;
+}
+
+// The tan(depression) range of the closed sections' occluders and their widest tan span.
+struct SectionRange {
+  double tan_lo = kInf, tan_hi = -kInf, span = 0.0;
+  bool meets(double lo, double hi) const { return hi >= tan_lo && lo <= tan_hi; }
+};
+
+// The closed sections' front facets (objects off the seabed, BeamProfile) as occluders of the
+// seabed and of each other (w.occluders, and w.occluders_by_tan by increasing tan_lo); clears
+// the seabed pieces kept to occlude them.
+inline SectionRange prepare_occluders(const BeamProfile& prof, SideEcho::Workspace& w) {
+  section_occluders(prof, kMinTanY, w.occluders);
+  w.seabed_pieces.clear();
+  SectionRange r;
+  for (const Segment& o : w.occluders) {
+    r.tan_lo = std::min(r.tan_lo, o.tan_lo);
+    r.tan_hi = std::max(r.tan_hi, o.tan_hi);
+    r.span = std::max(r.span, o.tan_hi - o.tan_lo);
+  }
+  auto& by_tan = w.occluders_by_tan;
+  by_tan.assign(w.occluders.begin(), w.occluders.end());
+  std::sort(by_tan.begin(), by_tan.end(),
+            [](const Segment& a, const Segment& b) { return a.tan_lo < b.tan_lo; });
+  return r;
+}
+
+// Horizon sweep with exact clipping (docs/physics.md §2.1 step 3, Appendix A) of the facet
+// A -> B (tan(depression) ta, tb at its ends) against the horizon tan_h: its visible part
+// [t0, t1] and hidden part [h0, h1] (t0 = 0, t1 = 1, h0 = h1 = 0 on entry).
+[[gnu::always_inline]] inline void clip_to_horizon(double hs, double ya, double za, double yb,
+                                                   double zb, double ta, double tb, double tan_h,
+                                                   double& t0, double& t1, double& h0, double& h1) {
+  const bool va = ta <= tan_h, vb = tb <= tan_h;
+  if (!va && !vb) {
+    t1 = 0.0;
+    h1 = 1.0;
+  } else if (va != vb) {
+    const double den = (zb - za) + tan_h * (yb - ya);
+    double ts = den != 0.0 ? (hs - za - tan_h * ya) / den : (va ? 1.0 : 0.0);
+    ts = std::isnan(ts) ? (va ? 1.0 : 0.0) : std::clamp(ts, 0.0, 1.0);
+    if (va) {
+      t1 = ts;
+      h0 = ts;
+      h1 = 1.0;
+    } else {
+      t0 = ts;
+      h1 = ts;
+    }
+  }
+}
+
+// The part [t0, t1] of the seabed facet (ya, wz) + t (uy, uz) (relative to the sensor) as a
+// piece that occludes the sections.
+[[gnu::always_inline]] inline Segment seabed_piece(double ya, double wz, double uy, double uz,
+                                                   double t0, double t1, std::size_t facet) {
+  const double ya0 = ya + t0 * uy, za0 = wz + t0 * uz, ya1 = ya + t1 * uy, za1 = wz + t1 * uz;
+  const double tp0 = tan_depression(ya0, za0), tp1 = tan_depression(ya1, za1);
+  return {ya0,
+          za0,
+          ya1,
+          za1,
+          std::min(tp0, tp1),
+          std::max(tp0, tp1),
+          0,
+          static_cast<std::int32_t>(facet)};
+}
+
+// Truth: a closed section on the ray of a point of the hidden part [h0, h1] of facet f (from
+// (ya, za)) also casts it: its label wins over relief (mark_shadow keeps the largest).
+template <class Grid>
+[[gnu::always_inline]] inline void mark_section_shadows(const BeamProfile& prof, const Grid& grid,
+                                                        const SectionRange& sec, const Facet& f,
+                                                        double ya, double za, double h0, double h1,
+                                                        SideEcho::Workspace& w) {
+  const double wz = za - prof.sensor_z_m, uy = f.uy, uz = f.uz;
+  const double tp0 = tan_depression(ya + h0 * uy, wz + h0 * uz);
+  const double tp1 = tan_depression(ya + h1 * uy, wz + h1 * uz);
+  const double tlo = std::min(tp0, tp1), thi = std::max(tp0, tp1);
+  if (!sec.meets(tlo, thi)) return;
+  for (const Segment& o : occluders_meeting(w.occluders_by_tan, sec.span, tlo, thi)) {
+    if (o.tan_hi < tlo || o.tan_lo > thi) continue;
+    double q0 = 0.0, q1 = 0.0;
+    if (!hidden_by(o, ya, wz, uy, uz, q0, q1)) continue;
+    mark_shadow(f, grid, std::max(q0, h0), std::min(q1, h1), prof.section_label[o.section],
+                w.shadow_caster);
+  }
+}
+
+// Renders the lit part [t0, t1] of seabed facet i (f, from (ya, za)); with sections that cast
+// shadows, first keeps the part to occlude them, then removes what they hide.
+template <bool kTruth, class Grid>
+[[gnu::always_inline]] inline void render_lit_seabed(const BeamProfile& prof, const SideParams& par,
+                                                     const Grid& grid, const Integrand& in,
+                                                     const Workspace& ws, const SectionRange* sec,
+                                                     std::size_t i, const Facet& f, double ya,
+                                                     double za, double t0, double t1,
+                                                     SideEcho::Workspace& w) {
+  if (sec != nullptr && par.shadows) {
+    const double wz = za - prof.sensor_z_m, uy = f.uy, uz = f.uz;
+    const Segment piece = seabed_piece(ya, wz, uy, uz, t0, t1, i);
+    const double tlo = piece.tan_lo, thi = piece.tan_hi;
+    w.seabed_pieces.push_back(piece);
+    if (sec->meets(tlo, thi)) {
+      auto& vis = w.visible;
+      vis.assign({t0, t1});
+      for (const Segment& o : occluders_meeting(w.occluders_by_tan, sec->span, tlo, thi)) {
+        if (o.tan_hi < tlo || o.tan_lo > thi) continue;
+        double q0 = 0.0, q1 = 0.0;
+        if (!hidden_by(o, ya, wz, uy, uz, q0, q1)) continue;
+        q0 = std::max(q0, t0);
+        q1 = std::min(q1, t1);
+        if (!(q1 - q0 > kMinHidden)) continue;
+        subtract_interval(vis, w.visible_next, q0, q1);
+        if constexpr (kTruth)
+          mark_shadow(f, grid, q0, q1, prof.section_label[o.section], w.shadow_caster);
+      }
+      for (std::size_t v = 0; v + 1 < vis.size(); v += 2) {
+        render_lit<kTruth>(f, in, grid, vis[v], vis[v + 1], std::clamp(f.tm0, vis[v], vis[v + 1]),
+                           ws);
+      }
+      return;
+    }
+  }
+  render_lit<kTruth>(f, in, grid, t0, t1, std::clamp(f.tm0, t0, t1), ws);
+}
+
+template <bool kTruth, class Grid>
+bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, SideEcho& out) {
+  auto& w = out.workspace;
+  double kink_storage[3];
+  const Integrand in = make_integrand(prof, par, kink_storage);
+  render_kernel::PieceArgs kernel = piece_args(grid, in);
   // The scalar target keeps the scalar gauss_sum: the reference the vector paths are tested
   // against (Highway's EMU128 copy of the kernel would be slower than it).
   const bool vector =
@@ -214,20 +353,8 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
   const std::size_t n = prof.nodes();
   // Closed sections (objects off the seabed, BeamProfile): their front facets occlude the
   // seabed and each other; visible seabed pieces facing the sensor are kept to occlude them.
-  auto& occluders = w.occluders;
-  section_occluders(prof, kMinTanY, occluders);
-  const bool has_sections = !occluders.empty();
-  w.seabed_pieces.clear();
-  double sec_tan_lo = kInf, sec_tan_hi = -kInf, span = 0.0;
-  for (const Segment& o : occluders) {
-    sec_tan_lo = std::min(sec_tan_lo, o.tan_lo);
-    sec_tan_hi = std::max(sec_tan_hi, o.tan_hi);
-    span = std::max(span, o.tan_hi - o.tan_lo);
-  }
-  auto& by_tan = w.occluders_by_tan;
-  by_tan.assign(occluders.begin(), occluders.end());
-  std::sort(by_tan.begin(), by_tan.end(),
-            [](const Segment& a, const Segment& b) { return a.tan_lo < b.tan_lo; });
+  const SectionRange sec = prepare_occluders(prof, w);
+  const bool has_sections = !w.occluders.empty();
   for (std::size_t i = 0; i + 1 < n; ++i) {
     const double ya = prof.y_m[i], za = prof.z_m[i];
     const double yb = prof.y_m[i + 1], zb = prof.z_m[i + 1];
@@ -239,26 +366,9 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
     double t0 = 0.0, t1 = 1.0;  // visible part
     double h0 = 0.0, h1 = 0.0;  // hidden part (truth)
     if (par.shadows) {
-      // Horizon sweep with exact clipping (docs/physics.md §2.1 step 3, Appendix A).
       const double ta = (hs - za) / std::max(ya, kMinTanY);
       const double tb = (hs - zb) / std::max(yb, kMinTanY);
-      const bool va = ta <= tan_h, vb = tb <= tan_h;
-      if (!va && !vb) {
-        t1 = 0.0;
-        h1 = 1.0;
-      } else if (va != vb) {
-        const double den = (zb - za) + tan_h * (yb - ya);
-        double ts = den != 0.0 ? (hs - za - tan_h * ya) / den : (va ? 1.0 : 0.0);
-        ts = std::isnan(ts) ? (va ? 1.0 : 0.0) : std::clamp(ts, 0.0, 1.0);
-        if (va) {
-          t1 = ts;
-          h0 = ts;
-          h1 = 1.0;
-        } else {
-          t0 = ts;
-          h1 = ts;
-        }
-      }
+      clip_to_horizon(hs, ya, za, yb, zb, ta, tb, tan_h, t0, t1, h0, h1);
       if constexpr (kTruth) {
         if (prof.label[i] > 0 && std::min(ta, tb) < tan_obj) {
           tan_obj = std::min(ta, tb);
@@ -279,10 +389,7 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
       if (!(has_sections && par.shadows) || !(t1 > t0)) continue;
       const double uy = yb - ya, uz = zb - za, wz = za - hs;
       if (!((ya * uz - wz * uy) / std::sqrt(f.a) > 0.0)) continue;
-      const double ya0 = ya + t0 * uy, za0 = wz + t0 * uz, ya1 = ya + t1 * uy, za1 = wz + t1 * uz;
-      const double tp0 = tan_depression(ya0, za0), tp1 = tan_depression(ya1, za1);
-      w.seabed_pieces.push_back({ya0, za0, ya1, za1, std::min(tp0, tp1), std::max(tp0, tp1), 0,
-                                 static_cast<std::int32_t>(i)});
+      w.seabed_pieces.push_back(seabed_piece(ya, wz, uy, uz, t0, t1, i));
       continue;
     }
     const double c0 =
@@ -290,190 +397,15 @@ bool sweep(const BeamProfile& prof, const SideParams& par, const Grid& grid, Sid
                     kb * backscatter_coefficient(par.backscatter, par.materials[prof.material[i]]));
     if constexpr (kTruth) {
       mark_horizon_shadow(f, grid, hs, ya, za, yb, zb, h0, h1, w.horizon_steps, w.shadow_caster);
-      if (has_sections && h1 > h0) {
-        // A closed section on the ray of a point the profile hides also casts it: its label
-        // wins over relief (mark_shadow keeps the largest).
-        const double wz = za - hs, uy = f.uy, uz = f.uz;
-        const double tp0 = tan_depression(ya + h0 * uy, wz + h0 * uz);
-        const double tp1 = tan_depression(ya + h1 * uy, wz + h1 * uz);
-        const double tlo = std::min(tp0, tp1), thi = std::max(tp0, tp1);
-        if (thi >= sec_tan_lo && tlo <= sec_tan_hi) {
-          for (const Segment& o : occluders_meeting(by_tan, span, tlo, thi)) {
-            if (o.tan_hi < tlo || o.tan_lo > thi) continue;
-            double q0 = 0.0, q1 = 0.0;
-            if (!hidden_by(o, ya, wz, uy, uz, q0, q1)) continue;
-            mark_shadow(f, grid, std::max(q0, h0), std::min(q1, h1), prof.section_label[o.section],
-                        w.shadow_caster);
-          }
-        }
-      }
+      if (has_sections && h1 > h0) mark_section_shadows(prof, grid, sec, f, ya, za, h0, h1, w);
     }
     // Lit part only; a facet seen from behind or edge-on (c0 <= 0) returns nothing.
     if (!(t1 > t0) || !(c0 > 0.0)) continue;
-    if (has_sections && par.shadows) {
-      // Keep the piece to occlude the sections, then remove what the sections hide.
-      const double wz = za - hs, uy = f.uy, uz = f.uz;
-      const double ya0 = ya + t0 * uy, za0 = wz + t0 * uz, ya1 = ya + t1 * uy, za1 = wz + t1 * uz;
-      const double tp0 = tan_depression(ya0, za0), tp1 = tan_depression(ya1, za1);
-      const double tlo = std::min(tp0, tp1), thi = std::max(tp0, tp1);
-      w.seabed_pieces.push_back({ya0, za0, ya1, za1, tlo, thi, 0, static_cast<std::int32_t>(i)});
-      if (thi >= sec_tan_lo && tlo <= sec_tan_hi) {
-        auto& vis = w.visible;
-        vis.assign({t0, t1});
-        for (const Segment& o : occluders_meeting(by_tan, span, tlo, thi)) {
-          if (o.tan_hi < tlo || o.tan_lo > thi) continue;
-          double q0 = 0.0, q1 = 0.0;
-          if (!hidden_by(o, ya, wz, uy, uz, q0, q1)) continue;
-          q0 = std::max(q0, t0);
-          q1 = std::min(q1, t1);
-          if (!(q1 - q0 > kMinHidden)) continue;
-          subtract_interval(vis, w.visible_next, q0, q1);
-          if constexpr (kTruth)
-            mark_shadow(f, grid, q0, q1, prof.section_label[o.section], w.shadow_caster);
-        }
-        for (std::size_t v = 0; v + 1 < vis.size(); v += 2) {
-          render_lit<kTruth>(f, in, grid, vis[v], vis[v + 1], std::clamp(f.tm0, vis[v], vis[v + 1]),
-                             ws);
-        }
-        continue;
-      }
-    }
-    render_lit<kTruth>(f, in, grid, t0, t1, std::clamp(f.tm0, t0, t1), ws);
+    render_lit_seabed<kTruth>(prof, par, grid, in, ws, has_sections ? &sec : nullptr, i, f, ya, za,
+                              t0, t1, w);
   }
-  if (has_sections) render_sections<kTruth>(prof, par, grid, in, kb, span, ws, w);
+  if (has_sections) render_sections<kTruth>(prof, par, grid, in, kb, sec.span, ws, w);
   return any_valid || has_sections;
-}
-
-// Sample i <- fine bins [first(i), last(i)] (clipped at 0).
-template <bool kTruth, class Window>
-void gather(const BeamProfile& prof, const SideParams& par, bool any_valid, Window window,
-            SideEcho& out) {
-  auto& w = out.workspace;
-  const std::size_t ns = par.samples;
-  const std::ptrdiff_t nf = static_cast<std::ptrdiff_t>(w.fine_energy.size());
-  std::ptrdiff_t first_return = nf;
-  if constexpr (kTruth) {
-    // The first seabed return: a target in mid-water (a section) has water column behind it.
-    const auto seabed_facets = static_cast<std::int32_t>(prof.seabed_facets());
-    for (std::ptrdiff_t j = 0; j < nf; ++j) {
-      const auto u = static_cast<std::size_t>(j);
-      if (w.fine_energy[u] > 0.0 && (prof.sections() == 0 || w.best_facet[u] < seabed_facets)) {
-        first_return = j;
-        break;
-      }
-    }
-  }
-  const bool grazing = par.truth_grazing;
-  // The vector targets fill the grazing angles after the loop (render_kernel::grazing_angles):
-  // the loop leaves each contributor's facet slope alpha in truth_grazing_rad and its dz in
-  // w.sample_dz_m. The scalar target keeps the series below (the reference).
-  const bool vector_grazing = kTruth && grazing && simd::active_target() != simd::Target::scalar;
-  if (vector_grazing) w.sample_dz_m.resize(ns);
-  std::int32_t facet = -1;  // facet of the cached slope, label and material
-  // Grazing angle without asin per sample: with the depression theta of the midpoint
-  // (atan2(-mz, my)) and the facet's slope angle alpha = atan2(uz, uy), cos(incidence) =
-  // -n.(my, mz) / r = sin(theta + alpha) for the upward unit normal n, so asin(clamp(cos_inc,
-  // 0, 1)) = theta + alpha folded into [0, pi/2]. theta = theta_ref + atan(x) from a reference
-  // midpoint (x = tan of the angle between the two rays, truncated series of
-  // render_math where |x| < 0.1), atan2 otherwise (which becomes the new reference). The
-  // reference is any earlier midpoint, of this facet or another.
-  double alpha = 0.0;
-  bool have_ref = false;
-  double ref_y = 0.0, ref_z = 0.0, ref_theta = 0.0;
-  std::int32_t label = 0;
-  std::uint16_t material = 0;
-  for (std::size_t i = 0; i < ns; ++i) {
-    const auto [j0, j1] = window(static_cast<std::ptrdiff_t>(i));
-    double sum = 0.0;
-    std::ptrdiff_t jbest = -1;
-    std::int32_t caster = -1;  // of the hidden parts in the window (-1: none)
-    for (std::ptrdiff_t j = std::max<std::ptrdiff_t>(0, j0); j <= j1; ++j) {
-      const auto u = static_cast<std::size_t>(j);
-      sum += w.fine_energy[u];
-      if constexpr (kTruth) {
-        if (w.best_energy[u] > 0.0 &&
-            (jbest < 0 || w.best_energy[u] > w.best_energy[static_cast<std::size_t>(jbest)])) {
-          jbest = j;
-        }
-        caster = std::max(caster, w.shadow_caster[u]);
-      }
-    }
-    out.intensity[i] = sum;
-    if constexpr (kTruth) {
-      if (jbest >= 0) {
-        // The dominant sub-piece's midpoint (my, mz) relative to the sensor; the normal of its
-        // facet is computed once per run of samples sharing the facet.
-        const auto b = static_cast<std::size_t>(jbest);
-        const std::int32_t fi = w.best_facet[b];
-        if (fi != facet) {
-          facet = fi;
-          const auto k = static_cast<std::size_t>(fi);
-          if (grazing) {
-            double ya, za, yb, zb;
-            prof.facet_ends(k, ya, za, yb, zb);
-            // Seabed facets are mostly flat to a tenth: the series there, atan2 otherwise.
-            const double uy = yb - ya, uz = zb - za;
-            if (uy > 0.0 && std::abs(uz) < 0.1 * uy) {
-              const double x = uz / uy;
-              alpha = x * atan_poly(x * x, 8);  // |x|^17 / 17 < 6e-19
-            } else {
-              alpha = std::atan2(uz, uy);
-            }
-          }
-          label = prof.facet_label(k);
-          material = prof.facet_material(k);
-        }
-        const double my = w.best_y_m[b], mz = w.best_dz_m[b];
-        out.truth_class[i] = label > 0 ? SampleClass::object : SampleClass::seabed;
-        out.truth_label[i] = label;
-        out.truth_material[i] = material;
-        if (vector_grazing) {
-          out.truth_grazing_rad[i] = alpha;
-          w.sample_dz_m[i] = mz;
-        } else if (grazing) {
-          double g = 0.0;
-          if (my * my + mz * mz > 0.0) {
-            double theta = 0.0;
-            const double cross = ref_z * my - ref_y * mz, dot = ref_y * my + ref_z * mz;
-            if (have_ref && dot > 0.0 && std::abs(cross) < 0.01 * dot) {
-              const double x = cross / dot;
-              theta = ref_theta + x * atan_poly(x * x, 4);  // |x|^9 / 9 < 1.2e-19
-            } else if (have_ref && dot > 0.0 && std::abs(cross) < 0.1 * dot) {
-              const double x = cross / dot;
-              theta = ref_theta + x * atan_poly(x * x, 8);  // |x|^17 / 17 < 6e-19
-            } else {
-              theta = std::atan2(-mz, my);
-              have_ref = true;
-              ref_y = my;
-              ref_z = mz;
-              ref_theta = theta;
-            }
-            g = theta + alpha;  // in (-2 pi, 2 pi]: reduce to (-pi, pi], then fold
-            if (g > std::numbers::pi) g -= 2.0 * std::numbers::pi;
-            if (g <= -std::numbers::pi) g += 2.0 * std::numbers::pi;
-            if (g > 0.5 * std::numbers::pi) g = std::numbers::pi - g;
-            g = std::max(g, 0.0);
-          }
-          out.truth_grazing_rad[i] = g;
-        }
-        out.truth_ground_y_m[i] = my;
-        out.truth_ground_z_m[i] = mz + prof.sensor_z_m;
-      } else {
-        out.truth_class[i] = caster >= 0                        ? SampleClass::shadow
-                             : (j1 < first_return && any_valid) ? SampleClass::water_column
-                                                                : SampleClass::no_seabed;
-        out.truth_label[i] = caster;  // a shadow's caster (0 relief, > 0 object id), else -1
-        out.truth_material[i] = 0;
-        if (grazing) out.truth_grazing_rad[i] = kNaN;
-        out.truth_ground_y_m[i] = kNaN;
-        out.truth_ground_z_m[i] = kNaN;
-      }
-    }
-  }
-  if (vector_grazing) {
-    render_kernel::grazing_angles(out.truth_ground_y_m.data(), w.sample_dz_m.data(),
-                                  out.truth_grazing_rad.data(), ns);
-  }
 }
 
 template <bool kTruth>

@@ -71,6 +71,98 @@ void add_object_section(const ObjectPrimitive& p, const Eigen::Vector2d& start,
   if (py.size() >= 3) out.add_section(py.data(), pz.data(), py.size(), p.id, p.material);
 }
 
+// The objects the ray from nadir_xy_m along across_dir crosses within max_y_m: meshes, and
+// solids where asked, as closed sections of out; the other resting objects as spans of y that
+// raise the height profile (scratch.spans).
+void add_crossed_objects(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
+                         const Eigen::Vector2d& across_dir, double max_y_m,
+                         const ProfileOptions& options, BeamProfile& out, ProfileScratch& scratch) {
+  scratch.spans.clear();
+  scene.objects.candidates_along(nadir_xy_m, across_dir, max_y_m, scratch.candidates);
+  const bool rough = !scratch.candidates.empty() && any_rough_material(scene.materials);
+  for (std::uint32_t i : scratch.candidates) {
+    double s0 = 0, s1 = 0;
+    const ObjectPrimitive& prim = scene.objects.primitives()[i];
+    if (prim.footprint_interval(nadir_xy_m, across_dir, s0, s1) && s1 > 0.0 && s0 < max_y_m &&
+        s1 > s0) {
+      // Meshes, and solids where asked, are closed sections; other resting objects raise the
+      // height profile over their span.
+      if (prim.shape != ObjectShape::kMesh && !(prim.clearance_m > 0.0) &&
+          !options.solid_resting_objects) {
+        scratch.spans.push_back({std::max(s0, 0.0), std::min(s1, max_y_m), i});
+        continue;
+      }
+      const std::size_t first_section = out.sections();
+      if (prim.shape == ObjectShape::kMesh) {  // its sections, cut by the plane
+        if (prim.mesh)
+          add_mesh_sections(*prim.mesh, prim.id, nadir_xy_m, across_dir, out, scratch.mesh);
+      } else {  // a closed section
+        add_object_section(prim, nadir_xy_m, across_dir, s0, s1, options.object_segments, out,
+                           scratch);
+      }
+      if (rough) {
+        roughen_sections(out, first_section, prim.id, nadir_xy_m, across_dir, scene.materials,
+                         scratch.rough);
+      }
+    }
+  }
+}
+
+// The sample positions of the upper envelope, sorted, in scratch.s: the seabed's, plus each
+// object span's own (ends, and for curved sections points evenly spaced in the angle of the
+// section's ellipse, s = mid - half cos(phi)).
+void envelope_positions(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
+                        const Eigen::Vector2d& across_dir, const ProfileOptions& options,
+                        ProfileScratch& scratch) {
+  auto& s = scratch.s;
+  s.clear();
+  for (const ProfilePoint& p : scratch.seabed) s.push_back(p.s_m);
+  const auto& prims = scene.objects.primitives();
+  for (const auto& span : scratch.spans) {
+    s.push_back(span.s0);
+    s.push_back(span.s1);
+    if (prims[span.object].shape != ObjectShape::kBox) {
+      // The unclipped section of a cylinder or ellipsoid along the ray.
+      double a0 = 0, a1 = 0;
+      prims[span.object].footprint_interval(nadir_xy_m, across_dir, a0, a1);
+      const double mid = 0.5 * (a0 + a1), half = 0.5 * (a1 - a0);
+      for (int k = 1; k < options.object_segments; ++k) {
+        const double sk = mid - half * std::cos(kPi * k / options.object_segments);
+        if (sk > span.s0 && sk < span.s1) s.push_back(sk);
+      }
+    }
+  }
+  std::sort(s.begin(), s.end());
+}
+
+// Height of the upper envelope (seabed and object spans) just after (side = +1) or just before
+// (side = -1) position y, and which surface it belongs to (top_object; -1 = seabed).
+[[gnu::always_inline]] inline double envelope_height(const Scene& scene,
+                                                     const Eigen::Vector2d& nadir_xy_m,
+                                                     const Eigen::Vector2d& across_dir,
+                                                     const ProfileScratch& scratch, double y,
+                                                     int side, std::int64_t& top_object) {
+  const auto& prims = scene.objects.primitives();
+  const Eigen::Vector2d p = nadir_xy_m + y * across_dir;
+  double z = scene.bathymetry.height_m(p.x(), p.y());
+  top_object = -1;
+  for (const auto& span : scratch.spans) {
+    const bool inside = side > 0 ? (y >= span.s0 && y < span.s1) : (y > span.s0 && y <= span.s1);
+    if (!inside) continue;
+    // Evaluate a hair inside the footprint so boundary rounding cannot drop the object.
+    const double eps = 1e-9 * std::max(1.0, span.s1 - span.s0);
+    const double yy = std::clamp(y, span.s0 + eps, span.s1 - eps);
+    const Eigen::Vector2d q = nadir_xy_m + yy * across_dir;
+    double zb = 0, zt = 0;
+    if (prims[span.object].vertical_extent(q.x(), q.y(), zb, zt) && !(zt <= z)) {
+      // A hole in the seabed under an object: the object still stands (its base was placed).
+      z = zt;
+      top_object = span.object;
+    }
+  }
+  return z;
+}
+
 }  // namespace
 
 void ProfileOptions::validate() const {
@@ -102,35 +194,7 @@ void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
   grid.profile(nadir_xy_m, across_dir, max_y_m, options.grid_subdivisions, scratch.seabed);
 
   // Objects the ray crosses, as spans of y.
-  scratch.spans.clear();
-  scene.objects.candidates_along(nadir_xy_m, across_dir, max_y_m, scratch.candidates);
-  const bool rough = !scratch.candidates.empty() && any_rough_material(scene.materials);
-  for (std::uint32_t i : scratch.candidates) {
-    double s0 = 0, s1 = 0;
-    const ObjectPrimitive& prim = scene.objects.primitives()[i];
-    if (prim.footprint_interval(nadir_xy_m, across_dir, s0, s1) && s1 > 0.0 && s0 < max_y_m &&
-        s1 > s0) {
-      // Meshes, and solids where asked, are closed sections; other resting objects raise the
-      // height profile over their span.
-      if (prim.shape != ObjectShape::kMesh && !(prim.clearance_m > 0.0) &&
-          !options.solid_resting_objects) {
-        scratch.spans.push_back({std::max(s0, 0.0), std::min(s1, max_y_m), i});
-        continue;
-      }
-      const std::size_t first_section = out.sections();
-      if (prim.shape == ObjectShape::kMesh) {  // its sections, cut by the plane
-        if (prim.mesh)
-          add_mesh_sections(*prim.mesh, prim.id, nadir_xy_m, across_dir, out, scratch.mesh);
-      } else {  // a closed section
-        add_object_section(prim, nadir_xy_m, across_dir, s0, s1, options.object_segments, out,
-                           scratch);
-      }
-      if (rough) {
-        roughen_sections(out, first_section, prim.id, nadir_xy_m, across_dir, scene.materials,
-                         scratch.rough);
-      }
-    }
-  }
+  add_crossed_objects(scene, nadir_xy_m, across_dir, max_y_m, options, out, scratch);
 
   if (scratch.spans.empty()) {  // Seabed only: the common case, no extra work.
     const auto& pts = scratch.seabed;
@@ -141,49 +205,12 @@ void build_beam_profile(const Scene& scene, const Eigen::Vector2d& nadir_xy_m,
     return;
   }
 
-  // Sample positions: the seabed's, plus each object's own (ends, and for curved sections
-  // points evenly spaced in the angle of the section's ellipse, s = mid - half cos(phi)).
-  auto& s = scratch.s;
-  s.clear();
-  for (const ProfilePoint& p : scratch.seabed) s.push_back(p.s_m);
+  envelope_positions(scene, nadir_xy_m, across_dir, options, scratch);
+  const auto& s = scratch.s;
   const auto& prims = scene.objects.primitives();
-  for (const auto& span : scratch.spans) {
-    s.push_back(span.s0);
-    s.push_back(span.s1);
-    if (prims[span.object].shape != ObjectShape::kBox) {
-      // The unclipped section of a cylinder or ellipsoid along the ray.
-      double a0 = 0, a1 = 0;
-      prims[span.object].footprint_interval(nadir_xy_m, across_dir, a0, a1);
-      const double mid = 0.5 * (a0 + a1), half = 0.5 * (a1 - a0);
-      for (int k = 1; k < options.object_segments; ++k) {
-        const double sk = mid - half * std::cos(kPi * k / options.object_segments);
-        if (sk > span.s0 && sk < span.s1) s.push_back(sk);
-      }
-    }
-  }
-  std::sort(s.begin(), s.end());
 
-  // Height of the upper envelope just after (side = +1) or just before (side = -1) position y,
-  // and which surface it belongs to (-1 = seabed).
   auto envelope = [&](double y, int side, std::int64_t& top_object) {
-    const Eigen::Vector2d p = nadir_xy_m + y * across_dir;
-    double z = grid.height_m(p.x(), p.y());
-    top_object = -1;
-    for (const auto& span : scratch.spans) {
-      const bool inside = side > 0 ? (y >= span.s0 && y < span.s1) : (y > span.s0 && y <= span.s1);
-      if (!inside) continue;
-      // Evaluate a hair inside the footprint so boundary rounding cannot drop the object.
-      const double eps = 1e-9 * std::max(1.0, span.s1 - span.s0);
-      const double yy = std::clamp(y, span.s0 + eps, span.s1 - eps);
-      const Eigen::Vector2d q = nadir_xy_m + yy * across_dir;
-      double zb = 0, zt = 0;
-      if (prims[span.object].vertical_extent(q.x(), q.y(), zb, zt) && !(zt <= z)) {
-        // A hole in the seabed under an object: the object still stands (its base was placed).
-        z = zt;
-        top_object = span.object;
-      }
-    }
-    return z;
+    return envelope_height(scene, nadir_xy_m, across_dir, scratch, y, side, top_object);
   };
 
   const double min_gap = 1e-9 * std::max(1.0, max_y_m);

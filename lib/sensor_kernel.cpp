@@ -18,6 +18,8 @@
 #include <hwy/foreach_target.h>
 #include <hwy/highway.h>
 #include "sonarsynth/counter_hash-inl.hpp"
+#include "sonarsynth/sensor_kernel_blocks-inl.hpp"
+#include "sonarsynth/sensor_kernel_filtered-inl.hpp"
 // clang-format on
 
 HWY_BEFORE_NAMESPACE();
@@ -28,120 +30,105 @@ namespace ch = sonarsynth::counter_hash::HWY_NAMESPACE;
 // Stream of the texture's Marsaglia–Tsang fallback beyond the tables (as in noise.cpp).
 constexpr std::uint64_t kStreamTexture = 1u << 20;
 
-// Samples per block: the block's float and word arrays (8 x 2 KiB) stay in L1 over the looks.
-constexpr std::size_t kBlock = 512;
-
-// -ln u of a word, u = uniform_open(w) in (0, 1) (a normal float, >= 2^-25): Exp(1), at most
-// 17.3. u = 2^k m, m in [sqrt(1/2), sqrt(2)) (musl's reduction); ln m = x - x^2 / 2 + x^3 P(x),
-// x = m - 1, P of degree 7 (least squares on Chebyshev nodes: |error| < 1e-8 on the interval,
-// below float's rounding). No division, no table.
-template <class DF, class DU>
-HWY_INLINE hn::Vec<DF> exp1(DF df, DU du, hn::Vec<DU> w) {
-  const hn::RebindToSigned<DU> di;
-  const auto u = ch::uniform_open(df, du, w);
-  const auto ix = hn::Add(hn::BitCast(du, u), hn::Set(du, 0x3f800000U - 0x3f3504f3U));
-  const auto k = hn::Sub(hn::BitCast(di, hn::ShiftRight<23>(ix)), hn::Set(di, 127));
-  const auto m =
-      hn::BitCast(df, hn::Add(hn::And(ix, hn::Set(du, 0x7fffffU)), hn::Set(du, 0x3f3504f3U)));
-  const auto x = hn::Sub(m, hn::Set(df, 1.0f));
-  auto p = hn::Set(df, -0.0810311586f);
-  p = hn::MulAdd(p, x, hn::Set(df, 0.127132242f));
-  p = hn::MulAdd(p, x, hn::Set(df, -0.129720777f));
-  p = hn::MulAdd(p, x, hn::Set(df, 0.142020356f));
-  p = hn::MulAdd(p, x, hn::Set(df, -0.166422508f));
-  p = hn::MulAdd(p, x, hn::Set(df, 0.200014747f));
-  p = hn::MulAdd(p, x, hn::Set(df, -0.250002966f));
-  p = hn::MulAdd(p, x, hn::Set(df, 0.333333285f));
-  const auto x2 = hn::Mul(x, x);
-  // ln m = x - x^2 / 2 + x^3 p; ln u = k ln 2 + ln m (ln 2 split in two for k up to 25).
-  auto ln = hn::MulAdd(hn::Mul(x2, x), p, hn::NegMulAdd(x2, hn::Set(df, 0.5f), x));
-  const auto kf = hn::ConvertTo(df, k);
-  ln = hn::MulAdd(kf, hn::Set(df, 9.0580006145e-6f), ln);
-  ln = hn::MulAdd(kf, hn::Set(df, 0.69313812256f), ln);
-  return hn::Neg(ln);
-}
-
-// cos(theta), theta uniform on (-pi, pi), from a word: cos of a uniform angle on (0, pi / 2)
-// (the high 24 bits) with the sign of the lowest bit, which has the same distribution. The
-// Taylor series to theta^12 errs by < 7e-9 there (below float's rounding).
-template <class DF, class DU>
-HWY_INLINE hn::Vec<DF> cos_uniform(DF df, DU du, hn::Vec<DU> w) {
-  const auto theta = hn::Mul(ch::uniform_open(df, du, w), hn::Set(df, 1.57079632679489661923f));
-  const auto t = hn::Mul(theta, theta);
-  auto c = hn::Set(df, 1.0f / 479001600.0f);
-  c = hn::MulAdd(c, t, hn::Set(df, -1.0f / 3628800.0f));
-  c = hn::MulAdd(c, t, hn::Set(df, 1.0f / 40320.0f));
-  c = hn::MulAdd(c, t, hn::Set(df, -1.0f / 720.0f));
-  c = hn::MulAdd(c, t, hn::Set(df, 1.0f / 24.0f));
-  c = hn::MulAdd(c, t, hn::Set(df, -0.5f));
-  c = hn::MulAdd(c, t, hn::Set(df, 1.0f));
-  // The sign bit from the word's lowest bit.
-  const auto sign = hn::BitCast(df, hn::ShiftLeft<31>(w));
-  return hn::Xor(c, sign);
-}
-
-// sin(theta) on the same interval: the Taylor series to theta^13 errs by < 1e-9 there.
-template <class DF>
-HWY_INLINE hn::Vec<DF> sin_quarter(DF df, hn::Vec<DF> theta) {
-  const auto t = hn::Mul(theta, theta);
-  auto s = hn::Set(df, 1.0f / 6227020800.0f);
-  s = hn::MulAdd(s, t, hn::Set(df, -1.0f / 39916800.0f));
-  s = hn::MulAdd(s, t, hn::Set(df, 1.0f / 362880.0f));
-  s = hn::MulAdd(s, t, hn::Set(df, -1.0f / 5040.0f));
-  s = hn::MulAdd(s, t, hn::Set(df, 1.0f / 120.0f));
-  s = hn::MulAdd(s, t, hn::Set(df, -1.0f / 6.0f));
-  s = hn::MulAdd(s, t, hn::Set(df, 1.0f));
-  return hn::Mul(s, theta);
-}
-
-// A unit phase e^(i phi), phi uniform on (-pi, pi], from a word: theta uniform on (0, pi / 2)
-// from the high 24 bits, (cos theta, sin theta) reflected across the axes by bits 0 and 1 (the
-// reflections of a uniform quarter turn cover the circle uniformly).
-template <class DF, class DU>
-HWY_INLINE void unit_phase(DF df, DU du, hn::Vec<DU> w, hn::Vec<DF>& c, hn::Vec<DF>& s) {
-  const auto theta = hn::Mul(ch::uniform_open(df, du, w), hn::Set(df, 1.57079632679489661923f));
-  const auto t = hn::Mul(theta, theta);
-  auto cc = hn::Set(df, 1.0f / 479001600.0f);
-  cc = hn::MulAdd(cc, t, hn::Set(df, -1.0f / 3628800.0f));
-  cc = hn::MulAdd(cc, t, hn::Set(df, 1.0f / 40320.0f));
-  cc = hn::MulAdd(cc, t, hn::Set(df, -1.0f / 720.0f));
-  cc = hn::MulAdd(cc, t, hn::Set(df, 1.0f / 24.0f));
-  cc = hn::MulAdd(cc, t, hn::Set(df, -0.5f));
-  cc = hn::MulAdd(cc, t, hn::Set(df, 1.0f));
-  const auto sign_c = hn::BitCast(df, hn::ShiftLeft<31>(w));
-  const auto sign_s = hn::BitCast(df, hn::And(hn::ShiftLeft<30>(w), hn::Set(du, 0x80000000U)));
-  c = hn::Xor(cc, sign_c);
-  s = hn::Xor(sin_quarter(df, theta), sign_s);
-}
-
-// The key words of `count` keys into out[0 .. count rounded up to whole vectors) (the keys'
-// 32-bit halves gathered from pairs of 64-bit vectors; the padding lanes hash key 0).
-template <class DU>
-void key_words(DU du, const std::uint64_t* keys, std::size_t count, const counter_hash::Stream& st,
-               std::uint32_t* out) {
-  [[maybe_unused]] const hn::Repartition<std::uint64_t, DU> du64;
-  const std::size_t L = hn::Lanes(du);
-#if HWY_TARGET == HWY_SCALAR
-  const std::size_t wlen = 0;
-#else
-  const std::size_t Ld = hn::Lanes(du64);
-  const std::size_t wlen = count / L * L;
-  for (std::size_t i = 0; i < wlen; i += L) {
-    const auto k0 = hn::BitCast(du, hn::LoadU(du64, keys + i));
-    const auto k1 = hn::BitCast(du, hn::LoadU(du64, keys + i + Ld));
-    hn::StoreU(ch::key_word(du, st, hn::ConcatEven(du, k1, k0), hn::ConcatOdd(du, k1, k0)), du,
-               out + i);
+// The exponent e of detect_impl's block scale 2^-e: even (the square roots of the mean detector
+// scale exactly too, so that a sample's output does not depend on the other samples of its
+// block), putting the largest finite power of the block (mean, thermal noise, floor) near 1.
+HWY_INLINE int detect_block_exponent(const DetectorArgs& a, const double* base, const double* gain,
+                                     std::size_t len) {
+  const hn::ScalableTag<double> dd;
+  const std::size_t Ld = hn::Lanes(dd);
+  const std::size_t vlen = len / Ld * Ld;
+  auto top_v = hn::Zero(dd);
+  const auto th = hn::Set(dd, a.thermal_power);
+  for (std::size_t i = 0; i < vlen; i += Ld) {
+    const auto g = hn::LoadU(dd, gain + i);
+    const auto vb = hn::Mul(hn::LoadU(dd, base + i), g), vt = hn::Mul(th, g);
+    top_v = hn::Max(top_v, hn::IfThenElseZero(hn::IsFinite(vb), vb));
+    top_v = hn::Max(top_v, hn::IfThenElseZero(hn::IsFinite(vt), vt));
   }
-#endif
-  HWY_ALIGN std::uint32_t lo[hn::MaxLanes(du)], hi[hn::MaxLanes(du)];
-  for (std::size_t i = wlen; i < count; i += L) {
-    for (std::size_t l = 0; l < L; ++l) {
-      const std::uint64_t k = i + l < count ? keys[i + l] : 0;
-      lo[l] = static_cast<std::uint32_t>(k);
-      hi[l] = static_cast<std::uint32_t>(k >> 32);
+  double top = std::max(a.floor_power, hn::GetLane(hn::MaxOfLanes(dd, top_v)));
+  for (std::size_t i = vlen; i < len; ++i) {
+    for (const double v : {base[i] * gain[i], a.thermal_power * gain[i]}) {
+      if (std::isfinite(v)) top = std::max(top, v);
     }
-    hn::StoreU(ch::key_word(du, st, hn::Load(du, lo), hn::Load(du, hi)), du, out + i);
   }
+  return top > 0.0 ? std::ilogb(top) & ~1 : 0;
+}
+
+// The block's scaled mean powers bg and thermal noise powers mg in float32, zero-padded to
+// `padded`; true if some mean is > 0.
+HWY_INLINE bool detect_block_powers(const DetectorArgs& a, const double* base, const double* gain,
+                                    std::size_t len, std::size_t padded, double scale, float* bg,
+                                    float* mg) {
+  const hn::ScalableTag<double> dd;
+  const hn::Rebind<float, decltype(dd)> dfh;
+  const std::size_t Ld = hn::Lanes(dd);
+  const std::size_t vlen = len / Ld * Ld;
+  const auto th = hn::Set(dd, a.thermal_power);
+  const auto scale_v = hn::Set(dd, scale);
+  auto any_v = hn::Zero(dd);  // max of base gain where not NaN: > 0 if any mean > 0
+  for (std::size_t i = 0; i < vlen; i += Ld) {
+    const auto g = hn::Mul(hn::LoadU(dd, gain + i), scale_v);
+    const auto vb = hn::Mul(hn::LoadU(dd, base + i), g);
+    any_v = hn::Max(any_v, hn::IfThenZeroElse(hn::IsNaN(vb), vb));
+    hn::StoreU(hn::DemoteTo(dfh, vb), dfh, bg + i);
+    hn::StoreU(hn::DemoteTo(dfh, hn::Mul(th, g)), dfh, mg + i);
+  }
+  bool any_mean = hn::GetLane(hn::MaxOfLanes(dd, any_v)) > 0.0;
+  for (std::size_t i = vlen; i < padded; ++i) {
+    const bool in = i < len;
+    const double g = in ? gain[i] * scale : 0.0;
+    bg[i] = in ? static_cast<float>(base[i] * g) : 0.0f;
+    mg[i] = static_cast<float>(a.thermal_power * g);
+    any_mean |= bg[i] > 0.0f;
+  }
+  return any_mean;
+}
+
+// The speckled power of look ju of a vector of mean powers m: where the mean is > 0, m times the
+// lattice's frozen power fld (where it applies; none if fld is null) or an Exp(1) draw of the
+// speckle word hs; elsewhere m itself (shadow: 0; bad input: negative or NaN, kept so that the
+// quantiser counts it).
+template <class DF, class DU>
+HWY_INLINE hn::Vec<DF> speckled_power(DF df, DU du, const counter_hash::Stream& ss, hn::Vec<DF> m,
+                                      const float* fld, const std::uint32_t* hs, std::uint32_t ju) {
+  const auto has_mean = hn::Gt(m, hn::Zero(df));
+  if (hn::AllFalse(df, has_mean)) return m;
+  if (fld == nullptr) {
+    return hn::IfThenElse(has_mean,
+                          hn::Mul(m, exp1(df, du, ch::draw(du, ss, hn::Load(du, hs), ju))), m);
+  }
+  const auto f = hn::Load(df, fld);
+  const auto draw_here = hn::And(hn::IsNaN(f), has_mean);
+  auto es = f;
+  if (!hn::AllFalse(df, draw_here)) {
+    es = hn::IfThenElse(draw_here, exp1(df, du, ch::draw(du, ss, hn::Load(du, hs), ju)), f);
+  }
+  return hn::IfThenElse(has_mean, hn::Mul(m, es), m);
+}
+
+// p plus the thermal noise of mean power mg (|s + n|^2 with the phase of n relative to s
+// uniform: A + M E + 2 sqrt(A M E) cos) and the floor of power floor_v, drawn from the noise
+// word hnw for look ju.
+template <class DF, class DU>
+HWY_INLINE hn::Vec<DF> add_receiver_noise(DF df, DU du, const counter_hash::Stream& sn,
+                                          hn::Vec<DF> p, const float* mg, const std::uint32_t* hnw,
+                                          std::uint32_t ju, bool thermal, bool floor,
+                                          hn::Vec<DF> floor_v) {
+  if (thermal) {
+    const auto h = hn::Load(du, hnw);
+    const auto me =
+        hn::Mul(hn::Load(df, mg), exp1(df, du, ch::draw(du, sn, h, ju * kNoiseWordsPerLook)));
+    const auto c = cos_uniform(df, du, ch::draw(du, sn, h, ju * kNoiseWordsPerLook + 1));
+    const auto cross = hn::Mul(hn::Set(df, 2.0f), hn::Sqrt(hn::Mul(p, me)));
+    p = hn::MulAdd(cross, c, hn::Add(p, me));
+    p = hn::IfThenElse(hn::Lt(p, hn::Zero(df)), hn::Zero(df), p);  // rounding only: exactly >= 0
+  }
+  if (floor) {
+    const auto h = hn::Load(du, hnw);
+    p = hn::MulAdd(floor_v, exp1(df, du, ch::draw(du, sn, h, ju * kNoiseWordsPerLook + 2)), p);
+  }
+  return p;
 }
 
 void detect_impl(const DetectorArgs& a, counter_hash::Stream ss, counter_hash::Stream sn) {
@@ -150,14 +137,7 @@ void detect_impl(const DetectorArgs& a, counter_hash::Stream ss, counter_hash::S
   const std::size_t L = hn::Lanes(df);
   HWY_ALIGN float bg[kBlock], mg[kBlock], acc[kBlock], fld[kBlock];
   HWY_ALIGN std::uint32_t hs[kBlock], hnw[kBlock];
-  HWY_ALIGN std::uint32_t lo[kBlock], hi[kBlock];
-  const hn::Repartition<double, decltype(df)> dd;  // half as many lanes
-  const hn::Rebind<float, decltype(dd)> dfh;
-  [[maybe_unused]] const hn::Repartition<std::uint64_t, decltype(du)> du64;
-  const std::size_t Ld = hn::Lanes(dd);
   const bool thermal = a.thermal_power > 0.0, floor = a.floor_power > 0.0;
-  const auto zero = hn::Zero(df);
-  const auto two = hn::Set(df, 2.0f);
   for (std::size_t b0 = 0; b0 < a.n; b0 += kBlock) {
     const std::size_t len = std::min(kBlock, a.n - b0);
     // Padded to whole vectors: the tail lanes compute on zeros and are not stored.
@@ -167,146 +147,28 @@ void detect_impl(const DetectorArgs& a, counter_hash::Stream ss, counter_hash::S
     // (amplitude output up to float's maximum is a power of 1e77).
     const double* base = a.base + b0;
     const double* gain = a.gain + b0;
-    const std::size_t vlen = len / Ld * Ld;
-    auto top_v = hn::Zero(dd);
-    const auto th = hn::Set(dd, a.thermal_power);
-    for (std::size_t i = 0; i < vlen; i += Ld) {
-      const auto g = hn::LoadU(dd, gain + i);
-      const auto vb = hn::Mul(hn::LoadU(dd, base + i), g), vt = hn::Mul(th, g);
-      top_v = hn::Max(top_v, hn::IfThenElseZero(hn::IsFinite(vb), vb));
-      top_v = hn::Max(top_v, hn::IfThenElseZero(hn::IsFinite(vt), vt));
-    }
-    double top = std::max(a.floor_power, hn::GetLane(hn::MaxOfLanes(dd, top_v)));
-    for (std::size_t i = vlen; i < len; ++i) {
-      for (const double v : {base[i] * gain[i], a.thermal_power * gain[i]}) {
-        if (std::isfinite(v)) top = std::max(top, v);
-      }
-    }
-    // An even exponent: the square roots of the mean detector scale exactly too, so that a
-    // sample's output does not depend on the other samples of its block.
-    const int e = top > 0.0 ? std::ilogb(top) & ~1 : 0;
-    const double scale = std::ldexp(1.0, -e), unscale = std::ldexp(1.0, e);
-    const auto scale_v = hn::Set(dd, scale);
-    auto any_v = hn::Zero(dd);  // max of base gain where not NaN: > 0 if any mean > 0
-    for (std::size_t i = 0; i < vlen; i += Ld) {
-      const auto g = hn::Mul(hn::LoadU(dd, gain + i), scale_v);
-      const auto vb = hn::Mul(hn::LoadU(dd, base + i), g);
-      any_v = hn::Max(any_v, hn::IfThenZeroElse(hn::IsNaN(vb), vb));
-      hn::StoreU(hn::DemoteTo(dfh, vb), dfh, bg + i);
-      hn::StoreU(hn::DemoteTo(dfh, hn::Mul(th, g)), dfh, mg + i);
-    }
-    bool any_mean = hn::GetLane(hn::MaxOfLanes(dd, any_v)) > 0.0;
-    for (std::size_t i = vlen; i < padded; ++i) {
-      const bool in = i < len;
-      const double g = in ? gain[i] * scale : 0.0;
-      bg[i] = in ? static_cast<float>(base[i] * g) : 0.0f;
-      mg[i] = static_cast<float>(a.thermal_power * g);
-      any_mean |= bg[i] > 0.0f;
-    }
-    const auto floor_v = hn::Set(df, static_cast<float>(a.floor_power * scale));
-    // The key words of a block: the keys' 32-bit halves gathered from pairs of 64-bit vectors.
-    const auto key_words = [&](const std::uint64_t* keys, const counter_hash::Stream& st,
-                               std::uint32_t* out) {
-#if HWY_TARGET == HWY_SCALAR
-      const std::size_t wlen = 0;
-#else
-      const std::size_t wlen = len / L * L;
-      for (std::size_t i = 0; i < wlen; i += L) {
-        const auto k0 = hn::BitCast(du, hn::LoadU(du64, keys + i));
-        const auto k1 = hn::BitCast(du, hn::LoadU(du64, keys + i + Ld));
-        hn::Store(ch::key_word(du, st, hn::ConcatEven(du, k1, k0), hn::ConcatOdd(du, k1, k0)), du,
-                  out + i);
-      }
-#endif
-      if (wlen < padded) {
-        for (std::size_t i = wlen; i < padded; ++i) {
-          const std::uint64_t k = i < len ? keys[i] : 0;
-          lo[i - wlen] = static_cast<std::uint32_t>(k);
-          hi[i - wlen] = static_cast<std::uint32_t>(k >> 32);
-        }
-        for (std::size_t i = wlen; i < padded; i += L) {
-          hn::Store(
-              ch::key_word(du, st, hn::Load(du, lo + (i - wlen)), hn::Load(du, hi + (i - wlen))),
-              du, out + i);
-        }
-      }
-    };
+    const int e = detect_block_exponent(a, base, gain, len);
+    const bool any_mean =
+        detect_block_powers(a, base, gain, len, padded, std::ldexp(1.0, -e), bg, mg);
+    const auto floor_v = hn::Set(df, static_cast<float>(a.floor_power * std::ldexp(1.0, -e)));
     // Speckle key words only where a speckle draw may be needed (some mean > 0).
-    if (any_mean) key_words(a.keys + b0, ss, hs);
-    if (thermal || floor) key_words(a.noise_keys + b0, sn, hnw);
+    if (any_mean) key_words(du, a.keys + b0, len, ss, hs);
+    if (thermal || floor) key_words(du, a.noise_keys + b0, len, sn, hnw);
+    const bool have_field = a.field != nullptr;
     for (int j = 0; j < a.looks; ++j) {
       const auto ju = static_cast<std::uint32_t>(j);
-      const bool have_field = a.field != nullptr;
       if (have_field && any_mean) {
         const double* f = a.field + static_cast<std::size_t>(j) * a.n + b0;
         for (std::size_t i = 0; i < padded; ++i) fld[i] = i < len ? static_cast<float>(f[i]) : 0.0f;
       }
       for (std::size_t i = 0; i < padded; i += L) {
-        const auto m = hn::Load(df, bg + i);
-        // Where the mean is not > 0 (shadow: 0; bad input: negative or NaN, kept so that the
-        // quantiser counts it) there is no speckle to draw.
-        auto p = m;
-        const auto has_mean = hn::Gt(m, zero);
-        if (!hn::AllFalse(df, has_mean)) {
-          // The frozen speckle: the lattice's power where it applies, else drawn per key.
-          if (have_field) {
-            const auto f = hn::Load(df, fld + i);
-            const auto draw_here = hn::And(hn::IsNaN(f), has_mean);
-            auto es = f;
-            if (!hn::AllFalse(df, draw_here)) {
-              es = hn::IfThenElse(draw_here,
-                                  exp1(df, du, ch::draw(du, ss, hn::Load(du, hs + i), ju)), f);
-            }
-            p = hn::IfThenElse(has_mean, hn::Mul(m, es), m);
-          } else {
-            p = hn::IfThenElse(
-                has_mean, hn::Mul(m, exp1(df, du, ch::draw(du, ss, hn::Load(du, hs + i), ju))), m);
-          }
-        }
-        if (thermal) {
-          // |s + n|^2 with the phase of n relative to s uniform: A + M E + 2 sqrt(A M E) cos.
-          const auto h = hn::Load(du, hnw + i);
-          const auto me = hn::Mul(hn::Load(df, mg + i),
-                                  exp1(df, du, ch::draw(du, sn, h, ju * kNoiseWordsPerLook)));
-          const auto c = cos_uniform(df, du, ch::draw(du, sn, h, ju * kNoiseWordsPerLook + 1));
-          const auto cross = hn::Mul(two, hn::Sqrt(hn::Mul(p, me)));
-          p = hn::MulAdd(cross, c, hn::Add(p, me));
-          p = hn::IfThenElse(hn::Lt(p, zero), zero, p);  // rounding only: exactly >= 0
-        }
-        if (floor) {
-          const auto h = hn::Load(du, hnw + i);
-          p = hn::MulAdd(floor_v, exp1(df, du, ch::draw(du, sn, h, ju * kNoiseWordsPerLook + 2)),
-                         p);
-        }
-        if (j == 0) {
-          hn::Store(a.max_detector ? p : hn::Sqrt(p), df, acc + i);
-        } else if (a.max_detector) {
-          hn::Store(hn::Max(hn::Load(df, acc + i), p), df, acc + i);
-        } else {
-          hn::Store(hn::Add(hn::Load(df, acc + i), hn::Sqrt(p)), df, acc + i);
-        }
+        auto p = speckled_power(df, du, ss, hn::Load(df, bg + i), have_field ? fld + i : nullptr,
+                                hs + i, ju);
+        p = add_receiver_noise(df, du, sn, p, mg + i, hnw + i, ju, thermal, floor, floor_v);
+        accumulate_look(df, j == 0, a.max_detector, p, acc + i);
       }
     }
-    double* out = a.out + b0;
-    const auto unscale_v = hn::Set(dd, unscale);
-    const double inv = 1.0 / static_cast<double>(a.looks);
-    const auto inv_v = hn::Set(dd, inv);
-    for (std::size_t i = 0; i < vlen; i += Ld) {
-      auto v = hn::PromoteTo(dd, hn::LoadU(dfh, acc + i));
-      if (!a.max_detector) {
-        v = hn::Mul(v, inv_v);
-        v = hn::Mul(v, v);
-      }
-      hn::StoreU(hn::Mul(v, unscale_v), dd, out + i);
-    }
-    for (std::size_t i = vlen; i < len; ++i) {
-      double v = static_cast<double>(acc[i]);
-      if (!a.max_detector) {
-        v *= inv;
-        v *= v;
-      }
-      out[i] = v * unscale;
-    }
+    write_detected(acc, len, a.looks, a.max_detector, std::ldexp(1.0, e), a.out + b0);
   }
 }
 
@@ -413,19 +275,12 @@ void filtered_impl(const FilteredArgs& a, counter_hash::Stream ss, counter_hash:
   const hn::ScalableTag<float> df;
   const hn::RebindToUnsigned<decltype(df)> du;
   const std::size_t L = hn::Lanes(df);
-  const hn::Repartition<double, decltype(df)> dd;
-  const hn::Rebind<float, decltype(dd)> dfh;
-  const std::size_t Ld = hn::Lanes(dd);
-  constexpr std::size_t kExt = kBlock + 2 * kMaxHalfTaps + 64;
-  HWY_ALIGN float amp[kExt], amp_field[kExt], amp_thermal[kExt], zr[kExt], zi[kExt];
-  HWY_ALIGN float fre[kExt], fim[kExt], gain[kBlock], acc[kBlock];
-  HWY_ALIGN std::uint32_t hs[kExt], hnw[kExt];
+  FilteredBlock blk;
   const std::size_t K = a.taps_n / 2;
   float taps[2 * kMaxHalfTaps + 1];
   for (std::size_t k = 0; k < a.taps_n; ++k) taps[k] = static_cast<float>(a.taps[k]);
   const bool thermal = a.thermal_power > 0.0, floor = a.floor_power > 0.0;
   const bool lattice = a.field_norm != nullptr;
-  const auto zero = hn::Zero(df);
   const auto n = static_cast<std::ptrdiff_t>(a.n);
   for (std::size_t b0 = 0; b0 < a.n; b0 += kBlock) {
     const std::size_t len = std::min(kBlock, a.n - b0);
@@ -436,187 +291,34 @@ void filtered_impl(const FilteredArgs& a, counter_hash::Stream ss, counter_hash:
     const auto u0 = static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, -t0));
     const auto u1 = static_cast<std::size_t>(
         std::min<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(ext), n - t0));
-    const double* base = a.base + (t0 + static_cast<std::ptrdiff_t>(u0));
-    const double* gn = a.gain + (t0 + static_cast<std::ptrdiff_t>(u0));
-    const double* norm = lattice ? a.field_norm + (t0 + static_cast<std::ptrdiff_t>(u0)) : nullptr;
+    const std::ptrdiff_t first = t0 + static_cast<std::ptrdiff_t>(u0);  // sample at u0
+    const double* base = a.base + first;
+    const double* norm = lattice ? a.field_norm + first : nullptr;
     const std::size_t cnt = u1 - u0;
-    // The two scales: amplitudes from the largest mean power (and N) of block and halo, output
-    // powers from the largest of mean and noise powers times the gain, and the floor.
-    const std::size_t vcnt = cnt / Ld * Ld;
-    double top_a = a.thermal_power, top_o = a.floor_power;
-    {
-      auto ta = hn::Zero(dd), to = hn::Zero(dd);
-      const auto th = hn::Set(dd, a.thermal_power);
-      for (std::size_t u = 0; u < vcnt; u += Ld) {
-        const auto b = hn::LoadU(dd, base + u), g = hn::LoadU(dd, gn + u);
-        const auto vb = hn::Mul(b, g), vt = hn::Mul(th, g);
-        ta = hn::Max(ta, hn::IfThenElseZero(hn::IsFinite(b), b));
-        to = hn::Max(to, hn::IfThenElseZero(hn::IsFinite(vb), vb));
-        to = hn::Max(to, hn::IfThenElseZero(hn::IsFinite(vt), vt));
-      }
-      top_a = std::max(top_a, hn::GetLane(hn::MaxOfLanes(dd, ta)));
-      top_o = std::max(top_o, hn::GetLane(hn::MaxOfLanes(dd, to)));
-    }
-    for (std::size_t u = vcnt; u < cnt; ++u) {
-      const double b = base[u];
-      if (b > 0.0 && std::isfinite(b)) top_a = std::max(top_a, b);
-      for (const double v : {b * gn[u], a.thermal_power * gn[u]}) {
-        if (std::isfinite(v)) top_o = std::max(top_o, v);
-      }
-    }
-    const int ea = top_a > 0.0 ? std::ilogb(top_a) & ~1 : 0;
-    const int eo = top_o > 0.0 ? std::ilogb(top_o) & ~1 : 0;
-    const double sa2 = std::ldexp(1.0, -ea);
-    const auto sa2_v = hn::Set(dd, sa2);
-    const auto zero_d = hn::Zero(dd);
-    std::fill(amp, amp + ext, 0.0f);
-    std::fill(amp_field, amp_field + ext, 0.0f);
-    std::fill(amp_thermal, amp_thermal + ext, 0.0f);
-    std::fill(amp_thermal + u0, amp_thermal + u1,
-              static_cast<float>(std::sqrt(a.thermal_power * sa2)));
-    bool any_mean = false;
-    auto any_v = hn::Zero(dd);
-    for (std::size_t u = 0; u < vcnt; u += Ld) {
-      const auto b = hn::LoadU(dd, base + u);
-      const auto has = hn::Gt(b, zero_d);
-      const auto bs = hn::IfThenElseZero(has, hn::Mul(b, sa2_v));
-      any_v = hn::Max(any_v, bs);
-      hn::StoreU(hn::DemoteTo(dfh, hn::Sqrt(bs)), dfh, amp + u0 + u);
-      if (lattice) {
-        const auto fa = hn::IfThenElseZero(has, hn::Sqrt(hn::Mul(hn::LoadU(dd, norm + u), bs)));
-        hn::StoreU(hn::DemoteTo(dfh, fa), dfh, amp_field + u0 + u);
-      }
-    }
-    any_mean = hn::GetLane(hn::MaxOfLanes(dd, any_v)) > 0.0;
-    for (std::size_t u = vcnt; u < cnt; ++u) {
-      const double b = base[u];
-      if (!(b > 0.0)) continue;
-      any_mean = true;
-      amp[u0 + u] = static_cast<float>(std::sqrt(b * sa2));
-      if (lattice) amp_field[u0 + u] = static_cast<float>(std::sqrt(norm[u] * (b * sa2)));
-    }
-    // gain_i 2^(ea - eo) / w2_i, w2_i the power of the taps inside the record.
-    const double g_scale = std::ldexp(1.0, ea - eo);
-    const std::size_t vlen_g = len / Ld * Ld;
-    for (std::size_t i = 0; i < vlen_g; i += Ld) {
-      const auto g = hn::Mul(hn::LoadU(dd, a.gain + b0 + i), hn::Set(dd, g_scale));
-      hn::StoreU(hn::DemoteTo(dfh, g), dfh, gain + i);
-    }
-    for (std::size_t i = vlen_g; i < padded; ++i) {
-      gain[i] = i < len ? static_cast<float>(a.gain[b0 + i] * g_scale) : 0.0f;
-    }
-    // Near the record's ends: divided by the power of the taps inside it.
-    for (std::size_t i = 0; i < len; ++i) {
-      const std::size_t t = b0 + i;
-      if (t >= K && t + K < a.n) {
-        if (t + K + kBlock < a.n) break;  // no end in this block
-        continue;
-      }
-      double w2 = 0.0;
-      for (std::size_t k = 0; k < a.taps_n; ++k) {
-        const std::size_t u = t + k;  // sample u - K
-        if (u >= K && u - K < a.n) w2 += a.taps[k] * a.taps[k];
-      }
-      gain[i] = static_cast<float>(a.gain[t] * g_scale / w2);
-    }
-    std::fill(hs, hs + ext + L, 0u);
-    std::fill(hnw, hnw + ext + L, 0u);
-    if (any_mean) key_words(du, a.keys + (t0 + static_cast<std::ptrdiff_t>(u0)), cnt, ss, hs + u0);
-    if (thermal || floor) {
-      key_words(du, a.noise_keys + (t0 + static_cast<std::ptrdiff_t>(u0)), cnt, sn, hnw + u0);
-    }
+    int ea = 0, eo = 0;
+    filtered_exponents(a, base, a.gain + first, cnt, ea, eo);
+    const bool any_mean =
+        filtered_amplitudes(a, base, norm, ext, u0, u1, std::ldexp(1.0, -ea), blk);
+    filtered_gain(a, b0, len, padded, std::ldexp(1.0, ea - eo), blk.gain);
+    std::fill(blk.hs, blk.hs + ext + L, 0u);
+    std::fill(blk.hnw, blk.hnw + ext + L, 0u);
+    if (any_mean) key_words(du, a.keys + first, cnt, ss, blk.hs + u0);
+    if (thermal || floor) key_words(du, a.noise_keys + first, cnt, sn, blk.hnw + u0);
     const auto floor_v = hn::Set(df, static_cast<float>(a.floor_power * std::ldexp(1.0, -eo)));
     for (int j = 0; j < a.looks; ++j) {
       const auto ju = static_cast<std::uint32_t>(j);
       if (lattice && any_mean) {
         const float* re = a.field_re + static_cast<std::size_t>(j) * a.field_stride;
         const float* im = a.field_im + static_cast<std::size_t>(j) * a.field_stride;
-        std::fill(fre, fre + ext, 0.0f);
-        std::fill(fim, fim + ext, 0.0f);
-        std::copy(re + (t0 + static_cast<std::ptrdiff_t>(u0)),
-                  re + (t0 + static_cast<std::ptrdiff_t>(u1)), fre + u0);
-        std::copy(im + (t0 + static_cast<std::ptrdiff_t>(u0)),
-                  im + (t0 + static_cast<std::ptrdiff_t>(u1)), fim + u0);
+        std::fill(blk.fre, blk.fre + ext, 0.0f);
+        std::fill(blk.fim, blk.fim + ext, 0.0f);
+        std::copy(re + first, re + (t0 + static_cast<std::ptrdiff_t>(u1)), blk.fre + u0);
+        std::copy(im + first, im + (t0 + static_cast<std::ptrdiff_t>(u1)), blk.fim + u0);
       }
-      for (std::size_t u = 0; u < ext; u += L) {
-        auto r = zero, i = zero;
-        const auto am = hn::Load(df, amp + u);
-        const auto has = hn::Gt(am, zero);
-        if (!hn::AllFalse(df, has)) {
-          auto draw_here = has;
-          if (lattice) {
-            const auto af = hn::Load(df, amp_field + u);
-            const auto fr = hn::Mul(hn::Load(df, fre + u), af);
-            const auto fi = hn::Mul(hn::Load(df, fim + u), af);
-            const auto use = hn::And(has, hn::Not(hn::IsNaN(fr)));
-            r = hn::IfThenElseZero(use, fr);
-            i = hn::IfThenElseZero(use, fi);
-            draw_here = hn::AndNot(use, has);
-          }
-          if (!hn::AllFalse(df, draw_here)) {
-            const auto h = hn::Load(du, hs + u);
-            const auto ra = hn::Mul(hn::Sqrt(exp1(df, du, ch::draw(du, ss, h, ju))), am);
-            hn::Vec<decltype(df)> c, s;
-            unit_phase(df, du, ch::draw(du, ss, h, kPhaseCounter + ju), c, s);
-            r = hn::IfThenElse(draw_here, hn::Mul(ra, c), r);
-            i = hn::IfThenElse(draw_here, hn::Mul(ra, s), i);
-          }
-        }
-        if (thermal) {
-          const auto h = hn::Load(du, hnw + u);
-          const auto ra =
-              hn::Mul(hn::Sqrt(exp1(df, du, ch::draw(du, sn, h, ju * kNoiseWordsPerLook))),
-                      hn::Load(df, amp_thermal + u));
-          hn::Vec<decltype(df)> c, s;
-          unit_phase(df, du, ch::draw(du, sn, h, ju * kNoiseWordsPerLook + 1), c, s);
-          r = hn::MulAdd(ra, c, r);
-          i = hn::MulAdd(ra, s, i);
-        }
-        hn::Store(r, df, zr + u);
-        hn::Store(i, df, zi + u);
-      }
-      for (std::size_t o = 0; o < padded; o += L) {
-        auto yr = zero, yi = zero;
-        for (std::size_t k = 0; k < a.taps_n; ++k) {
-          const auto h = hn::Set(df, taps[k]);
-          yr = hn::MulAdd(h, hn::LoadU(df, zr + o + k), yr);
-          yi = hn::MulAdd(h, hn::LoadU(df, zi + o + k), yi);
-        }
-        auto p = hn::Mul(hn::MulAdd(yr, yr, hn::Mul(yi, yi)), hn::Load(df, gain + o));
-        if (floor) {
-          const auto h = hn::LoadU(du, hnw + o + K);
-          p = hn::MulAdd(floor_v, exp1(df, du, ch::draw(du, sn, h, ju * kNoiseWordsPerLook + 2)),
-                         p);
-        }
-        if (j == 0) {
-          hn::Store(a.max_detector ? p : hn::Sqrt(p), df, acc + o);
-        } else if (a.max_detector) {
-          hn::Store(hn::Max(hn::Load(df, acc + o), p), df, acc + o);
-        } else {
-          hn::Store(hn::Add(hn::Load(df, acc + o), hn::Sqrt(p)), df, acc + o);
-        }
-      }
+      filtered_echo(df, du, ss, sn, ju, ext, lattice, thermal, blk);
+      filtered_look(df, du, sn, ju, taps, a.taps_n, padded, floor, floor_v, a.max_detector, blk);
     }
-    double* out = a.out + b0;
-    const double unscale = std::ldexp(1.0, eo);
-    const double inv = 1.0 / static_cast<double>(a.looks);
-    const std::size_t vlen = len / Ld * Ld;
-    for (std::size_t o = 0; o < vlen; o += Ld) {
-      auto v = hn::PromoteTo(dd, hn::LoadU(dfh, acc + o));
-      if (!a.max_detector) {
-        v = hn::Mul(v, hn::Set(dd, inv));
-        v = hn::Mul(v, v);
-      }
-      hn::StoreU(hn::Mul(v, hn::Set(dd, unscale)), dd, out + o);
-    }
-    for (std::size_t o = vlen; o < len; ++o) {
-      double v = static_cast<double>(acc[o]);
-      if (!a.max_detector) {
-        v *= inv;
-        v *= v;
-      }
-      out[o] = v * unscale;
-    }
+    write_detected(blk.acc, len, a.looks, a.max_detector, std::ldexp(1.0, eo), a.out + b0);
   }
 }
 

@@ -14,69 +14,13 @@
 #include <random>
 #include <vector>
 
+#include "realism_test_records.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace rs = bench::realism;
 using rs::Side;
 
-namespace {
-
-constexpr double kPi = std::numbers::pi;
-const double kRayleighContrast = std::sqrt(4.0 / kPi - 1.0);                    // 0.5227
-const double kRayleighDbStd = 10.0 / std::log(10.0) * kPi / std::sqrt(24.0);    // 2.785 dB
-const double kExponentialDbStd = 10.0 / std::log(10.0) * kPi / std::sqrt(6.0);  // 5.570 dB
-
-/// Uniform (0, 1], Rayleigh and normal draws from a fixed-seed engine (the standard
-/// distributions are implementation-defined; these are not).
-class Draw {
- public:
-  explicit Draw(std::uint64_t seed) : gen_(seed) {}
-  double uniform() { return (static_cast<double>(gen_() >> 11) + 1.0) * 0x1.0p-53; }
-  double rayleigh(double sigma) { return sigma * std::sqrt(-2.0 * std::log(uniform())); }
-  double exponential(double mean) { return -mean * std::log(uniform()); }
-  double normal() {
-    return std::sqrt(-2.0 * std::log(uniform())) * std::cos(2.0 * kPi * uniform());
-  }
-
- private:
-  std::mt19937_64 gen_;
-};
-
-constexpr std::size_t kSamples = 1000;
-constexpr double kRangeM = 100.0;  // 0.1 m per sample
-constexpr double kDr = kRangeM / static_cast<double>(kSamples);
-
-/// `count` pings of kSamples per side; value(k, i, side) fills them, altitude = altitude(k).
-std::vector<rs::Ping> make_pings(std::size_t count,
-                                 const std::function<float(std::size_t, std::size_t, Side)>& value,
-                                 const std::function<double(std::size_t)>& altitude = {}) {
-  std::vector<rs::Ping> pings(count);
-  for (std::size_t k = 0; k < count; ++k) {
-    rs::Ping& p = pings[k];
-    p.slant_range_m = kRangeM;
-    p.altitude_m = altitude ? altitude(k) : 0.0;
-    p.port.resize(kSamples);
-    p.starboard.resize(kSamples);
-    for (std::size_t i = 0; i < kSamples; ++i) {
-      p.port[i] = value(k, i, Side::kPort);
-      p.starboard[i] = value(k, i, Side::kStarboard);
-    }
-  }
-  return pings;
-}
-
-constexpr float kWater = 20.0f;       // 26.0 dB
-constexpr std::size_t kBottom = 100;  // first seabed sample (r0 = 10.05 m)
-
-/// Water column kWater, then iid Rayleigh(sigma) amplitudes from kBottom on.
-std::vector<rs::Ping> rayleigh_record(std::size_t count, double sigma, std::uint64_t seed) {
-  Draw d(seed);
-  return make_pings(count, [&](std::size_t, std::size_t i, Side) {
-    return i < kBottom ? kWater : static_cast<float>(d.rayleigh(sigma));
-  });
-}
-
-}  // namespace
+using namespace realism_test;
 
 TEST(RealismStats, RayleighAmplitudeContrastAndDbStd) {
   const auto pings = rayleigh_record(300, 1000.0, 11);
@@ -333,113 +277,6 @@ TEST(RealismStats, LayoutAndOptionErrorsAreNamed) {
     FAIL() << "even box accepted";
   } catch (const sonarsynth::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("box_samples = 30"), std::string::npos) << e.what();
-  }
-}
-
-namespace {
-
-/// Expected periodogram of N samples of a stationary sequence with autocovariance gamma(m), at
-/// bin f (f = 1 .. N/2): sum over |m| < N of (N - |m|) gamma(m) cos(2 pi f m / N). The mean
-/// removed from each row does not change these bins.
-std::vector<double> expected_periodogram(std::size_t n,
-                                         const std::function<double(double)>& gamma) {
-  std::vector<double> p(n / 2 + 1, 0.0);
-  const auto nd = static_cast<double>(n);
-  for (std::size_t f = 1; f <= n / 2; ++f) {
-    double s = nd * gamma(0.0);
-    for (std::size_t m = 1; m < n; ++m) {
-      const auto md = static_cast<double>(m);
-      s += 2.0 * (nd - md) * gamma(md) * std::cos(2.0 * kPi * static_cast<double>(f) * md / nd);
-    }
-    p[f] = s;
-  }
-  return p;
-}
-
-/// Mean of bins of quarter q over the mean of bins 1 .. N/2.
-double expected_quarter(const std::vector<double>& p, std::size_t q) {
-  const std::size_t half = p.size() - 1, quarter = half / 4;
-  double all = 0.0, part = 0.0;
-  for (std::size_t f = 1; f <= half; ++f) {
-    all += p[f];
-    if (f > q * quarter && f <= (q + 1) * quarter) part += p[f];
-  }
-  return (part / static_cast<double>(quarter)) / (all / static_cast<double>(half));
-}
-
-}  // namespace
-
-TEST(RealismStats, AcrossTrackLagOneAndSpectrumOfWhiteSpeckle) {
-  // iid Rayleigh speckle: no correlation between neighbouring samples and a flat spectrum.
-  const auto pings = rayleigh_record(300, 1000.0, 21);
-  const rs::Options o;
-  for (Side side : {Side::kPort, Side::kStarboard}) {
-    const auto fr = rs::first_returns(pings, side, o);
-    const rs::Texture t = rs::seabed_texture(pings, side, fr, o);
-    for (std::size_t p = 0; p < 3; ++p) {
-      // Five tiles of 64 pings (the last of 44) at each place.
-      EXPECT_EQ(t.tile_across_lag1(p).size(), 5u) << p;
-      // The shared 31-sample local mean biases it by about -1/31.
-      EXPECT_NEAR(t.median_tile_across_lag1(p), 0.0, 0.04) << p;
-    }
-    EXPECT_EQ(t.spectrum_rows(), 3u * 300u);
-    for (std::size_t q = 0; q < 4; ++q) {
-      EXPECT_NEAR(t.spectrum_quarter(q), 1.0, 0.05) << q;
-      EXPECT_NEAR(t.median_tile_spectrum_quarter(q), 1.0, 0.08) << q;
-    }
-  }
-}
-
-TEST(RealismStats, AcrossTrackLagOneAndSpectrumOfMa1AndAr1Sequences) {
-  // Along each ping's seabed a moving average x_i = e_i + e_(i-1) (lag-1 correlation 1/2,
-  // autocovariance 2, 1, 0 ...) or an AR(1) sequence x_i = rho x_(i-1) + sqrt(1 - rho^2) e_i
-  // (lag-1 rho, autocovariance rho^|m|); values 1000 + 100 x.
-  constexpr double kRho = 0.6;
-  for (bool ar : {false, true}) {
-    Draw d(22);
-    double prev_e[2] = {0.0, 0.0}, x[2] = {0.0, 0.0};  // per side: samples come interleaved
-    const auto pings = make_pings(300, [&](std::size_t, std::size_t i, Side side) {
-      if (i < kBottom) return kWater;
-      const std::size_t c = side == Side::kPort ? 0 : 1;
-      const double e = d.normal();
-      if (ar) {
-        x[c] = i == kBottom ? e : kRho * x[c] + std::sqrt(1.0 - kRho * kRho) * e;
-      } else {
-        x[c] = (i == kBottom ? d.normal() : prev_e[c]) + e;
-        prev_e[c] = e;
-      }
-      return static_cast<float>(1000.0 + 100.0 * x[c]);
-    });
-    rs::Options wide;  // a local mean over most of the ping's seabed: a plain rescaling
-    wide.box_pings = 1;
-    wide.box_samples = 801;
-    const double lag1 = ar ? kRho : 0.5;
-    const std::vector<double> truth = expected_periodogram(wide.across_tile_samples, [&](double m) {
-      if (ar) return std::pow(kRho, m);
-      return m == 0.0 ? 2.0 : m == 1.0 ? 1.0 : 0.0;
-    });
-    for (Side side : {Side::kPort, Side::kStarboard}) {
-      const auto fr = rs::first_returns(pings, side, wide);
-      const rs::Texture t = rs::seabed_texture(pings, side, fr, wide);
-      for (std::size_t p = 0; p < 3; ++p) {
-        EXPECT_NEAR(t.median_tile_across_lag1(p), lag1, 0.03) << ar << " place " << p;
-        EXPECT_NEAR(t.across[p].correlation(), lag1, 0.015) << ar << " place " << p;
-      }
-      for (std::size_t q = 0; q < 4; ++q)
-        EXPECT_NEAR(t.spectrum_quarter(q), expected_quarter(truth, q), 0.04) << ar << " q " << q;
-    }
-    // Low-pass: the quarters fall. MA(1) (continuous form): 1 + (sin b - sin a) / (b - a).
-    if (!ar) {
-      const double a[5] = {0.0, kPi / 4, kPi / 2, 3 * kPi / 4, kPi};
-      for (std::size_t q = 0; q < 4; ++q)
-        EXPECT_NEAR(expected_quarter(truth, q),
-                    1.0 + (std::sin(a[q + 1]) - std::sin(a[q])) / (kPi / 4), 0.03)
-            << q;
-    }
-    // Pooled: each block's tiles of both sides merged, one tile per block and place.
-    const rs::Report r = rs::measure(pings, wide);
-    EXPECT_EQ(r.pooled.texture.tile_across_lag1(0).size(), 5u);
-    EXPECT_NEAR(r.pooled.texture.median_tile_across_lag1(1), lag1, 0.03);
   }
 }
 

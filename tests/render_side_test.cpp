@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analytic/flat_seabed.hpp"
+#include "render_side_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/render_math.hpp"
 
@@ -19,41 +20,13 @@ namespace sonarsynth {
 namespace {
 
 constexpr double kPiT = 3.14159265358979323846;
-constexpr double kMu = 0.01;
-constexpr double kBeta = 0.02;
-
 using analytic::flat_seabed_F;
-// Closed-form flat-seabed energy in the slant-range interval [r1, r2], altitude h.
-double flat_energy(double r1, double r2, double h, double mu = kMu, double beta = kBeta) {
-  return analytic::flat_seabed_energy(r1, r2, h, mu, beta);
-}
-
-SideParams base_params(double dr, std::size_t samples) {
-  SideParams p;
-  p.sample_spacing_m = dr;
-  p.samples = samples;
-  p.beta_eff_rad = kBeta;
-  p.vertical_beam.shape = VerticalBeamShape::uniform;
-  p.materials = {Material{.name = "test"}};
-  p.materials[0].lambert_mu = kMu;
-  p.absorption_db_per_m = 0.0;
-  p.spreading = true;
-  p.calibration_k = 1.0;
-  return p;
-}
-
-// Plane z = y tan(slope) (rising towards the side for slope > 0), sensor at z = h, nodes
-// every dy from y = 0 to y_max.
-BeamProfile plane_profile(double h, double slope_rad, double y_max, double dy) {
-  BeamProfile p;
-  p.sensor_z_m = h;
-  const auto n = static_cast<std::size_t>(std::ceil(y_max / dy));
-  for (std::size_t i = 0; i <= n; ++i) {
-    const double y = std::min(y_max, static_cast<double>(i) * dy);
-    p.add_node(y, y * std::tan(slope_rad));
-  }
-  return p;
-}
+using test::base_params;
+using test::box_profile;
+using test::flat_energy;
+using test::kBeta;
+using test::kMu;
+using test::plane_profile;
 
 double rel_err(double got, double want) {
   return std::abs(got - want) / std::abs(want);
@@ -255,118 +228,6 @@ TEST(RenderSide, SlopedPlanesIncludingLayoverFold) {
     if (s > 0) {
       EXPECT_GE(folded, 2u);
     }
-  }
-}
-
-// The dark (zero) run of samples after the first return: [start, end) in metres.
-std::pair<double, double> dark_interval(const SideEcho& e, double dr) {
-  std::size_t i = 0;
-  while (i < e.intensity.size() && e.intensity[i] == 0.0) ++i;
-  while (i < e.intensity.size() && e.intensity[i] > 0.0) ++i;
-  const std::size_t start = i;
-  while (i < e.intensity.size() && e.intensity[i] == 0.0) ++i;
-  return {static_cast<double>(start) * dr, static_cast<double>(i) * dr};
-}
-
-BeamProfile box_profile(double h, double box_h, double y_front, double y_back, double y_max,
-                        double dy, std::int32_t label = 7) {
-  BeamProfile p;
-  p.sensor_z_m = h;
-  for (double y = 0.0; y < y_front - 1e-9; y += dy) p.add_node(y, 0.0);
-  p.add_node(y_front, 0.0);
-  p.add_node(y_front, box_h, label);
-  p.add_node(y_back, box_h, label);
-  p.add_node(y_back, 0.0, label);
-  for (double y = y_back + dy; y <= y_max; y += dy) p.add_node(y, 0.0);
-  return p;
-}
-
-TEST(RenderSide, BoxShadowInterval) {
-  const double h = 10.0, box_h = 1.0, y_b = 32.0, dr = 0.02;
-  SideParams p = base_params(dr, 2500);
-  p.truth = true;
-  SideEcho e;
-  render_side(box_profile(h, box_h, 30.0, y_b, 50.0, 0.1), p, e);
-  const auto [d0, d1] = dark_interval(e, dr);
-  const double r_top = std::sqrt(y_b * y_b + (h - box_h) * (h - box_h));  // 33.242
-  const double r_end = r_top * h / (h - box_h);                           // 36.935
-  EXPECT_NEAR(r_top, 33.242, 1e-3);
-  EXPECT_NEAR(r_end, 36.935, 1e-3);
-  EXPECT_NEAR(d0, r_top, dr);
-  EXPECT_NEAR(d1, r_end, dr);
-  // Truth: the dark samples are shadow; the front face and top are the object.
-  for (double r = d0 + dr; r < d1 - dr; r += dr) {
-    EXPECT_EQ(e.truth_class[static_cast<std::size_t>(r / dr)], SampleClass::shadow) << r;
-  }
-  const auto top = static_cast<std::size_t>(32.5 / dr);  // top of the box at ~ r 31.3-33.2
-  EXPECT_EQ(e.truth_class[top], SampleClass::object);
-  EXPECT_EQ(e.truth_label[top], 7);
-}
-
-TEST(RenderSide, ShadowsOffLightsTheBackRegion) {
-  const double dr = 0.02;
-  SideParams p = base_params(dr, 2500);
-  p.shadows = false;
-  SideEcho e;
-  render_side(box_profile(10.0, 1.0, 30.0, 32.0, 50.0, 0.1), p, e);
-  // The back wall (33.242 .. 33.53 m) faces away and stays dark; the seabed behind it is lit.
-  for (double r = 33.6; r < 36.8; r += dr) {
-    EXPECT_GT(e.intensity[static_cast<std::size_t>(r / dr)], 0.0) << r;
-  }
-}
-
-TEST(RenderSide, PipeShadowInterval) {
-  const double h = 10.0, a = 0.5, yc = 30.0, dr = 0.02;
-  // Pipe lying on the seabed (centre at height a): the heightfield is the upper half-circle
-  // plus vertical walls down to the seabed at y = yc -+ a (the filled underside).
-  BeamProfile prof;
-  prof.sensor_z_m = h;
-  for (double y = 0.0; y < yc - a; y += 0.1) prof.add_node(y, 0.0);
-  prof.add_node(yc - a, 0.0);
-  const int segs = 2000;
-  for (int k = 0; k <= segs; ++k) {
-    const double ang = kPiT * (1.0 - static_cast<double>(k) / segs);
-    prof.add_node(yc + a * std::cos(ang), a + a * std::sin(ang), 3);
-  }
-  prof.add_node(yc + a, 0.0, 3);
-  for (double y = yc + a + 0.1; y <= 45.0; y += 0.1) prof.add_node(y, 0.0);
-  SideParams p = base_params(dr, 2000);
-  SideEcho e;
-  render_side(prof, p, e);
-  const double d = std::sqrt(yc * yc + (h - a) * (h - a));
-  const double theta_t = std::atan2(h - a, yc) - std::asin(a / d);
-  const double y_e = h / std::tan(theta_t);
-  const double r_t = std::sqrt(d * d - a * a), r_e = std::sqrt(y_e * y_e + h * h);
-  EXPECT_NEAR(r_t, 31.464, 1e-3);
-  EXPECT_NEAR(r_e, 34.879, 1e-3);
-  const auto [d0, d1] = dark_interval(e, dr);
-  EXPECT_NEAR(d0, r_t, dr);
-  EXPECT_NEAR(d1, r_e, dr);
-}
-
-TEST(RenderSide, PostTopReturnsBeforeSeabedAtItsBase) {
-  const double h = 10.0, post_h = 3.0, y = 40.0, dr = 0.02;
-  SideParams p = base_params(dr, 2500);
-  p.truth = true;
-  SideEcho flat, post;
-  render_side(plane_profile(h, 0.0, 50.0, 0.1), p, flat);
-  render_side(box_profile(h, post_h, y, y + 0.1, 50.0, 0.1, 11), p, post);
-  const double r_top = std::sqrt(y * y + (h - post_h) * (h - post_h));  // 40.608
-  const double r_base = std::sqrt(y * y + h * h);                       // 41.231
-  // The first sample where the post changes the echo contains the post top's range.
-  std::size_t first_diff = 0;
-  while (first_diff < p.samples &&
-         std::abs(post.intensity[first_diff] - flat.intensity[first_diff]) <=
-             1e-6 * flat.intensity[first_diff]) {
-    ++first_diff;
-  }
-  EXPECT_EQ(first_diff, static_cast<std::size_t>(r_top / dr));
-  EXPECT_GT(post.intensity[first_diff], flat.intensity[first_diff]);
-  // Between the top and the base (layover) the post's lit face dominates.
-  for (double r = r_top + dr; r < r_base - dr; r += dr) {
-    const auto i = static_cast<std::size_t>(r / dr);
-    EXPECT_EQ(post.truth_class[i], SampleClass::object) << r;
-    EXPECT_EQ(post.truth_label[i], 11) << r;
   }
 }
 
@@ -650,72 +511,6 @@ TEST(RenderSide, InvalidInputNamesTheConstraint) {
   EXPECT_THROW(render_side(bad, p, e), InputError);
   p.sample_spacing_m = 0.0;
   EXPECT_THROW(render_side(prof, p, e), InputError);
-}
-
-TEST(RenderMath, FloorFastIsStdFloor) {
-  // Bit for bit, at the cases that matter: integers and their neighbours of both signs, halves,
-  // zeros, the 2^52 boundary, huge values, infinities and NaN.
-  std::vector<double> xs = {0.0,
-                            -0.0,
-                            0.5,
-                            -0.5,
-                            1.0,
-                            -1.0,
-                            0x1p52,
-                            -0x1p52,
-                            0x1p60,
-                            -0x1p60,
-                            1e300,
-                            -1e300,
-                            std::numeric_limits<double>::infinity(),
-                            -std::numeric_limits<double>::infinity(),
-                            std::numeric_limits<double>::denorm_min()};
-  for (double b : {0.0, 1.0, 7.0, 4503599627370495.0, 123456.0}) {
-    for (double s : {1.0, -1.0}) {
-      xs.push_back(s * b);
-      xs.push_back(std::nextafter(s * b, 1e308));
-      xs.push_back(std::nextafter(s * b, -1e308));
-      xs.push_back(s * b + 0.5);
-    }
-  }
-  for (int k = 0; k < 10000; ++k) xs.push_back((k - 5000) * 0.37 + 1e-3 * k);
-  for (const double x : xs) {
-    const double got = render_math::floor_fast(x), want = std::floor(x);
-    ASSERT_EQ(std::signbit(got), std::signbit(want)) << x;
-    ASSERT_EQ(got, want) << x;
-  }
-  EXPECT_TRUE(std::isnan(render_math::floor_fast(std::nan(""))));
-}
-
-TEST(RenderMath, CosHalfPiAgainstALongDoubleReference) {
-  // The reference: sin(pi/2 (1 - |x|)) in x87 extended precision (64-bit mantissa), which is
-  // cos(pi/2 x) without the cancellation near the zeros at |x| = 1 that a double cos() of a
-  // rounded argument has. Dense in [-1, 1], plus the ends and the zero.
-  const long double half_pi = 1.5707963267948966192313216916397514L;
-  double worst = 0.0;
-  auto check = [&](double x) {
-    const long double want = std::sin(half_pi * (1.0L - std::fabs(static_cast<long double>(x))));
-    const double got = render_math::cos_half_pi(x);
-    if (want == 0.0L) {
-      ASSERT_EQ(got, 0.0) << x;
-      return;
-    }
-    const double rel = static_cast<double>(std::fabs((got - want) / want));
-    worst = std::max(worst, rel);
-    ASSERT_LE(rel, 4e-16) << "x = " << x << ": " << got << " against " << static_cast<double>(want);
-  };
-  for (int k = -1'000'000; k <= 1'000'000; ++k) check(k * 1e-6);
-  for (double x : {1.0, -1.0, std::nextafter(1.0, 0.0), std::nextafter(-1.0, 0.0), 1e-300, 0.5,
-                   -0.5, 0.0, -0.0}) {
-    check(x);
-  }
-  // Against the library cos where it is well conditioned (|x| <= 1/2).
-  for (int k = -500; k <= 500; ++k) {
-    const double x = k * 1e-3;
-    EXPECT_NEAR(render_math::cos_half_pi(x), std::cos(0.5 * std::numbers::pi * x), 3e-16) << x;
-  }
-  EXPECT_GT(worst, 0.0);  // the comparison saw rounding, not a copy of the reference
-  EXPECT_TRUE(std::isnan(render_math::cos_half_pi(std::nan(""))));
 }
 
 }  // namespace

@@ -203,6 +203,13 @@ class Simulator {
   SideGeometry render_planes(const PingPose& pose, bool starboard,
                              const AlongTrackPlanes& run_planes, bool refine, bool truth,
                              Workspace& ws, RenderTimings* timings) const;
+  /// The frozen speckle of one side (NoiseConfig::Model::kSpeckle) over ws.accum: the ground
+  /// cell keys and texture shapes from the central plane's truth, the along-track field, the
+  /// detector (sensor_effects.hpp); ws.noise_keys holds the ping's sample keys.
+  void add_speckle(const PingPose& pose, bool starboard, const SideGeometry& geo, Workspace& ws,
+                   double scale) const;
+  /// Copies the central plane's truth (ws.echo) into `out`.
+  void copy_truth(const Workspace& ws, const SideGeometry& geo, const SideSpans& out) const;
   AlongTrackChoice choose_along_track_planes(const std::vector<PingPose>& pilot) const;
   /// The object plane (index into Calibration::object_planes) at the azimuth of a single run
   /// plane, whose window is that plane's ws.accum scaled to its share of beta_eff in

@@ -135,9 +135,8 @@ py::dict read_sidescan(const std::filesystem::path& path, const SonarFormat* exp
   return d;
 }
 
-}  // namespace
-
-void bind_files(py::module_& m) {
+// sonarsynth.run_simulation: a scene file to its output directory, as `sonarsynth simulate`.
+void bind_run(py::module_& m) {
   m.def(
       "run_simulation",
       [](const std::filesystem::path& scene_path, const std::filesystem::path& out_dir,
@@ -198,7 +197,10 @@ void bind_files(py::module_& m) {
       "total_pings, warnings, compatibility_warnings, notes, gain_db, along_track_planes, "
       "run_s (rendering and products, which overlap) / products_s (mosaic files) / total_s "
       "(wall seconds), cpu_s (process CPU seconds).");
+}
 
+// sonarsynth.read_xtf, read_jsf and read_sonar: a sonar file's pings into numpy.
+void bind_readers(py::module_& m) {
   // One format or any (detected from the file's first bytes): the same arrays.
   const auto reader = [](const SonarFormat* expected) {
     return [expected](const std::filesystem::path& path) { return read_sidescan(path, expected); };
@@ -228,7 +230,12 @@ void bind_files(py::module_& m) {
          "from its first bytes) into numpy: " +
          arrays)
             .c_str());
-  // The format list (formats/registry/sonar_formats.cpp), as `sonarsynth info` and `simulate` see it.
+}
+
+// sonarsynth.formats and info: the format list and a file's summary.
+void bind_format_info(py::module_& m) {
+  // The format list (formats/registry/sonar_formats.cpp), as `sonarsynth info` and `simulate` see
+  // it.
   m.def(
       "formats",
       [] {
@@ -276,6 +283,14 @@ void bind_files(py::module_& m) {
       "parsed JSON of `info --json`), json (that text) and text (the text output, listing at "
       "most max_anomalies anomaly messages). The format is detected from the file's first "
       "bytes. Raises FormatError if the file cannot be read.");
+}
+
+}  // namespace
+
+void bind_files(py::module_& m) {
+  bind_run(m);
+  bind_readers(m);
+  bind_format_info(m);
 }
 
 }  // namespace sonarsynth::python

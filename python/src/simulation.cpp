@@ -12,9 +12,9 @@
 #include <optional>
 
 #include "bindings.hpp"
-#include "sonarsynth/formats/config/scene_objects.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_objects.hpp"
 #include "sonarsynth/object_types.hpp"
 #include "sonarsynth/scene_object.hpp"
 #include "sonarsynth/triangle_mesh.hpp"
@@ -120,7 +120,10 @@ std::shared_ptr<const Simulator> PySimulation::simulator() {
   return sim_;
 }
 
-void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
+namespace {
+
+// Simulation.from_file, from_yaml and from_heights.
+void bind_constructors(py::class_<PySimulation>& cls) {
   cls.def_static(
       "from_file",
       [](const std::filesystem::path& path, std::optional<std::uint64_t> seed,
@@ -211,7 +214,10 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       "non-finite or zero spacing, lat_deg outside [-90, 90], a non-finite lon_deg. "
       "Default materials (sand everywhere), no objects, no survey lines; every option at the "
       "scene file's default. `name` stands for the file in messages.");
+}
 
+// Simulation.add_object: a primitive object of the scene file's vocabulary.
+void bind_add_object(py::class_<PySimulation>& cls) {
   cls.def(
       "add_object",
       [](PySimulation& s, const py::args& args, const py::kwargs& keys) {
@@ -259,6 +265,10 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       "that centre is the middle of bounds_m in the local frame) or {'lat_deg': .., 'lon_deg': "
       "..}. Relative file paths are relative to the current directory. A bad key or value "
       "raises ValueError naming add_object.<key>, the value and the allowed range.");
+}
+
+// Simulation.add_mesh: a triangle mesh from vertex and face arrays.
+void bind_add_mesh(py::class_<PySimulation>& cls) {
   cls.def(
       "add_mesh",
       [](PySimulation& s, std::int32_t id,
@@ -357,6 +367,10 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       "sunk by embed_fraction of its height. material = index into the scene's material table; "
       "face_materials, one index per triangle, overrides it face by face. Mesh files: a scene "
       "file's `type: mesh` (from_yaml), or read them with any Python mesh library.");
+}
+
+// Simulation.add_line, survey_poses and make_poses: the survey and its poses.
+void bind_survey(py::class_<PySimulation>& cls) {
   cls.def(
       "add_line",
       [](PySimulation& s, const std::string& line_name,
@@ -463,7 +477,10 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       "up, roll + starboard down (radians); scalars broadcast. The altitude is taken from the "
       "seabed; pose i gets noise key first_noise_key + i. Arrays of different lengths and "
       "poses that render_poses would refuse raise ValueError naming the argument.");
+}
 
+// The read-only properties of the scene and its calibration, and material_index.
+void bind_properties(py::class_<PySimulation>& cls) {
   cls.def_property_readonly(
       "name", [](const PySimulation& s) { return s.scene->name; }, "The scene's name.");
   cls.def_property_readonly(
@@ -504,6 +521,16 @@ void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
       py::arg("name"),
       "Index of a material of the scene's table by name (the built-in mud, sand, gravel, rock, "
       "steel, concrete, or the scene file's own), for add_object and add_mesh.");
+}
+
+}  // namespace
+
+void bind_simulation(py::module_&, py::class_<PySimulation>& cls) {
+  bind_constructors(cls);
+  bind_add_object(cls);
+  bind_add_mesh(cls);
+  bind_survey(cls);
+  bind_properties(cls);
 }
 
 }  // namespace sonarsynth::python
