@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The size rules of the house (../shared style guide as adopted in docs/architecture.md): no
+# The size rules of the house (docs/architecture.md, "Size rules"): no
 # source file over 600 lines, no function over 120 lines. Lists every offender and exits 1 if
 # there is one. Function extents come from Universal Ctags (Debian: universal-ctags).
 # Usage: scripts/code_size.sh [max file lines] [max function lines]

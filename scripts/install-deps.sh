@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: MIT
 # Installs the Debian packages sonarsynth needs, only those that are missing (non-interactive).
 # Usage: scripts/install-deps.sh [--dev]   (--dev adds the CI/developer tools: clang, clang-format,
+# universal-ctags (scripts/code_size.sh),
 # OpenCV for the optional `sonarsynth match`, and the ROS 1 bag reader and message packages that
 # python/tests/test_rosbag.py checks the bags with)
 set -euo pipefail
@@ -15,7 +16,7 @@ packages=(
   python3-torch python3-torchvision
 )
 if [[ "${1:-}" == "--dev" ]]; then
-  packages+=(clang libclang-rt-dev clang-format libopencv-dev
+  packages+=(clang libclang-rt-dev clang-format universal-ctags libopencv-dev
     python3-rosbag python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-tf2-msgs)
 fi
 

@@ -182,7 +182,7 @@ TEST_F(ConvertTrust, JsfToXtfRepairsUnknownFieldsAndCountsDrops) {
   EXPECT_EQ(out[0].heave_m, 0.0);
   EXPECT_EQ(out[0].pitch_rad, 0.0);
   EXPECT_NEAR(out[0].roll_rad, pings_[0].roll_rad, 1e-4) << "the rest of the ping as it was";
-  EXPECT_EQ(out[1].sound_speed_mps, 1500.0);
+  EXPECT_EQ(out[1].sound_speed_m_s, 1500.0);
   EXPECT_NEAR(out[3].altitude_m, pings_[5].altitude_m, 1e-3);
 }
 
@@ -253,7 +253,7 @@ TEST_F(ConvertTrust, XtfToJsfRepairsUnknownFieldsAndCountsDrops) {
     EXPECT_NEAR(out[i].slant_range_m, pings_[kept[i]].slant_range_m, 1500.0 * 0.5e-9 * kSamples);
   }
   EXPECT_EQ(out[0].altitude_m, 0.0);
-  EXPECT_EQ(out[1].sound_speed_mps, 1500.0);
+  EXPECT_EQ(out[1].sound_speed_m_s, 1500.0);
   EXPECT_EQ(out[2].heave_m, 0.0);
   // The validity bits say which fields are unknown.
   jsf::Reader jr(dir_ / "out.jsf");

@@ -175,8 +175,8 @@ TEST(JsfLossless, WriterOptionsAndPingFieldsSurvive) {
       p.heave_m = 0.1234567 * k;
       p.altitude_m = 8.123456789 + 0.01 * k;
       p.depth_m = 20.987654321;
-      p.speed_mps = 1.23456789;
-      p.sound_speed_mps = 1493.123456;
+      p.speed_m_s = 1.23456789;
+      p.sound_speed_m_s = 1493.123456;
       p.slant_range_m = 37.123456789;
       w.write_ping(p);
     }

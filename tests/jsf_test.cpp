@@ -54,8 +54,8 @@ SonarPing golden_ping() {
   p.heave_m = 0.5;  // up
   p.altitude_m = 10.0;
   p.depth_m = 20.0;
-  p.speed_mps = 1852.0 / 3600.0 * 4.0;  // 4 knots
-  p.sound_speed_mps = 1500.0;
+  p.speed_m_s = 1852.0 / 3600.0 * 4.0;  // 4 knots
+  p.sound_speed_m_s = 1500.0;
   p.slant_range_m = 30.0;
   p.port = {10, 20, 30, 40};         // near -> far, integers: N = 0
   p.starboard = {0.5f, 1, 1.5f, 2};  // max 2: N = 13 (2 * 2^13 = 16384 <= 32767 < 2 * 2^14)
@@ -179,8 +179,8 @@ TEST(JsfGolden, ReaderDecodesHandDerivedBytes) {
   EXPECT_DOUBLE_EQ(s.heave_m, 0.5);
   EXPECT_DOUBLE_EQ(s.altitude_m, 10.0);
   EXPECT_DOUBLE_EQ(s.depth_m, 20.0);
-  EXPECT_NEAR(s.speed_mps, 1852.0 / 3600.0 * 4.0, 1e-12);
-  EXPECT_DOUBLE_EQ(s.sound_speed_mps, 1500.0);
+  EXPECT_NEAR(s.speed_m_s, 1852.0 / 3600.0 * 4.0, 1e-12);
+  EXPECT_DOUBLE_EQ(s.sound_speed_m_s, 1500.0);
   EXPECT_DOUBLE_EQ(s.slant_range_m, 30.0);
   EXPECT_EQ(s.port, want.port);
   EXPECT_EQ(s.starboard, want.starboard);
@@ -248,9 +248,9 @@ TEST(JsfRoundTrip, WriterToReaderBitExact) {
     EXPECT_NEAR(p.sonar.altitude_m, want.altitude_m, 0.0005);
     EXPECT_NEAR(p.sonar.depth_m, want.depth_m, 0.0005);
     EXPECT_NEAR(p.sonar.heave_m, want.heave_m, 1e-6);
-    EXPECT_NEAR(p.sonar.speed_mps, want.speed_mps, 0.005 * 1852.0 / 3600.0);
-    EXPECT_FLOAT_EQ(static_cast<float>(p.sonar.sound_speed_mps),
-                    static_cast<float>(want.sound_speed_mps));
+    EXPECT_NEAR(p.sonar.speed_m_s, want.speed_m_s, 0.005 * 1852.0 / 3600.0);
+    EXPECT_FLOAT_EQ(static_cast<float>(p.sonar.sound_speed_m_s),
+                    static_cast<float>(want.sound_speed_m_s));
     // Integer ns sample interval: the slant range moves by at most c n 0.5 ns / 2.
     EXPECT_NEAR(p.sonar.slant_range_m, want.slant_range_m, 1490.0 * 1500 * 0.5e-9 / 2 + 1e-9);
   }

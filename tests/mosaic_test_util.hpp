@@ -107,7 +107,7 @@ inline void write_line(const std::filesystem::path& path, const LineSpec& s,
     p.heading_rad = rad_from_deg(s.heading_deg);
     p.altitude_m = s.altitude_m;
     p.depth_m = 20.0;
-    p.speed_mps = s.spacing_m / 0.1;
+    p.speed_m_s = s.spacing_m / 0.1;
     p.slant_range_m = s.range_m;
     p.port.assign(s.samples, 1.0f);
     p.starboard.assign(s.samples, 1.0f);

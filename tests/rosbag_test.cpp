@@ -112,7 +112,7 @@ SonarPing test_ping(std::uint32_t number, int seconds) {
   p.ping_number = number;
   p.sensor_position = {0.7, 0.2, 0.0};
   p.slant_range_m = 50.0;
-  p.sound_speed_mps = 1500.0;
+  p.sound_speed_m_s = 1500.0;
   for (std::uint32_t i = 0; i < 100; ++i) {
     p.port.push_back(static_cast<float>(i * 300 + number));
     p.starboard.push_back(static_cast<float>(i + number));

@@ -30,8 +30,8 @@ void write_golden(const fs::path& path) {
   p.heading_rad = rad_from_deg(90.0);
   p.altitude_m = 10.0;
   p.depth_m = 20.0;
-  p.speed_mps = 1852.0 / 3600.0 * 4.0;  // 4 knots
-  p.sound_speed_mps = 1490.0;
+  p.speed_m_s = 1852.0 / 3600.0 * 4.0;  // 4 knots
+  p.sound_speed_m_s = 1490.0;
   p.slant_range_m = 40.0;
   p.port = {10, 20, 30, 40};  // near -> far
   p.starboard = {100, 200, 300, 32767};

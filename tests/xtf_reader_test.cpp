@@ -100,7 +100,7 @@ TEST(XtfReaderReal, ScotsmanPortOrderIsNormalisedNearToFar) {
       stbd_near += s.starboard[static_cast<std::size_t>(i)];
       stbd_far += s.starboard[static_cast<std::size_t>(1020 + i)];
     }
-    EXPECT_NEAR(s.sound_speed_mps, 1500.0, 1e-9);  // 2 x SoundVelocity 750
+    EXPECT_NEAR(s.sound_speed_m_s, 1500.0, 1e-9);  // 2 x SoundVelocity 750
     ++n;
   }
   ASSERT_EQ(n, 460);

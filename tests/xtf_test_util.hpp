@@ -60,8 +60,8 @@ inline SonarPing make_ping(std::uint32_t number, std::size_t port_n, std::size_t
   p.heave_m = 0.125;
   p.altitude_m = 8.5;
   p.depth_m = 20.25;
-  p.speed_mps = 2.0;
-  p.sound_speed_mps = 1490.0;
+  p.speed_m_s = 2.0;
+  p.sound_speed_m_s = 1490.0;
   p.slant_range_m = 50.0;
   for (std::size_t i = 0; i < port_n; ++i) {
     p.port.push_back(static_cast<float>(splitmix64(number * 100000 + i) % 32768));

@@ -106,8 +106,8 @@ TEST_F(XtfWriterTest, WholeFileRoundTrip) {
         EXPECT_NEAR(got.heave_m, want.heave_m, 1e-6);
         EXPECT_NEAR(got.altitude_m, want.altitude_m, 1e-5);
         EXPECT_NEAR(got.depth_m, want.depth_m, 1e-5);
-        EXPECT_NEAR(got.speed_mps, want.speed_mps, 1e-5);
-        EXPECT_NEAR(got.sound_speed_mps, want.sound_speed_mps, 1e-3);
+        EXPECT_NEAR(got.speed_m_s, want.speed_m_s, 1e-5);
+        EXPECT_NEAR(got.sound_speed_m_s, want.sound_speed_m_s, 1e-3);
         EXPECT_NEAR(got.slant_range_m, want.slant_range_m, 1e-5);
         EXPECT_EQ(got.port, want.port);  // near -> far after normalisation
         EXPECT_EQ(got.starboard, want.starboard);
@@ -263,7 +263,7 @@ TEST_F(XtfWriterTest, InvalidPingsAndOptionsAreRejected) {
   rejects([](SonarPing& p) { p.ship_position = Geodetic{}; }, "ship_position");
   rejects([](SonarPing& p) { p.altitude_m = -1.0; }, "altitude_m");
   rejects([](SonarPing& p) { p.slant_range_m = -1.0; }, "slant_range_m");
-  rejects([](SonarPing& p) { p.sound_speed_mps = 0.0; }, "sound_speed_mps");
+  rejects([](SonarPing& p) { p.sound_speed_m_s = 0.0; }, "sound_speed_m_s");
   rejects([](SonarPing& p) { p.port.clear(); }, "port.size()");
   rejects([](SonarPing& p) { p.starboard.resize(8193); }, "starboard.size()");
   rejects([](SonarPing& p) { p.time_utc = test::test_time(0) + std::chrono::years{100}; }, "year");

@@ -10,9 +10,9 @@
 #include <sstream>
 #include <vector>
 
-#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/formats/jsf/format.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/jsf/writer.hpp"
@@ -82,11 +82,11 @@ void repair(SonarFileFormat to, SonarPing& s, ConvertResult& r) {
       "altitude negative or not finite -> 0 (no altitude)");
   if (to == SonarFileFormat::kJsf) {
     // JSF has a validity bit per field: the writer clears it for NaN.
-    fix(s.sound_speed_mps, s.sound_speed_mps > 0.0 && std::isfinite(s.sound_speed_mps), nan,
+    fix(s.sound_speed_m_s, s.sound_speed_m_s > 0.0 && std::isfinite(s.sound_speed_m_s), nan,
         "sound speed <= 0 or not finite -> unknown (1500 m/s for the sample interval)");
     fix(s.heave_m, std::isfinite(s.heave_m), nan, "heave not finite -> unknown");
     fix(s.depth_m, std::isfinite(s.depth_m), nan, "depth not finite -> unknown");
-    fix(s.speed_mps, s.speed_mps >= 0.0 && std::isfinite(s.speed_mps), nan,
+    fix(s.speed_m_s, s.speed_m_s >= 0.0 && std::isfinite(s.speed_m_s), nan,
         "speed negative or not finite -> unknown");
     fix(s.heading_rad, std::isfinite(s.heading_rad), nan, "heading not finite -> unknown");
     const bool attitude_ok = std::abs(s.pitch_rad) <= kPi / 2 && std::abs(s.roll_rad) <= kPi;
@@ -99,12 +99,12 @@ void repair(SonarFileFormat to, SonarPing& s, ConvertResult& r) {
   // XTF has no validity flags: 0 is the value of a sensor that is not there.
   fix(s.heave_m, std::isfinite(s.heave_m), 0.0, "heave not finite -> 0");
   fix(s.depth_m, std::isfinite(s.depth_m), 0.0, "depth not finite -> 0");
-  fix(s.speed_mps, s.speed_mps >= 0.0 && std::isfinite(s.speed_mps), 0.0,
+  fix(s.speed_m_s, s.speed_m_s >= 0.0 && std::isfinite(s.speed_m_s), 0.0,
       "speed negative or not finite -> 0");
   fix(s.pitch_rad, std::abs(s.pitch_rad) <= kPi / 2, 0.0, "pitch beyond +-90 deg -> 0");
   fix(s.roll_rad, std::abs(s.roll_rad) <= kPi, 0.0, "roll beyond +-180 deg -> 0");
-  fix(s.sound_speed_mps, s.sound_speed_mps > 0.0 && std::isfinite(s.sound_speed_mps),
-      jsf::kAssumedSoundSpeed_mps, "sound speed <= 0 or not finite -> 1500 m/s");
+  fix(s.sound_speed_m_s, s.sound_speed_m_s > 0.0 && std::isfinite(s.sound_speed_m_s),
+      jsf::kAssumedSoundSpeed_m_s, "sound speed <= 0 or not finite -> 1500 m/s");
 }
 
 /// Nothing left to write: fails naming the input and the reasons (the output is not created).
@@ -237,11 +237,11 @@ bool carried_agrees(const jsf::XtfPingFields& f, const jsf::Ping& p) {
   const auto near = [](double jsf_value, double xtf_value, double step) {
     return std::abs(jsf_value - xtf_value) <= step / 2 + 1e-6 * (1.0 + std::abs(xtf_value));
   };
-  const double knot_mps = 1852.0 / 3600.0;
+  const double knot_m_s = 1852.0 / 3600.0;
   double dh = std::fmod(std::abs(deg_from_rad(s.heading_rad) - h.SensorHeading), 360.0);
   dh = std::min(dh, 360.0 - dh);
   const std::size_t n = std::max(s.port.size(), s.starboard.size());
-  const double range_step = s.sound_speed_mps * static_cast<double>(n) * 1e-9;
+  const double range_step = s.sound_speed_m_s * static_cast<double>(n) * 1e-9;
   const bool position =
       p.nav_valid
           ? near(deg_from_rad(s.sensor_position.lat_rad), h.SensorYcoordinate, 1.0 / 6e5) &&
@@ -256,8 +256,8 @@ bool carried_agrees(const jsf::XtfPingFields& f, const jsf::Ping& p) {
          near(s.depth_m, h.SensorDepth, 1e-3) && near(s.heave_m, h.Heave, 1e-6) &&
          near(deg_from_rad(s.pitch_rad), h.SensorPitch, 180.0 / 32768.0) &&
          near(deg_from_rad(s.roll_rad), h.SensorRoll, 180.0 / 32768.0) && dh <= 0.005 + 1e-4 &&
-         near(s.speed_mps / knot_mps, h.SensorSpeed, 0.1) &&
-         near(s.sound_speed_mps, 2.0 * h.SoundVelocity, 1e-3) &&
+         near(s.speed_m_s / knot_m_s, h.SensorSpeed, 0.1) &&
+         near(s.sound_speed_m_s, 2.0 * h.SoundVelocity, 1e-3) &&
          near(s.slant_range_m, f.channels[0].SlantRange, range_step);
 }
 

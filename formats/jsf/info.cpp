@@ -61,7 +61,7 @@ std::string summary_json(const FileSummary& s) {
                      {"longitude", json_range(s.longitude_deg)},
                      {"latitude", json_range(s.latitude_deg)},
                      {"pings_without_position", s.pings - s.pings_with_valid_nav}};
-  j["ping_attitude"] = info::ping_attitude_json(s, "sound_speed_mps", s.sound_speed_mps);
+  j["ping_attitude"] = info::ping_attitude_json(s, "sound_speed_m_s", s.sound_speed_m_s);
   info::add_anomalies_json(j, s, "message_index", &Anomaly::message_index);
   return j.dump(2, ' ', true);
 }
@@ -92,7 +92,7 @@ std::string summary_text(const FileSummary& s, std::size_t max_anomalies) {
      << " pings without a position)\n"
      << "Attitude (deg): " << info::attitude_text(s.heading_deg, s.pitch_deg, s.roll_deg) << "\n"
      << "Altitude " << text_range(s.altitude_m, 3) << " m, depth " << text_range(s.depth_m, 3)
-     << " m, sound speed " << text_range(s.sound_speed_mps, 1) << " m/s\n";
+     << " m, sound speed " << text_range(s.sound_speed_m_s, 1) << " m/s\n";
   info::anomaly_lines(os, s, max_anomalies);
   return os.str();
 }

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/io/time_fields.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::jsf {
@@ -376,16 +376,16 @@ void Reader::make_ping(Message* port, Message* stbd, Ping& ping) {
   s.depth_m = h.depth_mm / 1000.0;
   double speed_kn = h.speed_dkn / 10.0;
   if (first.header.protocol_version >= 0xC) speed_kn += (h.lsb2 & 0xFu) / 100.0;
-  s.speed_mps = speed_kn * kMetresPerSecondPerKnot;
-  const bool c_valid = std::isfinite(h.sound_speed_mps) && h.sound_speed_mps > 0.0f;
-  const double c = c_valid ? static_cast<double>(h.sound_speed_mps) : kAssumedSoundSpeed_mps;
+  s.speed_m_s = speed_kn * kMetresPerSecondPerKnot;
+  const bool c_valid = std::isfinite(h.sound_speed_m_s) && h.sound_speed_m_s > 0.0f;
+  const double c = c_valid ? static_cast<double>(h.sound_speed_m_s) : kAssumedSoundSpeed_m_s;
   if (!c_valid) {
     report(AnomalyKind::kSoundSpeedAssumed, first.offset,
            "jsf reader: ping " + std::to_string(h.ping_number) + ": sound speed " +
-               num(h.sound_speed_mps) + " m/s is not a speed; " + num(c) +
+               num(h.sound_speed_m_s) + " m/s is not a speed; " + num(c) +
                " m/s assumed for the slant range" + where(first));
   }
-  s.sound_speed_mps = c;
+  s.sound_speed_m_s = c;
   const std::size_t n = std::max(s.port.size(), s.starboard.size());
   s.slant_range_m = c * static_cast<double>(n) * h.sample_interval_ns * 1e-9 / 2.0;
   if (n > 0 && (h.sample_interval_ns == 0 || s.slant_range_m > kMaxPlausibleSlantRange_m)) {

@@ -36,7 +36,7 @@ FileSummary summarize(Reader& reader) {
     s.altitude_m.add(q.altitude_m);
     if (!(q.altitude_m > 0.0)) ++s.pings_without_altitude;
     s.depth_m.add(q.depth_m);
-    s.sound_speed_mps.add(q.sound_speed_mps);
+    s.sound_speed_m_s.add(q.sound_speed_m_s);
   }
   s.message_counts = reader.message_counts();
   s.sonar_counts = reader.sonar_counts();

@@ -136,8 +136,8 @@ SonarDataHeader sonar_header(const SonarPing& p, const WriterOptions& options) {
   h.coordinate_units = kUnitsMinutesOfArc;
   // A NaN field is "unknown": written as 0 (sound speed: the assumed one) with its validity
   // bit clear (docs/conversion.md, "Repairs").
-  const bool c_known = !std::isnan(p.sound_speed_mps);
-  const double c = c_known ? p.sound_speed_mps : kAssumedSoundSpeed_mps;
+  const bool c_known = !std::isnan(p.sound_speed_m_s);
+  const double c = c_known ? p.sound_speed_m_s : kAssumedSoundSpeed_m_s;
   const std::size_t n = std::max(p.port.size(), p.starboard.size());
   const double dt_ns = 2.0 * p.slant_range_m / (c * static_cast<double>(n)) * 1e9;
   h.sample_interval_ns = clamp_round<std::uint32_t>(dt_ns);
@@ -152,7 +152,7 @@ SonarDataHeader sonar_header(const SonarPing& p, const WriterOptions& options) {
   h.mixer_frequency_hz = static_cast<float>(options.frequency_hz);
   h.depth_mm = clamp_round<std::int32_t>(p.depth_m * 1000.0);
   h.altitude_mm = clamp_round<std::int32_t>(p.altitude_m * 1000.0);
-  h.sound_speed_mps = static_cast<float>(c);
+  h.sound_speed_m_s = static_cast<float>(c);
   h.time_basis = 3;
   const bool heading_known = std::isfinite(p.heading_rad);
   const double heading = heading_known ? heading_deg(p.heading_rad) : 0.0;
@@ -167,10 +167,10 @@ SonarDataHeader sonar_header(const SonarPing& p, const WriterOptions& options) {
   h.course_deg = static_cast<std::int16_t>(course_cdeg / 100);
   h.lsb1 = static_cast<std::uint16_t>((course_cdeg % 100) << 8);
   // Speed: tenths of a knot plus the hundredths digit in LSB2 bits 0-3.
-  const bool speed_known = std::isfinite(p.speed_mps) && p.speed_mps >= 0.0;
+  const bool speed_known = std::isfinite(p.speed_m_s) && p.speed_m_s >= 0.0;
   const long speed_ckn =
       speed_known
-          ? std::clamp<long>(std::lround(p.speed_mps / kMetresPerSecondPerKnot * 100.0), 0, 327679)
+          ? std::clamp<long>(std::lround(p.speed_m_s / kMetresPerSecondPerKnot * 100.0), 0, 327679)
           : 0;
   h.speed_dkn = static_cast<std::int16_t>(speed_ckn / 10);
   h.lsb2 = static_cast<std::uint16_t>(speed_ckn % 10);
@@ -271,10 +271,10 @@ void Writer::write_ping(const SonarPing& p, const XtfPingFields* xtf_fields) {
   if (year < kMinYear || year > kMaxYear) {
     violated(who + "time_utc year", std::to_string(year), "1970 <= year <= 2100");
   }
-  if (!(std::isnan(p.sound_speed_mps) ||
-        (p.sound_speed_mps > 0.0 && std::isfinite(p.sound_speed_mps)))) {
-    violated(who + "sound_speed_mps", num(p.sound_speed_mps),
-             "sound_speed_mps > 0 (NaN = unknown: 1500 m/s assumed, validity bit clear)");
+  if (!(std::isnan(p.sound_speed_m_s) ||
+        (p.sound_speed_m_s > 0.0 && std::isfinite(p.sound_speed_m_s)))) {
+    violated(who + "sound_speed_m_s", num(p.sound_speed_m_s),
+             "sound_speed_m_s > 0 (NaN = unknown: 1500 m/s assumed, validity bit clear)");
   }
   if (!(p.slant_range_m > 0.0 && std::isfinite(p.slant_range_m))) {
     violated(who + "slant_range_m", num(p.slant_range_m), "slant_range_m > 0");

@@ -308,11 +308,11 @@ void Writer::write_side(std::uint32_t conn, const SonarPing& p, const std::vecto
   put_header(o, p.ping_number, time_ns, conn == kPort ? kPortFrame : kStarboardFrame);
   // PingInfo
   o.f32(static_cast<float>(options_.frequency_hz));
-  o.f32(static_cast<float>(p.sound_speed_mps));
+  o.f32(static_cast<float>(p.sound_speed_m_s));
   o.f32_array(options_.horizontal_beam_width_rad);
   o.f32_array(options_.vertical_beam_width_rad);
   // Two-way travel time to the last sample 2 R / c, n samples over it.
-  o.f32(static_cast<float>(static_cast<double>(n) * p.sound_speed_mps / (2.0 * p.slant_range_m)));
+  o.f32(static_cast<float>(static_cast<double>(n) * p.sound_speed_m_s / (2.0 * p.slant_range_m)));
   o.u32(static_cast<std::uint32_t>(n));  // samples_per_beam
   o.u32(0);                              // sample0
   o.f32_array(0.0, true);                // tx_delays
@@ -373,9 +373,9 @@ void Writer::write_ping(const SonarPing& p) {
                        ".size() = 0. Violated constraint: >= 1 sample per side");
     }
   }
-  if (!(p.slant_range_m > 0.0) || !(p.sound_speed_mps > 0.0)) {
+  if (!(p.slant_range_m > 0.0) || !(p.sound_speed_m_s > 0.0)) {
     throw InputError("ping.slant_range_m = " + std::to_string(p.slant_range_m) +
-                     ", ping.sound_speed_mps = " + std::to_string(p.sound_speed_mps) +
+                     ", ping.sound_speed_m_s = " + std::to_string(p.sound_speed_m_s) +
                      ". Violated constraint: both > 0");
   }
   if (!tf_written_) write_tf_static(ns);

@@ -1,10 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/xtf/reader.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -18,8 +14,6 @@
 namespace sonarsynth::xtf {
 namespace {
 
-static_assert(sizeof(off_t) >= 8, "64-bit file offsets are required");
-
 constexpr double kMetresPerSecondPerKnot = 1852.0 / 3600.0;
 
 std::string hex(std::uint64_t v) {
@@ -31,66 +25,6 @@ std::string hex(std::uint64_t v) {
 std::string at(std::uint64_t offset, const std::string& name) {
   return " at byte " + std::to_string(offset) + " of " + name;
 }
-
-class FileSource final : public ByteSource {
- public:
-  explicit FileSource(const std::filesystem::path& path) : name_(path.string()) {
-    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd_ < 0) {
-      throw FormatError("xtf reader: cannot open " + name_ + ": " + std::strerror(errno));
-    }
-    struct stat st {};
-    if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
-      ::close(fd_);
-      throw FormatError("xtf reader: " + name_ + " is not a regular file");
-    }
-    size_ = static_cast<std::uint64_t>(st.st_size);
-  }
-  ~FileSource() override { ::close(fd_); }
-  FileSource(const FileSource&) = delete;
-  FileSource& operator=(const FileSource&) = delete;
-
-  std::uint64_t size() const override { return size_; }
-  const std::string& name() const override { return name_; }
-  void read(std::uint64_t offset, std::span<std::uint8_t> out) override {
-    std::size_t done = 0;
-    while (done < out.size()) {
-      const ssize_t n =
-          ::pread(fd_, out.data() + done, out.size() - done, static_cast<off_t>(offset + done));
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) {
-        throw FormatError("xtf reader: read of " + std::to_string(out.size()) + " bytes failed" +
-                          at(offset, name_) + ": " +
-                          (n == 0 ? "unexpected end of file" : std::strerror(errno)));
-      }
-      done += static_cast<std::size_t>(n);
-    }
-  }
-
- private:
-  std::string name_;
-  int fd_ = -1;
-  std::uint64_t size_ = 0;
-};
-
-class MemorySource final : public ByteSource {
- public:
-  MemorySource(std::span<const std::uint8_t> bytes, std::string name)
-      : bytes_(bytes), name_(std::move(name)) {}
-  std::uint64_t size() const override { return bytes_.size(); }
-  const std::string& name() const override { return name_; }
-  void read(std::uint64_t offset, std::span<std::uint8_t> out) override {
-    if (offset > bytes_.size() || out.size() > bytes_.size() - offset) {
-      throw FormatError("xtf reader: read of " + std::to_string(out.size()) + " bytes" +
-                        at(offset, name_) + " runs past its end");
-    }
-    if (!out.empty()) std::memcpy(out.data(), bytes_.data() + offset, out.size());
-  }
-
- private:
-  std::span<const std::uint8_t> bytes_;
-  std::string name_;
-};
 
 /// IBM System/360 single-precision float (sign, base-16 exponent biased by 64, 24-bit fraction).
 float ibm_to_float(std::uint32_t v) {
@@ -211,14 +145,6 @@ const char* anomaly_kind_name(AnomalyKind kind) {
       return "zero_navigation";
   }
   return "unknown";
-}
-
-std::unique_ptr<ByteSource> open_file_source(const std::filesystem::path& path) {
-  return std::make_unique<FileSource>(path);
-}
-
-std::unique_ptr<ByteSource> memory_source(std::span<const std::uint8_t> bytes, std::string name) {
-  return std::make_unique<MemorySource>(bytes, std::move(name));
 }
 
 void ReaderOptions::validate() const {
@@ -582,12 +508,12 @@ void Reader::normalise(PingRecord& ping, std::uint64_t offset) {
   s.heave_m = h.Heave;
   s.altitude_m = h.SensorPrimaryAltitude;
   s.depth_m = h.SensorDepth;
-  s.speed_mps = static_cast<double>(h.SensorSpeed) * kMetresPerSecondPerKnot;
+  s.speed_m_s = static_cast<double>(h.SensorSpeed) * kMetresPerSecondPerKnot;
   // Full speed of sound: ComputedSoundVelocity when it looks like one, else SoundVelocity,
   // doubled when it is the one-way ("half", ~750) value most writers store.
   const double csv = h.ComputedSoundVelocity;
   const double sv = h.SoundVelocity;
-  s.sound_speed_mps =
+  s.sound_speed_m_s =
       (csv > 1000.0 && csv < 2000.0) ? csv : (sv > 0.0 && sv < 1000.0 ? 2 * sv : sv);
   s.slant_range_m = 0.0;
   s.port.clear();

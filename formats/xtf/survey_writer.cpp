@@ -73,8 +73,8 @@ SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame, const Son
   // "no bottom", never a made-up height.
   x.altitude_m = std::isfinite(p.altitude_m) && p.altitude_m > 0 ? p.altitude_m : 0.0;
   x.depth_m = std::max(0.0, -p.sensor_z_m);
-  x.speed_mps = p.speed_m_s;
-  x.sound_speed_mps = sonar.sound_speed_m_s;
+  x.speed_m_s = p.speed_m_s;
+  x.sound_speed_m_s = sonar.sound_speed_m_s;
   x.slant_range_m = sonar.max_range_m;
   x.port = ping.port.samples;
   x.starboard = ping.starboard.samples;

@@ -257,11 +257,11 @@ void Writer::validate_ping(const SonarPing& p, bool check_position) const {
     violated(who + "altitude_m", num(p.altitude_m),
              "altitude_m >= 0 (SensorPrimaryAltitude; 0 = no seabed under the sensor)");
   }
-  if (!(p.speed_mps >= 0.0 && std::isfinite(p.speed_mps))) {
-    violated(who + "speed_mps", num(p.speed_mps), "speed_mps >= 0");
+  if (!(p.speed_m_s >= 0.0 && std::isfinite(p.speed_m_s))) {
+    violated(who + "speed_m_s", num(p.speed_m_s), "speed_m_s >= 0");
   }
-  if (!(p.sound_speed_mps > 0.0 && std::isfinite(p.sound_speed_mps))) {
-    violated(who + "sound_speed_mps", num(p.sound_speed_mps), "sound_speed_mps > 0");
+  if (!(p.sound_speed_m_s > 0.0 && std::isfinite(p.sound_speed_m_s))) {
+    violated(who + "sound_speed_m_s", num(p.sound_speed_m_s), "sound_speed_m_s > 0");
   }
   if (!(p.slant_range_m > 0.0 && std::isfinite(p.slant_range_m))) {
     violated(who + "slant_range_m", num(p.slant_range_m), "slant_range_m > 0");
@@ -351,7 +351,7 @@ void Writer::write_ping(const SonarPing& p, const StoredPingHeaders* stored) {
 
   const calendar::TimeFields tf = calendar::fields_from_time(to_hundredths(p.time_utc));
   const Geodetic ship = p.ship_position.value_or(p.sensor_position);
-  const double sv = p.sound_speed_mps / 2.0;  // XTF stores the one-way ("half") speed
+  const double sv = p.sound_speed_m_s / 2.0;  // XTF stores the one-way ("half") speed
   const double heading = heading_deg(p.heading_rad);
   XtfPingHeader h;
   h.Header.HeaderType = static_cast<std::uint8_t>(HeaderType::kSonar);
@@ -362,12 +362,12 @@ void Writer::write_ping(const SonarPing& p, const StoredPingHeaders* stored) {
   h.JulianDay = static_cast<std::uint16_t>(tf.day_of_year0);
   h.PingNumber = p.ping_number;
   h.SoundVelocity = static_cast<float>(sv);
-  h.ComputedSoundVelocity = static_cast<float>(p.sound_speed_mps);
-  h.ShipSpeed = static_cast<float>(p.speed_mps / kMetresPerSecondPerKnot);
+  h.ComputedSoundVelocity = static_cast<float>(p.sound_speed_m_s);
+  h.ShipSpeed = static_cast<float>(p.speed_m_s / kMetresPerSecondPerKnot);
   h.ShipGyro = static_cast<float>(heading);
   h.ShipYcoordinate = coordinate_deg(ship.lat_rad);
   h.ShipXcoordinate = coordinate_deg(ship.lon_rad);
-  h.SensorSpeed = static_cast<float>(p.speed_mps / kMetresPerSecondPerKnot);
+  h.SensorSpeed = static_cast<float>(p.speed_m_s / kMetresPerSecondPerKnot);
   h.SensorYcoordinate = coordinate_deg(p.sensor_position.lat_rad);
   h.SensorXcoordinate = coordinate_deg(p.sensor_position.lon_rad);
   h.Layback = 0.0f;  // SensorX/Y already are the sensor position

@@ -99,8 +99,8 @@ py::dict read_sidescan(const std::filesystem::path& path, const SonarFormat* exp
       heave.push_back(s.heave_m);
       altitude.push_back(s.altitude_m);
       depth.push_back(s.depth_m);
-      speed.push_back(s.speed_mps);
-      sound_speed.push_back(s.sound_speed_mps);
+      speed.push_back(s.speed_m_s);
+      sound_speed.push_back(s.sound_speed_m_s);
       slant_range.push_back(s.slant_range_m);
       nav_valid.push_back(r.nav_valid ? 1 : 0);
       time_valid.push_back(r.time_valid ? 1 : 0);

@@ -34,8 +34,8 @@ struct SonarPing {
   /// written as SensorPrimaryAltitude 0, which `sonarsynth info` counts).
   double altitude_m = 0.0;
   double depth_m = 0.0;             ///< sensor depth below the surface, + down
-  double speed_mps = 0.0;           ///< sensor speed through water / over ground, >= 0
-  double sound_speed_mps = 1500.0;  ///< c, full (not halved) speed of sound, > 0
+  double speed_m_s = 0.0;           ///< sensor speed through water / over ground, >= 0
+  double sound_speed_m_s = 1500.0;  ///< c, full (not halved) speed of sound, > 0
   double slant_range_m = 0.0;       ///< slant range of the last sample, > 0
   /// Samples per side ordered NEAR -> FAR, in output sample units (e.g. 0..32767 for u16).
   /// Sample i covers slant range [i, i+1) * slant_range_m / size().

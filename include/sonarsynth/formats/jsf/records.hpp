@@ -67,7 +67,7 @@ inline constexpr std::uint16_t kSoundSpeed = 1u << 14;
 }  // namespace validity
 
 /// The sound speed assumed when a ping's is missing (the speed MB-System assumes).
-inline constexpr double kAssumedSoundSpeed_mps = 1500.0;
+inline constexpr double kAssumedSoundSpeed_m_s = 1500.0;
 /// Longest slant range taken as plausible: GLORIA, the longest-range side-scan, reached about
 /// 30 km; a longer one comes from a corrupted sample interval (docs/jsf.md §3).
 inline constexpr double kMaxPlausibleSlantRange_m = 100e3;
@@ -146,7 +146,7 @@ struct SonarDataHeader {
   std::uint16_t sample_frequency_hz = 0;               ///< 140: modulo 65 536
   std::uint16_t pulse_id = 0;                          ///< 142
   std::int32_t altitude_mm = 0;                        ///< 144
-  float sound_speed_mps = 0.0f;                        ///< 148
+  float sound_speed_m_s = 0.0f;                        ///< 148
   float mixer_frequency_hz = 0.0f;                     ///< 152
   std::int16_t year = 0;                               ///< 156: CPU time, UTC
   std::int16_t day_of_year = 0;                        ///< 158: 1..366
@@ -229,7 +229,7 @@ struct SonarDataHeader {
     io.u16(s.sample_frequency_hz);
     io.u16(s.pulse_id);
     io.i32(s.altitude_mm);
-    io.f32(s.sound_speed_mps);
+    io.f32(s.sound_speed_m_s);
     io.f32(s.mixer_frequency_hz);
     io.i16(s.year);
     io.i16(s.day_of_year);

@@ -33,7 +33,7 @@ struct FileSummary {
   std::optional<UtcTime> last_time;
   ValueRange samples, slant_range_m, sample_interval_ns, weighting_factor;
   ValueRange longitude_deg, latitude_deg;  ///< pings with valid navigation
-  ValueRange heading_deg, pitch_deg, roll_deg, heave_m, altitude_m, depth_m, sound_speed_mps;
+  ValueRange heading_deg, pitch_deg, roll_deg, heave_m, altitude_m, depth_m, sound_speed_m_s;
   std::array<std::uint64_t, kAnomalyKindCount> anomaly_counts{};
   std::vector<Anomaly> anomalies;
 };

@@ -60,7 +60,7 @@ class Writer {
   /// Appends one ping (two messages). Throws InputError naming the field if the ping cannot be
   /// stored (no position, time before 1970 or after 2100, empty side, too many samples...).
   /// A NaN heading, speed, pitch, roll, heave, depth or sound speed is "unknown": written as 0
-  /// (sound speed: kAssumedSoundSpeed_mps, which sets the sample interval) with its validity
+  /// (sound speed: kAssumedSoundSpeed_m_s, which sets the sample interval) with its validity
   /// bit clear; an altitude of 0 clears the altitude bit.
   /// `xtf_fields` (a conversion's): written as a message 9999 right before the ping's port
   /// message (docs/jsf.md §1.4).
