@@ -1,0 +1,641 @@
+// SPDX-License-Identifier: MIT
+// ROS 1 bag reader, format 2.0 (docs/rosbag.md, "Reading bags"): the index, uncompressed
+// chunks, and the writer's message mapping reversed.
+#include "sonarsynth/formats/rosbag/reader.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <string_view>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/rosbag/messages.hpp"
+
+namespace sonarsynth::rosbag {
+namespace {
+
+constexpr std::string_view kMagic = "#ROSBAG V2.0\n";
+constexpr std::uint8_t kOpMessageData = 0x02;
+constexpr std::uint8_t kOpBagHeader = 0x03;
+constexpr std::uint8_t kOpChunk = 0x05;
+constexpr std::uint8_t kOpChunkInfo = 0x06;
+constexpr std::uint8_t kOpConnection = 0x07;
+constexpr std::size_t kMaxPending = 4096;  // unpaired image stamps kept before giving up on one
+
+constexpr std::string_view kImageType = "marine_acoustic_msgs/RawSonarImage";
+constexpr std::string_view kFixType = "sensor_msgs/NavSatFix";
+constexpr std::string_view kImuType = "sensor_msgs/Imu";
+
+/// Bytes per sample of SonarImageData.dtype 0..9 (uint8 .. float64).
+constexpr std::array<std::size_t, 10> kDtypeBytes = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
+
+std::uint64_t le(const std::uint8_t* p, std::size_t n) {
+  std::uint64_t v = 0;
+  for (std::size_t i = 0; i < n; ++i) v |= static_cast<std::uint64_t>(p[i]) << (8 * i);
+  return v;
+}
+
+using Fields = std::vector<std::pair<std::string_view, std::span<const std::uint8_t>>>;
+
+/// A record: its header fields and its data, parsed from a buffer holding it.
+struct Record {
+  std::uint64_t pos = 0;  ///< file offset of the record
+  std::uint8_t op = 0;
+  Fields fields;
+  std::span<const std::uint8_t> data;
+  std::size_t size = 0;  ///< bytes of the whole record
+};
+
+[[noreturn]] void fail(const std::string& file, std::uint64_t pos, const std::string& what) {
+  throw FormatError("rosbag reader: " + file + ": byte " + std::to_string(pos) + ": " + what);
+}
+
+/// Parses a header of `name=value` fields, each with a uint32 length (the record header, and a
+/// connection record's data); `pos` is the file offset of `h`.
+void parse_fields(std::span<const std::uint8_t> h, std::uint64_t pos, const std::string& file,
+                  Fields& fields) {
+  fields.clear();
+  for (std::size_t k = 0; k < h.size();) {
+    if (h.size() - k < 4) fail(file, pos + k, "header field length: truncated header");
+    const std::uint64_t flen = le(h.data() + k, 4);
+    if (flen > h.size() - k - 4) {
+      fail(file, pos + k,
+           "header field length = " + std::to_string(flen) + ": past the end of the header (" +
+               std::to_string(h.size() - k - 4) + " bytes left)");
+    }
+    const std::string_view f(reinterpret_cast<const char*>(h.data() + k + 4), flen);
+    const std::size_t eq = f.find('=');
+    if (eq == std::string_view::npos) {
+      fail(file, pos + k, "header field without '=' (" + std::to_string(flen) + " bytes)");
+    }
+    fields.emplace_back(f.substr(0, eq), h.subspan(k + 4 + eq + 1, flen - eq - 1));
+    k += 4 + flen;
+  }
+}
+
+/// Parses the record at buf[at] (file offset base + at). `with_data` = false: the buffer may end
+/// after the data length (the data is not looked at).
+void parse_record(std::span<const std::uint8_t> buf, std::size_t at, std::uint64_t base,
+                  const std::string& file, Record& r, bool with_data = true) {
+  r.pos = base + at;
+  const std::size_t left = buf.size() - at;
+  if (left < 4) {
+    fail(file, r.pos,
+         "record header_len: truncated record (" + std::to_string(left) + " bytes left)");
+  }
+  const std::uint64_t hlen = le(buf.data() + at, 4);
+  if (hlen > left - 4 || left - 4 - hlen < 4) {
+    fail(file, r.pos,
+         "record header_len = " + std::to_string(hlen) + ": past the end (" + std::to_string(left) +
+             " bytes left)");
+  }
+  parse_fields(buf.subspan(at + 4, hlen), r.pos + 4, file, r.fields);
+  bool have_op = false;
+  for (const auto& [n, v] : r.fields) {
+    if (n != "op") continue;
+    if (v.size() != 1) {
+      fail(file, r.pos, "header field 'op' has " + std::to_string(v.size()) + " bytes, not 1");
+    }
+    r.op = v[0];
+    have_op = true;
+  }
+  if (!have_op) fail(file, r.pos, "header field 'op' missing");
+  const std::uint64_t dlen = le(buf.data() + at + 4 + hlen, 4);
+  if (with_data && dlen > left - 8 - hlen) {
+    fail(file, r.pos + 4 + hlen,
+         "record data_len = " + std::to_string(dlen) + ": past the end (" +
+             std::to_string(left - 8 - hlen) + " bytes left)");
+  }
+  r.data = with_data ? buf.subspan(at + 8 + hlen, dlen) : std::span<const std::uint8_t>{};
+  r.size = static_cast<std::size_t>(8 + hlen + dlen);
+}
+
+std::span<const std::uint8_t> field(const Record& r, std::string_view name, const std::string& file,
+                                    std::size_t bytes = 0) {
+  for (const auto& [n, v] : r.fields) {
+    if (n != name) continue;
+    if (bytes != 0 && v.size() != bytes) {
+      fail(file, r.pos,
+           "op " + std::to_string(r.op) + " header field '" + std::string(name) + "' has " +
+               std::to_string(v.size()) + " bytes, not " + std::to_string(bytes));
+    }
+    return v;
+  }
+  fail(file, r.pos,
+       "op " + std::to_string(r.op) + " header field '" + std::string(name) + "' missing");
+}
+
+std::uint64_t field_uint(const Record& r, std::string_view name, const std::string& file,
+                         std::size_t bytes) {
+  return le(field(r, name, file, bytes).data(), bytes);
+}
+
+std::string field_str(const Record& r, std::string_view name, const std::string& file) {
+  const auto v = field(r, name, file);
+  return std::string(reinterpret_cast<const char*>(v.data()), v.size());
+}
+
+/// Bounds-checked reading of a message's serialised fields; errors name the field and offset.
+class Cursor {
+ public:
+  Cursor(std::span<const std::uint8_t> d, std::uint64_t offset, const std::string& file,
+         std::string_view type)
+      : d_(d), offset_(offset), file_(file), type_(type) {}
+  std::span<const std::uint8_t> take(std::size_t n, const char* f) {
+    if (n > d_.size() - pos_) {
+      fail(file_, offset_ + pos_,
+           std::string(type_) + "." + f + ": needs " + std::to_string(n) + " bytes, " +
+               std::to_string(d_.size() - pos_) + " left in the message");
+    }
+    pos_ += n;
+    return d_.subspan(pos_ - n, n);
+  }
+  std::uint32_t u32(const char* f) { return static_cast<std::uint32_t>(le(take(4, f).data(), 4)); }
+  std::uint8_t u8(const char* f) { return take(1, f)[0]; }
+  float f32(const char* f) { return std::bit_cast<float>(u32(f)); }
+  double f64(const char* f) { return std::bit_cast<double>(le(take(8, f).data(), 8)); }
+  std::string_view str(const char* f) {
+    const std::uint32_t n = u32(f);
+    const auto s = take(n, f);
+    return {reinterpret_cast<const char*>(s.data()), s.size()};
+  }
+  /// A float32[]: its first element, 0 when empty.
+  double first_f32(const char* f) {
+    const std::uint32_t n = u32(f);
+    if (n > (d_.size() - pos_) / 4) take(std::size_t{n} * 4, f);  // reports the overrun
+    const auto s = take(std::size_t{n} * 4, f);
+    return n == 0 ? 0.0
+                  : static_cast<double>(
+                        std::bit_cast<float>(static_cast<std::uint32_t>(le(s.data(), 4))));
+  }
+  /// std_msgs/Header: returns the stamp in ns; seq and frame_id through the arguments.
+  std::uint64_t header(std::uint32_t& seq, std::string_view& frame) {
+    seq = u32("header.seq");
+    const std::uint32_t sec = u32("header.stamp.secs");
+    const std::uint32_t nsec = u32("header.stamp.nsecs");
+    if (nsec >= 1000000000u) {
+      fail(file_, offset_ + pos_ - 4,
+           std::string(type_) + ".header.stamp.nsecs = " + std::to_string(nsec) +
+               ". Violated constraint: < 1000000000");
+    }
+    frame = str("header.frame_id");
+    return std::uint64_t{sec} * 1000000000u + nsec;
+  }
+
+ private:
+  std::span<const std::uint8_t> d_;
+  std::size_t pos_ = 0;
+  std::uint64_t offset_;
+  const std::string& file_;
+  std::string_view type_;
+};
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+/// +1 port, -1 starboard, 0 neither: from the frame id, else from the topic (docs/rosbag.md).
+int side_of(std::string_view frame, std::string_view topic) {
+  for (const std::string& s : {lower(frame), lower(topic)}) {
+    if (s.find("port") != std::string::npos) return 1;
+    if (s.find("starboard") != std::string::npos || s.find("stbd") != std::string::npos) return -1;
+  }
+  return 0;
+}
+
+void decode_samples(std::span<const std::uint8_t> bytes, std::uint32_t dtype, bool big_endian,
+                    std::vector<float>& out) {
+  const std::size_t bps = kDtypeBytes[dtype];
+  const std::size_t n = bytes.size() / bps;
+  out.resize(n);
+  const std::uint8_t* p = bytes.data();
+  if (dtype == 2 && !big_endian) {  // the common case: little-endian uint16
+    for (std::size_t i = 0; i < n; ++i) {
+      out[i] = static_cast<float>(static_cast<std::uint16_t>(p[2 * i] | (p[2 * i + 1] << 8)));
+    }
+    return;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    std::array<std::uint8_t, 8> b{};
+    std::memcpy(b.data(), p + i * bps, bps);
+    if (big_endian) std::reverse(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(bps));
+    const std::uint64_t u = le(b.data(), bps);
+    const std::int64_t sign_bit = std::int64_t{1} << (8 * bps - 1);
+    const auto s = [&] {
+      return bps == 8 ? static_cast<std::int64_t>(u)
+                      : static_cast<std::int64_t>(u) -
+                            ((static_cast<std::int64_t>(u) & sign_bit) ? 2 * sign_bit : 0);
+    };
+    double v = 0.0;
+    switch (dtype) {
+      case 1:
+      case 3:
+      case 5:
+      case 7:
+        v = static_cast<double>(s());
+        break;
+      case 8:
+        v = static_cast<double>(std::bit_cast<float>(static_cast<std::uint32_t>(u)));
+        break;
+      case 9:
+        v = std::bit_cast<double>(u);
+        break;
+      default:
+        v = static_cast<double>(u);
+        break;
+    }
+    out[i] = static_cast<float>(v);
+  }
+}
+
+/// The heading (clockwise from north), pitch (+ nose up) and roll (+ starboard down) of an ENU
+/// orientation of base_link: the writer's yaw = pi/2 - heading, pitch = -pitch, roll = roll
+/// reversed (docs/rosbag.md, "sensor_msgs/Imu").
+bool attitude_from_quaternion(double x, double y, double z, double w, AttitudeSample& a) {
+  const double norm = std::sqrt(x * x + y * y + z * z + w * w);
+  if (!std::isfinite(norm) || std::abs(norm - 1.0) > 1e-3) return false;
+  x /= norm, y /= norm, z /= norm, w /= norm;
+  const double roll = std::atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y));
+  const double pitch = std::asin(std::clamp(2 * (w * y - z * x), -1.0, 1.0));
+  const double yaw = std::atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
+  double heading = std::fmod(std::numbers::pi / 2 - yaw, 2 * std::numbers::pi);
+  if (heading < 0) heading += 2 * std::numbers::pi;
+  a.heading_rad = heading;
+  a.pitch_rad = -pitch;
+  a.roll_rad = roll;
+  return true;
+}
+
+UtcTime utc_from_ns(std::uint64_t ns) {
+  return UtcTime{std::chrono::microseconds{static_cast<std::int64_t>(ns / 1000u)}};
+}
+
+/// The element of `v` (sorted by stamp, ordinal) with the latest stamp <= `stamp`; of several
+/// with that stamp the first written after `ordinal` (the writer puts a ping's navigation after
+/// its images), else the last.
+template <class T>
+T* at_or_before(std::vector<T>& v, std::uint64_t stamp, std::uint64_t ordinal) {
+  auto it = std::upper_bound(v.begin(), v.end(), stamp,
+                             [](std::uint64_t s, const T& e) { return s < e.stamp_ns; });
+  if (it == v.begin()) return nullptr;
+  const std::uint64_t s = std::prev(it)->stamp_ns;
+  auto k = std::lower_bound(v.begin(), it, s,
+                            [](const T& e, std::uint64_t t) { return e.stamp_ns < t; });
+  for (; k != it; ++k) {
+    if (k->ordinal > ordinal) return &*k;
+  }
+  return &*std::prev(it);
+}
+
+}  // namespace
+
+Reader::Reader(const std::filesystem::path& path) : Reader(xtf::open_file_source(path)) {}
+
+Reader::Reader(std::span<const std::uint8_t> bytes, std::string name)
+    : Reader(xtf::memory_source(bytes, std::move(name))) {}
+
+Reader::Reader(std::unique_ptr<xtf::ByteSource> source) : source_(std::move(source)) {
+  open();
+}
+
+Reader::~Reader() = default;
+
+const std::string& Reader::name() const {
+  return source_->name();
+}
+
+void Reader::report(std::uint64_t offset, std::string message) {
+  ++anomaly_count_;
+  if (anomalies_.size() < 1000) anomalies_.push_back({offset, std::move(message)});
+}
+
+void Reader::open() {
+  size_ = source_->size();
+  std::array<std::uint8_t, kMagic.size()> magic{};
+  if (size_ >= magic.size()) source_->read(0, magic);
+  if (size_ < magic.size() || std::memcmp(magic.data(), kMagic.data(), kMagic.size()) != 0) {
+    fail(name(), 0, "not a ROS bag 2.0 (the file does not start with '#ROSBAG V2.0')");
+  }
+  read_index();
+  for (std::size_t k = 0; k < chunks_.size(); ++k) scan_chunk(k, false);
+  const auto by_stamp = [](const auto& a, const auto& b) {
+    return a.stamp_ns != b.stamp_ns ? a.stamp_ns < b.stamp_ns : a.ordinal < b.ordinal;
+  };
+  std::sort(fixes_.begin(), fixes_.end(), by_stamp);
+  std::sort(imu_.begin(), imu_.end(), by_stamp);
+}
+
+void Reader::read_index() {
+  const std::string& file = name();
+  // The bag header record: its header (without the padding) is enough.
+  std::vector<std::uint8_t> head(
+      static_cast<std::size_t>(std::min<std::uint64_t>(size_ - kMagic.size(), 4096)));
+  source_->read(kMagic.size(), head);
+  Record r;
+  parse_record(head, 0, kMagic.size(), file, r, false);
+  if (r.op != kOpBagHeader) {
+    fail(file, r.pos, "op = " + std::to_string(r.op) + ": expected the bag header record (3)");
+  }
+  const std::uint64_t index_pos = field_uint(r, "index_pos", file, 8);
+  const std::uint64_t chunk_count = field_uint(r, "chunk_count", file, 4);
+  if (index_pos == 0) fail(file, r.pos, "index_pos = 0: the bag is not indexed (rosbag reindex)");
+  if (index_pos < kMagic.size() || index_pos >= size_) {
+    fail(file, r.pos,
+         "index_pos = " + std::to_string(index_pos) + ": past the end of the " +
+             std::to_string(size_) + "-byte file");
+  }
+  std::vector<std::uint8_t> index(static_cast<std::size_t>(size_ - index_pos));
+  source_->read(index_pos, index);
+  std::map<std::uint32_t, std::uint64_t> counts;
+  for (std::size_t at = 0; at < index.size(); at += r.size) {
+    parse_record(index, at, index_pos, file, r);
+    if (r.op == kOpConnection) {
+      const auto id = static_cast<std::uint32_t>(field_uint(r, "conn", file, 4));
+      Fields c;  // the connection header is the record's data
+      parse_fields(r.data, r.pos + r.size - r.data.size(), file, c);
+      ConnectionInfo info;
+      info.id = id;
+      info.topic = field_str(r, "topic", file);
+      for (const auto& [n, v] : c) {
+        const std::string s(reinterpret_cast<const char*>(v.data()), v.size());
+        if (n == "type") info.type = s;
+        if (n == "md5sum") info.md5sum = s;
+      }
+      if (info.type.empty())
+        fail(file, r.pos, "connection " + std::to_string(id) + ": field 'type' missing");
+      Kind kind = Kind::kNone;
+      if (info.type == kImageType) kind = Kind::kImage;
+      if (info.type == kFixType) kind = Kind::kFix;
+      if (info.type == kImuType) kind = Kind::kImu;
+      if (kind != Kind::kNone && info.md5sum != "*" && info.md5sum != message_md5(info.type)) {
+        report(r.pos, "rosbag reader: " + file + ": connection " + std::to_string(id) + " (" +
+                          info.topic + ") md5sum = " + info.md5sum + ": not the " + info.type +
+                          " of docs/rosbag.md (" + message_md5(info.type) + "); not read");
+        kind = Kind::kNone;
+      }
+      info.decoded = kind != Kind::kNone;
+      if (!by_id_.contains(id)) {
+        by_id_[id] = connections_.size();
+        connections_.push_back(std::move(info));
+        kinds_.push_back(kind);
+      }
+    } else if (r.op == kOpChunkInfo) {
+      chunks_.push_back(field_uint(r, "chunk_pos", file, 8));
+      Cursor c(r.data, r.pos + r.size - r.data.size(), file, "chunk info");
+      const std::uint64_t n = field_uint(r, "count", file, 4);
+      for (std::uint64_t k = 0; k < n; ++k) {
+        const std::uint32_t conn = c.u32("conn");
+        counts[conn] += c.u32("count");
+      }
+    } else {
+      fail(file, r.pos,
+           "op = " + std::to_string(r.op) +
+               ": unknown op code in the index (connection 7 or chunk info 6)");
+    }
+  }
+  for (ConnectionInfo& c : connections_) c.messages = counts[c.id];
+  if (chunks_.size() != chunk_count) {
+    report(index_pos,
+           "rosbag reader: " + file + ": bag header chunk_count = " + std::to_string(chunk_count) +
+               ", index holds " + std::to_string(chunks_.size()) + " chunk info records");
+  }
+  std::sort(chunks_.begin(), chunks_.end());
+  chunk_ordinal_.assign(chunks_.size(), 0);
+}
+
+void Reader::scan_chunk(std::size_t chunk, bool images) {
+  const std::string& file = name();
+  const std::uint64_t pos = chunks_[chunk];
+  if (pos >= size_ || size_ - pos < 8) {
+    fail(file, pos,
+         "chunk_pos = " + std::to_string(pos) + ": past the end of the " + std::to_string(size_) +
+             "-byte file");
+  }
+  std::array<std::uint8_t, 4> len{};
+  source_->read(pos, len);
+  const std::uint64_t hlen = le(len.data(), 4);
+  if (hlen > size_ - pos - 8) {
+    fail(file, pos, "chunk header_len = " + std::to_string(hlen) + ": past the end of the file");
+  }
+  buffer_.resize(static_cast<std::size_t>(hlen + 8));
+  source_->read(pos, buffer_);
+  Record r;
+  parse_record(buffer_, 0, pos, file, r, false);
+  if (r.op != kOpChunk) {
+    fail(file, pos, "op = " + std::to_string(r.op) + ": chunk_pos does not point at a chunk (5)");
+  }
+  const std::string compression = field_str(r, "compression", file);
+  if (compression != "none") {
+    fail(file, pos,
+         "chunk compression = '" + compression +
+             "': compressed chunks are not read (only 'none'; rosbag decompress)");
+  }
+  const std::uint64_t data_pos = pos + 8 + hlen;
+  const std::uint64_t dlen = le(buffer_.data() + 4 + hlen, 4);
+  if (dlen > size_ - data_pos) {
+    fail(file, pos + 4 + hlen,
+         "chunk data_len = " + std::to_string(dlen) + ": past the end (" +
+             std::to_string(size_ - data_pos) + " bytes left)");
+  }
+  buffer_.resize(static_cast<std::size_t>(dlen));
+  source_->read(data_pos, buffer_);
+  std::uint64_t ordinal = chunk_ordinal_[chunk];
+  for (std::size_t at = 0; at < buffer_.size(); at += r.size) {
+    parse_record(buffer_, at, data_pos, file, r);
+    if (r.op == kOpConnection) continue;  // also in the index
+    if (r.op != kOpMessageData) {
+      fail(file, r.pos,
+           "op = " + std::to_string(r.op) +
+               ": unknown op code in a chunk (message data 2 or connection 7)");
+    }
+    const auto conn = static_cast<std::uint32_t>(field_uint(r, "conn", file, 4));
+    field(r, "time", file, 8);
+    ordinal_ = ordinal++;
+    message(conn, r.data, r.pos + r.size - r.data.size(), images);
+  }
+  if (!images && chunk + 1 < chunks_.size()) chunk_ordinal_[chunk + 1] = ordinal;
+}
+
+void Reader::message(std::uint32_t conn, std::span<const std::uint8_t> data, std::uint64_t offset,
+                     bool images) {
+  const auto it = by_id_.find(conn);
+  if (it == by_id_.end()) {
+    report(offset, "rosbag reader: " + name() + ": byte " + std::to_string(offset) +
+                       ": message of connection " + std::to_string(conn) +
+                       ", which the index does not list; skipped");
+    return;
+  }
+  const Kind kind = kinds_[it->second];
+  // The constructor's pass reads navigation, attitude and the first image's settings; the
+  // pings' pass reads the images.
+  if (kind == Kind::kNone) return;
+  if (images ? kind != Kind::kImage : kind == Kind::kImage && image_info_) return;
+  const ConnectionInfo& info = connections_[it->second];
+  Cursor c(data, offset, name(), info.type);
+  std::uint32_t seq = 0;
+  std::string_view frame;
+  try {
+    const std::uint64_t stamp = c.header(seq, frame);
+    if (kind == Kind::kFix) {
+      Fix f{stamp, ordinal_, {}, false};
+      const auto status = static_cast<std::int8_t>(c.u8("status.status"));
+      c.take(2, "status.service");
+      const double lat = c.f64("latitude"), lon = c.f64("longitude");
+      f.valid = status >= 0 && std::abs(lat) <= 90.0 && std::abs(lon) <= 180.0 &&
+                (lat != 0.0 || lon != 0.0);
+      if (f.valid)
+        f.position = {lat * std::numbers::pi / 180.0, lon * std::numbers::pi / 180.0, 0.0};
+      fixes_.push_back(f);
+    } else if (kind == Kind::kImu) {
+      ImuSample s;
+      s.stamp_ns = stamp;
+      s.ordinal = ordinal_;
+      s.attitude.time_utc = utc_from_ns(stamp);
+      const double x = c.f64("orientation.x"), y = c.f64("orientation.y");
+      const double z = c.f64("orientation.z"), w = c.f64("orientation.w");
+      const double cov0 = c.f64("orientation_covariance");
+      s.known = cov0 != -1.0 && attitude_from_quaternion(x, y, z, w, s.attitude);
+      imu_.push_back(s);
+    } else {
+      Side side;
+      side.offset = offset;
+      side.ordinal = ordinal_;
+      side.seq = seq;
+      ImageInfo ii;
+      ii.frequency_hz = static_cast<double>(c.f32("ping_info.frequency"));
+      side.sound_speed_mps = static_cast<double>(c.f32("ping_info.sound_speed"));
+      ii.horizontal_beam_width_rad = c.first_f32("ping_info.tx_beamwidths");
+      ii.vertical_beam_width_rad = c.first_f32("ping_info.rx_beamwidths");
+      const double rate = static_cast<double>(c.f32("sample_rate"));
+      const std::uint32_t n = c.u32("samples_per_beam");
+      c.u32("sample0");
+      c.first_f32("tx_delays");
+      c.first_f32("tx_angles");
+      c.first_f32("rx_angles");
+      const bool big = c.u8("image.is_bigendian") != 0;
+      ii.dtype = side.dtype = c.u32("image.dtype");
+      const std::uint32_t beams = c.u32("image.beam_count");
+      const auto bytes = c.take(c.u32("image.data"), "image.data");
+      if (!image_info_) image_info_ = ii;
+      if (!images) return;
+      const auto bad = [&](const std::string& what) {
+        report(offset, "rosbag reader: " + name() + ": byte " + std::to_string(offset) + ": " +
+                           info.type + " (" + info.topic + ") " + what + "; skipped");
+      };
+      if (side.dtype >= kDtypeBytes.size())
+        return bad("image.dtype = " + std::to_string(side.dtype) + ": unknown (0..9)");
+      if (beams != 1)
+        return bad("image.beam_count = " + std::to_string(beams) + ": one beam per side expected");
+      if (n == 0 || bytes.size() != std::size_t{n} * kDtypeBytes[side.dtype]) {
+        return bad("image.data has " + std::to_string(bytes.size()) +
+                   " bytes for samples_per_beam = " + std::to_string(n));
+      }
+      if (!(rate > 0.0) || !std::isfinite(rate))
+        return bad("sample_rate = " + std::to_string(rate) + ": not > 0");
+      if (!(side.sound_speed_mps > 0.0) || !std::isfinite(side.sound_speed_mps)) {
+        report(offset, "rosbag reader: " + name() + ": byte " + std::to_string(offset) +
+                           ": ping_info.sound_speed = " + std::to_string(side.sound_speed_mps) +
+                           ": 1500 m/s assumed");
+        side.sound_speed_mps = 1500.0;
+      }
+      side.slant_range_m = n * side.sound_speed_mps / (2.0 * rate);
+      const int which = side_of(frame, info.topic);
+      if (which == 0)
+        return bad("header.frame_id = '" + std::string(frame) +
+                   "': neither port nor starboard (frame id or topic)");
+      decode_samples(bytes, side.dtype, big, side.samples);
+      side.present = true;
+      add_side(std::move(side), which > 0, stamp);
+    }
+  } catch (const FormatError& e) {
+    report(offset, e.what());
+  }
+}
+
+void Reader::add_side(Side side, bool port, std::uint64_t stamp_ns) {
+  auto& pair = pending_[stamp_ns];
+  Side& slot = port ? pair.first : pair.second;
+  if (slot.present) {
+    report(slot.offset, "rosbag reader: " + name() + ": byte " + std::to_string(slot.offset) +
+                            ": a second " + (port ? "port" : "starboard") +
+                            " image of the same header.stamp; the first skipped");
+  }
+  slot = std::move(side);
+  if (pair.first.present && pair.second.present) complete(stamp_ns);
+  while (pending_.size() > kMaxPending) {
+    const auto oldest = pending_.begin();
+    const Side& s = oldest->second.first.present ? oldest->second.first : oldest->second.second;
+    report(s.offset, "rosbag reader: " + name() + ": byte " + std::to_string(s.offset) +
+                         ": image without its other side (header.stamp " +
+                         std::to_string(oldest->first) + " ns); skipped");
+    pending_.erase(oldest);
+  }
+}
+
+void Reader::complete(std::uint64_t stamp_ns) {
+  auto node = pending_.extract(stamp_ns);
+  Side& port = node.mapped().first;
+  Side& stbd = node.mapped().second;
+  Ping p;
+  p.sonar.time_utc = utc_from_ns(stamp_ns);
+  p.sonar.ping_number = port.seq;
+  p.sonar.sound_speed_mps = port.sound_speed_mps;
+  p.sonar.slant_range_m = port.slant_range_m;
+  if (std::abs(stbd.slant_range_m / static_cast<double>(stbd.samples.size()) -
+               port.slant_range_m / static_cast<double>(port.samples.size())) >
+      1e-6 * port.slant_range_m / static_cast<double>(port.samples.size())) {
+    report(stbd.offset, "rosbag reader: " + name() + ": byte " + std::to_string(stbd.offset) +
+                            ": starboard sample spacing differs from port's; port's used");
+  }
+  p.sonar.port = std::move(port.samples);
+  p.sonar.starboard = std::move(stbd.samples);
+  p.offset = port.offset;
+  p.index = port.ordinal;
+  p.dtype = port.dtype;
+  const std::uint64_t after = std::max(port.ordinal, stbd.ordinal);
+  if (const Fix* f = at_or_before(fixes_, stamp_ns, after); f && f->valid) {
+    p.sonar.sensor_position = f->position;
+    p.nav_valid = true;
+  }
+  if (ImuSample* s = at_or_before(imu_, stamp_ns, after); s && s->known) {
+    p.sonar.heading_rad = s->attitude.heading_rad;
+    p.sonar.pitch_rad = s->attitude.pitch_rad;
+    p.sonar.roll_rad = s->attitude.roll_rad;
+    p.attitude_valid = true;
+    s->used = true;
+  }
+  ready_.push_back(std::move(p));
+}
+
+void Reader::finish() {
+  for (const auto& [stamp, pair] : pending_) {
+    const Side& s = pair.first.present ? pair.first : pair.second;
+    report(s.offset, "rosbag reader: " + name() + ": byte " + std::to_string(s.offset) +
+                         ": image without its other side (header.stamp " + std::to_string(stamp) +
+                         " ns); skipped");
+  }
+  pending_.clear();
+  finished_ = true;
+}
+
+bool Reader::next_ping(Ping& ping) {
+  while (ready_.empty()) {
+    if (next_chunk_ < chunks_.size()) {
+      scan_chunk(next_chunk_++, true);
+    } else {
+      if (!finished_) finish();
+      return false;
+    }
+  }
+  ping = std::move(ready_.front());
+  ready_.pop_front();
+  return true;
+}
+
+}  // namespace sonarsynth::rosbag
