@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/rosbag/bag_records.hpp"
 #include "sonarsynth/formats/rosbag/messages.hpp"
 
 namespace sonarsynth::rosbag {
@@ -30,169 +31,19 @@ constexpr std::string_view kImageType = "marine_acoustic_msgs/RawSonarImage";
 constexpr std::string_view kFixType = "sensor_msgs/NavSatFix";
 constexpr std::string_view kImuType = "sensor_msgs/Imu";
 
-/// Bytes per sample of SonarImageData.dtype 0..9 (uint8 .. float64).
-constexpr std::array<std::size_t, 10> kDtypeBytes = {1, 1, 2, 2, 4, 4, 8, 8, 4, 8};
-
-std::uint64_t le(const std::uint8_t* p, std::size_t n) {
-  std::uint64_t v = 0;
-  for (std::size_t i = 0; i < n; ++i) v |= static_cast<std::uint64_t>(p[i]) << (8 * i);
-  return v;
-}
-
-using Fields = std::vector<std::pair<std::string_view, std::span<const std::uint8_t>>>;
-
-/// A record: its header fields and its data, parsed from a buffer holding it.
-struct Record {
-  std::uint64_t pos = 0;  ///< file offset of the record
-  std::uint8_t op = 0;
-  Fields fields;
-  std::span<const std::uint8_t> data;
-  std::size_t size = 0;  ///< bytes of the whole record
-};
-
-[[noreturn]] void fail(const std::string& file, std::uint64_t pos, const std::string& what) {
-  throw FormatError("rosbag reader: " + file + ": byte " + std::to_string(pos) + ": " + what);
-}
-
-/// Parses a header of `name=value` fields, each with a uint32 length (the record header, and a
-/// connection record's data); `pos` is the file offset of `h`.
-void parse_fields(std::span<const std::uint8_t> h, std::uint64_t pos, const std::string& file,
-                  Fields& fields) {
-  fields.clear();
-  for (std::size_t k = 0; k < h.size();) {
-    if (h.size() - k < 4) fail(file, pos + k, "header field length: truncated header");
-    const std::uint64_t flen = le(h.data() + k, 4);
-    if (flen > h.size() - k - 4) {
-      fail(file, pos + k,
-           "header field length = " + std::to_string(flen) + ": past the end of the header (" +
-               std::to_string(h.size() - k - 4) + " bytes left)");
-    }
-    const std::string_view f(reinterpret_cast<const char*>(h.data() + k + 4), flen);
-    const std::size_t eq = f.find('=');
-    if (eq == std::string_view::npos) {
-      fail(file, pos + k, "header field without '=' (" + std::to_string(flen) + " bytes)");
-    }
-    fields.emplace_back(f.substr(0, eq), h.subspan(k + 4 + eq + 1, flen - eq - 1));
-    k += 4 + flen;
-  }
-}
-
-/// Parses the record at buf[at] (file offset base + at). `with_data` = false: the buffer may end
-/// after the data length (the data is not looked at).
-void parse_record(std::span<const std::uint8_t> buf, std::size_t at, std::uint64_t base,
-                  const std::string& file, Record& r, bool with_data = true) {
-  r.pos = base + at;
-  const std::size_t left = buf.size() - at;
-  if (left < 4) {
-    fail(file, r.pos,
-         "record header_len: truncated record (" + std::to_string(left) + " bytes left)");
-  }
-  const std::uint64_t hlen = le(buf.data() + at, 4);
-  if (hlen > left - 4 || left - 4 - hlen < 4) {
-    fail(file, r.pos,
-         "record header_len = " + std::to_string(hlen) + ": past the end (" + std::to_string(left) +
-             " bytes left)");
-  }
-  parse_fields(buf.subspan(at + 4, hlen), r.pos + 4, file, r.fields);
-  bool have_op = false;
-  for (const auto& [n, v] : r.fields) {
-    if (n != "op") continue;
-    if (v.size() != 1) {
-      fail(file, r.pos, "header field 'op' has " + std::to_string(v.size()) + " bytes, not 1");
-    }
-    r.op = v[0];
-    have_op = true;
-  }
-  if (!have_op) fail(file, r.pos, "header field 'op' missing");
-  const std::uint64_t dlen = le(buf.data() + at + 4 + hlen, 4);
-  if (with_data && dlen > left - 8 - hlen) {
-    fail(file, r.pos + 4 + hlen,
-         "record data_len = " + std::to_string(dlen) + ": past the end (" +
-             std::to_string(left - 8 - hlen) + " bytes left)");
-  }
-  r.data = with_data ? buf.subspan(at + 8 + hlen, dlen) : std::span<const std::uint8_t>{};
-  r.size = static_cast<std::size_t>(8 + hlen + dlen);
-}
-
-std::span<const std::uint8_t> field(const Record& r, std::string_view name, const std::string& file,
-                                    std::size_t bytes = 0) {
-  for (const auto& [n, v] : r.fields) {
-    if (n != name) continue;
-    if (bytes != 0 && v.size() != bytes) {
-      fail(file, r.pos,
-           "op " + std::to_string(r.op) + " header field '" + std::string(name) + "' has " +
-               std::to_string(v.size()) + " bytes, not " + std::to_string(bytes));
-    }
-    return v;
-  }
-  fail(file, r.pos,
-       "op " + std::to_string(r.op) + " header field '" + std::string(name) + "' missing");
-}
-
-std::uint64_t field_uint(const Record& r, std::string_view name, const std::string& file,
-                         std::size_t bytes) {
-  return le(field(r, name, file, bytes).data(), bytes);
-}
-
-std::string field_str(const Record& r, std::string_view name, const std::string& file) {
-  const auto v = field(r, name, file);
-  return std::string(reinterpret_cast<const char*>(v.data()), v.size());
-}
-
-/// Bounds-checked reading of a message's serialised fields; errors name the field and offset.
-class Cursor {
- public:
-  Cursor(std::span<const std::uint8_t> d, std::uint64_t offset, const std::string& file,
-         std::string_view type)
-      : d_(d), offset_(offset), file_(file), type_(type) {}
-  std::span<const std::uint8_t> take(std::size_t n, const char* f) {
-    if (n > d_.size() - pos_) {
-      fail(file_, offset_ + pos_,
-           std::string(type_) + "." + f + ": needs " + std::to_string(n) + " bytes, " +
-               std::to_string(d_.size() - pos_) + " left in the message");
-    }
-    pos_ += n;
-    return d_.subspan(pos_ - n, n);
-  }
-  std::uint32_t u32(const char* f) { return static_cast<std::uint32_t>(le(take(4, f).data(), 4)); }
-  std::uint8_t u8(const char* f) { return take(1, f)[0]; }
-  float f32(const char* f) { return std::bit_cast<float>(u32(f)); }
-  double f64(const char* f) { return std::bit_cast<double>(le(take(8, f).data(), 8)); }
-  std::string_view str(const char* f) {
-    const std::uint32_t n = u32(f);
-    const auto s = take(n, f);
-    return {reinterpret_cast<const char*>(s.data()), s.size()};
-  }
-  /// A float32[]: its first element, 0 when empty.
-  double first_f32(const char* f) {
-    const std::uint32_t n = u32(f);
-    if (n > (d_.size() - pos_) / 4) take(std::size_t{n} * 4, f);  // reports the overrun
-    const auto s = take(std::size_t{n} * 4, f);
-    return n == 0 ? 0.0
-                  : static_cast<double>(
-                        std::bit_cast<float>(static_cast<std::uint32_t>(le(s.data(), 4))));
-  }
-  /// std_msgs/Header: returns the stamp in ns; seq and frame_id through the arguments.
-  std::uint64_t header(std::uint32_t& seq, std::string_view& frame) {
-    seq = u32("header.seq");
-    const std::uint32_t sec = u32("header.stamp.secs");
-    const std::uint32_t nsec = u32("header.stamp.nsecs");
-    if (nsec >= 1000000000u) {
-      fail(file_, offset_ + pos_ - 4,
-           std::string(type_) + ".header.stamp.nsecs = " + std::to_string(nsec) +
-               ". Violated constraint: < 1000000000");
-    }
-    frame = str("header.frame_id");
-    return std::uint64_t{sec} * 1000000000u + nsec;
-  }
-
- private:
-  std::span<const std::uint8_t> d_;
-  std::size_t pos_ = 0;
-  std::uint64_t offset_;
-  const std::string& file_;
-  std::string_view type_;
-};
+using records::attitude_from_quaternion;
+using records::Cursor;
+using records::decode_samples;
+using records::fail;
+using records::field;
+using records::field_str;
+using records::field_uint;
+using records::Fields;
+using records::kDtypeBytes;
+using records::le;
+using records::parse_fields;
+using records::parse_record;
+using records::Record;
 
 std::string lower(std::string_view s) {
   std::string out(s);
@@ -207,69 +58,6 @@ int side_of(std::string_view frame, std::string_view topic) {
     if (s.find("starboard") != std::string::npos || s.find("stbd") != std::string::npos) return -1;
   }
   return 0;
-}
-
-void decode_samples(std::span<const std::uint8_t> bytes, std::uint32_t dtype, bool big_endian,
-                    std::vector<float>& out) {
-  const std::size_t bps = kDtypeBytes[dtype];
-  const std::size_t n = bytes.size() / bps;
-  out.resize(n);
-  const std::uint8_t* p = bytes.data();
-  if (dtype == 2 && !big_endian) {  // the common case: little-endian uint16
-    for (std::size_t i = 0; i < n; ++i) {
-      out[i] = static_cast<float>(static_cast<std::uint16_t>(p[2 * i] | (p[2 * i + 1] << 8)));
-    }
-    return;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    std::array<std::uint8_t, 8> b{};
-    std::memcpy(b.data(), p + i * bps, bps);
-    if (big_endian) std::reverse(b.begin(), b.begin() + static_cast<std::ptrdiff_t>(bps));
-    const std::uint64_t u = le(b.data(), bps);
-    const std::int64_t sign_bit = std::int64_t{1} << (8 * bps - 1);
-    const auto s = [&] {
-      return bps == 8 ? static_cast<std::int64_t>(u)
-                      : static_cast<std::int64_t>(u) -
-                            ((static_cast<std::int64_t>(u) & sign_bit) ? 2 * sign_bit : 0);
-    };
-    double v = 0.0;
-    switch (dtype) {
-      case 1:
-      case 3:
-      case 5:
-      case 7:
-        v = static_cast<double>(s());
-        break;
-      case 8:
-        v = static_cast<double>(std::bit_cast<float>(static_cast<std::uint32_t>(u)));
-        break;
-      case 9:
-        v = std::bit_cast<double>(u);
-        break;
-      default:
-        v = static_cast<double>(u);
-        break;
-    }
-    out[i] = static_cast<float>(v);
-  }
-}
-
-/// The heading (clockwise from north), pitch (+ nose up) and roll (+ starboard down) of an ENU
-/// orientation of base_link: the writer's yaw = pi/2 - heading, pitch = -pitch, roll = roll
-/// reversed (docs/rosbag.md, "sensor_msgs/Imu").
-bool attitude_from_quaternion(double x, double y, double z, double w, AttitudeSample& a) {
-  const double norm = std::sqrt(x * x + y * y + z * z + w * w);
-  if (!std::isfinite(norm) || std::abs(norm - 1.0) > 1e-3) return false;
-  x /= norm, y /= norm, z /= norm, w /= norm;
-  const double roll = std::atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y));
-  const double pitch = std::asin(std::clamp(2 * (w * y - z * x), -1.0, 1.0));
-  const double yaw = std::atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
-  double heading = std::fmod(std::numbers::pi / 2 - yaw, 2 * std::numbers::pi);
-  if (heading < 0) heading += 2 * std::numbers::pi;
-  a.heading_rad = heading;
-  a.pitch_rad = -pitch;
-  a.roll_rad = roll;
-  return true;
 }
 
 UtcTime utc_from_ns(std::uint64_t ns) {
@@ -489,8 +277,9 @@ void Reader::message(std::uint32_t conn, std::span<const std::uint8_t> data, std
       const double lat = c.f64("latitude"), lon = c.f64("longitude");
       f.valid = status >= 0 && std::abs(lat) <= 90.0 && std::abs(lon) <= 180.0 &&
                 (lat != 0.0 || lon != 0.0);
-      if (f.valid)
+      if (f.valid) {
         f.position = {lat * std::numbers::pi / 180.0, lon * std::numbers::pi / 180.0, 0.0};
+      }
       fixes_.push_back(f);
     } else if (kind == Kind::kImu) {
       ImuSample s;
@@ -503,59 +292,67 @@ void Reader::message(std::uint32_t conn, std::span<const std::uint8_t> data, std
       s.known = cov0 != -1.0 && attitude_from_quaternion(x, y, z, w, s.attitude);
       imu_.push_back(s);
     } else {
-      Side side;
-      side.offset = offset;
-      side.ordinal = ordinal_;
-      side.seq = seq;
-      ImageInfo ii;
-      ii.frequency_hz = static_cast<double>(c.f32("ping_info.frequency"));
-      side.sound_speed_mps = static_cast<double>(c.f32("ping_info.sound_speed"));
-      ii.horizontal_beam_width_rad = c.first_f32("ping_info.tx_beamwidths");
-      ii.vertical_beam_width_rad = c.first_f32("ping_info.rx_beamwidths");
-      const double rate = static_cast<double>(c.f32("sample_rate"));
-      const std::uint32_t n = c.u32("samples_per_beam");
-      c.u32("sample0");
-      c.first_f32("tx_delays");
-      c.first_f32("tx_angles");
-      c.first_f32("rx_angles");
-      const bool big = c.u8("image.is_bigendian") != 0;
-      ii.dtype = side.dtype = c.u32("image.dtype");
-      const std::uint32_t beams = c.u32("image.beam_count");
-      const auto bytes = c.take(c.u32("image.data"), "image.data");
-      if (!image_info_) image_info_ = ii;
-      if (!images) return;
-      const auto bad = [&](const std::string& what) {
-        report(offset, "rosbag reader: " + name() + ": byte " + std::to_string(offset) + ": " +
-                           info.type + " (" + info.topic + ") " + what + "; skipped");
-      };
-      if (side.dtype >= kDtypeBytes.size())
-        return bad("image.dtype = " + std::to_string(side.dtype) + ": unknown (0..9)");
-      if (beams != 1)
-        return bad("image.beam_count = " + std::to_string(beams) + ": one beam per side expected");
-      if (n == 0 || bytes.size() != std::size_t{n} * kDtypeBytes[side.dtype]) {
-        return bad("image.data has " + std::to_string(bytes.size()) +
-                   " bytes for samples_per_beam = " + std::to_string(n));
-      }
-      if (!(rate > 0.0) || !std::isfinite(rate))
-        return bad("sample_rate = " + std::to_string(rate) + ": not > 0");
-      if (!(side.sound_speed_mps > 0.0) || !std::isfinite(side.sound_speed_mps)) {
-        report(offset, "rosbag reader: " + name() + ": byte " + std::to_string(offset) +
-                           ": ping_info.sound_speed = " + std::to_string(side.sound_speed_mps) +
-                           ": 1500 m/s assumed");
-        side.sound_speed_mps = 1500.0;
-      }
-      side.slant_range_m = n * side.sound_speed_mps / (2.0 * rate);
-      const int which = side_of(frame, info.topic);
-      if (which == 0)
-        return bad("header.frame_id = '" + std::string(frame) +
-                   "': neither port nor starboard (frame id or topic)");
-      decode_samples(bytes, side.dtype, big, side.samples);
-      side.present = true;
-      add_side(std::move(side), which > 0, stamp);
+      image(c, seq, stamp, frame, info, offset, images);
     }
   } catch (const FormatError& e) {
     report(offset, e.what());
   }
+}
+
+void Reader::image(Cursor& c, std::uint32_t seq, std::uint64_t stamp, std::string_view frame,
+                   const ConnectionInfo& info, std::uint64_t offset, bool images) {
+  Side side;
+  side.offset = offset;
+  side.ordinal = ordinal_;
+  side.seq = seq;
+  ImageInfo ii;
+  ii.frequency_hz = static_cast<double>(c.f32("ping_info.frequency"));
+  side.sound_speed_mps = static_cast<double>(c.f32("ping_info.sound_speed"));
+  ii.horizontal_beam_width_rad = c.first_f32("ping_info.tx_beamwidths");
+  ii.vertical_beam_width_rad = c.first_f32("ping_info.rx_beamwidths");
+  const double rate = static_cast<double>(c.f32("sample_rate"));
+  const std::uint32_t n = c.u32("samples_per_beam");
+  c.u32("sample0");
+  c.first_f32("tx_delays");
+  c.first_f32("tx_angles");
+  c.first_f32("rx_angles");
+  const bool big = c.u8("image.is_bigendian") != 0;
+  ii.dtype = side.dtype = c.u32("image.dtype");
+  const std::uint32_t beams = c.u32("image.beam_count");
+  const auto bytes = c.take(c.u32("image.data"), "image.data");
+  if (!image_info_) image_info_ = ii;
+  if (!images) return;
+  const std::string where = "rosbag reader: " + name() + ": byte " + std::to_string(offset) + ": ";
+  const auto bad = [&](const std::string& what) {
+    report(offset, where + info.type + " (" + info.topic + ") " + what + "; skipped");
+  };
+  if (side.dtype >= kDtypeBytes.size()) {
+    return bad("image.dtype = " + std::to_string(side.dtype) + ": unknown (0..9)");
+  }
+  if (beams != 1) {
+    return bad("image.beam_count = " + std::to_string(beams) + ": one beam per side expected");
+  }
+  if (n == 0 || bytes.size() != std::size_t{n} * kDtypeBytes[side.dtype]) {
+    return bad("image.data has " + std::to_string(bytes.size()) +
+               " bytes for samples_per_beam = " + std::to_string(n));
+  }
+  if (!(rate > 0.0) || !std::isfinite(rate)) {
+    return bad("sample_rate = " + std::to_string(rate) + ": not > 0");
+  }
+  const int which = side_of(frame, info.topic);
+  if (which == 0) {
+    return bad("header.frame_id = '" + std::string(frame) +
+               "': neither port nor starboard (frame id or topic)");
+  }
+  if (!(side.sound_speed_mps > 0.0) || !std::isfinite(side.sound_speed_mps)) {
+    report(offset, where + "ping_info.sound_speed = " + std::to_string(side.sound_speed_mps) +
+                       ": 1500 m/s assumed");
+    side.sound_speed_mps = 1500.0;
+  }
+  side.slant_range_m = n * side.sound_speed_mps / (2.0 * rate);
+  decode_samples(bytes, side.dtype, big, side.samples);
+  side.present = true;
+  add_side(std::move(side), which > 0, stamp);
 }
 
 void Reader::add_side(Side side, bool port, std::uint64_t stamp_ns) {

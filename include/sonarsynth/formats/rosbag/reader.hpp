@@ -10,12 +10,17 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
 namespace sonarsynth::rosbag {
+
+namespace records {
+class Cursor;
+}
 
 /// One connection of a bag (a topic with its message type), from the bag's index.
 struct ConnectionInfo {
@@ -117,6 +122,8 @@ class Reader {
   void scan_chunk(std::size_t chunk, bool images);
   void message(std::uint32_t conn, std::span<const std::uint8_t> data, std::uint64_t offset,
                bool images);
+  void image(records::Cursor& c, std::uint32_t seq, std::uint64_t stamp, std::string_view frame,
+             const ConnectionInfo& info, std::uint64_t offset, bool images);
   void add_side(Side side, bool port, std::uint64_t stamp_ns);
   void complete(std::uint64_t stamp_ns);
   void finish();
