@@ -30,12 +30,13 @@ int run_convert(const std::vector<std::string>& args) {
   po::variables_map vm;
   if (!parse(
           args, opts, positional, vm,
-          "usage: sonarsynth convert IN.xtf -o OUT.jsf | IN.jsf -o OUT.xtf | IN.xtf -o OUT.bag "
-          "[options]\n\n"
+          "usage: sonarsynth convert IN.xtf -o OUT.jsf | IN.jsf -o OUT.xtf | IN.xtf -o OUT.bag |\n"
+          "                          IN.bag -o OUT.xtf | IN.bag -o OUT.jsf [options]\n\n"
           "Converts side-scan pings (port and starboard samples, time, navigation, attitude,\n"
           "altitude, depth, speed, sound speed, range) between XTF and JSF. Samples survive\n"
           "XTF -> JSF -> XTF bit-exactly; positions to JSF's 1/600 000 degree (docs/jsf.md).\n"
-          "XTF -> ROS 1 bag: samples, time, position, attitude, sound speed (docs/rosbag.md).")) {
+          "XTF -> ROS 1 bag and back: samples, time, position, attitude, sound speed\n"
+          "(docs/rosbag.md); a bag of another source is read by its message types.")) {
     return 0;
   }
   refuse_output_over_input({output}, {input});
