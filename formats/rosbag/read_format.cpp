@@ -278,7 +278,7 @@ ConvertResult rosbag_to_xtf(const std::filesystem::path& in, const std::filesyst
 ConvertResult rosbag_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
                             bool overwrite, AltitudeSource altitude_source) {
   if (!overwrite && std::filesystem::exists(out)) {
-    throw FormatError("convert: " + out.string() + " exists (overwrite not requested)");
+    throw FormatError(out.string() + ": already exists (use --overwrite to replace it)");
   }
   // Through an XTF file beside the output, removed afterwards.
   const std::filesystem::path xtf = out.parent_path() / (".~" + out.filename().string() + ".xtf");
