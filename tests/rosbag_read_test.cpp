@@ -102,7 +102,12 @@ std::vector<xtf::PingRecord> xtf_pings(const fs::path& path) {
 TEST(RosbagReader, XtfToBagToXtfKeepsSamplesAndNavigation) {
   const fs::path dir = xtf::test::temp_dir("rosbag_round_trip");
   {
-    xtf::Writer w(dir / "a.xtf");
+    xtf::WriterOptions o;
+    o.frequency_khz = 455.0;
+    o.tilt_angle_rad = rad_from_deg(20.0);
+    o.horizontal_beam_angle_rad = rad_from_deg(0.75);
+    o.vertical_beam_width_rad = rad_from_deg(45.0);
+    xtf::Writer w(dir / "a.xtf", o);
     for (std::uint32_t k = 0; k < 20; ++k) {
       if (k != 5) w.write_ping(varied_ping(k));  // XTF refuses a ping without a position
     }
@@ -114,6 +119,13 @@ TEST(RosbagReader, XtfToBagToXtfKeepsSamplesAndNavigation) {
   const ConvertResult back = convert_sonar_file(dir / "a.bag", dir / "b.xtf", false);
   EXPECT_EQ(back.pings, 19u);
   EXPECT_EQ(back.pings_skipped, 0u);
+  // The sonar settings: PingInfo and the port frame's transform on /tf_static.
+  const xtf::XtfChanInfo ca = xtf::Reader(dir / "a.xtf").chan_info().at(0);
+  const xtf::XtfChanInfo cb = xtf::Reader(dir / "b.xtf").chan_info().at(0);
+  EXPECT_EQ(cb.Frequency, ca.Frequency);
+  EXPECT_NEAR(cb.TiltAngle, ca.TiltAngle, 1e-4);  // degrees
+  EXPECT_NEAR(cb.HorizBeamAngle, ca.HorizBeamAngle, 1e-4);
+  EXPECT_NEAR(cb.BeamWidth, ca.BeamWidth, 1e-4);
   const auto a = xtf_pings(dir / "a.xtf");
   const auto b = xtf_pings(dir / "b.xtf");
   ASSERT_EQ(a.size(), b.size());

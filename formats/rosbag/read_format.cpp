@@ -57,6 +57,7 @@ const char* read_as(const ConnectionInfo& c) {
   if (!c.decoded) return nullptr;
   if (c.type == "sensor_msgs/NavSatFix") return "navigation";
   if (c.type == "sensor_msgs/Imu") return "attitude";
+  if (c.type == "tf2_msgs/TFMessage") return "sonar tilt";
   return "side-scan images";
 }
 
@@ -113,6 +114,14 @@ std::string info_json(const Reader& reader, const Summary& s) {
                      {"read_as", as ? Json(as) : Json(nullptr)}});
   }
   j["connections"] = std::move(conns);
+  j["sonar"] = nullptr;  // of the first image and /tf_static; 0 = not in the bag
+  if (const auto& ii = reader.image_info()) {
+    j["sonar"] = {{"frequency_hz", ii->frequency_hz},
+                  {"horizontal_beam_width_deg", ii->horizontal_beam_width_rad * kDegPerRad},
+                  {"vertical_beam_width_deg", ii->vertical_beam_width_rad * kDegPerRad},
+                  {"tilt_deg", ii->tilt_rad * kDegPerRad},
+                  {"dtype", ii->dtype}};
+  }
   j["pings"] = s.pings;
   j["pings_with_valid_navigation"] = s.nav;
   j["pings_with_attitude"] = s.attitude;
@@ -155,6 +164,12 @@ std::string info_text(const Reader& reader, const Summary& s, std::size_t max_an
     os << "  " << c.topic << " (" << c.type << "): " << c.messages << " messages"
        << (as ? std::string(", read as ") + as : std::string()) << "\n";
   }
+  if (const auto& ii = reader.image_info()) {
+    os << "Sonar (first image, /tf_static; 0 = unknown): frequency " << ii->frequency_hz / 1e3
+       << " kHz, beam widths " << ii->horizontal_beam_width_rad * kDegPerRad << " x "
+       << ii->vertical_beam_width_rad * kDegPerRad << " deg, tilt " << ii->tilt_rad * kDegPerRad
+       << " deg, dtype " << ii->dtype << "\n";
+  }
   os << "Sonar pings: " << s.pings << ", samples " << text_range(s.samples, 0) << ", slant range "
      << text_range(s.slant_range_m, 2) << " m\n"
      << "Time: " << time_text(s.first) << " .. " << time_text(s.last) << "\n"
@@ -191,6 +206,7 @@ xtf::WriterOptions xtf_options(const Reader& reader, const std::filesystem::path
   const auto width = [](double w) { return w > 0.0 && w < std::numbers::pi ? w : 0.0; };
   o.horizontal_beam_angle_rad = width(ii.horizontal_beam_width_rad);
   o.vertical_beam_width_rad = width(ii.vertical_beam_width_rad);
+  if (ii.tilt_rad > 0.0 && ii.tilt_rad <= std::numbers::pi / 2) o.tilt_angle_rad = ii.tilt_rad;
   return o;
 }
 

@@ -30,6 +30,7 @@ constexpr std::size_t kMaxPending = 4096;  // unpaired image stamps kept before 
 constexpr std::string_view kImageType = "marine_acoustic_msgs/RawSonarImage";
 constexpr std::string_view kFixType = "sensor_msgs/NavSatFix";
 constexpr std::string_view kImuType = "sensor_msgs/Imu";
+constexpr std::string_view kTfType = "tf2_msgs/TFMessage";
 
 using records::attitude_from_quaternion;
 using records::Cursor;
@@ -117,6 +118,7 @@ void Reader::open() {
   };
   std::sort(fixes_.begin(), fixes_.end(), by_stamp);
   std::sort(imu_.begin(), imu_.end(), by_stamp);
+  if (image_info_ && tilt_rad_) image_info_->tilt_rad = *tilt_rad_;
 }
 
 void Reader::read_index() {
@@ -161,6 +163,7 @@ void Reader::read_index() {
       if (info.type == kImageType) kind = Kind::kImage;
       if (info.type == kFixType) kind = Kind::kFix;
       if (info.type == kImuType) kind = Kind::kImu;
+      if (info.type == kTfType) kind = Kind::kTf;
       if (kind != Kind::kNone && info.md5sum != "*" && info.md5sum != message_md5(info.type)) {
         report(r.pos, "rosbag reader: " + file + ": connection " + std::to_string(id) + " (" +
                           info.topic + ") md5sum = " + info.md5sum + ": not the " + info.type +
@@ -269,6 +272,7 @@ void Reader::message(std::uint32_t conn, std::span<const std::uint8_t> data, std
   std::uint32_t seq = 0;
   std::string_view frame;
   try {
+    if (kind == Kind::kTf) return transforms(c);
     const std::uint64_t stamp = c.header(seq, frame);
     if (kind == Kind::kFix) {
       Fix f{stamp, ordinal_, {}, false};
@@ -296,6 +300,28 @@ void Reader::message(std::uint32_t conn, std::span<const std::uint8_t> data, std
     }
   } catch (const FormatError& e) {
     report(offset, e.what());
+  }
+}
+
+void Reader::transforms(records::Cursor& c) {
+  // The writer's port transform: yaw +pi/2, then pitch = tilt about the new y (docs/rosbag.md,
+  // "Frames"); the pitch of its ZYX angles is the tilt.
+  const std::uint32_t n = c.u32("transforms");
+  for (std::uint32_t k = 0; k < n && !tilt_rad_; ++k) {
+    std::uint32_t tf_seq = 0;
+    std::string_view parent;
+    c.header(tf_seq, parent);
+    const std::string child = lower(c.str("transforms.child_frame_id"));
+    for (int i = 0; i < 3; ++i) c.f64("transforms.transform.translation");
+    const double x = c.f64("transforms.transform.rotation.x");
+    const double y = c.f64("transforms.transform.rotation.y");
+    const double z = c.f64("transforms.transform.rotation.z");
+    const double w = c.f64("transforms.transform.rotation.w");
+    AttitudeSample a;
+    if (child.find("port") != std::string::npos && attitude_from_quaternion(x, y, z, w, a) &&
+        a.pitch_rad <= 0.0) {
+      tilt_rad_ = -a.pitch_rad;  // attitude_from_quaternion gives -pitch (nose up)
+    }
   }
 }
 

@@ -46,6 +46,9 @@ struct ImageInfo {
   double horizontal_beam_width_rad = 0.0;  ///< tx_beamwidths[0]; 0 = unknown
   double vertical_beam_width_rad = 0.0;    ///< rx_beamwidths[0]; 0 = unknown
   std::uint32_t dtype = 2;                 ///< SonarImageData.dtype
+  /// Beam-axis depression below horizontal from the first tf2_msgs/TFMessage transform to a
+  /// port frame (docs/rosbag.md, "Frames"); 0 = none in the bag.
+  double tilt_rad = 0.0;
 };
 
 /// One ping: the port and starboard RawSonarImage of the same header.stamp with the navigation
@@ -94,7 +97,8 @@ class Reader {
   std::uint64_t file_size() const { return size_; }
   std::size_t chunk_count() const { return chunks_.size(); }
   const std::vector<ConnectionInfo>& connections() const { return connections_; }
-  /// Of the first side-scan image (read by the constructor); empty if the bag has none.
+  /// Of the first side-scan image and the transforms (read by the constructor); empty if the bag
+  /// has no image.
   const std::optional<ImageInfo>& image_info() const { return image_info_; }
   /// Every Imu message sorted by (stamp, ordinal); `used` is set as pings take them.
   const std::vector<ImuSample>& imu() const { return imu_; }
@@ -114,7 +118,7 @@ class Reader {
     double sound_speed_mps = 0.0, slant_range_m = 0.0;
     bool present = false;
   };
-  enum class Kind : std::uint8_t { kNone, kImage, kFix, kImu };
+  enum class Kind : std::uint8_t { kNone, kImage, kFix, kImu, kTf };
 
  private:
   void open();
@@ -122,6 +126,7 @@ class Reader {
   void scan_chunk(std::size_t chunk, bool images);
   void message(std::uint32_t conn, std::span<const std::uint8_t> data, std::uint64_t offset,
                bool images);
+  void transforms(records::Cursor& c);
   void image(records::Cursor& c, std::uint32_t seq, std::uint64_t stamp, std::string_view frame,
              const ConnectionInfo& info, std::uint64_t offset, bool images);
   void add_side(Side side, bool port, std::uint64_t stamp_ns);
@@ -138,6 +143,7 @@ class Reader {
   std::vector<std::uint64_t> chunk_ordinal_;    ///< ordinal of each chunk's first message
   std::vector<std::uint8_t> buffer_;
   std::optional<ImageInfo> image_info_;
+  std::optional<double> tilt_rad_;  ///< from the first transform to a port frame
   std::vector<Fix> fixes_;
   std::vector<ImuSample> imu_;
   std::map<std::uint64_t, std::pair<Side, Side>> pending_;  ///< by stamp: port, starboard
