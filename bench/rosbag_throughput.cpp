@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// ROS 1 bag write throughput against XTF's, alternating in one run (docs/rosbag.md, "Throughput"):
-// the same pings (2 x 4096 u16 samples) written with rosbag::Writer and xtf::Writer; medians of
-// several runs, MB/s of each file and the bag/XTF time ratio.
+// ROS 1 bag write and read throughput against XTF's, alternating in one run (docs/rosbag.md,
+// "Throughput"): the same pings (2 x 4096 u16 samples) written with rosbag::Writer and
+// xtf::Writer, then read back as pings with rosbag::Reader and xtf::Reader (page cache); medians
+// of several runs, MB/s of each file and the bag/XTF time ratios.
 // Usage: rosbag_throughput [pings=10000] [samples=4096] [runs=5] [directory=temp]
 #include <algorithm>
 #include <chrono>
@@ -11,7 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/formats/rosbag/reader.hpp"
 #include "sonarsynth/formats/rosbag/writer.hpp"
+#include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 
 namespace fs = std::filesystem;
@@ -40,6 +43,30 @@ double write_seconds(const fs::path& path, Options options, sonarsynth::SonarPin
   const double s = std::chrono::duration<double>(Clock::now() - start).count();
   bytes = fs::file_size(path);
   return s;
+}
+
+/// Seconds to read every ping of `path`; `pings` counts them (the sample sum keeps the work).
+template <class Next>
+double read_seconds(Next&& read_all, std::uint64_t& pings) {
+  const auto start = Clock::now();
+  pings = read_all();
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::uint64_t read_bag(const fs::path& path) {
+  sonarsynth::rosbag::Reader r(path);
+  sonarsynth::rosbag::Ping p;
+  std::uint64_t n = 0;
+  while (r.next_ping(p)) n += p.sonar.port.size() > 0 ? 1u : 0u;
+  return n;
+}
+
+std::uint64_t read_xtf(const fs::path& path) {
+  sonarsynth::xtf::Reader r(path);
+  sonarsynth::xtf::Packet p;
+  std::uint64_t n = 0;
+  while (r.next(p)) n += p.kind == sonarsynth::xtf::PacketKind::kPing ? 1u : 0u;
+  return n;
 }
 
 }  // namespace
@@ -71,6 +98,22 @@ int main(int argc, char** argv) {
                                                            pings, xtf_bytes));
     ratio.push_back(bag_s.back() / xtf_s.back());
   }
+  // Reading: both files as written by the last run, alternating.
+  std::vector<double> bag_r, xtf_r, read_ratio;
+  for (int run = 0; run < runs; ++run) {
+    std::uint64_t bag_pings = 0, xtf_pings = 0;
+    bag_r.push_back(read_seconds([&] { return read_bag(dir / "sonarsynth_rosbag_throughput.bag"); },
+                                 bag_pings));
+    xtf_r.push_back(read_seconds([&] { return read_xtf(dir / "sonarsynth_rosbag_throughput.xtf"); },
+                                 xtf_pings));
+    read_ratio.push_back(bag_r.back() / xtf_r.back());
+    if (bag_pings != pings || xtf_pings != pings) {
+      std::fprintf(stderr, "read %llu bag and %llu XTF pings of %u\n",
+                   static_cast<unsigned long long>(bag_pings),
+                   static_cast<unsigned long long>(xtf_pings), pings);
+      return 1;
+    }
+  }
   fs::remove(dir / "sonarsynth_rosbag_throughput.bag");
   fs::remove(dir / "sonarsynth_rosbag_throughput.xtf");
   const double bag_mb = static_cast<double>(bag_bytes) / 1e6;
@@ -81,5 +124,8 @@ int main(int argc, char** argv) {
   std::printf("xtf write: %.1f MB in %.3f s median: %.0f MB/s\n", xtf_mb, median(xtf_s),
               xtf_mb / median(xtf_s));
   std::printf("bag/xtf time ratio (median of per-run ratios): %.2f\n", median(ratio));
+  std::printf("bag read: %.3f s median: %.0f MB/s\n", median(bag_r), bag_mb / median(bag_r));
+  std::printf("xtf read: %.3f s median: %.0f MB/s\n", median(xtf_r), xtf_mb / median(xtf_r));
+  std::printf("bag/xtf read time ratio (median of per-run ratios): %.2f\n", median(read_ratio));
   return 0;
 }

@@ -14,6 +14,7 @@
 #include "sonarsynth/formats/jsf/format.hpp"
 #include "sonarsynth/formats/registry/output_dir.hpp"
 #include "sonarsynth/formats/registry/sidescan_source.hpp"
+#include "sonarsynth/formats/rosbag/format.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "xtf_test_util.hpp"
 
@@ -82,6 +83,10 @@ TEST(SonarFormats, IdentifiesFilesByContentNotByName) {
   EXPECT_EQ(identify_sonar_format(dir / "really_xtf.jsf"), &xtf::sonar_format());
   EXPECT_EQ(identify_sonar_format(dir / "really_jsf.xtf"), &jsf::sonar_format());
   EXPECT_EQ(&SideScanSource::open(dir / "really_jsf.xtf")->format(), &jsf::sonar_format());
+  (void)convert_sonar_file(kData / "xtf" / "golden-tiny.xtf", dir / "a.bag", false);
+  fs::rename(dir / "a.bag", dir / "really_bag.xtf");
+  EXPECT_EQ(identify_sonar_format(dir / "really_bag.xtf"), &rosbag::sonar_format());
+  EXPECT_EQ(&SideScanSource::open(dir / "really_bag.xtf")->format(), &rosbag::sonar_format());
   xtf::test::write_bytes(dir / "junk.xtf", {'h', 'e', 'l', 'l', 'o'});
   xtf::test::write_bytes(dir / "one_byte", {0x01});
   xtf::test::write_bytes(dir / "empty", {});
@@ -114,8 +119,10 @@ TEST(SonarFormats, OutputDirectoryRecognisesEveryFormatsFiles) {
 // `info` of each shipped file: the JSON names the format that identified it, and the text and
 // JSON count the same pings as the file's reader.
 TEST(SonarFormats, InfoIsTheIdentifiedFormatsSummary) {
+  const fs::path dir = xtf::test::temp_dir("sonar_formats_info");
+  (void)convert_sonar_file(kData / "xtf" / "golden-tiny.xtf", dir / "tiny.bag", false);
   for (const fs::path& p :
-       {kData / "xtf" / "golden-tiny.xtf", kData / "jsf" / "tiny-from-xtf.jsf"}) {
+       {kData / "xtf" / "golden-tiny.xtf", kData / "jsf" / "tiny-from-xtf.jsf", dir / "tiny.bag"}) {
     SCOPED_TRACE(p.string());
     const SonarFileInfo info = sonar_file_info(p);
     const auto j = nlohmann::json::parse(info.json);
@@ -129,6 +136,7 @@ TEST(SonarFormats, InfoIsTheIdentifiedFormatsSummary) {
     EXPECT_NE(info.text.find("Sonar pings: " + std::to_string(pings)), std::string::npos)
         << info.text;
   }
+  fs::remove_all(dir);
 }
 
 }  // namespace

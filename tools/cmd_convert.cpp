@@ -17,7 +17,7 @@ int run_convert(const std::vector<std::string>& args) {
   std::string input, output, altitude_source = "header";
   // clang-format off
   opts.add_options()
-    ("input", po::value(&input)->required(), "XTF or JSF file (positional; format from content)")
+    ("input", po::value(&input)->required(), "XTF, JSF or ROS 1 bag file (positional; format from content)")
     ("output,o", po::value(&output)->required(), "output file: .jsf, .xtf or .bag (format from extension)")
     ("altitude-source", po::value(&altitude_source)->default_value("header"),
      "header | auto | track: header copies the altitude; auto writes the altitude tracked from "
@@ -28,12 +28,13 @@ int run_convert(const std::vector<std::string>& args) {
   po::variables_map vm;
   if (!parse(
           args, opts, one_input(), vm,
-          "usage: sonarsynth convert IN.xtf -o OUT.jsf | IN.jsf -o OUT.xtf | IN.xtf -o OUT.bag "
-          "[options]\n\n"
+          "usage: sonarsynth convert IN.xtf -o OUT.jsf | IN.jsf -o OUT.xtf | IN.xtf -o OUT.bag |\n"
+          "                          IN.bag -o OUT.xtf | IN.bag -o OUT.jsf [options]\n\n"
           "Converts side-scan pings (port and starboard samples, time, navigation, attitude,\n"
           "altitude, depth, speed, sound speed, range) between XTF and JSF. Samples survive\n"
           "XTF -> JSF -> XTF bit-exactly; positions to JSF's 1/600 000 degree (docs/jsf.md).\n"
-          "XTF -> ROS 1 bag: samples, time, position, attitude, sound speed (docs/rosbag.md).")) {
+          "XTF -> ROS 1 bag and back: samples, time, position, attitude, sound speed\n"
+          "(docs/rosbag.md); a bag of another source is read by its message types.")) {
     return 0;
   }
   refuse_output_over_input({output}, {input});

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The ROS 1 bag format's descriptor, `simulate` writer and XTF -> bag conversion
-// (docs/rosbag.md, docs/architecture.md "Adding a sonar format").
+// The ROS 1 bag format's descriptor, `simulate` writer and XTF -> bag conversion; the read side
+// is in read_format.cpp (docs/rosbag.md, docs/architecture.md "Adding a sonar format").
 #include "sonarsynth/formats/rosbag/format.hpp"
 
 #include <algorithm>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/rosbag/read_format.hpp"
 #include "sonarsynth/formats/rosbag/writer.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
@@ -135,10 +136,15 @@ const SonarFormat& sonar_format() {
       .display_name = "ROS 1 bag",
       .description = "ROS 1 bag, format 2.0 (marine_acoustic_msgs side-scan images, navigation)",
       .extensions = {".bag"},
-      .capabilities = {.read = false, .simulate = true},
+      .capabilities = {.read = true, .simulate = true},
+      .identify = identify,
+      .open_reader = open_reader,
+      .info = file_info,
       .create_survey_writer = create_survey_writer,
       .estimated_bytes = estimated_bytes,
-      .conversions = {{"xtf", "rosbag", xtf_to_rosbag}},
+      .conversions = {{"xtf", "rosbag", xtf_to_rosbag},
+                      {"rosbag", "xtf", rosbag_to_xtf},
+                      {"rosbag", "jsf", rosbag_to_jsf}},
   };
   return format;
 }

@@ -123,8 +123,10 @@ def test_formats_lists_the_library_format_list():
     by_name = {f["name"]: f for f in formats}
     assert by_name["xtf"]["extensions"] == [".xtf"] and by_name["jsf"]["extensions"] == [".jsf"]
     assert all(f["simulate"] for f in formats)
-    assert by_name["xtf"]["read"] and by_name["jsf"]["read"] and not by_name["rosbag"]["read"]
+    assert all(f["read"] for f in formats)
     assert set(by_name["jsf"]["conversions"]) == {("xtf", "jsf"), ("jsf", "xtf")}
+    assert set(by_name["rosbag"]["conversions"]) == {("xtf", "rosbag"), ("rosbag", "xtf"),
+                                                     ("rosbag", "jsf")}
 
 
 def test_info_is_what_the_cli_prints(scene_path, cli, tmp_path):

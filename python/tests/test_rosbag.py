@@ -3,6 +3,7 @@
 # decodes every message with the definition embedded in the bag (genpy), and the ROS 1 message
 # packages python3-sensor-msgs / -tf2-msgs / -std-msgs. Every ping's samples and time are
 # compared with the XTF of the same run read through the project's reader.
+import json
 import math
 import subprocess
 
@@ -135,3 +136,81 @@ def test_random_access_across_chunks(scene_path, cli, tmp_path):
             part = [(topic, t, msg.header.seq)
                     for topic, msg, t in bag.read_messages(topics=[PORT], start_time=start)]
             assert part == [e for e in every if e[1] >= start]
+
+
+# Reading bags (docs/rosbag.md, "Reading bags").
+
+def test_sonarsynth_reads_its_bags_as_the_xtf_of_the_run(scene_path, cli, tmp_path):
+    out = simulate(scene_path, cli, tmp_path)
+    for name in ["a", "b"]:
+        x = sonarsynth.read_xtf(str(out / f"{name}.xtf"))
+        b = sonarsynth.read_sonar(str(out / f"{name}.bag"))
+        assert b["format"] == "rosbag" and not b["anomalies"]
+        assert np.array_equal(b["port"], x["port"]) and np.array_equal(b["starboard"], x["starboard"])
+        assert np.array_equal(b["ping_number"], x["ping_number"])
+        # XTF stores times to 1/100 s (rounded), the bag to the nanosecond.
+        assert np.abs(b["time_utc_us"] - x["time_utc_us"]).max() <= 5000
+        assert np.abs(b["sensor_lat_deg"] - x["sensor_lat_deg"]).max() <= 1e-9
+        assert np.abs(b["sensor_lon_deg"] - x["sensor_lon_deg"]).max() <= 1e-9
+        heading = np.remainder(b["heading_rad"] - x["heading_rad"] + np.pi, 2 * np.pi) - np.pi
+        assert np.abs(heading).max() < 1e-5  # the XTF's float degrees
+
+
+def test_a_bag_written_by_python_rosbag_reads_and_converts(scene_path, cli, tmp_path):
+    # Messages built by genpy from the RawSonarImage definition a sonarsynth bag embeds, on
+    # topics and frames of another robot, written by rosbag.Bag: found by type, not by topic.
+    import genpy
+    import genpy.dynamic
+    import rospy
+    from sensor_msgs.msg import NavSatStatus
+
+    out = simulate(scene_path, cli, tmp_path, formats="[rosbag]")
+    with rosbag.Bag(str(out / "a.bag")) as bag:
+        definition = next(c.msg_def for c in bag._get_connections() if c.topic == PORT)
+    Raw = genpy.dynamic.generate_dynamic("marine_acoustic_msgs/RawSonarImage",
+                                         definition)["marine_acoustic_msgs/RawSonarImage"]
+    assert Raw._md5sum == RAW_SONAR_IMAGE_MD5
+    rng = np.random.default_rng(7)
+    n_pings, n = 6, 250
+    samples = rng.integers(0, 32768, size=(n_pings, 2, n), dtype=np.uint16)
+    t0 = rospy.Time(1700000000, 120000000)
+    path = tmp_path / "robot.bag"
+    with rosbag.Bag(str(path), "w") as bag:
+        for k in range(n_pings):
+            t = t0 + rospy.Duration(0, 250000000 * k)
+            fix = NavSatFix()
+            fix.header.stamp, fix.header.frame_id = t, "gps"
+            fix.status.status, fix.status.service = NavSatStatus.STATUS_FIX, 1
+            fix.latitude, fix.longitude, fix.altitude = 47.25 + 1e-5 * k, -122.5, float("nan")
+            bag.write("/robot/gps/fix", fix, t)
+            imu = Imu()
+            imu.header.stamp, imu.header.frame_id = t, "imu_link"
+            yaw = math.pi / 2 - math.radians(30 + k)  # heading 30 + k degrees, ENU
+            imu.orientation.z, imu.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+            bag.write("/robot/imu/data", imu, t)
+            for side, frame in ((0, "sss_port"), (1, "sss_stbd")):
+                m = Raw()
+                m.header.seq, m.header.stamp, m.header.frame_id = 100 + k, t, frame
+                m.ping_info.frequency, m.ping_info.sound_speed = 900e3, 1480.0
+                m.sample_rate = n * 1480.0 / (2 * 30.0)  # 30 m slant range
+                m.samples_per_beam, m.image.dtype, m.image.beam_count = n, 2, 1
+                m.tx_delays, m.tx_angles, m.rx_angles = [0.0], [0.0], [0.0]
+                m.image.data = samples[k, side].astype("<u2").tobytes()
+                bag.write("/robot/sss/raw", m, t)
+    info = json.loads(subprocess.run([cli, "info", str(path), "--json"], check=True,
+                                     capture_output=True, text=True).stdout)
+    assert info["format"] == "ROS 1 bag" and info["pings"] == n_pings
+    assert info["pings_with_valid_navigation"] == n_pings and info["anomaly_count"] == 0
+    read_as = {c["topic"]: c["read_as"] for c in info["connections"]}
+    assert read_as == {"/robot/gps/fix": "navigation", "/robot/imu/data": "attitude",
+                       "/robot/sss/raw": "side-scan images"}
+    xtf = tmp_path / "robot.xtf"
+    subprocess.run([cli, "convert", str(path), "-o", str(xtf)], check=True, capture_output=True)
+    x = sonarsynth.read_xtf(str(xtf))
+    assert np.array_equal(x["port"], samples[:, 0].astype(x["port"].dtype))
+    assert np.array_equal(x["starboard"], samples[:, 1].astype(x["starboard"].dtype))
+    assert list(x["ping_number"]) == [100 + k for k in range(n_pings)]
+    assert list(x["time_utc_us"]) == [1700000000120000 + 250000 * k for k in range(n_pings)]
+    assert np.allclose(x["sensor_lat_deg"], 47.25 + 1e-5 * np.arange(n_pings), atol=1e-9)
+    assert np.allclose(np.degrees(x["heading_rad"]), 30 + np.arange(n_pings), atol=1e-4)
+    assert np.allclose(x["slant_range_m"], 30.0, rtol=1e-6)
