@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 // `sonarsynth convert IN -o OUT`: between the formats of the format list that convert into
-// each other (SonarFormat::conversions; today XTF <-> JSF, docs/jsf.md §4).
+// each other (SonarFormat::conversions, docs/conversion.md). The help lists what the format list
+// offers, so a new format's conversions appear without a line here.
 #include <iostream>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "commands.hpp"
@@ -11,14 +14,63 @@
 #include "sonarsynth/formats/registry/sonar_formats.hpp"
 
 namespace sonarsynth::cli {
+namespace {
+
+// "  IN.xtf -o OUT.jsf   XTF -> JSF" per conversion of the format list (once each).
+std::string conversion_lines() {
+  std::set<std::pair<std::string_view, std::string_view>> seen;
+  std::string out;
+  for (const SonarFormat* f : sonar_formats()) {
+    for (const SonarConversion& c : f->conversions) {
+      if (!seen.insert({c.from, c.to}).second) continue;
+      const SonarFormat* from = find_sonar_format(c.from);
+      const SonarFormat* to = find_sonar_format(c.to);
+      if (!from || !to) continue;
+      out += "  IN" + std::string(from->extensions.front()) + " -o OUT" +
+             std::string(to->extensions.front()) + "   " + std::string(from->display_name) +
+             " -> " + std::string(to->display_name) + "\n";
+    }
+  }
+  if (!out.empty()) out.pop_back();  // the usage text ends without a newline
+  return out;
+}
+
+// "XTF, JSF or ROS 1 bag" of the formats `pick` selects.
+template <typename Pick>
+std::string format_list(Pick pick, bool extensions) {
+  std::vector<std::string> names;
+  for (const SonarFormat* f : sonar_formats()) {
+    if (pick(*f)) names.emplace_back(extensions ? f->extensions.front() : f->display_name);
+  }
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  }
+  return out;
+}
+
+}  // namespace
 
 int run_convert(const std::vector<std::string>& args) {
   po::options_description opts("options");
   std::string input, output, altitude_source = "header";
+  const auto readable = [](const SonarFormat& f) { return f.capabilities.read; };
+  const auto target = [](const SonarFormat& f) {
+    for (const SonarFormat* g : sonar_formats()) {
+      for (const SonarConversion& c : g->conversions) {
+        if (c.to == f.name) return true;
+      }
+    }
+    return false;
+  };
+  const std::string input_help =
+      format_list(readable, false) + " file (positional; format from content)";
+  const std::string output_help =
+      "output file: " + format_list(target, true) + " (format from extension)";
   // clang-format off
   opts.add_options()
-    ("input", po::value(&input)->required(), "XTF, JSF or ROS 1 bag file (positional; format from content)")
-    ("output,o", po::value(&output)->required(), "output file: .jsf, .xtf or .bag (format from extension)")
+    ("input", po::value(&input)->required(), input_help.c_str())
+    ("output,o", po::value(&output)->required(), output_help.c_str())
     ("altitude-source", po::value(&altitude_source)->default_value("header"),
      "header | auto | track: header copies the altitude; auto writes the altitude tracked from "
      "the first return where the header's is missing, <= 0 or disagrees; track everywhere "
@@ -26,15 +78,13 @@ int run_convert(const std::vector<std::string>& args) {
   // clang-format on
   add_overwrite_quiet_options(opts);
   po::variables_map vm;
-  if (!parse(
-          args, opts, one_input(), vm,
-          "usage: sonarsynth convert IN.xtf -o OUT.jsf | IN.jsf -o OUT.xtf | IN.xtf -o OUT.bag |\n"
-          "                          IN.bag -o OUT.xtf | IN.bag -o OUT.jsf [options]\n\n"
-          "Converts side-scan pings (port and starboard samples, time, navigation, attitude,\n"
-          "altitude, depth, speed, sound speed, range) between XTF and JSF. Samples survive\n"
-          "XTF -> JSF -> XTF bit-exactly; positions to JSF's 1/600 000 degree (docs/jsf.md).\n"
-          "XTF -> ROS 1 bag and back: samples, time, position, attitude, sound speed\n"
-          "(docs/rosbag.md); a bag of another source is read by its message types.")) {
+  if (!parse(args, opts, one_input(), vm,
+             "usage: sonarsynth convert IN -o OUT [options]\n\n"
+             "Converts side-scan pings (port and starboard samples, time, navigation, attitude,\n"
+             "altitude, depth, speed, sound speed, range) between sonar formats: the input's\n"
+             "format from its content, the output's from its extension (docs/conversion.md).\n"
+             "Conversions:\n" +
+                 conversion_lines())) {
     return 0;
   }
   refuse_output_over_input({output}, {input});

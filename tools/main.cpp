@@ -33,7 +33,7 @@ const std::vector<sc::Command>& commands() {
        "describe a sonar file of any known format (header, channels, pings, nav, anomalies)",
        sc::run_info},
       {"convert",
-       "convert a side-scan file between XTF and JSF, XTF into a ROS 1 bag, a bag into XTF/JSF",
+       "convert a side-scan file into another sonar format (the conversions: convert --help)",
        sc::run_convert},
       {"bathy", "generate bathymetry (plane, ripples, fBm, seamount, scarp) as a GeoTIFF",
        sc::run_bathy},
