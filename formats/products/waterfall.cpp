@@ -30,7 +30,6 @@ namespace sonarsynth {
 namespace {
 
 constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// Flat-bottom ground-range resampling of one side: output column j at ground range
 /// (j + 0.5) dr, value interpolated linearly at slant range sqrt(y^2 + A^2); NaN beyond.
