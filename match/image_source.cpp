@@ -14,10 +14,10 @@
 
 #include "sonarsynth/display_scale.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/products/waterfall.hpp"
 #include "sonarsynth/formats/raster/gdal_util.hpp"
 #include "sonarsynth/formats/registry/sidescan_source.hpp"
 #include "sonarsynth/formats/registry/sonar_formats.hpp"
-#include "sonarsynth/formats/products/waterfall.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
 namespace sonarsynth::match {

@@ -12,8 +12,8 @@
 #include <string>
 
 #include "cli_test_util.hpp"
-#include "sonarsynth/formats/raster/gdal_grid.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
 
 namespace sonarsynth {
 namespace {

@@ -13,11 +13,11 @@
 #include <numbers>
 #include <set>
 
-#include "sonarsynth/formats/config/option_table.hpp"
 #include "cli_test_util.hpp"
 #include "dataset_test_spec.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/dataset.hpp"
+#include "sonarsynth/formats/config/option_table.hpp"
 #include "sonarsynth/formats/config/run_check.hpp"
 #include "sonarsynth/formats/config/simulation_file.hpp"
 #include "sonarsynth/sonar_presets.hpp"

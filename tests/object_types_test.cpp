@@ -11,10 +11,10 @@
 #include <set>
 #include <string>
 
-#include "sonarsynth/formats/config/scene_objects.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/dataset.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
+#include "sonarsynth/formats/config/scene_objects.hpp"
 
 namespace sonarsynth {
 namespace {

@@ -15,9 +15,9 @@
 #include <limits>
 
 #include "cli_test_util.hpp"
-#include "sonarsynth/formats/raster/gdal_grid.hpp"
 #include "sonarsynth/formats/config/run_check.hpp"
 #include "sonarsynth/formats/config/simulation_file.hpp"
+#include "sonarsynth/formats/raster/gdal_grid.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 
 namespace sonarsynth {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The sinks run on threads of their own (formats/private/sonarsynth/formats/products/sink_threads.hpp): each receives every call in
-// order with the ping as it was when queued, and a sink's failure reaches the producing side.
+// The sinks run on threads of their own
+// (formats/private/sonarsynth/formats/products/sink_threads.hpp): each receives every call in order
+// with the ping as it was when queued, and a sink's failure reaches the producing side.
 #include "sonarsynth/formats/products/sink_threads.hpp"
 
 #include <gtest/gtest.h>

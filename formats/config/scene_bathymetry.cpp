@@ -6,10 +6,10 @@
 #include <optional>
 #include <set>
 
-#include "sonarsynth/formats/config/option_table.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/bathy_spec_parser.hpp"
+#include "sonarsynth/formats/config/option_table.hpp"
 #include "sonarsynth/formats/raster/gdal_grid.hpp"
 
 namespace sonarsynth::scene_bathymetry {
@@ -24,8 +24,8 @@ std::string num(double v) {
   return buf;
 }
 
-// A generator component: its keys and bounds are those of formats/config/bathy_spec_parser.cpp, shared
-// with `sonarsynth bathy`.
+// A generator component: its keys and bounds are those of formats/config/bathy_spec_parser.cpp,
+// shared with `sonarsynth bathy`.
 bathy_spec::ComponentInput read_component(const Fields& c) {
   const std::string type = c.text("type");
   bathy_spec::ComponentInput in;

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "sonarsynth/formats/raster/raster_util.hpp"
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/raster/raster_util.hpp"
 
 namespace sonarsynth::raster {
 namespace {

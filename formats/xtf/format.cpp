@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "sonarsynth/formats/registry/sidescan_source.hpp"
-#include "sonarsynth/formats/xtf/survey_writer.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/records.hpp"
+#include "sonarsynth/formats/xtf/survey_writer.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 
 namespace sonarsynth::xtf {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Simulation.set / get / sonarsynth.options(): every scalar option of a scene file through the
-// single option table (formats/private/sonarsynth/formats/config/option_table.hpp), read from a one-key YAML map so that the checks
-// and the messages are those of a scene file.
+// single option table (formats/private/sonarsynth/formats/config/option_table.hpp), read from a
+// one-key YAML map so that the checks and the messages are those of a scene file.
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -10,10 +10,10 @@
 #include <string>
 
 #include "bindings.hpp"
-#include "sonarsynth/formats/config/option_table.hpp"
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/sonar_presets.hpp"
+#include "sonarsynth/formats/config/option_table.hpp"
 #include "sonarsynth/formats/config/yaml_fields.hpp"
+#include "sonarsynth/sonar_presets.hpp"
 
 namespace sonarsynth::python {
 

@@ -67,8 +67,8 @@ struct SonarConversion {
 
 /// One sonar file format, as GDAL describes a driver: its names, file extensions, how to
 /// recognise a file of it, and the functions that read, write, convert and summarise it. Each
-/// codec defines one (formats/<codec>/format.cpp); formats/registry/sonar_formats.cpp lists them all,
-/// one explicit line each (docs/architecture.md, "Adding a sonar format").
+/// codec defines one (formats/<codec>/format.cpp); formats/registry/sonar_formats.cpp lists them
+/// all, one explicit line each (docs/architecture.md, "Adding a sonar format").
 struct SonarFormat {
   /// How many leading bytes of a file identify() is given (fewer if the file is shorter).
   static constexpr std::size_t kIdentifyBytes = 16;

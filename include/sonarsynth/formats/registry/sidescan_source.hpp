@@ -30,8 +30,8 @@ class SideScanSource {
   virtual ~SideScanSource() = default;
   /// The reader of the format identify_sonar_format() finds by the file's first bytes (the
   /// first format of the list, XTF, when none claims it, so that such a file gets its reader's
-  /// error). Defined with the format list (formats/registry/sonar_formats.cpp). Throws FormatError if
-  /// the file cannot be opened or read.
+  /// error). Defined with the format list (formats/registry/sonar_formats.cpp). Throws FormatError
+  /// if the file cannot be opened or read.
   static std::unique_ptr<SideScanSource> open(const std::filesystem::path& path);
   /// The next ping; false at the end. Broken records are skipped and counted as anomalies.
   virtual bool next(SideScanRecord& record) = 0;

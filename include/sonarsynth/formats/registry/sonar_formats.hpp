@@ -13,9 +13,9 @@
 
 namespace sonarsynth {
 
-/// Every sonar format sonarsynth knows, in the order of formats/registry/sonar_formats.cpp (XTF first):
-/// the one list that `simulate`, the run check, the output directory, the any-format reader,
-/// `info`, `convert`, `mosaic`, `waterfall`, `match` and Python iterate.
+/// Every sonar format sonarsynth knows, in the order of formats/registry/sonar_formats.cpp (XTF
+/// first): the one list that `simulate`, the run check, the output directory, the any-format
+/// reader, `info`, `convert`, `mosaic`, `waterfall`, `match` and Python iterate.
 std::span<const SonarFormat* const> sonar_formats();
 
 /// The format named `name` (SonarFormat::name, any case), or nullptr.

@@ -2,8 +2,9 @@
 #pragma once
 // Private helper of run_simulation: bounding boxes and instance masks (COCO JSON, YOLO text,
 // Pascal VOC XML) and image chips computed from the label rasters written by the survey
-// products (formats/private/sonarsynth/formats/products/truth_labels.hpp), read back from the output directory, and the track of
-// each line recorded while it renders for the chips' positions (docs/labels.md).
+// products (formats/private/sonarsynth/formats/products/truth_labels.hpp), read back from the
+// output directory, and the track of each line recorded while it renders for the chips' positions
+// (docs/labels.md).
 
 #include <cstddef>
 #include <cstdint>

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "sonarsynth/formats/config/scene_file.hpp"
-#include "sonarsynth/scene.hpp"
 #include "sonarsynth/formats/config/yaml_fields.hpp"
+#include "sonarsynth/scene.hpp"
 
 namespace sonarsynth::scene_bathymetry {
 

@@ -6,8 +6,8 @@
 
 #include <filesystem>
 
-#include "sonarsynth/scene.hpp"
 #include "sonarsynth/formats/config/yaml_fields.hpp"
+#include "sonarsynth/scene.hpp"
 
 namespace sonarsynth {
 
