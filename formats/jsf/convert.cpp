@@ -299,15 +299,7 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
   xtf::Packet packet;
   while (reader.next(packet)) {
     if (packet.kind == xtf::PacketKind::kAttitude) {
-      const xtf::XtfAttitudeData& d = packet.attitude;
-      AttitudeSample a;
-      a.time_utc = UtcTime{std::chrono::seconds{d.SourceEpoch}} +
-                   std::chrono::microseconds{std::min<std::uint32_t>(d.EpochMicroseconds, 999999)};
-      a.heading_rad = rad_from_deg(d.Heading);
-      a.pitch_rad = rad_from_deg(d.Pitch);
-      a.roll_rad = rad_from_deg(d.Roll);
-      a.heave_m = d.Heave;
-      a.yaw_rad = rad_from_deg(d.Yaw);
+      const AttitudeSample a = xtf::attitude_sample(packet.attitude);
       try {
         writer.write_attitude(a);
         ++r.attitude_records;

@@ -4,9 +4,7 @@
 #include "sonarsynth/formats/rosbag/format.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <memory>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -16,6 +14,7 @@
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/survey_writer.hpp"
+#include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::rosbag {
 namespace {
@@ -52,7 +51,7 @@ double estimated_bytes(const SonarConfig& sonar, const std::string& sample_forma
 /// A finite XTF CHANINFO angle in degrees as radians, or 0 (unknown) outside [0, max_deg].
 double angle_or_unknown(float deg, double max_deg) {
   const double d = static_cast<double>(deg);
-  return d > 0.0 && d <= max_deg ? d * std::numbers::pi / 180.0 : 0.0;
+  return d > 0.0 && d <= max_deg ? rad_from_deg(d) : 0.0;
 }
 
 WriterOptions conversion_options(const xtf::Reader& reader, bool overwrite) {
@@ -88,13 +87,7 @@ ConvertResult xtf_to_rosbag(const std::filesystem::path& in, const std::filesyst
   xtf::Packet packet;
   while (reader.next(packet)) {
     if (packet.kind == xtf::PacketKind::kAttitude) {
-      const xtf::XtfAttitudeData& d = packet.attitude;
-      AttitudeSample a;
-      a.time_utc = UtcTime{std::chrono::seconds{d.SourceEpoch}} +
-                   std::chrono::microseconds{std::min<std::uint32_t>(d.EpochMicroseconds, 999999)};
-      a.heading_rad = d.Heading * std::numbers::pi / 180.0;
-      a.pitch_rad = d.Pitch * std::numbers::pi / 180.0;
-      a.roll_rad = d.Roll * std::numbers::pi / 180.0;
+      const AttitudeSample a = xtf::attitude_sample(packet.attitude);
       try {
         writer.write_attitude(a);
         ++r.attitude_records;

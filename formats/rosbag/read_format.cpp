@@ -23,11 +23,10 @@
 #include "sonarsynth/formats/xtf/info_json.hpp"
 #include "sonarsynth/formats/xtf/summary.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
+#include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::rosbag {
 namespace {
-
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 class RosbagSource : public SideScanSource {
  public:
@@ -38,7 +37,7 @@ class RosbagSource : public SideScanSource {
     r.nav_valid = ping_.nav_valid;
     r.time_valid = true;
     r.layback_m = 0.0;
-    r.heading_deg = r.sonar.heading_rad * kDegPerRad;
+    r.heading_deg = deg_from_rad(r.sonar.heading_rad);
     r.index = ping_.index;
     return true;
   }
@@ -79,14 +78,14 @@ Summary summarise(Reader& reader) {
     s.sound_speed_m_s.add(p.sonar.sound_speed_m_s);
     if (p.nav_valid) {
       ++s.nav;
-      s.lat_deg.add(p.sonar.sensor_position.lat_rad * kDegPerRad);
-      s.lon_deg.add(p.sonar.sensor_position.lon_rad * kDegPerRad);
+      s.lat_deg.add(deg_from_rad(p.sonar.sensor_position.lat_rad));
+      s.lon_deg.add(deg_from_rad(p.sonar.sensor_position.lon_rad));
     }
     if (p.attitude_valid) {
       ++s.attitude;
-      s.heading_deg.add(p.sonar.heading_rad * kDegPerRad);
-      s.pitch_deg.add(p.sonar.pitch_rad * kDegPerRad);
-      s.roll_deg.add(p.sonar.roll_rad * kDegPerRad);
+      s.heading_deg.add(deg_from_rad(p.sonar.heading_rad));
+      s.pitch_deg.add(deg_from_rad(p.sonar.pitch_rad));
+      s.roll_deg.add(deg_from_rad(p.sonar.roll_rad));
     }
     if (!s.first || p.sonar.time_utc < *s.first) s.first = p.sonar.time_utc;
     if (!s.last || p.sonar.time_utc > *s.last) s.last = p.sonar.time_utc;
@@ -117,9 +116,9 @@ std::string info_json(const Reader& reader, const Summary& s) {
   j["sonar"] = nullptr;  // of the first image and /tf_static; 0 = not in the bag
   if (const auto& ii = reader.image_info()) {
     j["sonar"] = {{"frequency_hz", ii->frequency_hz},
-                  {"horizontal_beam_width_deg", ii->horizontal_beam_width_rad * kDegPerRad},
-                  {"vertical_beam_width_deg", ii->vertical_beam_width_rad * kDegPerRad},
-                  {"tilt_deg", ii->tilt_rad * kDegPerRad},
+                  {"horizontal_beam_width_deg", deg_from_rad(ii->horizontal_beam_width_rad)},
+                  {"vertical_beam_width_deg", deg_from_rad(ii->vertical_beam_width_rad)},
+                  {"tilt_deg", deg_from_rad(ii->tilt_rad)},
                   {"dtype", ii->dtype}};
   }
   j["pings"] = s.pings;
@@ -166,8 +165,8 @@ std::string info_text(const Reader& reader, const Summary& s, std::size_t max_an
   }
   if (const auto& ii = reader.image_info()) {
     os << "Sonar (first image, /tf_static; 0 = unknown): frequency " << ii->frequency_hz / 1e3
-       << " kHz, beam widths " << ii->horizontal_beam_width_rad * kDegPerRad << " x "
-       << ii->vertical_beam_width_rad * kDegPerRad << " deg, tilt " << ii->tilt_rad * kDegPerRad
+       << " kHz, beam widths " << deg_from_rad(ii->horizontal_beam_width_rad) << " x "
+       << deg_from_rad(ii->vertical_beam_width_rad) << " deg, tilt " << deg_from_rad(ii->tilt_rad)
        << " deg, dtype " << ii->dtype << "\n";
   }
   os << "Sonar pings: " << s.pings << ", samples " << text_range(s.samples, 0) << ", slant range "

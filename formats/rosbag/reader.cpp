@@ -9,12 +9,12 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <numbers>
 #include <string_view>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/rosbag/bag_records.hpp"
 #include "sonarsynth/formats/rosbag/messages.hpp"
+#include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::rosbag {
 namespace {
@@ -282,7 +282,7 @@ void Reader::message(std::uint32_t conn, std::span<const std::uint8_t> data, std
       f.valid = status >= 0 && std::abs(lat) <= 90.0 && std::abs(lon) <= 180.0 &&
                 (lat != 0.0 || lon != 0.0);
       if (f.valid) {
-        f.position = {lat * std::numbers::pi / 180.0, lon * std::numbers::pi / 180.0, 0.0};
+        f.position = {rad_from_deg(lat), rad_from_deg(lon), 0.0};
       }
       fixes_.push_back(f);
     } else if (kind == Kind::kImu) {

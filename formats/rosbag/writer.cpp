@@ -15,6 +15,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/byte_io.hpp"
 #include "sonarsynth/formats/rosbag/messages.hpp"
+#include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::rosbag {
 namespace {
@@ -387,8 +388,8 @@ void Writer::write_ping(const SonarPing& p) {
   const bool fix = p.sensor_position.lat_rad != 0.0 || p.sensor_position.lon_rad != 0.0;
   o.i8(fix ? 0 : -1);  // STATUS_FIX or STATUS_NO_FIX
   o.u16(1);            // SERVICE_GPS
-  o.f64(p.sensor_position.lat_rad * 180.0 / std::numbers::pi);
-  o.f64(p.sensor_position.lon_rad * 180.0 / std::numbers::pi);
+  o.f64(deg_from_rad(p.sensor_position.lat_rad));
+  o.f64(deg_from_rad(p.sensor_position.lon_rad));
   o.f64(std::numeric_limits<double>::quiet_NaN());  // altitude: not available
   put_covariance(o, false);
   o.u8(0);  // COVARIANCE_TYPE_UNKNOWN

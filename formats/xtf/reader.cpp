@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -10,6 +11,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/time_fields.hpp"
+#include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::xtf {
 namespace {
@@ -145,6 +147,18 @@ const char* anomaly_kind_name(AnomalyKind kind) {
       return "zero_navigation";
   }
   return "unknown";
+}
+
+AttitudeSample attitude_sample(const XtfAttitudeData& d) {
+  AttitudeSample a;
+  a.time_utc = UtcTime{std::chrono::seconds{d.SourceEpoch}} +
+               std::chrono::microseconds{std::min<std::uint32_t>(d.EpochMicroseconds, 999999)};
+  a.heading_rad = rad_from_deg(d.Heading);
+  a.pitch_rad = rad_from_deg(d.Pitch);
+  a.roll_rad = rad_from_deg(d.Roll);
+  a.heave_m = d.Heave;
+  a.yaw_rad = rad_from_deg(d.Yaw);
+  return a;
 }
 
 void ReaderOptions::validate() const {

@@ -113,6 +113,10 @@ struct Packet {
   XtfHeaderNavigation navigation;
 };
 
+/// The neutral attitude sample of an XTF attitude packet (the inverse of Writer::write_attitude):
+/// time from SourceEpoch + EpochMicroseconds (clamped to 999999), angles from degrees, heave.
+AttitudeSample attitude_sample(const XtfAttitudeData& attitude);
+
 /// Streaming XTF reader for files from any sonar: unknown packet types are skipped, the reader
 /// resynchronises on 0xFACE after garbage, samples of 8/16/32-bit integers (signed/unsigned),
 /// IEEE and IBM floats are converted to float, port order is normalised to near -> far, more
