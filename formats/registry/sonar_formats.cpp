@@ -12,6 +12,7 @@
 #include "sonarsynth/formats/io/atomic_file.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/format.hpp"
+#include "sonarsynth/formats/mcap/format.hpp"
 #include "sonarsynth/formats/registry/sidescan_source.hpp"
 #include "sonarsynth/formats/rosbag/format.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
@@ -66,6 +67,7 @@ std::span<const SonarFormat* const> sonar_formats() {
       &xtf::sonar_format(),
       &jsf::sonar_format(),
       &rosbag::sonar_format(),
+      &mcap::sonar_format(),
   };
   return kFormats;
 }
