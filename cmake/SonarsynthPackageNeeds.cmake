@@ -21,6 +21,8 @@ set(_sonarsynth_package_of_ISAL::ISAL "ISAL")
 set(_sonarsynth_package_of_yaml-cpp "yaml-cpp")
 set(_sonarsynth_package_of_OpenSSL::Crypto "OpenSSL COMPONENTS Crypto")
 set(_sonarsynth_package_of_assimp::assimp "assimp CONFIG")
+set(_sonarsynth_package_of_zstd::libzstd_shared "zstd CONFIG")
+set(_sonarsynth_package_of_ZLIB::ZLIB "ZLIB")
 
 # The direct link items of target <t> that matter to an installed user: generator expressions
 # that exist only in the build tree ($<BUILD_INTERFACE:...>) are dropped.

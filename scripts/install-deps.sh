@@ -11,8 +11,8 @@ packages=(
   build-essential cmake ninja-build pkg-config ccache
   python3-pip python3-venv python3-setuptools python3-wheel python3-mypy
   libeigen3-dev libgdal-dev libpng-dev libisal-dev gdal-bin libgeographiclib-dev libboost-program-options-dev
-  libyaml-cpp-dev libhwy-dev libassimp-dev nlohmann-json3-dev libssl-dev libgtest-dev libgmock-dev libbenchmark-dev
-  gnuplot-nox python3-dev python3-numpy python3-gdal python3-pytest python3-distributed pybind11-dev
+  libyaml-cpp-dev libhwy-dev libzstd-dev zlib1g-dev libassimp-dev nlohmann-json3-dev libssl-dev libgtest-dev libgmock-dev libbenchmark-dev
+  nodejs npm gnuplot-nox python3-dev python3-numpy python3-gdal python3-pytest python3-distributed pybind11-dev
   python3-torch python3-torchvision
 )
 if [[ "${1:-}" == "--dev" ]]; then

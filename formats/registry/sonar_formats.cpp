@@ -12,6 +12,7 @@
 #include "sonarsynth/formats/io/atomic_file.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/format.hpp"
+#include "sonarsynth/formats/mcap/format.hpp"
 #include "sonarsynth/formats/registry/sidescan_source.hpp"
 #include "sonarsynth/formats/rosbag/format.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
@@ -56,6 +57,17 @@ std::string conversion_extensions() {
   return out;
 }
 
+/// "xtf, jsf, ...": the formats identify_sonar_format() recognises (capabilities.read).
+std::string readable_format_names() {
+  std::string out;
+  for (const SonarFormat* f : sonar_formats()) {
+    if (!f->capabilities.read) continue;
+    if (!out.empty()) out += ", ";
+    out += f->name;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::span<const SonarFormat* const> sonar_formats() {
@@ -66,6 +78,7 @@ std::span<const SonarFormat* const> sonar_formats() {
       &xtf::sonar_format(),
       &jsf::sonar_format(),
       &rosbag::sonar_format(),
+      &mcap::sonar_format(),
   };
   return kFormats;
 }
@@ -149,7 +162,7 @@ ConvertResult convert_sonar_file(const std::filesystem::path& in, const std::fil
   const SonarFormat* from = identify_sonar_format(in);
   if (!from) {
     throw FormatError("convert: " + in.string() + ": not a file of any known format (" +
-                      sonar_format_names() + ")");
+                      readable_format_names() + ")");
   }
   if (from == to) {
     throw InputError("convert: " + in.string() + " is already " + std::string(from->display_name) +

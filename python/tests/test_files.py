@@ -119,11 +119,14 @@ def test_read_jsf_matches_the_xtf_of_the_same_run(scene_path, tmp_path):
 
 def test_formats_lists_the_library_format_list():
     formats = sonarsynth.formats()
-    assert [f["name"] for f in formats] == ["xtf", "jsf", "rosbag"]
+    assert [f["name"] for f in formats] == ["xtf", "jsf", "rosbag", "mcap"]
     by_name = {f["name"]: f for f in formats}
     assert by_name["xtf"]["extensions"] == [".xtf"] and by_name["jsf"]["extensions"] == [".jsf"]
     assert all(f["simulate"] for f in formats)
-    assert all(f["read"] for f in formats)
+    assert all(f["read"] for f in formats if f["name"] != "mcap")
+    # ROS 2 bags: written by simulate and convert, not read back (docs/robotics.md).
+    assert by_name["mcap"]["extensions"] == [".mcap"] and not by_name["mcap"]["read"]
+    assert set(by_name["mcap"]["conversions"]) == {("xtf", "mcap")}
     assert set(by_name["jsf"]["conversions"]) == {("xtf", "jsf"), ("jsf", "xtf")}
     assert set(by_name["rosbag"]["conversions"]) == {("xtf", "rosbag"), ("rosbag", "xtf"),
                                                      ("rosbag", "jsf")}

@@ -8,25 +8,10 @@
 #include <vector>
 
 #include "sonarsynth/bottom_track.hpp"
+#include "sonarsynth/formats/io/convert_result.hpp"
 #include "sonarsynth/formats/io/sonar_format.hpp"
 
 namespace sonarsynth {
-
-struct ConvertResult {
-  const SonarFormat* from = nullptr;   ///< the input's format (sonar_formats())
-  const SonarFormat* to = nullptr;     ///< the output's format
-  std::uint64_t pings = 0;             ///< pings written
-  std::uint64_t attitude_records = 0;  ///< attitude packets/messages written
-  std::uint64_t pings_skipped = 0;     ///< pings dropped (counted by reason in `dropped`)
-  std::uint64_t reader_anomalies = 0;
-  std::uint64_t pings_tracked_altitude = 0;  ///< altitude replaced by the tracked one
-  std::vector<std::string> warnings;         ///< the first few drops and reader anomalies
-  /// Pings dropped, by reason (docs/conversion.md, "Drops"); the counts add up to pings_skipped.
-  std::map<std::string, std::uint64_t> dropped;
-  /// Fields written as the output's "unknown" (or neutral 0), by rule (docs/conversion.md,
-  /// "Repairs"); one ping may count under several rules.
-  std::map<std::string, std::uint64_t> repaired;
-};
 
 /// Converts an XTF file into JSF (xtf_to_jsf) or a JSF file into XTF (jsf_to_xtf): the JSF
 /// format's two SonarFormat::conversions (docs/jsf.md §4); convert_sonar_file()

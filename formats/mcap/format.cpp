@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: MIT
+// The MCAP format's descriptor, its `simulate` writer and the XTF -> MCAP conversion
+// (docs/robotics.md, docs/architecture.md "Adding a sonar format").
+#include "sonarsynth/formats/mcap/format.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/mcap/writer.hpp"
+#include "sonarsynth/formats/xtf/format.hpp"
+#include "sonarsynth/formats/xtf/reader.hpp"
+#include "sonarsynth/formats/xtf/survey_writer.hpp"
+
+namespace sonarsynth::mcap {
+namespace {
+
+/// One bag per survey line (`<dir>/<line name>.mcap`), the same pings as the XTF of the run
+/// (to_xtf_ping), so that both agree sample for sample.
+class McapSurveyWriter : public LineFileWriter<Writer, WriterOptions> {
+ public:
+  McapSurveyWriter(const SurveyWriterContext& c, WriterOptions options)
+      : LineFileWriter(c.dir, c.line_names, *c.frame, *c.sonar, std::move(options), ".mcap") {}
+};
+
+std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& c) {
+  WriterOptions o;
+  o.sample_encoding = xtf_sample_encoding(c.sample_format);
+  o.frequency_hz = c.sonar->frequency_hz;
+  o.horizontal_beam_width_rad = c.sonar->horizontal_beam_width_rad;
+  o.vertical_beam_width_rad = c.sonar->vertical_beam.width_3db_full_rad();
+  o.tilt_rad = c.sonar->tilt_rad;
+  o.overwrite = true;  // inside the run's own fresh temporary directory
+  return std::make_unique<McapSurveyWriter>(c, o);
+}
+
+// Per ping: four Message records (31 bytes each) with their CDR messages (NavSatFix 128 bytes,
+// Imu 336, RawSonarImage about 112 + samples), 16 bytes of message index each; zstd never grows
+// data by more than its bound (about 1/256). Per line: a fixed 16 KiB for the schemas, the
+// summary and the TF message.
+double estimated_bytes(const SonarConfig& sonar, const std::string& sample_format, double pings,
+                       std::size_t lines) {
+  const double bytes_per_sample = sample_format == "f32" ? 4.0 : sample_format == "u8" ? 1.0 : 2.0;
+  const double samples = static_cast<double>(sonar.samples_per_channel);
+  const double ping =
+      4.0 * (31.0 + 16.0) + 128.0 + 336.0 + 2.0 * (160.0 + bytes_per_sample * samples);
+  return pings * ping * (1.0 + 1.0 / 128.0) + 16384.0 * static_cast<double>(lines);
+}
+
+xtf::SampleEncoding encoding_of(const xtf::Reader& reader) {
+  if (reader.chan_info().empty()) return xtf::SampleEncoding::kFloat32;
+  const xtf::XtfChanInfo& c = reader.chan_info()[0];
+  if (c.UniPolar == 1 && c.BytesPerSample == 2) return xtf::SampleEncoding::kUint16;
+  if (c.UniPolar == 1 && c.BytesPerSample == 1) return xtf::SampleEncoding::kUint8;
+  return xtf::SampleEncoding::kFloat32;
+}
+
+}  // namespace
+
+ConvertResult xtf_to_mcap(const std::filesystem::path& in, const std::filesystem::path& out,
+                          bool overwrite, AltitudeSource /*altitude_source*/) {
+  ConvertResult r;
+  r.from = &xtf::sonar_format();
+  r.to = &sonar_format();
+  xtf::Reader reader(in);
+  WriterOptions o;
+  o.overwrite = overwrite;
+  o.sample_encoding = encoding_of(reader);
+  if (!reader.chan_info().empty()) {
+    const xtf::XtfChanInfo& c = reader.chan_info()[0];
+    if (c.Frequency > 0.0f) o.frequency_hz = 1e3 * c.Frequency;
+    const auto angle = [](float deg, double fallback) {
+      const double rad = rad_from_deg(deg);
+      return rad >= 0.0 && rad < kPi ? rad : fallback;
+    };
+    o.horizontal_beam_width_rad = angle(c.HorizBeamAngle, o.horizontal_beam_width_rad);
+    o.vertical_beam_width_rad = angle(c.BeamWidth, o.vertical_beam_width_rad);
+    o.tilt_rad = angle(c.TiltAngle, o.tilt_rad);
+  }
+  Writer writer(out, o);
+  xtf::Packet packet;
+  while (reader.next(packet)) {
+    if (packet.kind != xtf::PacketKind::kPing) continue;
+    SonarPing& s = packet.ping.sonar;
+    if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
+      s.sensor_position = {};  // no position: NavSatFix STATUS_NO_FIX (docs/robotics.md)
+    }
+    try {
+      writer.write_ping(s);
+      ++r.pings;
+    } catch (const InputError& e) {
+      ++r.pings_skipped;
+      const std::string what = e.what();
+      const std::size_t eq = what.find(" = ");
+      ++r.dropped[eq == std::string::npos ? what : what.substr(0, eq)];
+      if (r.warnings.size() < 10) {
+        r.warnings.push_back("XTF packet " + std::to_string(packet.index) + " skipped: " + what);
+      }
+    }
+  }
+  r.reader_anomalies = reader.total_anomalies();
+  for (const xtf::Anomaly& a : reader.anomalies()) {
+    if (r.warnings.size() < 10) r.warnings.push_back(a.message);
+  }
+  if (r.pings == 0) {
+    throw FormatError("convert: " + in.string() + ": no ping could be written to the bag (" +
+                      std::to_string(r.pings_skipped) + " dropped)");
+  }
+  writer.close();
+  return r;
+}
+
+const SonarFormat& sonar_format() {
+  static const SonarFormat format{
+      .name = "mcap",
+      .display_name = "MCAP",
+      .description = "ROS 2 bag in MCAP, a RawSonarImage per side (docs/robotics.md)",
+      .extensions = {".mcap"},
+      .capabilities = {.read = false, .simulate = true},
+      .identify = nullptr,
+      .open_reader = nullptr,
+      .info = nullptr,
+      .create_survey_writer = create_survey_writer,
+      .estimated_bytes = estimated_bytes,
+      .conversions = {{"xtf", "mcap", xtf_to_mcap}},
+  };
+  return format;
+}
+
+}  // namespace sonarsynth::mcap

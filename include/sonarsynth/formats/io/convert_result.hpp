@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace sonarsynth {
+
+struct SonarFormat;
+
+/// What a conversion (SonarConversion::convert, `sonarsynth convert`) did: pings written and
+/// dropped, fields repaired (docs/conversion.md, "Drops and repairs"). Every codec's conversions
+/// return it, so it lives beside the format descriptor.
+struct ConvertResult {
+  const SonarFormat* from = nullptr;   ///< the input's format (sonar_formats())
+  const SonarFormat* to = nullptr;     ///< the output's format
+  std::uint64_t pings = 0;             ///< pings written
+  std::uint64_t attitude_records = 0;  ///< attitude packets/messages written
+  std::uint64_t pings_skipped = 0;     ///< pings dropped (counted by reason in `dropped`)
+  std::uint64_t reader_anomalies = 0;
+  std::uint64_t pings_tracked_altitude = 0;  ///< altitude replaced by the tracked one
+  std::vector<std::string> warnings;         ///< the first few drops and reader anomalies
+  /// Pings dropped, by reason (docs/conversion.md, "Drops"); the counts add up to pings_skipped.
+  std::map<std::string, std::uint64_t> dropped;
+  /// Fields written as the output's "unknown" (or neutral 0), by rule (docs/conversion.md,
+  /// "Repairs"); one ping may count under several rules.
+  std::map<std::string, std::uint64_t> repaired;
+};
+
+}  // namespace sonarsynth

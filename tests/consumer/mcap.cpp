@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: MIT
+// Component mcap: writes a small ROS 2 bag (docs/robotics.md) and checks its magic bytes. Also
+// the program of the mcap-only downstream project, which finds neither GDAL nor yaml-cpp.
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "sonarsynth/formats/mcap/writer.hpp"
+
+int main() {
+  namespace mcap = sonarsynth::mcap;
+  const auto path = std::filesystem::temp_directory_path() / "sonarsynth_consumer_mcap.mcap";
+  std::uint64_t messages = 0;
+  {
+    mcap::WriterOptions options;
+    options.overwrite = true;
+    mcap::Writer writer(path, options);
+    for (std::uint32_t i = 0; i < 3; ++i) {
+      sonarsynth::SonarPing ping;
+      ping.time_utc = sonarsynth::UtcTime(std::chrono::seconds(1'700'000'000 + i));
+      ping.ping_number = i;
+      ping.sensor_position = {sonarsynth::rad_from_deg(48.45), sonarsynth::rad_from_deg(-68.83)};
+      ping.slant_range_m = 48.0;
+      ping.port.assign(64, 100.0f);
+      ping.starboard.assign(64, 200.0f);
+      writer.write_ping(ping);
+    }
+    writer.close();
+    messages = writer.messages_written();
+  }
+  std::array<char, 8> head{}, tail{};
+  std::ifstream f(path, std::ios::binary);
+  f.read(head.data(), 8);
+  f.seekg(-8, std::ios::end);
+  f.read(tail.data(), 8);
+  f.close();
+  std::filesystem::remove(path);
+  const std::array<char, 8> magic = {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n'};
+  std::cout << "mcap: " << messages << " messages written\n";
+  return messages == 13 && head == magic && tail == magic ? 0 : 1;
+}
