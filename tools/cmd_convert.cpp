@@ -2,6 +2,7 @@
 // `sonarsynth convert IN -o OUT`: between the formats of the format list that convert into
 // each other (SonarFormat::conversions, docs/conversion.md). The help lists what the format list
 // offers, so a new format's conversions appear without a line here.
+#include <algorithm>
 #include <iostream>
 #include <set>
 #include <string>
@@ -16,20 +17,27 @@
 namespace sonarsynth::cli {
 namespace {
 
-// "  IN.xtf -o OUT.jsf   XTF -> JSF" per conversion of the format list (once each).
+// "  IN.xtf -o OUT.jsf    XTF -> JSF" per conversion of the format list (once each), the
+// descriptions in one column.
 std::string conversion_lines() {
   std::set<std::pair<std::string_view, std::string_view>> seen;
-  std::string out;
+  std::vector<std::pair<std::string, std::string>> rows;  // command, description
+  std::size_t width = 0;
   for (const SonarFormat* f : sonar_formats()) {
     for (const SonarConversion& c : f->conversions) {
       if (!seen.insert({c.from, c.to}).second) continue;
       const SonarFormat* from = find_sonar_format(c.from);
       const SonarFormat* to = find_sonar_format(c.to);
       if (!from || !to) continue;
-      out += "  IN" + std::string(from->extensions.front()) + " -o OUT" +
-             std::string(to->extensions.front()) + "   " + std::string(from->display_name) +
-             " -> " + std::string(to->display_name) + "\n";
+      rows.emplace_back("IN" + std::string(from->extensions.front()) + " -o OUT" +
+                            std::string(to->extensions.front()),
+                        std::string(from->display_name) + " -> " + std::string(to->display_name));
+      width = std::max(width, rows.back().first.size());
     }
+  }
+  std::string out;
+  for (const auto& [command, description] : rows) {
+    out += "  " + command + std::string(width - command.size() + 3, ' ') + description + "\n";
   }
   if (!out.empty()) out.pop_back();  // the usage text ends without a newline
   return out;
