@@ -111,7 +111,8 @@ class Reader {
   void add_schema(std::span<const std::uint8_t> content, std::uint64_t pos);
   void add_channel(std::span<const std::uint8_t> content, std::uint64_t pos);
   void read_block(std::size_t block, bool images);
-  std::span<const std::uint8_t> decompress(std::span<const std::uint8_t> chunk, std::uint64_t pos);
+  std::span<const std::uint8_t> decompress(std::span<const std::uint8_t> chunk, std::uint64_t pos,
+                                           bool check_crc);
   void chunk_messages(std::span<const std::uint8_t> records, std::span<const std::uint8_t> indexes,
                       std::size_t block, bool images);
   void message(std::span<const std::uint8_t> record, std::uint64_t chunk_pos, std::uint64_t at,
