@@ -356,7 +356,7 @@ std::span<const std::uint8_t> Reader::decompress(std::span<const std::uint8_t> c
   } else if (!compression.empty()) {
     read::fail(w, records_at - 12 - compression.size(),
                "chunk compression = '" + std::string(compression) +
-                   "': not read (zstd or uncompressed only; `mcap recover` converts lz4 chunks)");
+                   "': not read (zstd or uncompressed chunks only)");
   } else if (size != n) {
     read::fail(w, pos + 25,
                "chunk uncompressed_size = " + std::to_string(size) +
