@@ -13,27 +13,14 @@
 #include <map>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/mcap/opcodes.hpp"
 #include "sonarsynth/formats/mcap/read_records.hpp"
 
 namespace sonarsynth::mcap {
 namespace {
 
-constexpr std::array<std::uint8_t, 8> kMagic = {0x89, 'M', 'C', 'A', 'P', 0x30, '\r', '\n'};
 constexpr std::uint64_t kFooterBytes = 1 + 8 + 20;  // opcode, length, content
 constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{1} << 30;
-
-enum Opcode : std::uint8_t {
-  kHeader = 0x01,
-  kFooter = 0x02,
-  kSchema = 0x03,
-  kChannel = 0x04,
-  kMessage = 0x05,
-  kChunk = 0x06,
-  kMessageIndex = 0x07,
-  kChunkIndex = 0x08,
-  kStatistics = 0x0B,
-  kDataEnd = 0x0F,
-};
 
 using read::Fields;
 using read::Where;
