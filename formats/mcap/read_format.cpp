@@ -17,6 +17,7 @@
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/format.hpp"
 #include "sonarsynth/formats/mcap/format.hpp"
+#include "sonarsynth/formats/mcap/opcodes.hpp"
 #include "sonarsynth/formats/mcap/reader.hpp"
 #include "sonarsynth/formats/registry/sidescan_source.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
@@ -218,8 +219,8 @@ xtf::WriterOptions xtf_options(const Reader& reader, const std::filesystem::path
 }  // namespace
 
 bool identify(std::span<const std::uint8_t> head) {
-  static constexpr std::uint8_t kMagic[] = {0x89, 'M', 'C', 'A', 'P', 0x30, '\r', '\n'};
-  return head.size() >= sizeof kMagic && std::memcmp(head.data(), kMagic, sizeof kMagic) == 0;
+  return head.size() >= kMagic.size() &&
+         std::memcmp(head.data(), kMagic.data(), kMagic.size()) == 0;
 }
 
 std::unique_ptr<SideScanSource> open_reader(const std::filesystem::path& path) {
