@@ -27,6 +27,8 @@ def test_sonarsynth_reads_its_mcap_bags_as_the_xtf_of_the_run(scene_path, cli, t
         b = sonarsynth.read_sonar(str(out / f"{name}.mcap"))
         assert b["format"] == "mcap" and not b["anomalies"]
         assert np.array_equal(b["port"], x["port"]) and np.array_equal(b["starboard"], x["starboard"])
+        # Each line's pings are numbered from 0, as the bag's Message sequence.
+        assert np.array_equal(b["ping_number"], x["ping_number"])
         # XTF stores times to 1/100 s (rounded), the bag to the nanosecond.
         assert np.abs(b["time_utc_us"] - x["time_utc_us"]).max() <= 5000
         assert np.abs(b["sensor_lat_deg"] - x["sensor_lat_deg"]).max() <= 1e-9
