@@ -89,7 +89,7 @@ TEST(JsfConvert, RefusesUnknownFormatsClearly) {
     (void)convert_sonar_file(dir / "junk.jsf", dir / "out.xtf");
     FAIL();
   } catch (const FormatError& e) {
-    EXPECT_NE(std::string(e.what()).find("not a file of any known format (xtf, jsf, rosbag)"),
+    EXPECT_NE(std::string(e.what()).find("not a file of any known format (xtf, jsf, rosbag, mcap)"),
               std::string::npos)
         << e.what();
   }

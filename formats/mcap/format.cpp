@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The MCAP format's descriptor, its `simulate` writer and the XTF -> MCAP conversion
-// (docs/robotics.md, docs/architecture.md "Adding a sonar format").
+// The MCAP format's descriptor, its `simulate` writer and the XTF -> MCAP conversion; the read
+// side is in read_format.cpp (docs/robotics.md, docs/architecture.md "Adding a sonar format").
 #include "sonarsynth/formats/mcap/format.hpp"
 
 #include <memory>
@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/mcap/read_format.hpp"
 #include "sonarsynth/formats/mcap/writer.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
@@ -117,13 +118,15 @@ const SonarFormat& sonar_format() {
       .display_name = "MCAP",
       .description = "ROS 2 bag in MCAP, a RawSonarImage per side (docs/robotics.md)",
       .extensions = {".mcap"},
-      .capabilities = {.read = false, .simulate = true},
-      .identify = nullptr,
-      .open_reader = nullptr,
-      .info = nullptr,
+      .capabilities = {.read = true, .simulate = true},
+      .identify = identify,
+      .open_reader = open_reader,
+      .info = file_info,
       .create_survey_writer = create_survey_writer,
       .estimated_bytes = estimated_bytes,
-      .conversions = {{"xtf", "mcap", xtf_to_mcap}},
+      .conversions = {{"xtf", "mcap", xtf_to_mcap},
+                      {"mcap", "xtf", mcap_to_xtf},
+                      {"mcap", "jsf", mcap_to_jsf}},
   };
   return format;
 }

@@ -14,26 +14,11 @@
 #include <string>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/mcap/opcodes.hpp"
 #include "sonarsynth/formats/mcap/ros2_messages.hpp"
 
 namespace sonarsynth::mcap {
 namespace {
-
-constexpr std::array<std::uint8_t, 8> kMagic = {0x89, 'M', 'C', 'A', 'P', 0x30, '\r', '\n'};
-
-enum Opcode : std::uint8_t {
-  kHeader = 0x01,
-  kFooter = 0x02,
-  kSchema = 0x03,
-  kChannel = 0x04,
-  kMessage = 0x05,
-  kChunk = 0x06,
-  kMessageIndex = 0x07,
-  kChunkIndex = 0x08,
-  kStatistics = 0x0B,
-  kSummaryOffset = 0x0E,
-  kDataEnd = 0x0F,
-};
 
 /// One record appended to `out`: opcode, u64 content length (set by the destructor), content
 /// little endian, field by field.

@@ -123,10 +123,10 @@ def test_formats_lists_the_library_format_list():
     by_name = {f["name"]: f for f in formats}
     assert by_name["xtf"]["extensions"] == [".xtf"] and by_name["jsf"]["extensions"] == [".jsf"]
     assert all(f["simulate"] for f in formats)
-    assert all(f["read"] for f in formats if f["name"] != "mcap")
-    # ROS 2 bags: written by simulate and convert, not read back (docs/robotics.md).
-    assert by_name["mcap"]["extensions"] == [".mcap"] and not by_name["mcap"]["read"]
-    assert set(by_name["mcap"]["conversions"]) == {("xtf", "mcap")}
+    assert all(f["read"] for f in formats)
+    # ROS 2 bags: written by simulate and convert, read back (docs/robotics.md).
+    assert by_name["mcap"]["extensions"] == [".mcap"]
+    assert set(by_name["mcap"]["conversions"]) == {("xtf", "mcap"), ("mcap", "xtf"), ("mcap", "jsf")}
     assert set(by_name["jsf"]["conversions"]) == {("xtf", "jsf"), ("jsf", "xtf")}
     assert set(by_name["rosbag"]["conversions"]) == {("xtf", "rosbag"), ("rosbag", "xtf"),
                                                      ("rosbag", "jsf")}

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
-// Component mcap: writes a small ROS 2 bag (docs/robotics.md) and checks its magic bytes. Also
-// the program of the mcap-only downstream project, which finds neither GDAL nor yaml-cpp.
+// Component mcap: writes a small ROS 2 bag (docs/robotics.md), checks its magic bytes and reads
+// its pings back with the component's reader. Also the program of the mcap-only downstream
+// project, which finds neither GDAL nor yaml-cpp.
 #include <array>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
+#include "sonarsynth/formats/mcap/reader.hpp"
 #include "sonarsynth/formats/mcap/writer.hpp"
 
 int main() {
@@ -35,8 +37,14 @@ int main() {
   f.seekg(-8, std::ios::end);
   f.read(tail.data(), 8);
   f.close();
+  std::size_t pings = 0;
+  {
+    mcap::Reader reader(path);
+    mcap::Ping ping;
+    while (reader.next_ping(ping)) pings += ping.sonar.port.size() == 64 ? 1u : 0u;
+  }
   std::filesystem::remove(path);
   const std::array<char, 8> magic = {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n'};
-  std::cout << "mcap: " << messages << " messages written\n";
-  return messages == 13 && head == magic && tail == magic ? 0 : 1;
+  std::cout << "mcap: " << messages << " messages written, " << pings << " pings read\n";
+  return messages == 13 && pings == 3 && head == magic && tail == magic ? 0 : 1;
 }
