@@ -35,7 +35,7 @@ struct Settings {
   double max_pose_gap_s = 1.0;
   int queue_size = 1000;
   int waterfall_rows = 256;
-  int waterfall_every = 1;
+  int waterfall_every = 10;
   std::string waterfall_colormap = "black_brown_yellow";
   double stats_every_s = 10.0;
 };

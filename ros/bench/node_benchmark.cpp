@@ -8,7 +8,9 @@
 //     ping must arrive. Latency per ping: the node's (/sonarsynth/latency: odometry callback to
 //     the ping's last message) and end to end (odometry published here -> starboard image
 //     received here), median and 99th percentile.
-// Usage: ros_node_benchmark SCENE [--pings N] [--times X]
+// --waterfall subscribes to the waterfall images too (the node renders them only for a
+// subscriber).
+// Usage: ros_node_benchmark SCENE [--pings N] [--times X] [--waterfall]
 #include <ros/ros.h>
 
 #include <algorithm>
@@ -68,7 +70,10 @@ int main(int argc, char** argv) {
   }
   std::uint32_t n = 500;
   double times = 10.0;
-  for (std::size_t i = 1; i + 1 < args.size(); i += 2) {
+  bool waterfall = false;
+  for (std::size_t i = 1; i < args.size(); ++i) {
+    if (args[i] == "--waterfall") waterfall = true;
+    if (i + 1 == args.size()) break;
     if (args[i] == "--pings") n = static_cast<std::uint32_t>(std::stoul(args[i + 1]));
     if (args[i] == "--times") times = std::stod(args[i + 1]);
   }
@@ -94,11 +99,17 @@ int main(int argc, char** argv) {
   ros::Subscriber latency = nh.subscribe<ros_node::Float64>(
       "/sonarsynth/latency", 2 * n + 10,
       [&](const ros_node::Float64::ConstPtr& m) { node_latency_s.push_back(m->data); });
+  std::size_t images_received = 0;
+  ros::Subscriber images_sub;
+  if (waterfall) {
+    images_sub = nh.subscribe<ros_node::Image>(
+        "/sonarsynth/waterfall", 10, [&](const ros_node::Image::ConstPtr&) { ++images_received; });
+  }
   ros::AsyncSpinner spinner(1);
   spinner.start();
   const auto deadline = Clock::now() + std::chrono::seconds(30);
   while ((odom.getNumSubscribers() == 0 || images.getNumPublishers() == 0 ||
-          latency.getNumPublishers() == 0) &&
+          latency.getNumPublishers() == 0 || (waterfall && images_sub.getNumPublishers() == 0)) &&
          Clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
@@ -164,6 +175,7 @@ int main(int argc, char** argv) {
       "latency per ping, end to end (odometry published -> image received): median "
       "%.3f ms, p99 %.3f ms\n",
       1e3 * percentile(e2e, 0.5), 1e3 * percentile(e2e, 0.99));
+  if (waterfall) std::printf("waterfall images received: %zu\n", images_received);
   spinner.stop();
   return all && paced_all ? 0 : 1;
 }

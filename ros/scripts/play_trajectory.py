@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 """Publishes a recorded vehicle trajectory as nav_msgs/Odometry on /odom, paced in real time
 (times --rate), for the live node sonarsynth_ros (docs/robotics.md, "The live ROS 1 node").

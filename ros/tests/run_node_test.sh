@@ -11,35 +11,9 @@ for tool in rosmaster rosbag; do
   command -v "$tool" >/dev/null || { echo "run_node_test: $tool not found: skipped"; exit 77; }
 done
 rm -rf "$work" && mkdir -p "$work"
-pids=()
-# stop PID: SIGINT (a ROS node's clean shutdown), SIGTERM after 3 s, SIGKILL after 5 s.
-stop() {
-  local i
-  kill -INT "$1" 2>/dev/null || return 0
-  for i in $(seq 50); do
-    kill -0 "$1" 2>/dev/null || return 0
-    ((i == 30)) && kill -TERM "$1" 2>/dev/null
-    sleep 0.1
-  done
-  kill -KILL "$1" 2>/dev/null || true
-}
-cleanup() {
-  local i
-  for ((i = ${#pids[@]} - 1; i >= 0; i--)); do stop "${pids[i]}"; done
-}
-trap cleanup EXIT
-
-# A free port on the loopback: the kernel picks it.
-port=$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-export ROS_MASTER_URI=http://127.0.0.1:$port ROS_IP=127.0.0.1 ROS_HOME=$work/ros_home
-export ROS_LOG_DIR=$work/log
-rosmaster --core -p "$port" -w 2 >"$work/master.log" 2>&1 &
-pids+=($!)
-for _ in $(seq 100); do
-  python3 -c "import xmlrpc.client as x; x.ServerProxy('$ROS_MASTER_URI').getPid('/t')" \
-    >/dev/null 2>&1 && break
-  sleep 0.1
-done
+source "$(dirname "$0")/../scripts/ros_master.sh"
+trap stop_all EXIT
+start_master "$work"
 
 "$node" _scene:="$scene" _samples:=256 _sonar/frequency_khz:=410 _stats_every_s:=1 \
   >"$work/node.log" 2>&1 &
