@@ -134,15 +134,16 @@ class SonarNode {
             settings_.waterfall_colormap == "grey" ? Colormap::grey : Colormap::black_brown_yellow,
             setup_.config.output.max_value) {
     options_.validate();
-    port_ = nh.advertise<RawSonarImageBytes>(rosbag::kPortTopic, 100);
-    starboard_ = nh.advertise<RawSonarImageBytes>(rosbag::kStarboardTopic, 100);
-    fix_ = nh.advertise<NavSatFixBytes>(rosbag::kFixTopic, 100);
-    imu_ = nh.advertise<ImuBytes>(rosbag::kImuTopic, 100);
+    const auto queue = static_cast<std::uint32_t>(settings_.queue_size);  // per topic
+    port_ = nh.advertise<RawSonarImageBytes>(rosbag::kPortTopic, queue);
+    starboard_ = nh.advertise<RawSonarImageBytes>(rosbag::kStarboardTopic, queue);
+    fix_ = nh.advertise<NavSatFixBytes>(rosbag::kFixTopic, queue);
+    imu_ = nh.advertise<ImuBytes>(rosbag::kImuTopic, queue);
     tf_static_ = nh.advertise<TfMessageBytes>(rosbag::kTfStaticTopic, 1, true);
     image_ = nh.advertise<Image>("/sonarsynth/waterfall", 10);
-    latency_ = nh.advertise<Float64>("/sonarsynth/latency", 100);
-    odom_ = nh.subscribe("odom", static_cast<std::uint32_t>(settings_.queue_size),
-                         &SonarNode::on_odometry, this, ros::TransportHints().tcpNoDelay());
+    latency_ = nh.advertise<Float64>("/sonarsynth/latency", queue);
+    odom_ = nh.subscribe("odom", queue, &SonarNode::on_odometry, this,
+                         ros::TransportHints().tcpNoDelay());
     start_ = report_start_ = Clock::now();
     ROS_INFO(
         "sonarsynth_ros: %s, ping period %.6g s, range %g m, 2 x %zu samples; odometry on "
