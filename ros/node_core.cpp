@@ -115,7 +115,15 @@ SimulationSetup load_setup(const std::string& path, const OptionValues& values,
     chain.back()[key.substr(start)] = YAML::Load(text);
   }
   const std::filesystem::path p(path);
-  return load_simulation_from_string(YAML::Dump(root), path, p.parent_path(), overrides);
+  try {
+    return load_simulation_from_string(YAML::Dump(root), path, p.parent_path(), overrides);
+  } catch (const InputError& e) {
+    if (values.empty()) throw;
+    std::string given;  // the parameters written into the file, for a message naming a key
+    for (const auto& [key, text] : values) given += (given.empty() ? "" : ", ") + key + "=" + text;
+    throw InputError(std::string(e.what()) + " (node parameters applied to the file: " + given +
+                     ")");
+  }
 }
 
 std::shared_ptr<const Simulator> make_simulator(SimulationSetup& setup) {
