@@ -3,8 +3,9 @@
 # Installs the Debian packages sonarsynth needs, only those that are missing (non-interactive).
 # Usage: scripts/install-deps.sh [--dev]   (--dev adds the CI/developer tools: clang, clang-format,
 # universal-ctags (scripts/code_size.sh),
-# OpenCV for the optional `sonarsynth match`, and the ROS 1 bag reader and message packages that
-# python/tests/test_rosbag.py checks the bags with)
+# OpenCV for the optional `sonarsynth match`, the ROS 1 bag reader and message packages that
+# python/tests/test_rosbag.py checks the bags with, and roscpp with the master (ros-core) for the
+# optional live node sonarsynth_ros and its test, ros/)
 set -euo pipefail
 
 packages=(
@@ -17,7 +18,9 @@ packages=(
 )
 if [[ "${1:-}" == "--dev" ]]; then
   packages+=(clang libclang-rt-dev clang-format universal-ctags libopencv-dev
-    python3-rosbag python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-tf2-msgs)
+    python3-rosbag python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-tf2-msgs
+    ros-core libroscpp-dev libstd-msgs-dev libsensor-msgs-dev libnav-msgs-dev python3-rospy
+    python3-nav-msgs)
 fi
 
 missing=()

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/rosbag/message_bytes.hpp"
 #include "sonarsynth/formats/rosbag/read_format.hpp"
 #include "sonarsynth/formats/rosbag/writer.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
@@ -27,13 +28,8 @@ class RosbagSurveyWriter : public LineFileWriter<Writer, WriterOptions> {
 };
 
 std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& c) {
-  WriterOptions o;
+  WriterOptions o = simulation_writer_options(*c.sonar, c.sample_format);
   o.overwrite = true;  // inside the run's own fresh temporary directory
-  o.sample_format = c.sample_format;
-  o.frequency_hz = c.sonar->frequency_hz;
-  o.horizontal_beam_width_rad = c.sonar->horizontal_beam_width_rad;
-  o.vertical_beam_width_rad = c.sonar->vertical_beam.width_3db_full_rad();
-  o.tilt_rad = c.sonar->tilt_rad;
   return std::make_unique<RosbagSurveyWriter>(c, std::move(o));
 }
 
@@ -76,6 +72,17 @@ void note(ConvertResult& r, std::string w) {
 }
 
 }  // namespace
+
+WriterOptions simulation_writer_options(const SonarConfig& sonar,
+                                        const std::string& sample_format) {
+  WriterOptions o;
+  o.sample_format = sample_format;
+  o.frequency_hz = sonar.frequency_hz;
+  o.horizontal_beam_width_rad = sonar.horizontal_beam_width_rad;
+  o.vertical_beam_width_rad = sonar.vertical_beam.width_3db_full_rad();
+  o.tilt_rad = sonar.tilt_rad;
+  return o;
+}
 
 ConvertResult xtf_to_rosbag(const std::filesystem::path& in, const std::filesystem::path& out,
                             bool overwrite, AltitudeSource /*altitude_source*/) {

@@ -14,6 +14,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/byte_io.hpp"
+#include "sonarsynth/formats/rosbag/message_bytes.hpp"
 #include "sonarsynth/formats/rosbag/messages.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
@@ -150,16 +151,6 @@ void put_covariance(Out& o, bool no_estimate) {
   for (int i = 1; i < 9; ++i) o.f64(0.0);
 }
 
-std::uint64_t ros_time_ns(UtcTime t, const char* who) {
-  const auto us = t.time_since_epoch().count();
-  if (us < 0 || us / 1000000 > std::numeric_limits<std::uint32_t>::max()) {
-    throw InputError(std::string(who) + ".time_utc = " + std::to_string(us) +
-                     " us since 1970: out of range. Violated constraint: a ROS 1 time, "
-                     "1970-01-01 <= time < 2106-02-07");
-  }
-  return static_cast<std::uint64_t>(us) * 1000u;
-}
-
 const std::array<std::string, kConnCount>& md5s() {
   static const std::array<std::string, kConnCount> v = [] {
     std::array<std::string, kConnCount> a;
@@ -232,6 +223,90 @@ void encode_samples(std::span<const float> samples, std::string_view format, dou
 
 }  // namespace
 
+std::uint64_t ros_time_ns(UtcTime t, const char* who) {
+  const auto us = t.time_since_epoch().count();
+  if (us < 0 || us / 1000000 > std::numeric_limits<std::uint32_t>::max()) {
+    throw InputError(std::string(who) + ".time_utc = " + std::to_string(us) +
+                     " us since 1970: out of range. Violated constraint: a ROS 1 time, "
+                     "1970-01-01 <= time < 2106-02-07");
+  }
+  return static_cast<std::uint64_t>(us) * 1000u;
+}
+
+void append_raw_sonar_image(std::vector<std::uint8_t>& out, const SonarPing& p, bool starboard,
+                            std::uint64_t time_ns, const WriterOptions& options,
+                            std::uint64_t& clipped) {
+  const std::vector<float>& samples = starboard ? p.starboard : p.port;
+  const std::size_t n = samples.size();
+  const std::size_t bps =
+      options.sample_format == "u8" ? 1 : (options.sample_format == "f32" ? 4 : 2);
+  Out o(out);
+  put_header(o, p.ping_number, time_ns, starboard ? kStarboardFrame : kPortFrame);
+  // PingInfo
+  o.f32(static_cast<float>(options.frequency_hz));
+  o.f32(static_cast<float>(p.sound_speed_m_s));
+  o.f32_array(options.horizontal_beam_width_rad);
+  o.f32_array(options.vertical_beam_width_rad);
+  // Two-way travel time to the last sample 2 R / c, n samples over it.
+  o.f32(static_cast<float>(static_cast<double>(n) * p.sound_speed_m_s / (2.0 * p.slant_range_m)));
+  o.u32(static_cast<std::uint32_t>(n));  // samples_per_beam
+  o.u32(0);                              // sample0
+  o.f32_array(0.0, true);                // tx_delays
+  o.f32_array(0.0, true);                // tx_angles: unsteered, the frame holds the beam axis
+  o.f32_array(0.0, true);                // rx_angles
+  // SonarImageData
+  o.u8(0);  // is_bigendian
+  o.u32(options.sample_format == "u8" ? 0u : (options.sample_format == "f32" ? 8u : 2u));
+  o.u32(1);  // beam_count
+  o.u32(static_cast<std::uint32_t>(n * bps));
+  encode_samples(samples, options.sample_format, options.u16_full_range ? 65535.0 : 32767.0,
+                 o.take(n * bps).take(n * bps).data(), clipped);
+}
+
+void append_nav_sat_fix(std::vector<std::uint8_t>& out, const SonarPing& p, std::uint64_t time_ns) {
+  Out o(out);
+  put_header(o, p.ping_number, time_ns, kVehicleFrame);
+  const bool fix = p.sensor_position.lat_rad != 0.0 || p.sensor_position.lon_rad != 0.0;
+  o.i8(fix ? 0 : -1);  // STATUS_FIX or STATUS_NO_FIX
+  o.u16(1);            // SERVICE_GPS
+  o.f64(deg_from_rad(p.sensor_position.lat_rad));
+  o.f64(deg_from_rad(p.sensor_position.lon_rad));
+  o.f64(std::numeric_limits<double>::quiet_NaN());  // altitude: not available
+  put_covariance(o, false);
+  o.u8(0);  // COVARIANCE_TYPE_UNKNOWN
+}
+
+void append_imu(std::vector<std::uint8_t>& out, std::uint32_t seq, std::uint64_t time_ns,
+                double heading_rad, double pitch_rad, double roll_rad) {
+  // ENU world, body x forward, y left, z up (REP 103): yaw from east counter-clockwise,
+  // pitch + nose down, roll + starboard down.
+  const bool known =
+      std::isfinite(heading_rad) && std::isfinite(pitch_rad) && std::isfinite(roll_rad);
+  const Quaternion q =
+      known ? from_yaw_pitch_roll(std::numbers::pi / 2 - heading_rad, -pitch_rad, roll_rad)
+            : Quaternion{0, 0, 0, 1};
+  Out o(out);
+  put_header(o, seq, time_ns, kVehicleFrame);
+  put_quaternion(o, q);
+  put_covariance(o, !known);
+  for (int i = 0; i < 3; ++i) o.f64(0.0);  // angular_velocity: none
+  put_covariance(o, true);
+  for (int i = 0; i < 3; ++i) o.f64(0.0);  // linear_acceleration: none
+  put_covariance(o, true);
+}
+
+void append_tf_static(std::vector<std::uint8_t>& out, std::uint64_t time_ns, double tilt_rad) {
+  Out o(out);
+  o.u32(2);
+  for (const auto& [frame, yaw] : {std::pair{kPortFrame, std::numbers::pi / 2},
+                                   std::pair{kStarboardFrame, -std::numbers::pi / 2}}) {
+    put_header(o, 0, time_ns, kVehicleFrame);
+    o.str(frame);
+    for (int i = 0; i < 3; ++i) o.f64(0.0);  // at the vehicle's reference point
+    put_quaternion(o, from_yaw_pitch_roll(yaw, tilt_rad, 0.0));
+  }
+}
+
 void WriterOptions::validate() const {
   const auto bad = [](const std::string& field, double v, const char* constraint) {
     throw InputError("rosbag writer: " + field + " = " + std::to_string(v) +
@@ -299,68 +374,22 @@ void Writer::end_message() {
   if (chunk_.size() >= options_.chunk_bytes) flush_chunk();
 }
 
-void Writer::write_side(std::uint32_t conn, const SonarPing& p, const std::vector<float>& samples,
-                        std::uint64_t time_ns) {
-  const std::size_t n = samples.size();
-  const std::size_t bps =
-      options_.sample_format == "u8" ? 1 : (options_.sample_format == "f32" ? 4 : 2);
+void Writer::write_side(std::uint32_t conn, const SonarPing& p, std::uint64_t time_ns) {
   begin_message(conn, time_ns);
-  Out o(chunk_);
-  put_header(o, p.ping_number, time_ns, conn == kPort ? kPortFrame : kStarboardFrame);
-  // PingInfo
-  o.f32(static_cast<float>(options_.frequency_hz));
-  o.f32(static_cast<float>(p.sound_speed_m_s));
-  o.f32_array(options_.horizontal_beam_width_rad);
-  o.f32_array(options_.vertical_beam_width_rad);
-  // Two-way travel time to the last sample 2 R / c, n samples over it.
-  o.f32(static_cast<float>(static_cast<double>(n) * p.sound_speed_m_s / (2.0 * p.slant_range_m)));
-  o.u32(static_cast<std::uint32_t>(n));  // samples_per_beam
-  o.u32(0);                              // sample0
-  o.f32_array(0.0, true);                // tx_delays
-  o.f32_array(0.0, true);                // tx_angles: unsteered, the frame holds the beam axis
-  o.f32_array(0.0, true);                // rx_angles
-  // SonarImageData
-  o.u8(0);  // is_bigendian
-  o.u32(options_.sample_format == "u8" ? 0u : (options_.sample_format == "f32" ? 8u : 2u));
-  o.u32(1);  // beam_count
-  o.u32(static_cast<std::uint32_t>(n * bps));
-  encode_samples(samples, options_.sample_format, options_.u16_full_range ? 65535.0 : 32767.0,
-                 o.take(n * bps).take(n * bps).data(), clipped_samples_);
+  append_raw_sonar_image(chunk_, p, conn == kStarboard, time_ns, options_, clipped_samples_);
   end_message();
 }
 
 void Writer::write_imu(std::uint64_t time_ns, std::uint32_t seq, double heading_rad,
                        double pitch_rad, double roll_rad) {
-  // ENU world, body x forward, y left, z up (REP 103): yaw from east counter-clockwise,
-  // pitch + nose down, roll + starboard down.
-  const bool known =
-      std::isfinite(heading_rad) && std::isfinite(pitch_rad) && std::isfinite(roll_rad);
-  const Quaternion q =
-      known ? from_yaw_pitch_roll(std::numbers::pi / 2 - heading_rad, -pitch_rad, roll_rad)
-            : Quaternion{0, 0, 0, 1};
   begin_message(kImu, time_ns);
-  Out o(chunk_);
-  put_header(o, seq, time_ns, kVehicleFrame);
-  put_quaternion(o, q);
-  put_covariance(o, !known);
-  for (int i = 0; i < 3; ++i) o.f64(0.0);  // angular_velocity: none
-  put_covariance(o, true);
-  for (int i = 0; i < 3; ++i) o.f64(0.0);  // linear_acceleration: none
-  put_covariance(o, true);
+  append_imu(chunk_, seq, time_ns, heading_rad, pitch_rad, roll_rad);
   end_message();
 }
 
 void Writer::write_tf_static(std::uint64_t time_ns) {
   begin_message(kTfStatic, time_ns);
-  Out o(chunk_);
-  o.u32(2);
-  for (const auto& [frame, yaw] : {std::pair{kPortFrame, std::numbers::pi / 2},
-                                   std::pair{kStarboardFrame, -std::numbers::pi / 2}}) {
-    put_header(o, 0, time_ns, kVehicleFrame);
-    o.str(frame);
-    for (int i = 0; i < 3; ++i) o.f64(0.0);  // at the vehicle's reference point
-    put_quaternion(o, from_yaw_pitch_roll(yaw, options_.tilt_rad, 0.0));
-  }
+  append_tf_static(chunk_, time_ns, options_.tilt_rad);
   end_message();
   tf_written_ = true;
 }
@@ -380,19 +409,10 @@ void Writer::write_ping(const SonarPing& p) {
                      ". Violated constraint: both > 0");
   }
   if (!tf_written_) write_tf_static(ns);
-  write_side(kPort, p, p.port, ns);
-  write_side(kStarboard, p, p.starboard, ns);
+  write_side(kPort, p, ns);
+  write_side(kStarboard, p, ns);
   begin_message(kFix, ns);
-  Out o(chunk_);
-  put_header(o, p.ping_number, ns, kVehicleFrame);
-  const bool fix = p.sensor_position.lat_rad != 0.0 || p.sensor_position.lon_rad != 0.0;
-  o.i8(fix ? 0 : -1);  // STATUS_FIX or STATUS_NO_FIX
-  o.u16(1);            // SERVICE_GPS
-  o.f64(deg_from_rad(p.sensor_position.lat_rad));
-  o.f64(deg_from_rad(p.sensor_position.lon_rad));
-  o.f64(std::numeric_limits<double>::quiet_NaN());  // altitude: not available
-  put_covariance(o, false);
-  o.u8(0);  // COVARIANCE_TYPE_UNKNOWN
+  append_nav_sat_fix(chunk_, p, ns);
   end_message();
   write_imu(ns, imu_seq_++, p.heading_rad, p.pitch_rad, p.roll_rad);
   ++pings_written_;
