@@ -16,6 +16,7 @@
 #include <optional>
 #include <string>
 
+#include "error_test_util.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/raster/gdal_util.hpp"
@@ -23,6 +24,7 @@
 namespace sonarsynth {
 namespace {
 namespace fs = std::filesystem;
+using test::error_of;
 
 const std::string kBag = std::string(SONARSYNTH_TEST_DATA_DIR) + "/bathymetry/tiny_sr.bag";
 constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
@@ -62,16 +64,6 @@ class GdalGridTest : public ::testing::Test {
 
   fs::path dir_;
 };
-
-template <typename E, typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  }
-  return "(no exception of the expected type)";
-}
 
 TEST_F(GdalGridTest, ReadsRealBag) {
   const LoadedGrid g = read_height_grid(kBag);
