@@ -122,16 +122,10 @@ TEST(ObjectWindow, TheObjectChangesNothingOutsideItsWindow) {
 class BoxScene : public ::testing::Test {
  protected:
   BoxScene() : scene_(make_scene(-60, -60, 120, 0.25, [](double, double) { return -20.0; })) {
-    ObjectPrimitive box;
-    box.shape = ObjectShape::kBox;
-    box.id = 4;
-    box.material = scene_.materials.index_of("steel");
-    box.centre_xy_m = {26.0, 0.0};
-    box.heading_rad = rad_from_deg(40.0);
-    box.half_extent_m = {4.0, 1.0, 2.0};
-    box.place_on_seabed(scene_.bathymetry, 0, 0, "box");
-    scene_.objects.add(box);
-    scene_.objects.build_index();
+    test::add_on_seabed(scene_,
+                        test::primitive(ObjectShape::kBox, 4, scene_.materials.index_of("steel"),
+                                        {26.0, 0.0}, {4.0, 1.0, 2.0}, rad_from_deg(40.0)),
+                        "box");
     cfg_ = plain_config();
     cfg_.sonar.samples_per_channel = 2000;
     cfg_.sonar.horizontal_beam_width_rad = rad_from_deg(1.5);

@@ -49,15 +49,11 @@ TEST(Simulator, AlongTrackPlanesShareTheBeamAndSeeObjectsBetweenPings) {
     const double a = five_out.truth_ground_xy(i).x(), b = one_out.truth_ground_xy(i).x();
     EXPECT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << i;  // NaN: no contributor
   }
-  ObjectPrimitive post;
-  post.shape = ObjectShape::kBox;
-  post.id = 4;
-  post.material = scene.materials.index_of("steel");
-  post.centre_xy_m = {30.0, 0.25};
-  post.half_extent_m = {0.15, 0.05, 1.0};  // u = north (heading 0): 0.3 m along-track
-  post.place_on_seabed(scene.bathymetry, 0, 0, "post");
-  scene.objects.add(post);
-  scene.objects.build_index();
+  // u = north (heading 0): 0.3 m along-track
+  test::add_on_seabed(scene,
+                      test::primitive(ObjectShape::kBox, 4, scene.materials.index_of("steel"),
+                                      {30.0, 0.25}, {0.15, 0.05, 1.0}),
+                      "post");
   const auto one_post = render(scene, 1).samples, five_post = render(scene, 5).samples;
   const std::size_t bin =
       static_cast<std::size_t>(std::sqrt(30.0 * 30.0 + 8.0 * 8.0) / cfg.sonar.sample_spacing_m());

@@ -8,6 +8,7 @@
 #include <functional>
 #include <vector>
 
+#include "object_test_util.hpp"
 #include "sonarsynth/simulator.hpp"
 
 namespace sonarsynth::test {
@@ -60,15 +61,8 @@ inline PingPose pose_at(const Scene& s, Eigen::Vector2d xy, double heading, doub
 /// `scene` with the object tests' box: id 9, half extents 15 x 5 x 1 m, centred at x = 15 m,
 /// y = 0 on the seabed, of `material` (an index into the scene's MaterialTable).
 inline Scene with_test_box(Scene scene, std::uint16_t material) {
-  ObjectPrimitive box;
-  box.shape = ObjectShape::kBox;
-  box.id = 9;
-  box.material = material;
-  box.centre_xy_m = {15.0, 0.0};
-  box.half_extent_m = {15.0, 5.0, 1.0};
-  box.place_on_seabed(scene.bathymetry, 0.0, 0.0, "box");
-  scene.objects.add(box);
-  scene.objects.build_index();
+  add_on_seabed(scene, primitive(ObjectShape::kBox, 9, material, {15.0, 0.0}, {15.0, 5.0, 1.0}),
+                "box");
   return scene;
 }
 
