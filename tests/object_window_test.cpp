@@ -136,16 +136,7 @@ class BoxScene : public ::testing::Test {
   std::vector<std::vector<float>> render(int planes) const {
     SimulationConfig cfg = cfg_;
     cfg.quality.along_track_planes = planes;
-    const Simulator sim(scene_, cfg, 10.0, pilot_);
-    auto ws = sim.make_workspace();
-    std::vector<std::vector<float>> out;
-    for (const PingPose& p : pilot_) {
-      RenderedPing r;
-      sim.render_ping(p, *ws, r);
-      out.push_back(r.port.samples);
-      out.push_back(r.starboard.samples);
-    }
-    return out;
+    return test::render_sides(Simulator(scene_, cfg, 10.0, pilot_), pilot_);
   }
   Scene scene_;
   SimulationConfig cfg_;

@@ -19,6 +19,8 @@ namespace {
 using test::make_scene;
 using test::plain_config;
 using test::pose_at;
+using test::render_sides;
+using test::rms_db_difference;
 
 TEST(Simulator, AlongTrackPlanesShareTheBeamAndSeeObjectsBetweenPings) {
   // On a flat seabed every plane sees the same profile and the planes share beta_eff exactly,
@@ -135,30 +137,6 @@ TEST(PilotPoses, SpreadOverTheGridAvoidingHolesAndOverTheSurvey) {
   EXPECT_EQ(pilot_poses(survey, scene.bathymetry, 1000).size(), n);
 }
 
-// RMS over lit bins of |10 log10(a / b)| as documented for the automatic plane count, computed
-// here independently from two Simulators' outputs.
-double rms_db_difference(const std::vector<std::vector<float>>& a,
-                         const std::vector<std::vector<float>>& b) {
-  double sum = 0.0;
-  std::size_t bins = 0;
-  for (std::size_t s = 0; s < a.size(); ++s) {
-    std::vector<double> pos;
-    for (const float v : b[s])
-      if (v > 0) pos.push_back(v);
-    if (pos.empty()) continue;
-    std::sort(pos.begin(), pos.end());
-    const double lit = 1e-3 * pos[pos.size() / 2];
-    for (std::size_t i = 0; i < a[s].size(); ++i) {
-      const double x = a[s][i], y = b[s][i];
-      if (!(x > lit || y > lit)) continue;
-      const double d = (x <= 1e-4 * y || y <= 1e-4 * x) ? 40.0 : std::abs(10 * std::log10(x / y));
-      sum += d * d;
-      ++bins;
-    }
-  }
-  return bins ? std::sqrt(sum / static_cast<double>(bins)) : 0.0;
-}
-
 TEST(Simulator, AutomaticAlongTrackPlanesOnePlaneOnAFlatSeabed) {
   const Scene scene = make_scene(-60, -60, 120, 0.5, [](double x, double y) {
     return -20.0 + 0.02 * x - 0.01 * y;  // a tilted plane: every beam plane sees the same slope
@@ -202,16 +180,7 @@ TEST(Simulator, AutomaticAlongTrackPlanesMeetTheToleranceOnASeabedThatVariesAlon
   auto outputs = [&](int planes) {
     SimulationConfig k = cfg;
     k.quality.along_track_planes = planes;
-    const Simulator s(scene, k, 10.0);
-    auto ws = s.make_workspace();
-    std::vector<std::vector<float>> out;
-    for (const PingPose& p : pilot) {
-      RenderedPing r;
-      s.render_ping(p, *ws, r);
-      out.push_back(r.port.samples);
-      out.push_back(r.starboard.samples);
-    }
-    return out;
+    return render_sides(Simulator(scene, k, 10.0), pilot);
   };
   const auto chosen = outputs(c.planes);
   if (std::next(at) != levels.end()) {

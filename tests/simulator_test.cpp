@@ -272,24 +272,20 @@ TEST(Simulator, PaperNoiseIsAnImageDomainModelNotAmplifiedByTheTvg) {
 
 TEST(Simulator, RejectsInvalidConfiguration) {
   const Scene scene = make_scene(-10, -10, 20, 1.0, [](double, double) { return -5.0; });
-  SimulationConfig cfg;
-  cfg.sonar.samples_per_channel = 0;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
-  cfg = {};
-  cfg.quality.gauss_points = 9;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
-  cfg = {};
-  cfg.quality.along_track_planes = 65;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
-  cfg = {};
-  cfg.quality.along_track_tolerance_db = 0.0;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
-  cfg = {};
-  cfg.physics.calibration_k = 0;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
-  cfg = {};
-  cfg.sonar.sound_speed_m_s = 300;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
+  // Each case spoils one field of the default configuration.
+  const std::vector<std::function<void(SimulationConfig&)>> spoilers = {
+      [](SimulationConfig& c) { c.sonar.samples_per_channel = 0; },
+      [](SimulationConfig& c) { c.quality.gauss_points = 9; },
+      [](SimulationConfig& c) { c.quality.along_track_planes = 65; },
+      [](SimulationConfig& c) { c.quality.along_track_tolerance_db = 0.0; },
+      [](SimulationConfig& c) { c.physics.calibration_k = 0; },
+      [](SimulationConfig& c) { c.sonar.sound_speed_m_s = 300; },
+  };
+  for (std::size_t k = 0; k < spoilers.size(); ++k) {
+    SimulationConfig cfg;
+    spoilers[k](cfg);
+    EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError) << "case " << k;
+  }
 }
 
 TEST(Simulator, AGainThatRoundsTheSeabedToZeroIsRefusedBeforeRendering) {
