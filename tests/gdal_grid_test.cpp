@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 #include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -16,6 +15,7 @@
 #include <optional>
 #include <string>
 
+#include "cli_test_util.hpp"
 #include "error_test_util.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
@@ -29,17 +29,12 @@ using test::error_of;
 const std::string kBag = std::string(SONARSYNTH_TEST_DATA_DIR) + "/bathymetry/tiny_sr.bag";
 constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
 
-class GdalGridTest : public ::testing::Test {
+class GdalGridTest : public test::ScratchDirTest {
  protected:
   void SetUp() override {
     gdal::ensure_registered();
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_grid_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
   }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
   // A float32 GeoTIFF built directly with GDAL (independent of the code under test).
@@ -61,8 +56,6 @@ class GdalGridTest : public ::testing::Test {
               CE_None);
     GDALClose(ds);
   }
-
-  fs::path dir_;
 };
 
 TEST_F(GdalGridTest, ReadsRealBag) {
