@@ -42,6 +42,15 @@ SideParams params(double dr, std::size_t samples, double mu) {
   return p;
 }
 
+// The echo of `prof` in `samples` bins of dr, with the scene's materials.
+SideEcho echo_of(const BeamProfile& prof, const Scene& scene, double dr, std::size_t samples) {
+  SideParams p = params(dr, samples, 0.0);
+  p.materials = scene.materials.all();
+  SideEcho e;
+  render_side(prof, p, e);
+  return e;
+}
+
 // Flat seabed z = 0 from y = 0 to y_max, and the circle as a clockwise polygon of n nodes.
 BeamProfile pipe_profile(const Circle& c, double y_max, int n) {
   BeamProfile p;
@@ -160,10 +169,7 @@ TEST(RenderSolids, NarrowPipeAtOneMetreNoLongerReturnsAColumnsEcho) {
   build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 40.0, -10.0, {}, prof, scratch);
   ASSERT_EQ(prof.sections(), 1u);
   const double mu = scene.materials[scene.materials.index_of("sand")].lambert_mu;
-  SideParams p = params(0.05, 800, mu);
-  p.materials = scene.materials.all();
-  SideEcho e;
-  render_side(prof, p, e);
+  const SideEcho e = echo_of(prof, scene, 0.05, 800);
   // Seabed z = -20 is 10 m below the sensor; the circle in the sensor's frame.
   const Circle c{15.3, 1.025, 0.025, 10.0};
   double total = 0.0;
@@ -192,14 +198,11 @@ std::pair<double, double> resting_pipe_error_db(bool solid, int segments) {
   build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 45.0, -10.0, opt, prof, scratch);
   const double mu = scene.materials[scene.materials.index_of("sand")].lambert_mu;
   const double dr = 0.05;
-  SideParams p = params(dr, 900, mu);
-  p.materials = scene.materials.all();
-  SideEcho e;
-  render_side(prof, p, e);
+  const SideEcho e = echo_of(prof, scene, dr, 900);
   const Circle c{30.0, 0.5, 0.5, 10.0};
   double sum2 = 0.0, worst = 0.0;
   int n = 0;
-  for (std::size_t i = 0; i < p.samples; ++i) {
+  for (std::size_t i = 0; i < e.intensity.size(); ++i) {
     const double r1 = dr * static_cast<double>(i);
     if (r1 + dr < c.nearest_range() - 0.5 || r1 > c.shadow_end() + 0.5) continue;
     const double want = expected_bin(c, r1, r1 + dr, mu);
@@ -253,10 +256,7 @@ objects:
   const double mu_sand = scene.materials[scene.materials.index_of("sand")].lambert_mu;
   const double mu_steel = scene.materials[scene.materials.index_of("steel")].lambert_mu;
   const double dr = 0.05;
-  SideParams p = params(dr, 1200, mu_sand);
-  p.materials = scene.materials.all();
-  SideEcho e;
-  render_side(prof, p, e);
+  const SideEcho e = echo_of(prof, scene, dr, 1200);
   const Circle c{6.0, 8.0, 0.5, 10.0};  // relative to the seabed at z = -25
   const auto bin = [dr](double r) { return static_cast<std::size_t>(std::floor(r / dr)); };
   // Its own echo in the water column, before the first bottom return at r = 10 m.
@@ -312,12 +312,9 @@ TEST(RenderSolids, StableFromTouchingToFarAboveAndAroundTheSensor) {
     ProfileScratch scratch;
     build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 45.0, -10.0, {}, prof, scratch);
     ASSERT_EQ(prof.sections(), 1u) << k.clearance;
-    SideParams p = params(0.05, 900, 0.01);
-    p.materials = scene.materials.all();
-    SideEcho e;
-    render_side(prof, p, e);
+    const SideEcho e = echo_of(prof, scene, 0.05, 900);
     double total = 0.0;
-    for (std::size_t i = 0; i < p.samples; ++i) {
+    for (std::size_t i = 0; i < e.intensity.size(); ++i) {
       ASSERT_TRUE(std::isfinite(e.intensity[i]) && e.intensity[i] >= 0.0) << i;
       total += e.intensity[i];
     }
@@ -325,7 +322,7 @@ TEST(RenderSolids, StableFromTouchingToFarAboveAndAroundTheSensor) {
     if (k.shape == ObjectShape::kCylinder) {
       // No shadow sample outside the tangent rays' landing ranges (one bin of slack).
       const Circle c{k.x, k.clearance + k.radius, k.radius, 10.0};
-      for (std::size_t i = 0; i < p.samples; ++i) {
+      for (std::size_t i = 0; i < e.intensity.size(); ++i) {
         if (e.truth_class[i] != SampleClass::shadow) continue;
         const double r = 0.05 * static_cast<double>(i);
         EXPECT_GE(r, c.shadow_start() - 0.1) << k.clearance;

@@ -16,11 +16,7 @@
 namespace sonarsynth {
 namespace {
 
-using test::make_scene;
-using test::plain_config;
-using test::pose_at;
-using test::render_sides;
-using test::rms_db_difference;
+using namespace test;  // the Simulator tests' scenes, configurations and comparisons
 
 TEST(Simulator, AlongTrackPlanesShareTheBeamAndSeeObjectsBetweenPings) {
   // On a flat seabed every plane sees the same profile and the planes share beta_eff exactly,

@@ -14,11 +14,7 @@
 namespace sonarsynth {
 namespace {
 
-using test::make_scene;
-using test::plain_config;
-using test::pose_at;
-using test::render_sides;
-using test::rms_db_difference;
+using namespace test;  // the Simulator tests' scenes, configurations and comparisons
 
 // Both sides of pings at `xy` (heading north, 10 m above the surface `f`).
 std::vector<std::vector<float>> render(const Scene& scene, const std::vector<Eigen::Vector2d>& xy,
