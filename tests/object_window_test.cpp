@@ -129,9 +129,7 @@ class BoxScene : public ::testing::Test {
     cfg_ = plain_config();
     cfg_.sonar.samples_per_channel = 2000;
     cfg_.sonar.horizontal_beam_width_rad = rad_from_deg(1.5);
-    for (const double y : {-6.0, -2.0, 0.0, 2.0, 6.0}) {
-      pilot_.push_back(pose_at(scene_, {0.0, y}, 0.0, 10.0));
-    }
+    pilot_ = test::poses_at_y(scene_, {-6.0, -2.0, 0.0, 2.0, 6.0});
   }
   std::vector<std::vector<float>> render(int planes) const {
     SimulationConfig cfg = cfg_;

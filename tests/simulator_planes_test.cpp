@@ -163,8 +163,7 @@ TEST(Simulator, AutomaticAlongTrackPlanesMeetTheToleranceOnASeabedThatVariesAlon
   SimulationConfig cfg = plain_config();
   cfg.sonar.horizontal_beam_width_rad = rad_from_deg(1.0);
   cfg.quality.along_track_tolerance_db = 1.0;
-  std::vector<PingPose> pilot;
-  for (const double y : {-20.3, -7.1, 0.45, 13.0}) pilot.push_back(pose_at(scene, {0, y}, 0, 10));
+  const std::vector<PingPose> pilot = poses_at_y(scene, {-20.3, -7.1, 0.45, 13.0});
   const Simulator sim(scene, cfg, 10.0, pilot);
   const AlongTrackChoice& c = sim.along_track();
   ASSERT_TRUE(c.automatic);

@@ -60,6 +60,13 @@ inline Scene with_test_box(Scene scene, std::uint16_t material) {
   return scene;
 }
 
+/// Poses heading north at x = 0, 10 m above the seabed, one at each of `ys` (metres).
+inline std::vector<PingPose> poses_at_y(const Scene& s, const std::vector<double>& ys) {
+  std::vector<PingPose> poses;
+  for (const double y : ys) poses.push_back(pose_at(s, {0.0, y}, 0.0, 10.0));
+  return poses;
+}
+
 /// Port then starboard samples of each of `poses`, rendered by `sim` in one workspace.
 inline std::vector<std::vector<float>> render_sides(const Simulator& sim,
                                                     const std::vector<PingPose>& poses) {

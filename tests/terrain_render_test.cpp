@@ -106,8 +106,7 @@ TEST(TerrainRender, AutomaticPlaneCountSeesComponentsAddedToAFileDem) {
   SimulationConfig cfg = plain_config();
   cfg.sonar.horizontal_beam_width_rad = rad_from_deg(1.0);
   cfg.quality.along_track_tolerance_db = 1.0;
-  std::vector<PingPose> pilot;
-  for (const double y : {-20.3, -7.1, 0.45, 13.0}) pilot.push_back(pose_at(coarse, {0, y}, 0, 10));
+  std::vector<PingPose> pilot = poses_at_y(coarse, {-20.3, -7.1, 0.45, 13.0});
   const Simulator plain(coarse, cfg, 10.0, pilot);
   ASSERT_TRUE(plain.along_track().automatic);
   EXPECT_EQ(plain.along_track().planes, 1);
