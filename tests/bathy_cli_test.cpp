@@ -2,7 +2,6 @@
 // `sonarsynth bathy` end to end: the CLI's file read back through read_height_grid.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -19,16 +18,8 @@ namespace sonarsynth {
 namespace {
 namespace fs = std::filesystem;
 
-class BathyCliTest : public ::testing::Test {
+class BathyCliTest : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_bathy_cli_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
   // Runs `sonarsynth bathy <args>`; returns the exit status.
@@ -38,8 +29,6 @@ class BathyCliTest : public ::testing::Test {
     for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
     return n;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(BathyCliTest, WritesGridCentredOnLatLon) {

@@ -10,11 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "error_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth {
 namespace {
+
+using test::error_of;
 
 BathyGenSpec base_spec(double width_m = 100.0, double height_m = 60.0, double cell_m = 0.5) {
   BathyGenSpec s;
@@ -453,16 +456,6 @@ TEST(BathyGen, GradientNoiseIsZeroOnLatticeAndBounded) {
   }
   EXPECT_LE(max_abs, 1.0);
   EXPECT_GT(max_abs, 0.2);
-}
-
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no InputError)";
 }
 
 TEST(BathyGen, ValidationNamesTheViolatedConstraint) {

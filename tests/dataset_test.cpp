@@ -160,7 +160,20 @@ TEST(DatasetSpec, DrawnScenesLoadAndHoldTheirObjects) {
   for (const std::string t : {"rock", "box", "pipe", "moored"}) EXPECT_GT(total[t], 0) << t;
 }
 
-class DatasetRun : public ScratchDirTest {};
+class DatasetRun : public ScratchDirTest {
+ protected:
+  /// Runs `sonarsynth dataset <spec> -o <dir_/out> <options>` in dir_.
+  test::CliResult dataset_cli(const fs::path& spec, const std::string& out,
+                              const std::string& options = "") {
+    return test::run_cli(
+        "dataset " + spec.string() + " -o " + (dir_ / out).string() + " " + options, dir_);
+  }
+  /// Expects item 1 of the run into dir_/out done and item 0 not started.
+  void expect_item_1_only(const std::string& out) {
+    EXPECT_TRUE(fs::exists(dir_ / out / dataset_item_dir(1) / "item.json"));
+    EXPECT_FALSE(fs::exists(dir_ / out / dataset_item_dir(0)));
+  }
+};
 
 TEST_F(DatasetRun, ItemAloneEqualsItemInAFullRunAndRepeats) {
   const DatasetSpec s = tiny(3);
@@ -312,20 +325,16 @@ TEST_F(DatasetRun, FailedItemsAreRecordedWithIndexAndSeed) {
 
 TEST_F(DatasetRun, CommandLine) {
   const fs::path spec = write("spec.yaml", tiny_spec(2));
-  const auto r = test::run_cli(
-      "dataset " + spec.string() + " -o " + (dir_ / "d").string() + " --shard 1/2 --threads 1",
-      dir_);
+  const auto r = dataset_cli(spec, "d", "--shard 1/2 --threads 1");
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(fs::exists(dir_ / "d" / dataset_item_dir(1) / "item.json"));
-  EXPECT_FALSE(fs::exists(dir_ / "d" / dataset_item_dir(0)));
+  expect_item_1_only("d");
   EXPECT_NE(read_text(dir_ / "d" / "manifest.jsonl").find("\"status\":\"pending\""),
             std::string::npos);
   const fs::path bad = write("bad.yaml", replaced(tiny_spec(2), "count: 2", "count: -2"));
-  const auto e = test::run_cli("dataset " + bad.string() + " -o " + (dir_ / "e").string(), dir_);
+  const auto e = dataset_cli(bad, "e");
   EXPECT_NE(e.exit_code, 0);
   EXPECT_NE(e.err.find("bad.yaml: count = '-2'"), std::string::npos) << e.err;
-  const auto s = test::run_cli(
-      "dataset " + spec.string() + " -o " + (dir_ / "d").string() + " --shard 2/2", dir_);
+  const auto s = dataset_cli(spec, "d", "--shard 2/2");
   EXPECT_NE(s.exit_code, 0);
   EXPECT_NE(s.err.find("--shard = '2/2'"), std::string::npos) << s.err;
 }
@@ -575,12 +584,9 @@ TEST_F(DatasetRun, CommandLineRefusesAnEmptyOutputAndANonFileSpec) {
   EXPECT_NE(z.exit_code, 0);
   EXPECT_NE(z.err.find("/dev/zero: not a regular file"), std::string::npos) << z.err;
   EXPECT_FALSE(fs::exists(dir_ / "z"));
-  const auto i = test::run_cli(
-      "dataset " + spec.string() + " -o " + (dir_ / "i").string() + " --items 1:2 --threads 1",
-      dir_);
+  const auto i = dataset_cli(spec, "i", "--items 1:2 --threads 1");
   EXPECT_EQ(i.exit_code, 0) << i.err;
-  EXPECT_TRUE(fs::exists(dir_ / "i" / dataset_item_dir(1) / "item.json"));
-  EXPECT_FALSE(fs::exists(dir_ / "i" / dataset_item_dir(0)));
+  expect_item_1_only("i");
 }
 
 }  // namespace

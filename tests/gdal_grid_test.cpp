@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 #include <ogr_spatialref.h>
 #include <ogrsf_frmts.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -15,7 +14,10 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 
+#include "cli_test_util.hpp"
+#include "error_test_util.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/raster/gdal_util.hpp"
@@ -23,22 +25,23 @@
 namespace sonarsynth {
 namespace {
 namespace fs = std::filesystem;
+using test::error_of;
 
 const std::string kBag = std::string(SONARSYNTH_TEST_DATA_DIR) + "/bathymetry/tiny_sr.bag";
 constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
 
-class GdalGridTest : public ::testing::Test {
+class GdalGridTest : public test::ScratchDirTest {
  protected:
   void SetUp() override {
     gdal::ensure_registered();
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_grid_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
   }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  /// Expects reading `file` to fail with a FormatError naming the file and `reason`.
+  void expect_read_error(const std::string& file, std::string_view reason) {
+    test::expect_error<FormatError>([&] { read_height_grid(path(file)); }, {file, reason}, file);
+  }
 
   // A float32 GeoTIFF built directly with GDAL (independent of the code under test).
   void make_tiff(const std::string& file, int cols, int rows, std::vector<float> data,
@@ -59,19 +62,7 @@ class GdalGridTest : public ::testing::Test {
               CE_None);
     GDALClose(ds);
   }
-
-  fs::path dir_;
 };
-
-template <typename E, typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  }
-  return "(no exception of the expected type)";
-}
 
 TEST_F(GdalGridTest, ReadsRealBag) {
   const LoadedGrid g = read_height_grid(kBag);
@@ -328,26 +319,20 @@ TEST_F(GdalGridTest, NotARaster) {
 
 TEST_F(GdalGridTest, NoGeotransform) {
   make_tiff(path("nogt.tif"), 4, 4, std::vector<float>(16, -1.0f), nullptr, "EPSG:32619");
-  const std::string msg = error_of<FormatError>([&] { read_height_grid(path("nogt.tif")); });
-  EXPECT_NE(msg.find("nogt.tif"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("no geotransform"), std::string::npos) << msg;
+  expect_read_error("nogt.tif", "no geotransform");
 }
 
 TEST_F(GdalGridTest, NoCrs) {
   const double gt[6] = {361000.0, 1.0, 0.0, 4770000.0, 0.0, -1.0};
   make_tiff(path("nocrs.tif"), 4, 4, std::vector<float>(16, -1.0f), gt, "");
-  const std::string msg = error_of<FormatError>([&] { read_height_grid(path("nocrs.tif")); });
-  EXPECT_NE(msg.find("nocrs.tif"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("no coordinate reference system"), std::string::npos) << msg;
+  expect_read_error("nocrs.tif", "no coordinate reference system");
 }
 
 TEST_F(GdalGridTest, UnknownCrs) {
   const double gt[6] = {0.0, 1.0, 0.0, 10.0, 0.0, -1.0};
   make_tiff(path("local.tif"), 4, 4, std::vector<float>(16, -1.0f), gt,
             "LOCAL_CS[\"site grid\",UNIT[\"metre\",1]]");
-  const std::string msg = error_of<FormatError>([&] { read_height_grid(path("local.tif")); });
-  EXPECT_NE(msg.find("local.tif"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("unknown CRS"), std::string::npos) << msg;
+  expect_read_error("local.tif", "unknown CRS");
 }
 
 // A geographic CRS whose identifier is EPSG:4978, the geocentric WGS 84: the definition and the
@@ -366,9 +351,7 @@ TEST_F(GdalGridTest, ProjectedCrsWhoseBaseIdIsGeocentricIsRefused) {
       "UNIT[\"metre\",1]]";
   const double gt[6] = {1000.0, 2.0, 0.0, 5500000.0, 0.0, -2.0};
   make_tiff(path("tm.tif"), 4, 4, std::vector<float>(16, -10.0f), gt, wkt);
-  const std::string msg = error_of<FormatError>([&] { read_height_grid(path("tm.tif")); });
-  EXPECT_NE(msg.find("tm.tif"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("EPSG:4978, which is a geocentric CRS"), std::string::npos) << msg;
+  expect_read_error("tm.tif", "EPSG:4978, which is a geocentric CRS");
 }
 
 TEST_F(GdalGridTest, GeographicCrsWithGeocentricIdIsRefused) {
@@ -379,9 +362,7 @@ TEST_F(GdalGridTest, GeographicCrsWithGeocentricIdIsRefused) {
     for (int r = 0; r < 4; ++r) asc << "-10 -10 -10 -10\n";
   }
   { std::ofstream(path("geog.prj")) << kGeogWithGeocentricId; }
-  const std::string msg = error_of<FormatError>([&] { read_height_grid(path("geog.asc")); });
-  EXPECT_NE(msg.find("geog.asc"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("EPSG:4978, which is a geocentric CRS"), std::string::npos) << msg;
+  expect_read_error("geog.asc", "EPSG:4978, which is a geocentric CRS");
 }
 
 TEST_F(GdalGridTest, GeographicCrsWithItsOwnIdIsRead) {
@@ -429,9 +410,7 @@ TEST_F(GdalGridTest, AllNodata) {
   std::vector<float> data(16, -9999.0f);
   data[3] = kNaNf;
   make_tiff(path("empty.tif"), 4, 4, data, gt, "EPSG:32619", -9999.0);
-  const std::string msg = error_of<FormatError>([&] { read_height_grid(path("empty.tif")); });
-  EXPECT_NE(msg.find("empty.tif"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("every node is nodata"), std::string::npos) << msg;
+  expect_read_error("empty.tif", "every node is nodata");
 }
 
 TEST_F(GdalGridTest, NoFullyValidCell) {
@@ -453,9 +432,7 @@ TEST_F(GdalGridTest, ZeroCellSize) {
          "<VRTRasterBand dataType=\"Float32\" band=\"1\"><SimpleSource>"
          "<SourceFilename relativeToVRT=\"1\">base.tif</SourceFilename><SourceBand>1</SourceBand>"
          "</SimpleSource></VRTRasterBand></VRTDataset>";
-  const std::string msg = error_of<FormatError>([&] { read_height_grid(path("zero.vrt")); });
-  EXPECT_NE(msg.find("zero.vrt"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("cell size != 0"), std::string::npos) << msg;
+  expect_read_error("zero.vrt", "cell size != 0");
 }
 
 TEST_F(GdalGridTest, BadOptions) {

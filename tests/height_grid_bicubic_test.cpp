@@ -11,6 +11,7 @@
 #include <limits>
 #include <random>
 
+#include "height_grid_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/height_grid.hpp"
 
@@ -21,14 +22,7 @@ constexpr float kHole = std::numeric_limits<float>::quiet_NaN();
 
 HeightGrid make_grid(const GridGeometry& g, const std::function<double(double, double)>& f,
                      Interpolation interpolation = Interpolation::kBicubic) {
-  std::vector<float> z(g.size());
-  for (std::size_t r = 0; r < g.rows; ++r) {
-    for (std::size_t c = 0; c < g.cols; ++c) {
-      z[r * g.cols + c] = static_cast<float>(
-          f(g.x_of_col(static_cast<double>(c)), g.y_of_row(static_cast<double>(r))));
-    }
-  }
-  HeightGrid grid(g, std::move(z));
+  HeightGrid grid = test::sampled_grid(g, f);
   grid.set_interpolation(interpolation);
   return grid;
 }

@@ -9,22 +9,14 @@
 #include <limits>
 #include <random>
 
+#include "height_grid_test_util.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {
 namespace {
 
 // A grid sampled from an analytic surface f(x, y) at its nodes.
-HeightGrid make_grid(const GridGeometry& g, const std::function<double(double, double)>& f) {
-  std::vector<float> z(g.size());
-  for (std::size_t r = 0; r < g.rows; ++r) {
-    for (std::size_t c = 0; c < g.cols; ++c) {
-      z[r * g.cols + c] = static_cast<float>(
-          f(g.x_of_col(static_cast<double>(c)), g.y_of_row(static_cast<double>(r))));
-    }
-  }
-  return HeightGrid(g, std::move(z));
-}
+using test::sampled_grid;
 
 // North-up like a GDAL raster: negative dy, origin at the north-west node.
 // n x n nodes centred on the local origin.
@@ -36,7 +28,7 @@ GridGeometry north_up(double cell, std::size_t n) {
 TEST(HeightGrid, PlaneIsExactIncludingGradientAndNormal) {
   const double a = 0.1, b = -0.05, c = -20.0;
   const HeightGrid grid =
-      make_grid(north_up(0.5, 201), [&](double x, double y) { return a * x + b * y + c; });
+      sampled_grid(north_up(0.5, 201), [&](double x, double y) { return a * x + b * y + c; });
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-49.9, 49.9);
   for (int i = 0; i < 1000; ++i) {
@@ -55,7 +47,7 @@ TEST(HeightGrid, ParaboloidWithinBilinearErrorBound) {
   // z = k (x^2 + y^2): bilinear interpolation error <= k h^2 / 2, gradient error <= 2 k h / 2.
   const double k = 0.01, h = 0.5;
   const HeightGrid grid =
-      make_grid(north_up(h, 201), [&](double x, double y) { return k * (x * x + y * y); });
+      sampled_grid(north_up(h, 201), [&](double x, double y) { return k * (x * x + y * y); });
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-49.0, 49.0);
   double worst_z = 0, worst_g = 0;
@@ -76,7 +68,7 @@ TEST(HeightGrid, ParaboloidWithinBilinearErrorBound) {
 }
 
 TEST(HeightGrid, HolesAndOutsideAreNaN) {
-  HeightGrid grid = make_grid(north_up(1.0, 11), [](double, double) { return -10.0; });
+  HeightGrid grid = sampled_grid(north_up(1.0, 11), [](double, double) { return -10.0; });
   grid.mutable_heights()[5 * 11 + 5] = std::numeric_limits<float>::quiet_NaN();  // node (0, 0)
   EXPECT_TRUE(std::isnan(grid.height_m(0.0, 0.0)));
   EXPECT_TRUE(std::isnan(grid.height_m(0.5, 0.5)));  // a cell touching the hole
@@ -92,7 +84,7 @@ TEST(HeightGrid, HolesAndOutsideAreNaN) {
 TEST(HeightGrid, ProfileHitsEveryGridLineAndMatchesPointQueries) {
   const double k = 0.01;
   const HeightGrid grid =
-      make_grid(north_up(0.5, 201), [&](double x, double y) { return k * (x * x + y * y); });
+      sampled_grid(north_up(0.5, 201), [&](double x, double y) { return k * (x * x + y * y); });
   const Eigen::Vector2d start(-3.1, 2.7);
   const Eigen::Vector2d dir = Eigen::Vector2d(0.8, -0.6);  // unit
   std::vector<ProfilePoint> prof;
@@ -127,7 +119,7 @@ TEST(HeightGrid, ProfileHitsEveryGridLineAndMatchesPointQueries) {
 }
 
 TEST(HeightGrid, ProfileLeavingTheGridGivesNaN) {
-  const HeightGrid grid = make_grid(north_up(1.0, 21), [](double, double) { return -5.0; });
+  const HeightGrid grid = sampled_grid(north_up(1.0, 21), [](double, double) { return -5.0; });
   std::vector<ProfilePoint> prof;
   grid.profile({0.0, 0.0}, {1.0, 0.0}, 100.0, 1, prof);
   ASSERT_FALSE(prof.empty());
@@ -139,7 +131,7 @@ TEST(HeightGrid, AProfileCostsTheGridLinesItCrossesNotItsLengthOverCells) {
   // 4 x 4 nodes 1 um apart and a 30 m ray across them along a row: the points are the two ends
   // and at most the 4 column lines of the grid, not 30 m / 1 um of empty crossings.
   const GridGeometry g = north_up(1e-6, 4);
-  const HeightGrid grid = make_grid(g, [](double, double) { return -5.0; });
+  const HeightGrid grid = sampled_grid(g, [](double, double) { return -5.0; });
   std::vector<ProfilePoint> prof;
   grid.profile({g.x_of_col(1.5) - 15.0, g.y_of_row(1.5)}, {1.0, 0.0}, 30.0, 1, prof);
   EXPECT_LE(prof.size(), 6u);

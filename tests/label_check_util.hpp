@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -66,10 +67,15 @@ inline int category_of(std::uint32_t cls) {
   return cls == 2 ? 1 : cls == 3 ? 2 : 0;
 }
 
-/// The boxes of the 8-connected pieces of every (instance, category) of a window, sorted.
-inline std::vector<BoxRow> brute_boxes(const LabelRaster& cls, const LabelRaster& inst,
-                                       std::size_t x0 = 0, std::size_t y0 = 0, std::size_t w = 0,
-                                       std::size_t h = 0) {
+/// The 8-connected pieces of a window with their pixels (x, y relative to the window), in the
+/// order of their boxes.
+struct BrutePiece {
+  BoxRow box;
+  std::set<std::pair<std::size_t, std::size_t>> pixels;  // (x, y)
+};
+inline std::vector<BrutePiece> brute_pieces(const LabelRaster& cls, const LabelRaster& inst,
+                                            std::size_t x0 = 0, std::size_t y0 = 0,
+                                            std::size_t w = 0, std::size_t h = 0) {
   if (w == 0) {
     w = cls.cols;
     h = cls.rows;
@@ -81,37 +87,49 @@ inline std::vector<BoxRow> brute_boxes(const LabelRaster& cls, const LabelRaster
     if (k == labels::kInstanceNodata || c == 0) return std::pair<std::uint32_t, int>{0, 0};
     return std::pair<std::uint32_t, int>{k, c};
   };
-  std::vector<char> seen(w * h, 0);
-  std::vector<BoxRow> out;
+  std::vector<int> piece(w * h, -1);
+  std::vector<BrutePiece> out;
   for (std::size_t y = 0; y < h; ++y) {
     for (std::size_t x = 0; x < w; ++x) {
       const auto k = key(x, y);
-      if (k.first == 0 || seen[y * w + x]) continue;
-      BoxRow b = {k.first, static_cast<std::size_t>(k.second), x, y, x + 1, y + 1};
+      if (k.first == 0 || piece[y * w + x] >= 0) continue;
+      BrutePiece p;
+      p.box = {k.first, static_cast<std::size_t>(k.second), x, y, x + 1, y + 1};
       std::vector<std::pair<std::size_t, std::size_t>> stack = {{x, y}};
-      seen[y * w + x] = 1;
+      piece[y * w + x] = static_cast<int>(out.size());
       while (!stack.empty()) {
         const auto [px, py] = stack.back();
         stack.pop_back();
-        b = {b[0],
-             b[1],
-             std::min(b[2], px),
-             std::min(b[3], py),
-             std::max(b[4], px + 1),
-             std::max(b[5], py + 1)};
+        p.pixels.insert({px, py});
+        p.box = {p.box[0],
+                 p.box[1],
+                 std::min(p.box[2], px),
+                 std::min(p.box[3], py),
+                 std::max(p.box[4], px + 1),
+                 std::max(p.box[5], py + 1)};
         for (std::size_t ny = py == 0 ? 0 : py - 1; ny <= std::min(py + 1, h - 1); ++ny) {
           for (std::size_t nx = px == 0 ? 0 : px - 1; nx <= std::min(px + 1, w - 1); ++nx) {
-            if (!seen[ny * w + nx] && key(nx, ny) == k) {
-              seen[ny * w + nx] = 1;
+            if (piece[ny * w + nx] < 0 && key(nx, ny) == k) {
+              piece[ny * w + nx] = static_cast<int>(out.size());
               stack.push_back({nx, ny});
             }
           }
         }
       }
-      out.push_back(b);
+      out.push_back(std::move(p));
     }
   }
-  std::sort(out.begin(), out.end());
+  std::sort(out.begin(), out.end(),
+            [](const BrutePiece& a, const BrutePiece& b) { return a.box < b.box; });
+  return out;
+}
+
+/// The boxes of the 8-connected pieces of every (instance, category) of a window, sorted.
+inline std::vector<BoxRow> brute_boxes(const LabelRaster& cls, const LabelRaster& inst,
+                                       std::size_t x0 = 0, std::size_t y0 = 0, std::size_t w = 0,
+                                       std::size_t h = 0) {
+  std::vector<BoxRow> out;
+  for (const BrutePiece& p : brute_pieces(cls, inst, x0, y0, w, h)) out.push_back(p.box);
   return out;
 }
 

@@ -68,62 +68,8 @@ inline Raster read(const fs::path& path) {
   return test::read_label_raster(path);
 }
 
-// The 8-connected pieces of a window with their pixels (x, y relative to the window), in the
-// order of brute_boxes.
-struct BrutePiece {
-  BoxRow box;
-  std::set<std::pair<std::size_t, std::size_t>> pixels;  // (x, y)
-};
-inline std::vector<BrutePiece> brute_pieces(const Raster& cls, const Raster& inst,
-                                            std::size_t x0 = 0, std::size_t y0 = 0,
-                                            std::size_t w = 0, std::size_t h = 0) {
-  if (w == 0) {
-    w = cls.cols;
-    h = cls.rows;
-  }
-  auto key = [&](std::size_t x, std::size_t y) {
-    const std::size_t i = (y0 + y) * cls.cols + x0 + x;
-    const std::uint32_t k = inst.values[i];
-    const int c = category_of(cls.values[i]);
-    if (k == labels::kInstanceNodata || c == 0) return std::pair<std::uint32_t, int>{0, 0};
-    return std::pair<std::uint32_t, int>{k, c};
-  };
-  std::vector<int> piece(w * h, -1);
-  std::vector<BrutePiece> out;
-  for (std::size_t y = 0; y < h; ++y) {
-    for (std::size_t x = 0; x < w; ++x) {
-      const auto k = key(x, y);
-      if (k.first == 0 || piece[y * w + x] >= 0) continue;
-      BrutePiece p;
-      p.box = {k.first, static_cast<std::size_t>(k.second), x, y, x + 1, y + 1};
-      std::vector<std::pair<std::size_t, std::size_t>> stack = {{x, y}};
-      piece[y * w + x] = static_cast<int>(out.size());
-      while (!stack.empty()) {
-        const auto [px, py] = stack.back();
-        stack.pop_back();
-        p.pixels.insert({px, py});
-        p.box = {p.box[0],
-                 p.box[1],
-                 std::min(p.box[2], px),
-                 std::min(p.box[3], py),
-                 std::max(p.box[4], px + 1),
-                 std::max(p.box[5], py + 1)};
-        for (std::size_t ny = py == 0 ? 0 : py - 1; ny <= std::min(py + 1, h - 1); ++ny) {
-          for (std::size_t nx = px == 0 ? 0 : px - 1; nx <= std::min(px + 1, w - 1); ++nx) {
-            if (piece[ny * w + nx] < 0 && key(nx, ny) == k) {
-              piece[ny * w + nx] = static_cast<int>(out.size());
-              stack.push_back({nx, ny});
-            }
-          }
-        }
-      }
-      out.push_back(std::move(p));
-    }
-  }
-  std::sort(out.begin(), out.end(),
-            [](const BrutePiece& a, const BrutePiece& b) { return a.box < b.box; });
-  return out;
-}
+using test::brute_pieces;
+using test::BrutePiece;
 
 // COCO uncompressed RLE decoded (column-major counts, alternating from 0): the pixels set.
 inline std::set<std::pair<std::size_t, std::size_t>> decode_rle(const json& rle) {

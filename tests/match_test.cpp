@@ -12,6 +12,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli_test_util.hpp"
+#include "error_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/match/feature_matcher.hpp"
 #include "sonarsynth/match/image_source.hpp"
@@ -21,6 +22,7 @@
 
 namespace fs = std::filesystem;
 namespace m = sonarsynth::match;
+using sonarsynth::test::expect_error;
 
 namespace {
 
@@ -217,12 +219,7 @@ TEST(Prefilter, MedianRemovesIsolatedSpeckleAndBilateralKeepsEdges) {
 TEST(MatchOptions, ValidateNamesTheViolatedConstraint) {
   m::MatchOptions o;
   o.ratio = 0;
-  try {
-    o.validate();
-    FAIL() << "ratio 0 accepted";
-  } catch (const sonarsynth::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("ratio"), std::string::npos);
-  }
+  expect_error([&] { o.validate(); }, {"ratio"}, "ratio 0");
   EXPECT_THROW(m::parse_detector("surf", "detectors"), sonarsynth::InputError);
   EXPECT_EQ(m::parse_detector("a-kaze", "detectors"), m::Detector::akaze);
   EXPECT_THROW(m::parse_bounds("1,2,3", "bounds"), sonarsynth::InputError);
@@ -233,20 +230,11 @@ TEST(MatchOptions, ValidateNamesTheViolatedConstraint) {
 
 TEST_F(MatchTest, BadInputNamesTheFile) {
   const std::string missing = (dir_ / "missing.png").string();
-  try {
-    m::load_image(missing);
-    FAIL() << "missing file accepted";
-  } catch (const sonarsynth::FormatError& e) {
-    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
-  }
+  expect_error<sonarsynth::FormatError>([&] { m::load_image(missing); }, {missing},
+                                        "a missing file");
   const std::string text = (dir_ / "notes.png").string();
   std::ofstream(text) << "not an image\n";
-  try {
-    m::load_image(text);
-    FAIL() << "text file accepted";
-  } catch (const sonarsynth::FormatError& e) {
-    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
-  }
+  expect_error<sonarsynth::FormatError>([&] { m::load_image(text); }, {text}, "a text file");
   const std::string xtf = (dir_ / "none.xtf").string();
   EXPECT_THROW(m::load_image(xtf), sonarsynth::FormatError);
   // A PNG without georeferencing cannot be cropped to world bounds.

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "object_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/render_side.hpp"
 #include "sonarsynth/scene.hpp"
@@ -20,11 +21,7 @@ namespace {
 constexpr double kPiT = 3.14159265358979323846;
 
 Scene flat_scene() {
-  Scene scene(GeoFrame(19, true, 500000.0, 5000000.0));
-  GridGeometry g{-50.0, 50.0, 0.5, -0.5, 201, 201};
-  scene.bathymetry = HeightGrid(g, std::vector<float>(g.size(), -20.0f));
-  scene.material_map = MaterialMap(scene.materials.index_of("sand"));
-  return scene;
+  return test::flat_scene(0.5, 20.0);
 }
 
 // Orients every triangle of a convex model outward (its normal away from `inside`).

@@ -71,26 +71,24 @@ class MosaicCliTest : public ::testing::Test {
     std::ofstream out(path(name), std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
   }
-  /// Byte offsets of the sonar packets of an XTF file, in file order.
-  std::vector<std::uint64_t> ping_offsets(const std::string& name) const {
+  /// `field` of each sonar packet of an XTF file, in file order.
+  std::vector<std::uint64_t> of_pings(const std::string& name,
+                                      std::uint64_t xtf::Packet::*field) const {
     xtf::Reader r(fs::path(path(name)));
     xtf::Packet p;
     std::vector<std::uint64_t> out;
     while (r.next(p)) {
-      if (p.kind == xtf::PacketKind::kPing) out.push_back(p.offset);
+      if (p.kind == xtf::PacketKind::kPing) out.push_back(p.*field);
     }
     return out;
   }
-
+  /// Byte offsets of the sonar packets of an XTF file, in file order.
+  std::vector<std::uint64_t> ping_offsets(const std::string& name) const {
+    return of_pings(name, &xtf::Packet::offset);
+  }
   /// Packet indices (0-based among all packets) of the sonar packets, in file order.
   std::vector<std::uint64_t> ping_packet_indices(const std::string& name) const {
-    xtf::Reader r(fs::path(path(name)));
-    xtf::Packet p;
-    std::vector<std::uint64_t> out;
-    while (r.next(p)) {
-      if (p.kind == xtf::PacketKind::kPing) out.push_back(p.index);
-    }
-    return out;
+    return of_pings(name, &xtf::Packet::index);
   }
 
   fs::path dir_;
@@ -98,33 +96,18 @@ class MosaicCliTest : public ::testing::Test {
   std::string out_;
 };
 
-/// Offset of a float field inside the encoded XTFPINGHEADER, found by encoding a header whose
-/// field holds a marker value (no byte layout is assumed here).
-std::size_t ping_header_offset_of(float xtf::XtfPingHeader::*field) {
+/// Offset of a float or double field inside the encoded XTFPINGHEADER, found by encoding a
+/// header whose field holds a marker value (no byte layout is assumed here).
+template <class T>
+std::size_t ping_header_offset_of(T xtf::XtfPingHeader::*field) {
   xtf::XtfPingHeader h;
-  h.*field = 123456.75f;
+  const T marker = static_cast<T>(123456.75);
+  h.*field = marker;
   std::vector<std::uint8_t> b(xtf::XtfPingHeader::kSize, 0);
   ByteWriter w(b);
   h.encode(w);
-  std::uint8_t pat[4];
-  const float v = 123456.75f;
-  std::memcpy(pat, &v, 4);
-  for (std::size_t i = 0; i + 4 <= b.size(); ++i) {
-    if (std::memcmp(&b[i], pat, 4) == 0) return i;
-  }
-  return 0;
-}
-std::size_t ping_header_offset_of(double xtf::XtfPingHeader::*field) {
-  xtf::XtfPingHeader h;
-  h.*field = 123456.75;
-  std::vector<std::uint8_t> b(xtf::XtfPingHeader::kSize, 0);
-  ByteWriter w(b);
-  h.encode(w);
-  std::uint8_t pat[8];
-  const double v = 123456.75;
-  std::memcpy(pat, &v, 8);
-  for (std::size_t i = 0; i + 8 <= b.size(); ++i) {
-    if (std::memcmp(&b[i], pat, 8) == 0) return i;
+  for (std::size_t i = 0; i + sizeof(T) <= b.size(); ++i) {
+    if (std::memcmp(&b[i], &marker, sizeof(T)) == 0) return i;
   }
   return 0;
 }
@@ -391,6 +374,26 @@ class MosaicOutlierTest : public MosaicCliTest {
     fs::remove(path("ref.xtf"));
     return r;
   }
+  /// Writes the line to `name` with `field` of ping `ping`'s header patched to NaN (the writer
+  /// refuses one).
+  template <class T>
+  void write_line_with_nan(const std::string& name, T xtf::XtfPingHeader::*field, int ping) {
+    test::write_line(path(name), spec_);
+    const std::size_t at = ping_header_offset_of(field);
+    ASSERT_GT(at, 0u);
+    auto b = bytes(name);
+    const T nan = std::numeric_limits<T>::quiet_NaN();
+    std::memcpy(&b[ping_offsets(name)[static_cast<std::size_t>(ping)] + at], &nan, sizeof(T));
+    write(name, b);
+  }
+  /// err_ names ping `ping` of `name` with its packet index.
+  void expect_ping_named(const std::string& name, int ping) const {
+    const std::string packet =
+        std::to_string(ping_packet_indices(name)[static_cast<std::size_t>(ping)]);
+    EXPECT_TRUE(
+        contains(err_, path(name) + ": ping " + std::to_string(ping) + " (packet " + packet + ")"))
+        << err_;
+  }
   static void expect_same_grid(const test::Raster& a, const test::Raster& b) {
     EXPECT_EQ(a.cols, b.cols);
     EXPECT_EQ(a.rows, b.rows);
@@ -414,8 +417,7 @@ TEST_F(MosaicOutlierTest, GpsJumpOfOnePingIsDroppedFromTheExtent) {
   ASSERT_EQ(mosaic("jump.xtf", "m.tif"), 0) << err_;
   EXPECT_TRUE(contains(err_, "dropped 1 of 120 pings as navigation outliers (1 position jumps"))
       << err_;
-  const std::string packet = std::to_string(ping_packet_indices("jump.xtf")[60]);
-  EXPECT_TRUE(contains(err_, path("jump.xtf") + ": ping 60 (packet " + packet + ")")) << err_;
+  expect_ping_named("jump.xtf", 60);
   // 2000 m across the track and the medians 3 pings (1.5 m) along it, in UTM metres: the
   // geodesic distance times the point scale factor k there (GeographicLib).
   {
@@ -467,8 +469,7 @@ TEST_F(MosaicOutlierTest, AbsurdSlantRangeIsDropped) {
                        "dropped 1 of 120 pings as navigation outliers (0 position jumps, 1 "
                        "slant ranges, 0 headings)"))
       << err_;
-  const std::string packet = std::to_string(ping_packet_indices("range.xtf")[30]);
-  EXPECT_TRUE(contains(err_, path("range.xtf") + ": ping 30 (packet " + packet + ")")) << err_;
+  expect_ping_named("range.xtf", 30);
   EXPECT_TRUE(contains(err_, "SlantRange = 1e+06 m")) << err_;
   expect_same_grid(test::read_band(path("m.tif")), ref);
 }
@@ -476,17 +477,10 @@ TEST_F(MosaicOutlierTest, AbsurdSlantRangeIsDropped) {
 // A NaN SensorHeading (patched in: the writer refuses one) drops that ping, not the batch.
 TEST_F(MosaicOutlierTest, NanHeadingDoesNotAbort) {
   const test::Raster ref = reference_without(119);
-  test::write_line(path("nan.xtf"), spec_);
-  const std::size_t at = ping_header_offset_of(&xtf::XtfPingHeader::SensorHeading);
-  ASSERT_GT(at, 0u);
-  auto b = bytes("nan.xtf");
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  std::memcpy(&b[ping_offsets("nan.xtf")[119] + at], &nan, 4);
-  write("nan.xtf", b);
+  ASSERT_NO_FATAL_FAILURE(write_line_with_nan("nan.xtf", &xtf::XtfPingHeader::SensorHeading, 119));
   ASSERT_EQ(mosaic("nan.xtf", "m.tif"), 0) << err_;
   EXPECT_TRUE(contains(err_, "0 slant ranges, 1 headings)")) << err_;
-  const std::string packet = std::to_string(ping_packet_indices("nan.xtf")[119]);
-  EXPECT_TRUE(contains(err_, path("nan.xtf") + ": ping 119 (packet " + packet + ")")) << err_;
+  expect_ping_named("nan.xtf", 119);
   EXPECT_TRUE(contains(err_, "SensorHeading = nan")) << err_;
   expect_same_grid(test::read_band(path("m.tif")), ref);
 }
@@ -494,13 +488,8 @@ TEST_F(MosaicOutlierTest, NanHeadingDoesNotAbort) {
 // A NaN position is no position: skipped and counted as such, the grid as without the ping.
 TEST_F(MosaicOutlierTest, NanPositionIsSkipped) {
   const test::Raster ref = reference_without(0);
-  test::write_line(path("nanpos.xtf"), spec_);
-  const std::size_t at = ping_header_offset_of(&xtf::XtfPingHeader::SensorXcoordinate);
-  ASSERT_GT(at, 0u);
-  auto b = bytes("nanpos.xtf");
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  std::memcpy(&b[ping_offsets("nanpos.xtf")[0] + at], &nan, 8);
-  write("nanpos.xtf", b);
+  ASSERT_NO_FATAL_FAILURE(
+      write_line_with_nan("nanpos.xtf", &xtf::XtfPingHeader::SensorXcoordinate, 0));
   ASSERT_EQ(mosaic("nanpos.xtf", "m.tif"), 0) << err_;
   EXPECT_TRUE(contains(err_, "skipped 1 of 120 pings with missing or zero navigation")) << err_;
   expect_same_grid(test::read_band(path("m.tif")), ref);

@@ -199,15 +199,8 @@ TEST(MosaicGrid, NadirGapTakesTheFirstSeabedSample) {
     o.nadir_fill = fill;
     MosaicGrid grid(g, o);
     const std::vector<float> port(500, 1.0f), stbd(500, 2.0f);
-    for (int i = 0; i <= 200; ++i) {
-      MosaicPing p;
-      p.sensor_xy_m = {0.0, 0.05 * i};
-      p.altitude_m = 10.0;
-      p.slant_range_m = 50.0;
-      p.port = port;
-      p.starboard = stbd;
-      grid.add(p);
-    }
+    for (int i = 0; i <= 200; ++i)
+      grid.add(test::level_ping({0.0, 0.05 * i}, 10.0, 50.0, port, stbd));
     const MosaicImage img = grid.finish();
     const auto row = static_cast<std::size_t>(std::floor(g.row_of_y(5.0) + 0.5));
     for (std::size_t c = 0; c < g.cols; ++c) {
@@ -245,13 +238,7 @@ TEST(MosaicGrid, AveragesLinearIntensityWithoutSpeckleBias) {
         ++n_db;
       }
     }
-    MosaicPing p;
-    p.sensor_xy_m = {0.0, 0.05 * i};
-    p.altitude_m = 5.0;
-    p.slant_range_m = 50.0;
-    p.port = port;
-    p.starboard = stbd;
-    grid.add(p);
+    grid.add(test::level_ping({0.0, 0.05 * i}, 5.0, 50.0, port, stbd));
   }
   const MosaicImage img = grid.finish();
   double sum = 0.0;
@@ -282,10 +269,7 @@ TEST(MosaicGrid, MaxAndNearestRules) {
     // 5 (stbd of the first, value 1) and 5 (port of the second, value 2) -> max 2, nearest 1
     // (first on ties); at x = 8 ground range 8 (value 1) and 2 (value 2).
     std::vector<float> ones(200, 1.0f), twos(200, 2.0f), none;
-    MosaicPing a;
-    a.altitude_m = 1.0;
-    a.slant_range_m = 20.0;
-    a.starboard = ones;
+    const MosaicPing a = test::level_ping({0.0, 0.0}, 1.0, 20.0, {}, ones);
     grid.add(a);
     MosaicPing b = a;
     b.sensor_xy_m = {10.0, 0.0};
@@ -313,10 +297,7 @@ TEST(MosaicGrid, LabelsTakeTheNearestToNadir) {
   MosaicGrid grid(g, MosaicOptions{});
   std::vector<float> v(200, 1.0f);
   std::vector<std::int32_t> la(200, 7), lb(200, 9);
-  MosaicPing a;
-  a.altitude_m = 1.0;
-  a.slant_range_m = 20.0;
-  a.starboard = v;
+  MosaicPing a = test::level_ping({0.0, 0.0}, 1.0, 20.0, {}, v);
   a.starboard_labels = la;
   grid.add(a);
   grid.break_line();

@@ -19,6 +19,7 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_test_util.hpp"
@@ -46,6 +47,19 @@ inline void expect_same_bits(const MosaicImage& a, const MosaicImage& b, const s
 }
 
 /// The pixels of `m` that hold at least one sample.
+/// A level ping heading grid north at `xy_m`, `altitude_m` above the seabed, its sides' samples
+/// spanning `slant_range_m`.
+inline MosaicPing level_ping(const Eigen::Vector2d& xy_m, double altitude_m, double slant_range_m,
+                             std::vector<float> port, std::vector<float> starboard) {
+  MosaicPing p;
+  p.sensor_xy_m = xy_m;
+  p.altitude_m = altitude_m;
+  p.slant_range_m = slant_range_m;
+  p.port = std::move(port);
+  p.starboard = std::move(starboard);
+  return p;
+}
+
 inline std::size_t gridded_pixels(const MosaicImage& m) {
   return static_cast<std::size_t>(
       std::count_if(m.count.begin(), m.count.end(), [](auto c) { return c > 0; }));

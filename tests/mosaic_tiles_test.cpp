@@ -68,12 +68,7 @@ TEST(MosaicTiles, UntouchedTilesTakeNoMemory) {
   MosaicGrid grid(g, MosaicOptions{});
   EXPECT_EQ(grid.accumulator_bytes(), 0u);
   std::vector<float> v(200, 1.0f);
-  MosaicPing p;
-  p.altitude_m = 2.0;
-  p.slant_range_m = 20.0;
-  p.port = v;
-  p.starboard = v;
-  grid.add(p);
+  grid.add(test::level_ping({0.0, 0.0}, 2.0, 20.0, v, v));
   // One ping 40 m wide crosses at most 2 x 2 tiles of 128 m: far below the 2000 x 2000 grid.
   EXPECT_GT(grid.accumulator_bytes(), 0u);
   EXPECT_LE(grid.accumulator_bytes(), 4u * 256 * 256 * 12);

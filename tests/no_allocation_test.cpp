@@ -52,15 +52,10 @@ TEST(NoAllocation, RenderPingReusesItsBuffers) {
   // shadow fill), the sonar equation and truth.
   Scene scene =
       test::make_scene(-60, -60, 120, 0.5, [](double x, double) { return -20.0 + 0.02 * x; });
-  ObjectPrimitive box;
-  box.shape = ObjectShape::kBox;
-  box.id = 3;
-  box.material = scene.materials.index_of("sand");
-  box.centre_xy_m = {15.0, 0.0};
-  box.half_extent_m = {2.0, 3.0, 1.0};
-  box.place_on_seabed(scene.bathymetry, 0.0, 0.0, "box");
-  scene.objects.add(box);
-  scene.objects.build_index();
+  test::add_on_seabed(scene,
+                      test::primitive(ObjectShape::kBox, 3, scene.materials.index_of("sand"),
+                                      {15.0, 0.0}, {2.0, 3.0, 1.0}),
+                      "box");
 
   SimulationConfig c;
   c.sonar.max_range_m = 40.0;

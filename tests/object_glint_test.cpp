@@ -19,11 +19,7 @@
 namespace sonarsynth {
 namespace {
 
-using test::make_scene;
-using test::plain_config;
-using test::pose_at;
-using test::speckle_config;
-using test::with_test_box;
+using namespace test;  // the Simulator tests' scenes and configurations
 
 constexpr double kBeta = 0.02;
 constexpr double kY = 10.0;  // the face's across-track distance, metres (sensor at z = 0)

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <vector>
 
+#include "object_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/scene.hpp"
 #include "sonarsynth/scene_profile.hpp"
@@ -26,15 +27,11 @@ Scene box_scene(const Material& mat, std::int32_t id) {
   GridGeometry g{-30.0, 30.0, 1.0, -1.0, n, n};
   scene.bathymetry = HeightGrid(g, std::vector<float>(g.size(), static_cast<float>(kSeabedZ)));
   scene.material_map = MaterialMap(scene.materials.index_of("sand"));
-  ObjectPrimitive box;
-  box.shape = ObjectShape::kBox;
-  box.id = id;
-  box.material = scene.materials.set(mat);
-  box.centre_xy_m = {15.0, 0.0};
-  box.half_extent_m = {15.0, 5.0, 1.0};  // u along north
-  box.place_on_seabed(scene.bathymetry, 0.0, 0.0, "box");
-  scene.objects.add(box);
-  scene.objects.build_index();
+  // u along north
+  test::add_on_seabed(scene,
+                      test::primitive(ObjectShape::kBox, id, scene.materials.set(mat), {15.0, 0.0},
+                                      {15.0, 5.0, 1.0}),
+                      "box");
   return scene;
 }
 

@@ -14,11 +14,7 @@
 namespace sonarsynth {
 namespace {
 
-using test::make_scene;
-using test::plain_config;
-using test::pose_at;
-using test::speckle_config;
-using test::with_test_box;
+using namespace test;  // the Simulator tests' scenes and configurations
 
 constexpr double kNu = 4.0;  // the box's texture shape
 

@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 
+#include "error_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/dataset.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
@@ -18,6 +19,8 @@
 
 namespace sonarsynth {
 namespace {
+
+using test::error_of;
 
 const std::string kBase = R"(name: vocabulary
 bathymetry:
@@ -45,17 +48,6 @@ objects:
 survey: {line_length_m: 6, altitude_m: 4, speed_m_s: 3}
 sonar: {preset: seascan-hds-600, range_m: 10, samples: 200}
 )";
-}
-
-// The message of what `f` throws (InputError), "" if it throws nothing.
-template <class F>
-std::string message_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 std::string constraint_of(const std::string& message) {
@@ -179,11 +171,11 @@ TEST(ObjectTypes, ABadParameterGetsTheSameMessageFromEveryFrontEnd) {
     SCOPED_TRACE(std::string(c.type) + "." + c.key + " = " + c.value);
     const std::string expected = find_object_type(c.type)->param(c.key)->constraint();
     const std::string entry = std::string(c.entry) + c.value + "}";
-    const std::string in_file = message_of([&] { scene_with(entry); });
+    const std::string in_file = error_of([&] { scene_with(entry); });
     EXPECT_EQ(in_file, "scene.yaml: objects[0]." + std::string(c.key) + " = '" + c.value +
                            "'. Violated constraint: " + expected);
     Scene scene = load_scene_from_string(kBase, "scene.yaml", SONARSYNTH_SAMPLES_DIR);
-    const std::string added = message_of([&] {
+    const std::string added = error_of([&] {
       add_scene_object(scene, yaml::Fields(YAML::Load(entry), "sim", "add_object"),
                        SONARSYNTH_SAMPLES_DIR);
     });
@@ -193,7 +185,7 @@ TEST(ObjectTypes, ABadParameterGetsTheSameMessageFromEveryFrontEnd) {
                                  ? std::string("models: mine, ") + c.key + ": " + c.value
                                  : std::string(c.key) + ": " + c.value;
     const std::string in_spec =
-        message_of([&] { load_dataset_spec_from_string(spec_with(c.type, keys), "spec.yaml"); });
+        error_of([&] { load_dataset_spec_from_string(spec_with(c.type, keys), "spec.yaml"); });
     // The spec's range of a scale is drawn, not written [x, y, z]: the bound without the form.
     const std::string bound = find_object_type(c.type)->param(c.key)->constraint(c.key);
     EXPECT_EQ(constraint_of(in_spec), bound) << in_spec;
@@ -208,10 +200,10 @@ TEST(ObjectTypes, ABadParameterGetsTheSameMessageFromEveryFrontEnd) {
 // A box's size: the spec names its parts, the scene file the list; one bound.
 TEST(ObjectTypes, BoxSizePartsShareTheSceneBound) {
   const ObjectParam& size = *find_object_type("box")->param("size_m");
-  const std::string in_file = message_of(
+  const std::string in_file = error_of(
       [&] { scene_with("{type: box, position: {east_m: 0, north_m: 0}, size_m: [1, 1001, 1]}"); });
   EXPECT_EQ(constraint_of(in_file), size.constraint());
-  const std::string in_spec = message_of(
+  const std::string in_spec = error_of(
       [&] { load_dataset_spec_from_string(spec_with("box", "width_m: 1001"), "spec.yaml"); });
   EXPECT_EQ(constraint_of(in_spec), size.constraint("width_m"));
   EXPECT_EQ(size.constraint("width_m"), "width_m > 0 and <= 1000");

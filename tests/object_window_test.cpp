@@ -122,36 +122,19 @@ TEST(ObjectWindow, TheObjectChangesNothingOutsideItsWindow) {
 class BoxScene : public ::testing::Test {
  protected:
   BoxScene() : scene_(make_scene(-60, -60, 120, 0.25, [](double, double) { return -20.0; })) {
-    ObjectPrimitive box;
-    box.shape = ObjectShape::kBox;
-    box.id = 4;
-    box.material = scene_.materials.index_of("steel");
-    box.centre_xy_m = {26.0, 0.0};
-    box.heading_rad = rad_from_deg(40.0);
-    box.half_extent_m = {4.0, 1.0, 2.0};
-    box.place_on_seabed(scene_.bathymetry, 0, 0, "box");
-    scene_.objects.add(box);
-    scene_.objects.build_index();
+    test::add_on_seabed(scene_,
+                        test::primitive(ObjectShape::kBox, 4, scene_.materials.index_of("steel"),
+                                        {26.0, 0.0}, {4.0, 1.0, 2.0}, rad_from_deg(40.0)),
+                        "box");
     cfg_ = plain_config();
     cfg_.sonar.samples_per_channel = 2000;
     cfg_.sonar.horizontal_beam_width_rad = rad_from_deg(1.5);
-    for (const double y : {-6.0, -2.0, 0.0, 2.0, 6.0}) {
-      pilot_.push_back(pose_at(scene_, {0.0, y}, 0.0, 10.0));
-    }
+    pilot_ = test::poses_at_y(scene_, {-6.0, -2.0, 0.0, 2.0, 6.0});
   }
   std::vector<std::vector<float>> render(int planes) const {
     SimulationConfig cfg = cfg_;
     cfg.quality.along_track_planes = planes;
-    const Simulator sim(scene_, cfg, 10.0, pilot_);
-    auto ws = sim.make_workspace();
-    std::vector<std::vector<float>> out;
-    for (const PingPose& p : pilot_) {
-      RenderedPing r;
-      sim.render_ping(p, *ws, r);
-      out.push_back(r.port.samples);
-      out.push_back(r.starboard.samples);
-    }
-    return out;
+    return test::render_sides(Simulator(scene_, cfg, 10.0, pilot_), pilot_);
   }
   Scene scene_;
   SimulationConfig cfg_;

@@ -71,34 +71,31 @@ class OutputSafetyCli : public ::testing::Test {
     r.err = read_text(io / "err");
     return r;
   }
+  /// Runs `args` in `cwd` and expects it refused: exit status 1, `reason` in the message, nothing
+  /// under root_ changed. Returns the result for further checks.
+  test::CliResult refused(const fs::path& cwd, const std::string& args, const std::string& reason) {
+    const auto before = snapshot(root_);
+    test::CliResult r = cli(cwd, args);
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(reason), std::string::npos) << args << "\n" << r.err;
+    EXPECT_EQ(snapshot(root_), before) << args;
+    return r;
+  }
   fs::path root_;
 };
 
 TEST_F(OutputSafetyCli, OverwriteOfTheWorkingDirectoryOrItsParentIsRefusedAndNothingChanges) {
-  const fs::path work = root_ / "work";
-  const auto before = snapshot(root_);
   for (const char* out : {".", "..", "./", "sub/.."}) {
-    const test::CliResult r =
-        cli(work, std::string("simulate scene.yaml -q --overwrite -o ") + out);
-    EXPECT_EQ(r.exit_code, 1) << out << "\n" << r.err;
-    EXPECT_NE(r.err.find("working directory"), std::string::npos) << r.err;
-    EXPECT_EQ(snapshot(root_), before) << out;
+    refused(root_ / "work", std::string("simulate scene.yaml -q --overwrite -o ") + out,
+            "working directory");
   }
 }
 
 TEST_F(OutputSafetyCli, ADirectoryHoldingTheSceneOrForeignFilesIsNeverReplaced) {
-  const fs::path work = root_ / "work";
-  const auto before = snapshot(root_);
   // From elsewhere: the scene's own directory.
-  test::CliResult r = cli(root_, "simulate work/scene.yaml -q --overwrite -o work");
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("contains the input"), std::string::npos) << r.err;
-  EXPECT_EQ(snapshot(root_), before);
+  refused(root_, "simulate work/scene.yaml -q --overwrite -o work", "contains the input");
   // A directory of someone else's files.
-  r = cli(work, "simulate scene.yaml -q --overwrite -o sub");
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("data.bin"), std::string::npos) << r.err;
-  EXPECT_EQ(snapshot(root_), before);
+  refused(root_ / "work", "simulate scene.yaml -q --overwrite -o sub", "data.bin");
 }
 
 TEST_F(OutputSafetyCli, OverwriteReplacesAnEarlierOutputAndReRunsOfEffectiveYamlAreRefusedInPlace) {
@@ -115,11 +112,7 @@ TEST_F(OutputSafetyCli, OverwriteReplacesAnEarlierOutputAndReRunsOfEffectiveYaml
     EXPECT_NE(e.path().filename().string()[0], '.') << e.path();
   }
   // Re-running the effective configuration into its own directory would delete it.
-  const auto before = snapshot(root_);
-  r = cli(work, "simulate out/effective.yaml -q --overwrite -o out");
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("contains the input"), std::string::npos) << r.err;
-  EXPECT_EQ(snapshot(root_), before);
+  refused(work, "simulate out/effective.yaml -q --overwrite -o out", "contains the input");
 }
 
 TEST_F(OutputSafetyCli, OverwriteRefusesAUserDirectoryOfProductNamedFilesWithoutMarker) {
@@ -127,60 +120,41 @@ TEST_F(OutputSafetyCli, OverwriteRefusesAUserDirectoryOfProductNamedFilesWithout
   fs::create_directory(work / "mine");
   std::ofstream(work / "mine" / "L1.xtf") << "my own copy";
   std::ofstream(work / "mine" / "effective.yaml") << "seed: 1\n";
-  const auto before = snapshot(root_);
-  const test::CliResult r = cli(work, "simulate scene.yaml -q --no-mosaic --overwrite -o mine");
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("mine: refusing to use as the output directory"), std::string::npos)
-      << r.err;
+  const test::CliResult r = refused(work, "simulate scene.yaml -q --no-mosaic --overwrite -o mine",
+                                    "mine: refusing to use as the output directory");
   EXPECT_NE(r.err.find(".sonarsynth-output"), std::string::npos) << r.err;
-  EXPECT_EQ(snapshot(root_), before);
 }
 
 TEST_F(OutputSafetyCli, AProductIsNeverWrittenOverItsInput) {
   const fs::path work = root_ / "work";
   ASSERT_EQ(cli(work, "simulate scene.yaml -q --no-mosaic -o out").exit_code, 0);
-  const auto before = snapshot(root_);
   for (const char* cmd : {"waterfall out/L1.xtf -q --overwrite -o out/L1.xtf",
                           "waterfall out/L1.xtf -q --overwrite -o ./out/../out/L1.xtf",
                           "mosaic out/L1.xtf -q --overwrite -o out/L1.xtf",
                           "mosaic out/L1.xtf -q --overwrite -o m.tif --rgb out/L1.xtf"}) {
-    const test::CliResult r = cli(work, cmd);
-    EXPECT_EQ(r.exit_code, 1) << cmd << "\n" << r.err;
-    EXPECT_NE(r.err.find("is the input"), std::string::npos) << cmd << "\n" << r.err;
-    EXPECT_EQ(snapshot(root_), before) << cmd;
+    refused(work, cmd, "is the input");
   }
 }
 
 TEST_F(OutputSafetyCli, APathTheSystemRefusesIsANamedErrorNotAnInternalOne) {
   const fs::path golden = fs::path(SONARSYNTH_TEST_DATA_DIR) / "xtf" / "golden-tiny.xtf";
   const std::string long_name = std::string(300, 'w') + ".png";
-  const auto before = snapshot(root_);
-  const test::CliResult r =
-      cli(root_ / "work", "waterfall " + golden.string() + " -q -o " + long_name);
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("File name too long"), std::string::npos) << r.err;
+  const test::CliResult r = refused(
+      root_ / "work", "waterfall " + golden.string() + " -q -o " + long_name, "File name too long");
   EXPECT_NE(r.err.find(long_name), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
-  EXPECT_EQ(snapshot(root_), before);
 }
 
 TEST_F(OutputSafetyCli, ThreadCountIsValidated) {
   const fs::path work = root_ / "work";
-  const auto before = snapshot(root_);
   for (const char* bad : {"-1", "0", "100000", "4294967295"}) {
     const test::CliResult r =
-        cli(work, std::string("simulate scene.yaml -q -o out --threads ") + bad);
-    EXPECT_EQ(r.exit_code, 1) << bad << "\n" << r.err;
-    EXPECT_NE(r.err.find(std::string("--threads = ") + bad), std::string::npos) << r.err;
+        refused(work, std::string("simulate scene.yaml -q -o out --threads ") + bad,
+                "--threads = " + std::string(bad));
     EXPECT_NE(r.err.find("Violated constraint"), std::string::npos) << r.err;
-    EXPECT_EQ(snapshot(root_), before);
   }
-  const test::CliResult r = cli(work,
-                                "bathy -o g.tif --lat 43 --lon 5 --size 10x10 --cell 1 "
-                                "--threads -1");
-  EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("--threads = -1"), std::string::npos) << r.err;
-  EXPECT_EQ(snapshot(root_), before);
+  refused(work, "bathy -o g.tif --lat 43 --lon 5 --size 10x10 --cell 1 --threads -1",
+          "--threads = -1");
 }
 
 /// Starts `sonarsynth <args...>` in `cwd` without waiting; output to /dev/null.

@@ -99,6 +99,23 @@ TEST(PaperModel, PerPingMaxNormalisationIsKEqualsOneOverImax) {
   EXPECT_GT(std::abs(10.0 * std::log10(maxima[0] / maxima[2])), 1.0);
 }
 
+// Calls f(clean, noisy) for every sample of both sides of 20 pings rendered by a Simulator of
+// `c` (x = 0, y = 0 ... 19 m, 10 m above the seabed; ping_index = y).
+template <class F>
+void for_each_sample(const Scene& scene, const SimulationConfig& c, F&& f) {
+  const Simulator sim(scene, c, 10.0);
+  auto ws = sim.make_workspace();
+  for (std::uint64_t p = 0; p < 20; ++p) {
+    PingPose pose = pose_at(scene, 0.0, static_cast<double>(p), 10.0);
+    pose.ping_index = p;
+    RenderedPing out;
+    sim.render_ping(pose, *ws, out);
+    for (const SideOutput* s : {&out.port, &out.starboard}) {
+      for (std::size_t i = 0; i < s->samples.size(); ++i) f(s->clean_samples[i], s->samples[i]);
+    }
+  }
+}
+
 // Eq. (2) with the paper's gamma: u ~ U(0, sqrt(12 gamma)) multiplies the normalised image, so
 // every lit sample is at least its clean value and at most (1 + sqrt(12 gamma)) times it, with
 // E[1 + u] = 1 + sqrt(3 gamma); the Rayleigh term's mean is snr_db below full scale.
@@ -111,28 +128,17 @@ TEST(PaperModel, PaperNoiseWithGammaOnTheNormalisedImage) {
   c.noise.paper_uniform_variance = gamma;
   c.noise.snr_at_max_range_db = 200.0;  // Rayleigh term negligible here
   c.clean_samples = true;
-  const Simulator sim(scene, c, 10.0);
-  auto ws = sim.make_workspace();
   double sum = 0.0;
   std::size_t n = 0;
-  for (std::uint64_t p = 0; p < 20; ++p) {
-    PingPose pose = pose_at(scene, 0.0, static_cast<double>(p), 10.0);
-    pose.ping_index = p;
-    RenderedPing out;
-    sim.render_ping(pose, *ws, out);
-    for (const SideOutput* s : {&out.port, &out.starboard}) {
-      for (std::size_t i = 0; i < s->samples.size(); ++i) {
-        const double clean = s->clean_samples[i], noisy = s->samples[i];
-        // Dark, or bright enough to be clamped at full scale (which would bias the mean).
-        if (!(clean > 1.0) || clean * (1.0 + g) >= 1000.0) continue;
-        const double ratio = noisy / clean;
-        EXPECT_GE(ratio, 1.0 - 1e-6);
-        EXPECT_LE(ratio, 1.0 + g + 1e-6);
-        sum += ratio;
-        ++n;
-      }
-    }
-  }
+  for_each_sample(scene, c, [&](double clean, double noisy) {
+    // Dark, or bright enough to be clamped at full scale (which would bias the mean).
+    if (!(clean > 1.0) || clean * (1.0 + g) >= 1000.0) return;
+    const double ratio = noisy / clean;
+    EXPECT_GE(ratio, 1.0 - 1e-6);
+    EXPECT_LE(ratio, 1.0 + g + 1e-6);
+    sum += ratio;
+    ++n;
+  });
   ASSERT_GT(n, 10000u);
   EXPECT_NEAR(sum / static_cast<double>(n), 1.0 + 0.5 * g,
               4.0 * std::sqrt(gamma / static_cast<double>(n)));
@@ -141,23 +147,13 @@ TEST(PaperModel, PaperNoiseWithGammaOnTheNormalisedImage) {
   // scale; measured where the clean image is 0 (beyond the paper beam's lower edge).
   c.noise.paper_uniform_variance = 0.0;
   c.noise.snr_at_max_range_db = 20.0;
-  const Simulator dark(scene, c, 10.0);
-  auto wd = dark.make_workspace();
   double rsum = 0.0;
   std::size_t rn = 0;
-  for (std::uint64_t p = 0; p < 20; ++p) {
-    PingPose pose = pose_at(scene, 0.0, static_cast<double>(p), 10.0);
-    pose.ping_index = p;
-    RenderedPing out;
-    dark.render_ping(pose, *wd, out);
-    for (const SideOutput* s : {&out.port, &out.starboard}) {
-      for (std::size_t i = 0; i < s->samples.size(); ++i) {
-        if (s->clean_samples[i] != 0.0) continue;
-        rsum += s->samples[i];
-        ++rn;
-      }
-    }
-  }
+  for_each_sample(scene, c, [&](double clean, double noisy) {
+    if (clean != 0.0) return;
+    rsum += noisy;
+    ++rn;
+  });
   ASSERT_GT(rn, 5000u);
   // Rayleigh mean 1000 / 100 = 10, standard deviation sqrt(4 / pi - 1) x 10.
   EXPECT_NEAR(rsum / static_cast<double>(rn), 10.0,

@@ -12,26 +12,19 @@
 #include <utility>
 
 #include "analytic/flat_seabed.hpp"
+#include "render_side_test_util.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {
 namespace {
 
-constexpr double kMu = 0.01;
-constexpr double kBeta = 0.02;
-
 using analytic::flat_seabed_F;
+using test::kBeta;
+using test::kMu;
 
+// The Lambertian seabed of the render_side tests, uniform beam, no absorption.
 SideParams flat_params(double dr, std::size_t samples) {
-  SideParams p;
-  p.sample_spacing_m = dr;
-  p.samples = samples;
-  p.beta_eff_rad = kBeta;
-  p.vertical_beam.shape = VerticalBeamShape::uniform;
-  p.materials = {Material{.name = "test"}};
-  p.materials[0].lambert_mu = kMu;
-  p.backscatter = BackscatterModel::lambert;
-  return p;
+  return test::base_params(dr, samples);
 }
 
 BeamProfile flat_profile(double h_m, double y_max_m) {

@@ -14,11 +14,13 @@
 #include <random>
 #include <vector>
 
+#include "error_test_util.hpp"
 #include "realism_test_records.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace rs = bench::realism;
 using rs::Side;
+using sonarsynth::test::expect_error;
 
 using namespace realism_test;
 
@@ -260,24 +262,14 @@ TEST(RealismStats, HistogramQuantilesAndZeros) {
 TEST(RealismStats, LayoutAndOptionErrorsAreNamed) {
   auto pings = make_pings(3, [](std::size_t, std::size_t, Side) { return 1.0f; });
   pings[2].starboard.resize(10);
-  try {
-    rs::measure(pings);
-    FAIL() << "mixed layouts accepted";
-  } catch (const sonarsynth::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("ping 2"), std::string::npos) << e.what();
-  }
+  expect_error([&] { rs::measure(pings); }, {"ping 2"}, "mixed layouts");
   EXPECT_THROW(rs::measure(std::vector<rs::Ping>{}), sonarsynth::InputError);
   pings[2].starboard.resize(kSamples);
   EXPECT_THROW(rs::seabed_texture(pings, Side::kPort, std::vector<rs::FirstReturn>(2), {}),
                sonarsynth::InputError);
   rs::Options o;
   o.box_samples = 30;
-  try {
-    o.validate();
-    FAIL() << "even box accepted";
-  } catch (const sonarsynth::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("box_samples = 30"), std::string::npos) << e.what();
-  }
+  expect_error([&] { o.validate(); }, {"box_samples = 30"}, "an even box");
 }
 
 TEST(RealismStats, ShadowFillCoefficientOfVariation) {

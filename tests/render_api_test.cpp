@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "simulator_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/simulator.hpp"
 
@@ -18,12 +19,8 @@ namespace {
 constexpr double kSeabedZ = -30.0;
 
 std::shared_ptr<const Scene> flat_scene() {
-  auto scene = std::make_shared<Scene>(GeoFrame(31, true, 500000.0, 5000000.0));
-  const std::size_t n = 121;
-  GridGeometry g{-60.0, 60.0, 1.0, -1.0, n, n};
-  scene->bathymetry = HeightGrid(g, std::vector<float>(g.size(), static_cast<float>(kSeabedZ)));
-  scene->material_map = MaterialMap(scene->materials.index_of("sand"));
-  return scene;
+  return std::make_shared<const Scene>(
+      test::make_scene(-60, -60, 120, 1.0, [](double, double) { return kSeabedZ; }));
 }
 
 SimulationConfig speckle_config() {

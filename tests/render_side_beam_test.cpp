@@ -9,6 +9,7 @@
 #include <functional>
 #include <vector>
 
+#include "analytic/gauss_legendre.hpp"
 #include "sonarsynth/render_side.hpp"
 
 namespace sonarsynth {
@@ -40,25 +41,12 @@ double flat_energy_with_beam(double r1, double r2, double h, double axis_rad,
     if (phi > phi1 && phi < phi2) cuts.push_back(phi);
   }
   std::sort(cuts.begin(), cuts.end());
-  static const double x[10] = {-0.9739065285171717, -0.8650633666889845, -0.6794095682990244,
-                               -0.4333953941292472, -0.1488743389816312, 0.1488743389816312,
-                               0.4333953941292472,  0.6794095682990244,  0.8650633666889845,
-                               0.9739065285171717};
-  static const double w[10] = {0.0666713443086881, 0.1494513491505806, 0.2190863625159820,
-                               0.2692667193099963, 0.2955242247147529, 0.2955242247147529,
-                               0.2692667193099963, 0.2190863625159820, 0.1494513491505806,
-                               0.0666713443086881};
   double sum = 0.0;
   for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
-    const int panels = 8;
-    const double hp = (cuts[c + 1] - cuts[c]) / panels;
-    for (int k = 0; k < panels; ++k) {
-      for (int g = 0; g < 10; ++g) {
-        const double phi = cuts[c] + hp * (k + 0.5 + 0.5 * x[g]);
-        const double cp = std::cos(phi);
-        sum += w[g] * 0.5 * hp * cp * cp * cp * b2(0.5 * kPi - phi - axis_rad);
-      }
-    }
+    sum += analytic::gauss_legendre<10>(cuts[c], cuts[c + 1], 8, [&](double phi) {
+      const double cp = std::cos(phi);
+      return cp * cp * cp * b2(0.5 * kPi - phi - axis_rad);
+    });
   }
   return kMu * kBeta / (h * h) * sum;
 }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analytic/flat_seabed.hpp"
+#include "analytic/gauss_legendre.hpp"
 #include "render_side_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/render_math.hpp"
@@ -102,27 +103,13 @@ double flat_energy_beam_absorption(double r1, double r2, double h, double axis_r
   r1 = std::max(r1, h);
   if (r2 <= r1) return 0.0;
   const double phi1 = std::acos(h / r1), phi2 = std::acos(h / r2);
-  static const double x[10] = {-0.9739065285171717, -0.8650633666889845, -0.6794095682990244,
-                               -0.4333953941292472, -0.1488743389816312, 0.1488743389816312,
-                               0.4333953941292472,  0.6794095682990244,  0.8650633666889845,
-                               0.9739065285171717};
-  static const double w[10] = {0.0666713443086881, 0.1494513491505806, 0.2190863625159820,
-                               0.2692667193099963, 0.2955242247147529, 0.2955242247147529,
-                               0.2692667193099963, 0.2190863625159820, 0.1494513491505806,
-                               0.0666713443086881};
   const double kappa = alpha_db_per_m * 2.0 * std::log(10.0) / 10.0;
-  const int panels = 4;
-  const double hp = (phi2 - phi1) / panels;
-  double sum = 0.0;
-  for (int k = 0; k < panels; ++k) {
-    for (int g = 0; g < 10; ++g) {
-      const double phi = phi1 + hp * (k + 0.5 + 0.5 * x[g]);
-      const double off = (kPiT / 2 - phi) - axis_rad;
-      const double b = std::exp(-4.0 * std::log(2.0) * (off / width_rad) * (off / width_rad));
-      const double c = std::cos(phi);
-      sum += w[g] * 0.5 * hp * c * c * c * b * b * std::exp(-kappa * h / c);
-    }
-  }
+  const double sum = analytic::gauss_legendre<10>(phi1, phi2, 4, [&](double phi) {
+    const double off = (kPiT / 2 - phi) - axis_rad;
+    const double b = std::exp(-4.0 * std::log(2.0) * (off / width_rad) * (off / width_rad));
+    const double c = std::cos(phi);
+    return c * c * c * b * b * std::exp(-kappa * h / c);
+  });
   return kMu * kBeta / (h * h) * sum;
 }
 

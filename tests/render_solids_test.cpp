@@ -13,6 +13,7 @@
 
 #include "analytic/circle_section.hpp"
 #include "analytic/flat_seabed.hpp"
+#include "object_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
 #include "sonarsynth/render_side.hpp"
@@ -39,6 +40,15 @@ SideParams params(double dr, std::size_t samples, double mu) {
   p.backscatter = BackscatterModel::lambert;
   p.truth = true;
   return p;
+}
+
+// The echo of `prof` in `samples` bins of dr, with the scene's materials.
+SideEcho echo_of(const BeamProfile& prof, const Scene& scene, double dr, std::size_t samples) {
+  SideParams p = params(dr, samples, 0.0);
+  p.materials = scene.materials.all();
+  SideEcho e;
+  render_side(prof, p, e);
+  return e;
 }
 
 // Flat seabed z = 0 from y = 0 to y_max, and the circle as a clockwise polygon of n nodes.
@@ -148,28 +158,18 @@ TEST(RenderSolids, FreeSpanningPipeMatchesTangentGeometryAndArcIntegral) {
 TEST(RenderSolids, NarrowPipeAtOneMetreNoLongerReturnsAColumnsEcho) {
   // docs/physics.md §3.15: a 5 cm pipe 1 m above the seabed. As a heightfield it was a solid
   // column down to the seabed (25x the energy); as a closed section it returns its lit arc.
-  Scene scene(GeoFrame(19, true, 500000.0, 5000000.0));
-  GridGeometry g{-50.0, 50.0, 1.0, -1.0, 101, 101};
-  scene.bathymetry = HeightGrid(g, std::vector<float>(g.size(), -20.0f));
-  scene.material_map = MaterialMap(scene.materials.index_of("sand"));
-  ObjectPrimitive pipe;
-  pipe.shape = ObjectShape::kCylinder;
-  pipe.id = 5;
-  pipe.material = scene.materials.index_of("sand");  // same mu: the split needs no labels
-  pipe.centre_xy_m = {15.3, 0.0};
-  pipe.half_extent_m = {20.0, 0.025, 0.025};  // runs north; the ray runs east across it
-  pipe.place_on_seabed(scene.bathymetry, 1.0, 0.0, "pipe");
-  scene.objects.add(pipe);
-  scene.objects.build_index();
+  Scene scene = test::flat_scene(1.0, 20.0);
+  // same mu: no labels needed; runs north, across the ray
+  test::add_on_seabed(scene,
+                      test::primitive(ObjectShape::kCylinder, 5, scene.materials.index_of("sand"),
+                                      {15.3, 0.0}, {20.0, 0.025, 0.025}),
+                      "pipe", 1.0);
   BeamProfile prof;
   ProfileScratch scratch;
   build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 40.0, -10.0, {}, prof, scratch);
   ASSERT_EQ(prof.sections(), 1u);
   const double mu = scene.materials[scene.materials.index_of("sand")].lambert_mu;
-  SideParams p = params(0.05, 800, mu);
-  p.materials = scene.materials.all();
-  SideEcho e;
-  render_side(prof, p, e);
+  const SideEcho e = echo_of(prof, scene, 0.05, 800);
   // Seabed z = -20 is 10 m below the sensor; the circle in the sensor's frame.
   const Circle c{15.3, 1.025, 0.025, 10.0};
   double total = 0.0;
@@ -185,19 +185,11 @@ TEST(RenderSolids, NarrowPipeAtOneMetreNoLongerReturnsAColumnsEcho) {
 // flat seabed 10 m below the sensor) with the true cylinder: {RMS dB, worst dB} over the bins
 // the pipe or its shadow touch.
 std::pair<double, double> resting_pipe_error_db(bool solid, int segments) {
-  Scene scene(GeoFrame(19, true, 500000.0, 5000000.0));
-  GridGeometry g{-50.0, 50.0, 0.5, -0.5, 201, 201};
-  scene.bathymetry = HeightGrid(g, std::vector<float>(g.size(), -20.0f));
-  scene.material_map = MaterialMap(scene.materials.index_of("sand"));
-  ObjectPrimitive pipe;
-  pipe.shape = ObjectShape::kCylinder;
-  pipe.id = 5;
-  pipe.material = scene.materials.index_of("sand");
-  pipe.centre_xy_m = {30.0, 0.0};
-  pipe.half_extent_m = {20.0, 0.5, 0.5};
-  pipe.place_on_seabed(scene.bathymetry, 0.0, 0.0, "pipe");
-  scene.objects.add(pipe);
-  scene.objects.build_index();
+  Scene scene = test::flat_scene(0.5, 20.0);
+  test::add_on_seabed(scene,
+                      test::primitive(ObjectShape::kCylinder, 5, scene.materials.index_of("sand"),
+                                      {30.0, 0.0}, {20.0, 0.5, 0.5}),
+                      "pipe");
   BeamProfile prof;
   ProfileScratch scratch;
   ProfileOptions opt;
@@ -206,14 +198,11 @@ std::pair<double, double> resting_pipe_error_db(bool solid, int segments) {
   build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 45.0, -10.0, opt, prof, scratch);
   const double mu = scene.materials[scene.materials.index_of("sand")].lambert_mu;
   const double dr = 0.05;
-  SideParams p = params(dr, 900, mu);
-  p.materials = scene.materials.all();
-  SideEcho e;
-  render_side(prof, p, e);
+  const SideEcho e = echo_of(prof, scene, dr, 900);
   const Circle c{30.0, 0.5, 0.5, 10.0};
   double sum2 = 0.0, worst = 0.0;
   int n = 0;
-  for (std::size_t i = 0; i < p.samples; ++i) {
+  for (std::size_t i = 0; i < e.intensity.size(); ++i) {
     const double r1 = dr * static_cast<double>(i);
     if (r1 + dr < c.nearest_range() - 0.5 || r1 > c.shadow_end() + 0.5) continue;
     const double want = expected_bin(c, r1, r1 + dr, mu);
@@ -267,10 +256,7 @@ objects:
   const double mu_sand = scene.materials[scene.materials.index_of("sand")].lambert_mu;
   const double mu_steel = scene.materials[scene.materials.index_of("steel")].lambert_mu;
   const double dr = 0.05;
-  SideParams p = params(dr, 1200, mu_sand);
-  p.materials = scene.materials.all();
-  SideEcho e;
-  render_side(prof, p, e);
+  const SideEcho e = echo_of(prof, scene, dr, 1200);
   const Circle c{6.0, 8.0, 0.5, 10.0};  // relative to the seabed at z = -25
   const auto bin = [dr](double r) { return static_cast<std::size_t>(std::floor(r / dr)); };
   // Its own echo in the water column, before the first bottom return at r = 10 m.
@@ -303,10 +289,7 @@ objects:
 TEST(RenderSolids, StableFromTouchingToFarAboveAndAroundTheSensor) {
   // Clearance from 0+ to 5 diameters, a sphere cut at nadir, one above the sensor and one around
   // it: finite, non-negative echoes, the seabed's shadow never larger than the tangent rays say.
-  Scene base(GeoFrame(19, true, 500000.0, 5000000.0));
-  GridGeometry g{-50.0, 50.0, 0.5, -0.5, 201, 201};
-  base.bathymetry = HeightGrid(g, std::vector<float>(g.size(), -20.0f));
-  base.material_map = MaterialMap(base.materials.index_of("sand"));
+  const Scene base = test::flat_scene(0.5, 20.0);
   struct Case {
     ObjectShape shape;
     double x, radius, clearance;
@@ -319,28 +302,19 @@ TEST(RenderSolids, StableFromTouchingToFarAboveAndAroundTheSensor) {
   cases.push_back({ObjectShape::kEllipsoid, 0.5, 2.0, 8.0});   // the sensor inside it
   for (const Case& k : cases) {
     Scene scene = base;
-    ObjectPrimitive o;
-    o.shape = k.shape;
-    o.id = 3;
-    o.material = scene.materials.index_of("steel");
-    o.centre_xy_m = {k.x, 0.0};
-    o.half_extent_m = k.shape == ObjectShape::kCylinder
-                          ? Eigen::Vector3d(20.0, k.radius, k.radius)
-                          : Eigen::Vector3d(k.radius, k.radius, k.radius);
-    o.place_on_seabed(scene.bathymetry, k.clearance, 0.0, "object");
-    scene.objects = ObjectSet{};
-    scene.objects.add(o);
-    scene.objects.build_index();
+    test::add_on_seabed(scene,
+                        test::primitive(k.shape, 3, scene.materials.index_of("steel"), {k.x, 0.0},
+                                        k.shape == ObjectShape::kCylinder
+                                            ? Eigen::Vector3d(20.0, k.radius, k.radius)
+                                            : Eigen::Vector3d(k.radius, k.radius, k.radius)),
+                        "object", k.clearance);
     BeamProfile prof;
     ProfileScratch scratch;
     build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 45.0, -10.0, {}, prof, scratch);
     ASSERT_EQ(prof.sections(), 1u) << k.clearance;
-    SideParams p = params(0.05, 900, 0.01);
-    p.materials = scene.materials.all();
-    SideEcho e;
-    render_side(prof, p, e);
+    const SideEcho e = echo_of(prof, scene, 0.05, 900);
     double total = 0.0;
-    for (std::size_t i = 0; i < p.samples; ++i) {
+    for (std::size_t i = 0; i < e.intensity.size(); ++i) {
       ASSERT_TRUE(std::isfinite(e.intensity[i]) && e.intensity[i] >= 0.0) << i;
       total += e.intensity[i];
     }
@@ -348,7 +322,7 @@ TEST(RenderSolids, StableFromTouchingToFarAboveAndAroundTheSensor) {
     if (k.shape == ObjectShape::kCylinder) {
       // No shadow sample outside the tangent rays' landing ranges (one bin of slack).
       const Circle c{k.x, k.clearance + k.radius, k.radius, 10.0};
-      for (std::size_t i = 0; i < p.samples; ++i) {
+      for (std::size_t i = 0; i < e.intensity.size(); ++i) {
         if (e.truth_class[i] != SampleClass::shadow) continue;
         const double r = 0.05 * static_cast<double>(i);
         EXPECT_GE(r, c.shadow_start() - 0.1) << k.clearance;

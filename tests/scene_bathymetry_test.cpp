@@ -12,6 +12,7 @@
 
 #include "cli_test_util.hpp"
 #include "dem_test_util.hpp"
+#include "error_test_util.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
@@ -34,16 +35,8 @@ class SceneBathymetry : public test::ScratchDirTest {
     std::ofstream(p) << yaml;
     return load_scene(p.string(), o);
   }
-  void expect_error(const std::string& yaml, std::initializer_list<const char*> fragments) {
-    try {
-      load(yaml);
-      ADD_FAILURE() << "no error for:\n" << yaml;
-    } catch (const InputError& e) {
-      for (const char* f : fragments) {
-        EXPECT_NE(std::string(e.what()).find(f), std::string::npos)
-            << "'" << f << "' not in: " << e.what();
-      }
-    }
+  void expect_error(const std::string& yaml, std::initializer_list<std::string_view> fragments) {
+    test::expect_error([&] { load(yaml); }, fragments, yaml);
   }
   // The DEM as read, with the given interpolation.
   HeightGrid dem(Interpolation i) const {

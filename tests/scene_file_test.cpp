@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "cli_test_util.hpp"
+#include "error_test_util.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {
@@ -21,17 +22,9 @@ class SceneFile : public test::ScratchDirTest {
  protected:
   // Expects load_scene to throw E with every fragment in its message.
   template <class E>
-  void expect_error(const std::string& yaml, std::initializer_list<const char*> fragments) {
+  void expect_error(const std::string& yaml, std::initializer_list<std::string_view> fragments) {
     const std::string path = write("bad.yaml", yaml);
-    try {
-      load_scene(path);
-      ADD_FAILURE() << "no error for:\n" << yaml;
-    } catch (const E& e) {
-      for (const char* f : fragments) {
-        EXPECT_NE(std::string(e.what()).find(f), std::string::npos)
-            << "'" << f << "' not in: " << e.what();
-      }
-    }
+    test::expect_error<E>([&] { load_scene(path); }, fragments, yaml);
   }
 };
 

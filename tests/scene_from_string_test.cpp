@@ -79,6 +79,14 @@ TEST(SceneFromString, MalformedYamlNamesTheGivenName) {
   }
 }
 
+// The head of the inline scenes below: a generated seabed.
+const std::string kFlat = R"(bathymetry:
+  generate:
+    centre: {lat_deg: -33.9, lon_deg: 151.3}
+    size_m: [100, 80]
+    cell_m: 0.5
+)";
+
 // Found by scene_file_fuzz: a key that is a list (YAML "complex key") was an uncaught yaml-cpp
 // conversion error (exit 3 from the CLI); a value of the wrong type where yaml-cpp converts
 // directly, too. Both are InputErrors naming the file and the line.
@@ -88,24 +96,18 @@ TEST(SceneFromString, KeysAndValuesOfTheWrongTypeAreInputErrors) {
                             part);
   };
   expect_input_error("? [a, b]\n: 1\n", "inline.yaml: key [a, b] (line 1) is not a plain name");
-  const std::string flat = R"(bathymetry:
-  generate:
-    centre: {lat_deg: -33.9, lon_deg: 151.3}
-    size_m: [100, 80]
-    cell_m: 0.5
-)";
-  expect_input_error(flat + "  ? {x: 1}\n  : 2\n",
+  expect_input_error(kFlat + "  ? {x: 1}\n  : 2\n",
                      "inline.yaml: bathymetry: key {x: 1} (line 6) is not a plain name");
   expect_input_error(
-      flat + R"(seabed:
+      kFlat + R"(seabed:
   polygons:
     - coordinates_deg: [[-33.9, 151.3], [-33.9, east], [-33.91, 151.3]]
 )",
       "inline.yaml: seabed.polygons[0].coordinates_deg[1][1] = 'east'. Violated constraint: "
       "a finite number");
-  expect_input_error(flat + "materials:\n  - {name: rust, roughness_rms_m: -0.01}\n",
+  expect_input_error(kFlat + "materials:\n  - {name: rust, roughness_rms_m: -0.01}\n",
                      "roughness_rms_m");
-  expect_input_error(flat + "materials:\n  - {name: rust, roughness_length_m: 0}\n",
+  expect_input_error(kFlat + "materials:\n  - {name: rust, roughness_length_m: 0}\n",
                      "roughness_length_m");
 }
 
@@ -135,13 +137,7 @@ materials:
 }
 
 TEST(SceneFromString, MaterialSpecularKeysAreRead) {
-  const std::string flat = R"(bathymetry:
-  generate:
-    centre: {lat_deg: -33.9, lon_deg: 151.3}
-    size_m: [100, 80]
-    cell_m: 0.5
-)";
-  const Scene s = load_scene_from_string(flat + R"(materials:
+  const Scene s = load_scene_from_string(kFlat + R"(materials:
   - {name: rust, specular_reflection_db: -10, specular_rms_slope: 0.25}
   - {name: steel, specular_reflection_db: off}
 )",
@@ -154,9 +150,9 @@ TEST(SceneFromString, MaterialSpecularKeysAreRead) {
   const auto expect_input_error = [](const std::string& yaml, const std::string& part) {
     expect_input_error_from([&] { load_scene_from_string(yaml, "inline.yaml", "."); }, yaml, part);
   };
-  expect_input_error(flat + "materials:\n  - {name: rust, specular_reflection_db: 3}\n",
+  expect_input_error(kFlat + "materials:\n  - {name: rust, specular_reflection_db: 3}\n",
                      "specular_reflection_db");
-  expect_input_error(flat + "materials:\n  - {name: rust, specular_rms_slope: 0}\n",
+  expect_input_error(kFlat + "materials:\n  - {name: rust, specular_rms_slope: 0}\n",
                      "specular_rms_slope");
 }
 

@@ -5,20 +5,16 @@
 
 #include <cmath>
 
+#include "object_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/scene.hpp"
 
 namespace sonarsynth {
 namespace {
 
-Scene flat_scene(double cell, double depth) {
-  Scene scene(GeoFrame(19, true, 500000.0, 5000000.0));
-  const std::size_t n = static_cast<std::size_t>(100.0 / cell) + 1;
-  GridGeometry g{-50.0, 50.0, cell, -cell, n, n};
-  scene.bathymetry = HeightGrid(g, std::vector<float>(g.size(), static_cast<float>(-depth)));
-  scene.material_map = MaterialMap(scene.materials.index_of("sand"));
-  return scene;
-}
+using test::add_on_seabed;
+using test::flat_scene;
+using test::primitive;
 
 double max_z(const BeamProfile& p, std::int32_t* label_at_max = nullptr) {
   double best = -1e9;
@@ -56,16 +52,10 @@ ProfileOptions heightfield() {
 TEST(SceneProfile, ThinPipeOnCoarseGridIsSeenAtFullHeight) {
   // A 0.5 m pipe (radius 0.25) on a 1 m grid, running north; ping line running east across it.
   Scene scene = flat_scene(1.0, 20.0);
-  ObjectPrimitive pipe;
-  pipe.shape = ObjectShape::kCylinder;
-  pipe.id = 7;
-  pipe.material = scene.materials.index_of("steel");
-  pipe.centre_xy_m = {12.37, 0.0};
-  pipe.heading_rad = 0.0;
-  pipe.half_extent_m = {20.0, 0.25, 0.25};
-  pipe.place_on_seabed(scene.bathymetry, 0.0, 0.0, "pipe");
-  scene.objects.add(pipe);
-  scene.objects.build_index();
+  add_on_seabed(scene,
+                primitive(ObjectShape::kCylinder, 7, scene.materials.index_of("steel"),
+                          {12.37, 0.0}, {20.0, 0.25, 0.25}, 0.0),
+                "pipe");
   BeamProfile prof;
   ProfileScratch scratch;
   build_beam_profile(scene, {0.0, 3.0}, {1.0, 0.0}, 40.0, -10.0, heightfield(), prof, scratch);
@@ -95,15 +85,9 @@ TEST(SceneProfile, ThinPipeOnCoarseGridIsSeenAtFullHeight) {
 
 TEST(SceneProfile, BoxHasVerticalWallsAtItsFootprintEdges) {
   Scene scene = flat_scene(0.5, 10.0);
-  ObjectPrimitive box;
-  box.shape = ObjectShape::kBox;
-  box.id = 3;
-  box.centre_xy_m = {30.5, 0.0};
-  box.half_extent_m = {0.5, 5.0, 0.5};  // 1 m along the ray... u is north: make it face east
-  box.heading_rad = kPi / 2;            // u east: 1 m along the ray, 10 m wide, 1 m high
-  box.place_on_seabed(scene.bathymetry, 0.0, 0.0, "box");
-  scene.objects.add(box);
-  scene.objects.build_index();
+  // u east: 1 m along the ray, 10 m wide, 1 m high
+  add_on_seabed(scene, primitive(ObjectShape::kBox, 3, 0, {30.5, 0.0}, {0.5, 5.0, 0.5}, kPi / 2),
+                "box");
   BeamProfile prof;
   ProfileScratch scratch;
   build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 45.0, 0.0, heightfield(), prof, scratch);
@@ -124,22 +108,11 @@ TEST(SceneProfile, ObjectsAsClosedSectionsOnTheCircleAndTheBox) {
   // Default: a resting pipe and a box off the seabed as clockwise closed sections; the height
   // profile stays the seabed's.
   Scene scene = flat_scene(1.0, 20.0);
-  ObjectPrimitive pipe;
-  pipe.shape = ObjectShape::kCylinder;
-  pipe.id = 7;
-  pipe.centre_xy_m = {12.37, 0.0};
-  pipe.half_extent_m = {20.0, 0.25, 0.25};
-  pipe.place_on_seabed(scene.bathymetry, 0.0, 0.0, "pipe");
-  scene.objects.add(pipe);
-  ObjectPrimitive box;
-  box.shape = ObjectShape::kBox;
-  box.id = 3;
-  box.heading_rad = kPi / 2;  // u east: 1 m along the ray
-  box.centre_xy_m = {30.5, 0.0};
-  box.half_extent_m = {0.5, 5.0, 0.5};
-  box.place_on_seabed(scene.bathymetry, 2.0, 0.0, "box");
-  scene.objects.add(box);
-  scene.objects.build_index();
+  add_on_seabed(scene, primitive(ObjectShape::kCylinder, 7, 0, {12.37, 0.0}, {20.0, 0.25, 0.25}),
+                "pipe");
+  // u east: 1 m along the ray
+  add_on_seabed(scene, primitive(ObjectShape::kBox, 3, 0, {30.5, 0.0}, {0.5, 5.0, 0.5}, kPi / 2),
+                "box", 2.0);
   BeamProfile prof;
   ProfileScratch scratch;
   build_beam_profile(scene, {0.0, 0.0}, {1.0, 0.0}, 40.0, -10.0, {}, prof, scratch);

@@ -12,6 +12,7 @@
 #include <memory>
 #include <vector>
 
+#include "simulator_test_util.hpp"
 #include "sonarsynth/simd.hpp"
 #include "sonarsynth/simulator.hpp"
 
@@ -23,21 +24,10 @@ constexpr double kAltitude = 10.0;
 
 // A flat sand seabed; with `wall`, a 6 m high ridge 8-10 m east of x = 0 (north-south).
 std::shared_ptr<const Scene> scene_with(bool wall) {
-  auto scene = std::make_shared<Scene>(GeoFrame(31, true, 500000.0, 5000000.0));
-  const std::size_t n = 241;
-  GridGeometry g{-60.0, 60.0, 0.5, -0.5, n, n};
-  std::vector<float> z(g.size(), static_cast<float>(kSeabedZ));
-  if (wall) {
-    for (std::size_t r = 0; r < n; ++r) {
-      for (std::size_t c = 0; c < n; ++c) {
-        const double x = -60.0 + 0.5 * static_cast<double>(c);
-        if (x >= 8.0 && x <= 10.0) z[r * n + c] = static_cast<float>(kSeabedZ + 6.0);
-      }
-    }
-  }
-  scene->bathymetry = HeightGrid(g, z);
-  scene->material_map = MaterialMap(scene->materials.index_of("sand"));
-  return scene;
+  return std::make_shared<const Scene>(
+      test::make_scene(-60, -60, 120, 0.5, [wall](double x, double) {
+        return wall && x >= 8.0 && x <= 10.0 ? kSeabedZ + 6.0 : kSeabedZ;
+      }));
 }
 
 SimulationConfig base_config() {
@@ -49,6 +39,15 @@ SimulationConfig base_config() {
   c.noise.snr_at_max_range_db = 300.0;  // thermal noise out of the way
   c.sensor = SensorConfig::none();
   c.threads = 1;
+  return c;
+}
+
+// base_config without speckle: the output is the intensity itself, not rounded.
+SimulationConfig intensity_config() {
+  SimulationConfig c = base_config();
+  c.noise.model = NoiseConfig::Model::kNone;
+  c.output.quantity = SampleQuantity::intensity;
+  c.output.round_to_integer = false;
   return c;
 }
 
@@ -181,10 +180,7 @@ TEST(SensorEffects, ReceiverNoiseFloorHasItsRmsLevelAndNoZeros) {
 
 TEST(SensorEffects, VolumeReverberationAndShadowFillHaveTheirLevels) {
   const auto scene = scene_with(true);
-  SimulationConfig c = base_config();
-  c.noise.model = NoiseConfig::Model::kNone;
-  c.output.quantity = SampleQuantity::intensity;
-  c.output.round_to_integer = false;
+  SimulationConfig c = intensity_config();
   c.sensor.volume_reverberation_db = -40.0;
   c.sensor.shadow_fill_db = -24.0;
   c.output.tvg_spreading_db_per_decade = 30.0;  // the compensating TVG (20: the TVG law test)
@@ -216,12 +212,9 @@ TEST(SensorEffects, VolumeReverberationAndShadowFillHaveTheirLevels) {
 
 TEST(SensorEffects, FirstBottomReturnMatchesAnIndependentQuadratureAndStartsAtTheAltitude) {
   const auto scene = scene_with(false);
-  SimulationConfig c = base_config();
-  c.noise.model = NoiseConfig::Model::kNone;
-  c.output.quantity = SampleQuantity::intensity;
+  SimulationConfig c = intensity_config();
   c.output.tvg = TvgLaw::none;
   c.output.gain_db = 0.0;
-  c.output.round_to_integer = false;
   c.output.max_value = 3.0e38;
   const RenderedPing off = render(Simulator(scene, c, kAltitude), pose_at(*scene, 0.0, 1));
   c.sensor.first_return_reflection_db = -10.0;
@@ -270,10 +263,7 @@ TEST(SensorEffects, TermsKeptBetweenPingsEqualThoseOfAFreshWorkspace) {
   // pings: pings rendered in one workspace, in an order that revisits altitudes and along-track
   // patches and jumps back, must equal each ping rendered alone in a fresh workspace, bit for bit.
   const auto scene = scene_with(true);
-  SimulationConfig c = base_config();
-  c.noise.model = NoiseConfig::Model::kNone;
-  c.output.quantity = SampleQuantity::intensity;
-  c.output.round_to_integer = false;
+  SimulationConfig c = intensity_config();
   c.sensor.volume_reverberation_db = -20.0;
   c.sensor.shadow_fill_db = -15.0;
   c.sensor.first_return_reflection_db = -10.0;

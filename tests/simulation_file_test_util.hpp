@@ -10,25 +10,17 @@
 #include <fstream>
 #include <string>
 
+#include "cli_test_util.hpp"
+
 namespace sonarsynth::simulation_file_test {
 
 namespace fs = std::filesystem;
 
-class SimulationFile : public ::testing::Test {
+class SimulationFile : public test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_simfile_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return (dir_ / name).string();
+    return ScratchDirTest::write(name, text).string();
   }
-  fs::path dir_;
 };
 
 inline constexpr const char* kScene = R"(

@@ -16,9 +16,7 @@
 namespace sonarsynth {
 namespace {
 
-using test::make_scene;
-using test::plain_config;
-using test::pose_at;
+using namespace test;  // the Simulator tests' scenes, configurations and comparisons
 
 TEST(Simulator, AlongTrackPlanesShareTheBeamAndSeeObjectsBetweenPings) {
   // On a flat seabed every plane sees the same profile and the planes share beta_eff exactly,
@@ -49,15 +47,11 @@ TEST(Simulator, AlongTrackPlanesShareTheBeamAndSeeObjectsBetweenPings) {
     const double a = five_out.truth_ground_xy(i).x(), b = one_out.truth_ground_xy(i).x();
     EXPECT_TRUE(a == b || (std::isnan(a) && std::isnan(b))) << i;  // NaN: no contributor
   }
-  ObjectPrimitive post;
-  post.shape = ObjectShape::kBox;
-  post.id = 4;
-  post.material = scene.materials.index_of("steel");
-  post.centre_xy_m = {30.0, 0.25};
-  post.half_extent_m = {0.15, 0.05, 1.0};  // u = north (heading 0): 0.3 m along-track
-  post.place_on_seabed(scene.bathymetry, 0, 0, "post");
-  scene.objects.add(post);
-  scene.objects.build_index();
+  // u = north (heading 0): 0.3 m along-track
+  test::add_on_seabed(scene,
+                      test::primitive(ObjectShape::kBox, 4, scene.materials.index_of("steel"),
+                                      {30.0, 0.25}, {0.15, 0.05, 1.0}),
+                      "post");
   const auto one_post = render(scene, 1).samples, five_post = render(scene, 5).samples;
   const std::size_t bin =
       static_cast<std::size_t>(std::sqrt(30.0 * 30.0 + 8.0 * 8.0) / cfg.sonar.sample_spacing_m());
@@ -139,30 +133,6 @@ TEST(PilotPoses, SpreadOverTheGridAvoidingHolesAndOverTheSurvey) {
   EXPECT_EQ(pilot_poses(survey, scene.bathymetry, 1000).size(), n);
 }
 
-// RMS over lit bins of |10 log10(a / b)| as documented for the automatic plane count, computed
-// here independently from two Simulators' outputs.
-double rms_db_difference(const std::vector<std::vector<float>>& a,
-                         const std::vector<std::vector<float>>& b) {
-  double sum = 0.0;
-  std::size_t bins = 0;
-  for (std::size_t s = 0; s < a.size(); ++s) {
-    std::vector<double> pos;
-    for (const float v : b[s])
-      if (v > 0) pos.push_back(v);
-    if (pos.empty()) continue;
-    std::sort(pos.begin(), pos.end());
-    const double lit = 1e-3 * pos[pos.size() / 2];
-    for (std::size_t i = 0; i < a[s].size(); ++i) {
-      const double x = a[s][i], y = b[s][i];
-      if (!(x > lit || y > lit)) continue;
-      const double d = (x <= 1e-4 * y || y <= 1e-4 * x) ? 40.0 : std::abs(10 * std::log10(x / y));
-      sum += d * d;
-      ++bins;
-    }
-  }
-  return bins ? std::sqrt(sum / static_cast<double>(bins)) : 0.0;
-}
-
 TEST(Simulator, AutomaticAlongTrackPlanesOnePlaneOnAFlatSeabed) {
   const Scene scene = make_scene(-60, -60, 120, 0.5, [](double x, double y) {
     return -20.0 + 0.02 * x - 0.01 * y;  // a tilted plane: every beam plane sees the same slope
@@ -193,8 +163,7 @@ TEST(Simulator, AutomaticAlongTrackPlanesMeetTheToleranceOnASeabedThatVariesAlon
   SimulationConfig cfg = plain_config();
   cfg.sonar.horizontal_beam_width_rad = rad_from_deg(1.0);
   cfg.quality.along_track_tolerance_db = 1.0;
-  std::vector<PingPose> pilot;
-  for (const double y : {-20.3, -7.1, 0.45, 13.0}) pilot.push_back(pose_at(scene, {0, y}, 0, 10));
+  const std::vector<PingPose> pilot = poses_at_y(scene, {-20.3, -7.1, 0.45, 13.0});
   const Simulator sim(scene, cfg, 10.0, pilot);
   const AlongTrackChoice& c = sim.along_track();
   ASSERT_TRUE(c.automatic);
@@ -206,16 +175,7 @@ TEST(Simulator, AutomaticAlongTrackPlanesMeetTheToleranceOnASeabedThatVariesAlon
   auto outputs = [&](int planes) {
     SimulationConfig k = cfg;
     k.quality.along_track_planes = planes;
-    const Simulator s(scene, k, 10.0);
-    auto ws = s.make_workspace();
-    std::vector<std::vector<float>> out;
-    for (const PingPose& p : pilot) {
-      RenderedPing r;
-      s.render_ping(p, *ws, r);
-      out.push_back(r.port.samples);
-      out.push_back(r.starboard.samples);
-    }
-    return out;
+    return render_sides(Simulator(scene, k, 10.0), pilot);
   };
   const auto chosen = outputs(c.planes);
   if (std::next(at) != levels.end()) {

@@ -15,9 +15,11 @@
 namespace sonarsynth {
 namespace {
 
+using test::add_on_seabed;
 using test::make_scene;
 using test::plain_config;
 using test::pose_at;
+using test::primitive;
 
 struct CollectSink : PingSink {
   std::vector<RenderedPing> pings;
@@ -107,16 +109,12 @@ TEST(Simulator, MirroringTheSceneSwapsPortAndStarboard) {
     // Smooth steel: the built-in roughness is frozen in the local frame, not mirrored.
     Material smooth = s->materials[s->materials.index_of("steel")];
     smooth.roughness_rms_m = 0.0;
-    ObjectPrimitive box;
-    box.shape = ObjectShape::kBox;
-    box.id = 5;
-    box.material = s->materials.set(smooth);
-    box.centre_xy_m = {0.0, s == &a ? -18.0 : 18.0};  // starboard of an eastward track is -y
-    box.half_extent_m = {2.0, 1.0, 0.8};
-    box.heading_rad = 0.3 * (s == &a ? 1 : -1);
-    box.place_on_seabed(s->bathymetry, 0.0, 0.0, "box");
-    s->objects.add(box);
-    s->objects.build_index();
+    // The box to starboard of the track (for an eastward track, -y).
+    add_on_seabed(
+        *s,
+        primitive(ObjectShape::kBox, 5, s->materials.set(smooth), {0.0, s == &a ? -18.0 : 18.0},
+                  {2.0, 1.0, 0.8}, 0.3 * (s == &a ? 1 : -1)),
+        "box");
   }
   SimulationConfig cfg = plain_config();
   cfg.physics.beam_pattern = true;
@@ -166,21 +164,13 @@ TEST(Simulator, RotationAndUtmSizedTranslationLeavePingsUnchanged) {
     return hill(p.x(), p.y());
   });
   // Rotating a point by +rot (clockwise in x-east/y-north) adds rot to azimuths.
-  ObjectPrimitive pipe;
-  pipe.shape = ObjectShape::kCylinder;
-  pipe.id = 2;
-  pipe.half_extent_m = {15.0, 0.4, 0.4};
-  pipe.centre_xy_m = {5.0, -20.0};
-  pipe.heading_rad = 0.2;
-  pipe.place_on_seabed(a.bathymetry, 0, 0, "pipe");
-  a.objects.add(pipe);
-  a.objects.build_index();
+  const ObjectPrimitive pipe =
+      primitive(ObjectShape::kCylinder, 2, 0, {5.0, -20.0}, {15.0, 0.4, 0.4}, 0.2);
+  add_on_seabed(a, pipe, "pipe");
   ObjectPrimitive pipe_b = pipe;
   pipe_b.centre_xy_m = to_rotated(pipe.centre_xy_m);
   pipe_b.heading_rad = pipe.heading_rad + rot;
-  pipe_b.place_on_seabed(b.bathymetry, 0, 0, "pipe");
-  b.objects.add(pipe_b);
-  b.objects.build_index();
+  add_on_seabed(b, pipe_b, "pipe");
 
   SimulationConfig cfg = plain_config();
   cfg.physics.beam_pattern = true;
@@ -282,24 +272,20 @@ TEST(Simulator, PaperNoiseIsAnImageDomainModelNotAmplifiedByTheTvg) {
 
 TEST(Simulator, RejectsInvalidConfiguration) {
   const Scene scene = make_scene(-10, -10, 20, 1.0, [](double, double) { return -5.0; });
-  SimulationConfig cfg;
-  cfg.sonar.samples_per_channel = 0;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
-  cfg = {};
-  cfg.quality.gauss_points = 9;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
-  cfg = {};
-  cfg.quality.along_track_planes = 65;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
-  cfg = {};
-  cfg.quality.along_track_tolerance_db = 0.0;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
-  cfg = {};
-  cfg.physics.calibration_k = 0;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
-  cfg = {};
-  cfg.sonar.sound_speed_m_s = 300;
-  EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError);
+  // Each case spoils one field of the default configuration.
+  const std::vector<std::function<void(SimulationConfig&)>> spoilers = {
+      [](SimulationConfig& c) { c.sonar.samples_per_channel = 0; },
+      [](SimulationConfig& c) { c.quality.gauss_points = 9; },
+      [](SimulationConfig& c) { c.quality.along_track_planes = 65; },
+      [](SimulationConfig& c) { c.quality.along_track_tolerance_db = 0.0; },
+      [](SimulationConfig& c) { c.physics.calibration_k = 0; },
+      [](SimulationConfig& c) { c.sonar.sound_speed_m_s = 300; },
+  };
+  for (std::size_t k = 0; k < spoilers.size(); ++k) {
+    SimulationConfig cfg;
+    spoilers[k](cfg);
+    EXPECT_THROW(Simulator(scene, cfg, 5.0), InputError) << "case " << k;
+  }
 }
 
 TEST(Simulator, AGainThatRoundsTheSeabedToZeroIsRefusedBeforeRendering) {

@@ -3,11 +3,14 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <vector>
 
+#include "height_grid_test_util.hpp"
+#include "object_test_util.hpp"
 #include "sonarsynth/simulator.hpp"
 
 namespace sonarsynth::test {
@@ -17,15 +20,7 @@ inline Scene make_scene(double x0, double y0, double size, double cell,
                         const std::function<double(double, double)>& f) {
   Scene scene(GeoFrame(31, true, 500000.0, 5000000.0));
   const auto n = static_cast<std::size_t>(std::llround(size / cell)) + 1;
-  GridGeometry g{x0, y0 + size, cell, -cell, n, n};
-  std::vector<float> z(g.size());
-  for (std::size_t r = 0; r < n; ++r) {
-    for (std::size_t c = 0; c < n; ++c) {
-      z[r * n + c] = static_cast<float>(
-          f(g.x_of_col(static_cast<double>(c)), g.y_of_row(static_cast<double>(r))));
-    }
-  }
-  scene.bathymetry = HeightGrid(g, std::move(z));
+  scene.bathymetry = sampled_grid({x0, y0 + size, cell, -cell, n, n}, f);
   scene.material_map = MaterialMap(scene.materials.index_of("sand"));
   return scene;
 }
@@ -60,16 +55,56 @@ inline PingPose pose_at(const Scene& s, Eigen::Vector2d xy, double heading, doub
 /// `scene` with the object tests' box: id 9, half extents 15 x 5 x 1 m, centred at x = 15 m,
 /// y = 0 on the seabed, of `material` (an index into the scene's MaterialTable).
 inline Scene with_test_box(Scene scene, std::uint16_t material) {
-  ObjectPrimitive box;
-  box.shape = ObjectShape::kBox;
-  box.id = 9;
-  box.material = material;
-  box.centre_xy_m = {15.0, 0.0};
-  box.half_extent_m = {15.0, 5.0, 1.0};
-  box.place_on_seabed(scene.bathymetry, 0.0, 0.0, "box");
-  scene.objects.add(box);
-  scene.objects.build_index();
+  add_on_seabed(scene, primitive(ObjectShape::kBox, 9, material, {15.0, 0.0}, {15.0, 5.0, 1.0}),
+                "box");
   return scene;
+}
+
+/// Poses heading north at x = 0, 10 m above the seabed, one at each of `ys` (metres).
+inline std::vector<PingPose> poses_at_y(const Scene& s, const std::vector<double>& ys) {
+  std::vector<PingPose> poses;
+  for (const double y : ys) poses.push_back(pose_at(s, {0.0, y}, 0.0, 10.0));
+  return poses;
+}
+
+/// Port then starboard samples of each of `poses`, rendered by `sim` in one workspace.
+inline std::vector<std::vector<float>> render_sides(const Simulator& sim,
+                                                    const std::vector<PingPose>& poses) {
+  auto ws = sim.make_workspace();
+  std::vector<std::vector<float>> out;
+  for (const PingPose& p : poses) {
+    RenderedPing r;
+    sim.render_ping(p, *ws, r);
+    out.push_back(r.port.samples);
+    out.push_back(r.starboard.samples);
+  }
+  return out;
+}
+
+/// RMS over lit bins of |10 log10(a / b)|, the difference documented for the automatic
+/// along-track plane count (docs/physics.md), computed here independently of the Simulator: a
+/// bin is lit if either side exceeds 1e-3 of the median positive value of b's side, and a bin
+/// dark on one side only counts 40 dB.
+inline double rms_db_difference(const std::vector<std::vector<float>>& a,
+                                const std::vector<std::vector<float>>& b) {
+  double sum = 0.0;
+  std::size_t bins = 0;
+  for (std::size_t s = 0; s < a.size(); ++s) {
+    std::vector<double> pos;
+    for (const float v : b[s])
+      if (v > 0) pos.push_back(v);
+    if (pos.empty()) continue;
+    std::sort(pos.begin(), pos.end());
+    const double lit = 1e-3 * pos[pos.size() / 2];
+    for (std::size_t i = 0; i < a[s].size(); ++i) {
+      const double x = a[s][i], y = b[s][i];
+      if (!(x > lit || y > lit)) continue;
+      const double d = (x <= 1e-4 * y || y <= 1e-4 * x) ? 40.0 : std::abs(10 * std::log10(x / y));
+      sum += d * d;
+      ++bins;
+    }
+  }
+  return bins ? std::sqrt(sum / static_cast<double>(bins)) : 0.0;
 }
 
 /// Speckle and texture, single look, no thermal or receiver noise: the output is the clean

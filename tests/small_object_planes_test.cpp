@@ -52,15 +52,10 @@ class PostAcrossPings : public ::testing::Test {
 
   PostAcrossPings()
       : flat_(make_scene(-60, -60, 120, 0.5, [](double, double) { return -20.0; })), post_(flat_) {
-    ObjectPrimitive post;
-    post.shape = ObjectShape::kBox;
-    post.id = 3;
-    post.material = post_.materials.index_of("steel");
-    post.centre_xy_m = {kPostX, 0.0};
-    post.half_extent_m = {kHalf, kHalf, 0.5};
-    post.place_on_seabed(post_.bathymetry, 0, 0, "post");
-    post_.objects.add(post);
-    post_.objects.build_index();
+    test::add_on_seabed(post_,
+                        test::primitive(ObjectShape::kBox, 3, post_.materials.index_of("steel"),
+                                        {kPostX, 0.0}, {kHalf, kHalf, 0.5}),
+                        "post");
     cfg_ = plain_config();
     cfg_.sonar.samples_per_channel = 2000;  // 2 cm bins over 40 m
     cfg_.sonar.horizontal_beam_width_rad = rad_from_deg(1.0);

@@ -14,50 +14,19 @@
 namespace sonarsynth {
 namespace {
 
-using test::make_scene;
-using test::plain_config;
-using test::pose_at;
-
-// RMS over lit bins of |10 log10(a / b)| (a bin is lit if either side exceeds 1e-3 of the
-// reference's median positive value); a bin dark on one side only counts 40 dB.
-double rms_db(const std::vector<std::vector<float>>& a, const std::vector<std::vector<float>>& b) {
-  double sum = 0.0;
-  std::size_t bins = 0;
-  for (std::size_t s = 0; s < a.size(); ++s) {
-    std::vector<double> pos;
-    for (const float v : b[s])
-      if (v > 0) pos.push_back(v);
-    if (pos.empty()) continue;
-    std::sort(pos.begin(), pos.end());
-    const double lit = 1e-3 * pos[pos.size() / 2];
-    for (std::size_t i = 0; i < a[s].size(); ++i) {
-      const double x = a[s][i], y = b[s][i];
-      if (!(x > lit || y > lit)) continue;
-      const double d = (x <= 1e-4 * y || y <= 1e-4 * x) ? 40.0 : std::abs(10 * std::log10(x / y));
-      sum += d * d;
-      ++bins;
-    }
-  }
-  return bins ? std::sqrt(sum / static_cast<double>(bins)) : 0.0;
-}
+using namespace test;  // the Simulator tests' scenes, configurations and comparisons
 
 // Both sides of pings at `xy` (heading north, 10 m above the surface `f`).
 std::vector<std::vector<float>> render(const Scene& scene, const std::vector<Eigen::Vector2d>& xy,
                                        const std::function<double(double, double)>& f) {
   SimulationConfig cfg = plain_config();
   cfg.quality.along_track_planes = 1;
-  const Simulator sim(scene, cfg, 10.0);
-  auto ws = sim.make_workspace();
-  std::vector<std::vector<float>> out;
+  std::vector<PingPose> poses;
   for (const Eigen::Vector2d& p : xy) {
-    PingPose pose = pose_at(scene, p, 0.0, 10.0);
-    pose.sensor_z_m = f(p.x(), p.y()) + 10.0;  // the same sensor height in every scene
-    RenderedPing r;
-    sim.render_ping(pose, *ws, r);
-    out.push_back(r.port.samples);
-    out.push_back(r.starboard.samples);
+    poses.push_back(pose_at(scene, p, 0.0, 10.0));
+    poses.back().sensor_z_m = f(p.x(), p.y()) + 10.0;  // the same sensor height in every scene
   }
-  return out;
+  return render_sides(Simulator(scene, cfg, 10.0), poses);
 }
 
 TEST(TerrainRender, BicubicCoarseDemIsCloserToTheFineSurfaceThanBilinear) {
@@ -71,8 +40,8 @@ TEST(TerrainRender, BicubicCoarseDemIsCloserToTheFineSurfaceThanBilinear) {
   bicubic.bathymetry.set_interpolation(Interpolation::kBicubic);
   const std::vector<Eigen::Vector2d> xy = {{0, -20}, {3, -7.5}, {-2, 5}, {1, 17}, {-4, 31}};
   const auto ref = render(fine, xy, f);
-  const double e_lin = rms_db(render(bilinear, xy, f), ref);
-  const double e_cub = rms_db(render(bicubic, xy, f), ref);
+  const double e_lin = rms_db_difference(render(bilinear, xy, f), ref);
+  const double e_cub = rms_db_difference(render(bicubic, xy, f), ref);
   std::cout << "8 m DEM vs 0.25 m DEM, dB RMS per bin: bilinear " << e_lin << ", bicubic " << e_cub
             << "\n";
   RecordProperty("bilinear_db_rms", std::to_string(e_lin));
@@ -137,8 +106,7 @@ TEST(TerrainRender, AutomaticPlaneCountSeesComponentsAddedToAFileDem) {
   SimulationConfig cfg = plain_config();
   cfg.sonar.horizontal_beam_width_rad = rad_from_deg(1.0);
   cfg.quality.along_track_tolerance_db = 1.0;
-  std::vector<PingPose> pilot;
-  for (const double y : {-20.3, -7.1, 0.45, 13.0}) pilot.push_back(pose_at(coarse, {0, y}, 0, 10));
+  std::vector<PingPose> pilot = poses_at_y(coarse, {-20.3, -7.1, 0.45, 13.0});
   const Simulator plain(coarse, cfg, 10.0, pilot);
   ASSERT_TRUE(plain.along_track().automatic);
   EXPECT_EQ(plain.along_track().planes, 1);

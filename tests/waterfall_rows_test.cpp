@@ -215,9 +215,7 @@ std::vector<float> decimated(const std::vector<float>& img, std::size_t cols, st
 // ceil(pings / N) rows for the smallest N that fits, each row the mean of N pings.
 TEST(Waterfall, LongLineIsDecimatedAlongTrackToFitMaxPixels) {
   const auto dir = test::mosaic_temp_dir("wf_decimate");
-  const std::vector<Ping> pings = random_pings(1003, 32, 5);
-  std::size_t cols = 0;
-  const std::vector<float> full = expected_image(pings, &cols, kNaN);
+  const auto [pings, cols, full] = random_image(1003, 32, 5);
   ASSERT_EQ(cols, 64u);
   WaterfallOptions o;
   o.max_pixels = 64 * 100;  // room for 100 rows: 1003 pings need 11 per row -> 92 rows

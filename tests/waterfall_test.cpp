@@ -130,9 +130,7 @@ TEST(Waterfall, StreamedImageEqualsInMemoryAssembly) {
 // colours of the expected image under robust_db_range (percentiles) or the fixed window.
 TEST(Waterfall, PngAndTifHoldTheExpectedColours) {
   const auto dir = test::mosaic_temp_dir("wf_bytes");
-  const std::vector<Ping> pings = random_pings(9, 6, 2);
-  std::size_t cols = 0;
-  const std::vector<float> img = expected_image(pings, &cols, kNaN);
+  const auto [pings, cols, img] = random_image(9, 6, 2);
   for (const Colormap map : {Colormap::grey, Colormap::black_brown_yellow}) {
     for (const bool fixed : {false, true}) {
       WaterfallOptions o;
@@ -180,9 +178,7 @@ TEST(Waterfall, PngAndTifHoldTheExpectedColours) {
 // colours of the in-memory scaling.
 TEST(Waterfall, PercentileScalingEqualsRobustDbRangeOfTheWholeImage) {
   const auto dir = test::mosaic_temp_dir("wf_scale");
-  const std::vector<Ping> pings = random_pings(2000, 600, 3);
-  std::size_t cols = 0;
-  const std::vector<float> img = expected_image(pings, &cols, kNaN);
+  const auto [pings, cols, img] = random_image(2000, 600, 3);
   WaterfallOptions o;
   o.colormap = Colormap::grey;
   o.spool_dir = dir;
@@ -232,9 +228,7 @@ std::vector<std::string> png_chunks(const std::string& path) {
 // CRC right) and every pixel reads back as the colours of the image.
 TEST(Waterfall, LargeColourPngSplitsItsImageDataIntoValidChunks) {
   const auto dir = test::mosaic_temp_dir("wf_chunks");
-  const std::vector<Ping> pings = random_pings(1500, 600, 5);
-  std::size_t cols = 0;
-  const std::vector<float> img = expected_image(pings, &cols, kNaN);
+  const auto [pings, cols, img] = random_image(1500, 600, 5);
   WaterfallOptions o;
   o.colormap = Colormap::black_brown_yellow;
   o.spool_dir = dir;

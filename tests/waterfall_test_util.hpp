@@ -72,6 +72,19 @@ inline std::vector<float> expected_image(const std::vector<Ping>& pings, std::si
   return img;
 }
 
+/// random_pings and the image they make (expected_image, NaN padding) with its column count.
+struct RandomImage {
+  std::vector<Ping> pings;
+  std::size_t cols = 0;
+  std::vector<float> image;
+};
+inline RandomImage random_image(int pings, std::size_t max_side, unsigned seed) {
+  RandomImage r;
+  r.pings = random_pings(pings, max_side, seed);
+  r.image = expected_image(r.pings, &r.cols, kNaN);
+  return r;
+}
+
 inline bool same_float(float a, float b) {
   return (std::isnan(a) && std::isnan(b)) || a == b;
 }

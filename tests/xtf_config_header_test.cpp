@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cli_test_util.hpp"
+#include "simulator_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/survey_writer.hpp"
@@ -20,12 +21,9 @@ namespace {
 namespace fs = std::filesystem;
 
 std::shared_ptr<const Scene> flat_scene() {
-  auto scene = std::make_shared<Scene>(GeoFrame(31, true, 500000.0, 5000000.0));
+  auto scene = std::make_shared<Scene>(
+      test::make_scene(-60, -60, 120, 1.0, [](double, double) { return -30.0; }));
   scene->name = "a flat test scene";
-  const std::size_t n = 121;
-  GridGeometry g{-60.0, 60.0, 1.0, -1.0, n, n};
-  scene->bathymetry = HeightGrid(g, std::vector<float>(g.size(), -30.0f));
-  scene->material_map = MaterialMap(scene->materials.index_of("sand"));
   return scene;
 }
 

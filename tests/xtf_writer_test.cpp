@@ -182,34 +182,34 @@ TEST_F(XtfWriterTest, EightBitAndFloatOptionsRoundTripAndWarn) {
   SonarPing ping = make_ping(0, 4, 4);
   ping.port = {0.0f, 254.6f, 300.0f, 17.2f};
   ping.starboard = {0.25f, 1e6f, -5.5f, 3.75f};
-  {
-    Writer w(dir_ / "u8.xtf", o8);
+  struct Case {
+    const char* file;
+    WriterOptions options;
+    std::size_t clipped;
+    int bytes_per_sample, sample_format;
+    std::vector<float> port, starboard;  // as read back
+  };
+  const Case cases[] = {
+      {"u8.xtf", o8, 3, 1, 8, {0, 255, 255, 17}, {0, 255, 0, 4}},
+      {"f32.xtf", of, 0, 4, 5, ping.port, ping.starboard},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.file);
+    Writer w(dir_ / c.file, c.options);
     EXPECT_EQ(w.warnings().size(), 1u);
     w.write_ping(ping);
     w.close();
-    EXPECT_EQ(w.clipped_samples(), 3u);
-    Reader r(dir_ / "u8.xtf");
-    EXPECT_EQ(r.chan_info()[0].BytesPerSample, 1);
-    EXPECT_EQ(r.chan_info()[0].SampleFormat, 8);
+    EXPECT_EQ(w.clipped_samples(), c.clipped);
+    Reader r(dir_ / c.file);
+    for (std::size_t ch = 0; ch < 2; ++ch) {
+      EXPECT_EQ(r.chan_info()[ch].BytesPerSample, c.bytes_per_sample) << ch;
+      EXPECT_EQ(r.chan_info()[ch].SampleFormat, c.sample_format) << ch;
+    }
     Packet pk;
     while (r.next(pk) && pk.kind != PacketKind::kPing) {
     }
-    EXPECT_EQ(pk.ping.sonar.port, (std::vector<float>{0, 255, 255, 17}));
-    EXPECT_EQ(pk.ping.sonar.starboard, (std::vector<float>{0, 255, 0, 4}));
-  }
-  {
-    Writer w(dir_ / "f32.xtf", of);
-    w.write_ping(ping);
-    w.close();
-    EXPECT_EQ(w.clipped_samples(), 0u);
-    Reader r(dir_ / "f32.xtf");
-    EXPECT_EQ(r.chan_info()[1].BytesPerSample, 4);
-    EXPECT_EQ(r.chan_info()[1].SampleFormat, 5);
-    Packet pk;
-    while (r.next(pk) && pk.kind != PacketKind::kPing) {
-    }
-    EXPECT_EQ(pk.ping.sonar.port, ping.port);
-    EXPECT_EQ(pk.ping.sonar.starboard, ping.starboard);
+    EXPECT_EQ(pk.ping.sonar.port, c.port);
+    EXPECT_EQ(pk.ping.sonar.starboard, c.starboard);
   }
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "flat_seabed.hpp"
+#include "gauss_legendre.hpp"
 
 namespace sonarsynth::analytic {
 
@@ -41,21 +42,11 @@ struct CircleSection {
     };
     const double p0 = psi_of(r1), p1 = psi_of(r2);
     if (!(p1 > p0)) return 0.0;
-    static const double x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
-                                0.9061798459386640};
-    static const double w[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
-                                0.4786286704993665, 0.2369268850561891};
-    const int panels = 64;
-    const double h = (p1 - p0) / panels;
-    double sum = 0.0;
-    for (int k = 0; k < panels; ++k) {
-      for (int g = 0; g < 5; ++g) {
-        const double psi = p0 + h * (k + 0.5 + 0.5 * x[g]);
-        const double r2sq = dd * dd + a * a - 2.0 * a * dd * std::cos(psi);
-        const double c = dd * std::cos(psi) - a;
-        sum += 0.5 * h * w[g] * a * c * c / std::pow(r2sq, 2.5);
-      }
-    }
+    const double sum = gauss_legendre<5>(p0, p1, 64, [&](double psi) {
+      const double r2sq = dd * dd + a * a - 2.0 * a * dd * std::cos(psi);
+      const double c = dd * std::cos(psi) - a;
+      return a * c * c / std::pow(r2sq, 2.5);
+    });
     return 2.0 * mu * beta * sum;
   }
 
