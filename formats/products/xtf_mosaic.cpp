@@ -340,7 +340,8 @@ void grid_file(const std::filesystem::path& file, const FileNav& nav,
     }
     MosaicPing mp;
     mp.sensor_xy_m = result.frame.local_from_geodetic(s.sensor_position);
-    mp.heading_grid_rad = result.frame.grid_azimuth_from_true_rad(s.heading_rad, mp.sensor_xy_m);
+    mp.heading_grid_rad =
+        result.frame.grid_azimuth_from_true_rad(s.heading_true_rad, mp.sensor_xy_m);
     mp.pitch_rad = std::isfinite(s.pitch_rad) && std::abs(s.pitch_rad) < rad_from_deg(45.0)
                        ? s.pitch_rad
                        : 0.0;

@@ -329,14 +329,14 @@ void Writer::write_side(std::uint32_t conn, const SonarPing& p, const std::vecto
   end_message();
 }
 
-void Writer::write_imu(std::uint64_t time_ns, std::uint32_t seq, double heading_rad,
+void Writer::write_imu(std::uint64_t time_ns, std::uint32_t seq, double heading_true_rad,
                        double pitch_rad, double roll_rad) {
   // ENU world, body x forward, y left, z up (REP 103): yaw from east counter-clockwise,
   // pitch + nose down, roll + starboard down.
   const bool known =
-      std::isfinite(heading_rad) && std::isfinite(pitch_rad) && std::isfinite(roll_rad);
+      std::isfinite(heading_true_rad) && std::isfinite(pitch_rad) && std::isfinite(roll_rad);
   const Quaternion q =
-      known ? from_yaw_pitch_roll(std::numbers::pi / 2 - heading_rad, -pitch_rad, roll_rad)
+      known ? from_yaw_pitch_roll(std::numbers::pi / 2 - heading_true_rad, -pitch_rad, roll_rad)
             : Quaternion{0, 0, 0, 1};
   begin_message(kImu, time_ns);
   Out o(chunk_);
@@ -394,13 +394,13 @@ void Writer::write_ping(const SonarPing& p) {
   put_covariance(o, false);
   o.u8(0);  // COVARIANCE_TYPE_UNKNOWN
   end_message();
-  write_imu(ns, imu_seq_++, p.heading_rad, p.pitch_rad, p.roll_rad);
+  write_imu(ns, imu_seq_++, p.heading_true_rad, p.pitch_rad, p.roll_rad);
   ++pings_written_;
 }
 
 void Writer::write_attitude(const AttitudeSample& a) {
   if (closed_) throw Error("rosbag: write_attitude after close");
-  write_imu(ros_time_ns(a.time_utc, "attitude"), imu_seq_++, a.heading_rad, a.pitch_rad,
+  write_imu(ros_time_ns(a.time_utc, "attitude"), imu_seq_++, a.heading_true_rad, a.pitch_rad,
             a.roll_rad);
 }
 
