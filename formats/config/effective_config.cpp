@@ -89,13 +89,9 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
     write_resolved_sonar(root["sonar"], setup);
   }
   // The overridden options, from the declarations (formats/config/option_table.cpp); the seed
-  // always.
-  std::set<std::string_view> flags{"--seed"};
-  if (overrides.range_m) flags.insert("--range");
-  if (overrides.samples) flags.insert("--samples");
-  if (overrides.quality) flags.insert("--quality");
+  // always (a run without one draws it).
   for (const options::Option& o : options::all()) {
-    if (o.flag.empty() || !flags.count(o.flag)) continue;
+    if (!o.flag || (o.kind != options::Kind::seed && !o.flag->given(overrides))) continue;
     YAML::Node n = root;
     std::string_view section = o.section;
     while (!section.empty()) {

@@ -30,6 +30,20 @@ struct SimulationOverrides {
   std::optional<std::string> quality;
 };
 
+/// A command-line flag of `simulate` that overrides scene-file options ("range": --range), from
+/// the option table that declares the options (docs/scene-format.md, "Defaults and
+/// declarations").
+struct OverrideFlag {
+  std::string name;  ///< without the dashes: "seed", "range", "samples", "quality"
+  std::string help;  ///< one line for the CLI's help
+};
+/// Every override flag, in the order of the options they override.
+std::vector<OverrideFlag> override_flags();
+/// Sets the override `name` (an OverrideFlag's) in `overrides` from its command-line text;
+/// throws InputError naming the flag and the text if it is not a value of the flag's type (the
+/// bounds are checked when the scene is loaded), std::invalid_argument for an unknown name.
+void set_override(SimulationOverrides& overrides, const std::string& name, const std::string& text);
+
 /// Bounds on the work and output of one run, checked before rendering (`limits:` in the scene
 /// file, docs/scene-format.md).
 struct RunLimits {
