@@ -164,11 +164,13 @@ void check_cross_keys(const SimulationSetup& setup, const std::string& name);
 /// seed and the overrides applied, and the derived values (gain, absorption, EPSG...) under
 /// `derived`, so that simulating it again reproduces the run exactly. `product_flags` (the
 /// `simulate` options of the products, product_option_flags()) are not scene settings: the
-/// header lists them, to be given again.
+/// header lists them, to be given again. `absolute_files` false: the scene's relative file paths
+/// are kept as they are (a dataset item, whose files hold within the dataset directory).
 void write_effective_config(const std::string& scene_path, const SimulationOverrides& overrides,
                             const SimulationSetup& setup, const Simulator& sim,
                             const std::filesystem::path& out_path,
-                            const std::vector<std::string>& product_flags = {});
+                            const std::vector<std::string>& product_flags = {},
+                            bool absolute_files = true);
 
 /// Parses "YYYY-MM-DDTHH:MM:SS[.ffffff]Z" (UTC); throws InputError naming `what`.
 UtcTime parse_utc(const std::string& text, const std::string& what);
