@@ -37,7 +37,7 @@ class RosbagSource : public SideScanSource {
     r.nav_valid = ping_.nav_valid;
     r.time_valid = true;
     r.layback_m = 0.0;
-    r.heading_deg = deg_from_rad(r.sonar.heading_true_rad);
+    r.heading_true_deg = deg_from_rad(r.sonar.heading_true_rad);
     r.index = ping_.index;
     return true;
   }
