@@ -233,7 +233,7 @@ class SonarNode {
     rosbag::append_nav_sat_fix(fix_msg_.bytes, sp, d.time_ns);
     fix_.publish(fix_msg_);
     imu_msg_.bytes.clear();
-    rosbag::append_imu(imu_msg_.bytes, sp.ping_number, d.time_ns, sp.heading_rad, sp.pitch_rad,
+    rosbag::append_imu(imu_msg_.bytes, sp.ping_number, d.time_ns, sp.heading_true_rad, sp.pitch_rad,
                        sp.roll_rad);
     imu_.publish(imu_msg_);
     waterfall_.add(ping_);

@@ -284,7 +284,7 @@ TEST_F(GeoProductsTest, TracksAreTheXtfNavigationAndCoverageHoldsEverySeabedSamp
             if (!(rr > s.altitude_m)) continue;
             const double ground = std::sqrt(rr * rr - s.altitude_m * s.altitude_m);
             const double footprint = rr * dr / ground;  // ground extent of the sample
-            const double azimuth = deg_from_rad(s.heading_rad) + (stbd ? 90.0 : -90.0);
+            const double azimuth = deg_from_rad(s.heading_true_rad) + (stbd ? 90.0 : -90.0);
             double lat = 0.0, lon = 0.0;
             geod.Direct(deg_from_rad(s.sensor_position.lat_rad),
                         deg_from_rad(s.sensor_position.lon_rad), azimuth, ground, lat, lon);
@@ -299,9 +299,9 @@ TEST_F(GeoProductsTest, TracksAreTheXtfNavigationAndCoverageHoldsEverySeabedSamp
           const double reach =
               std::sqrt(s.slant_range_m * s.slant_range_m - s.altitude_m * s.altitude_m);
           double lat = 0.0, lon = 0.0;
-          geod.Direct(deg_from_rad(s.sensor_position.lat_rad),
-                      deg_from_rad(s.sensor_position.lon_rad),
-                      deg_from_rad(s.heading_rad) + (stbd ? 90.0 : -90.0), reach + 2.0, lat, lon);
+          geod.Direct(
+              deg_from_rad(s.sensor_position.lat_rad), deg_from_rad(s.sensor_position.lon_rad),
+              deg_from_rad(s.heading_true_rad) + (stbd ? 90.0 : -90.0), reach + 2.0, lat, lon);
           double e = lon, n = lat;
           ASSERT_TRUE(ct->Transform(1, &e, &n));
           const OGRPoint beyond(e, n);

@@ -67,7 +67,7 @@ TEST(JsfConvert, XtfToJsfToXtfKeepsSamplesBitExact) {
                 step_deg / 2 + 1e-12);
     EXPECT_NEAR(deg_from_rad(y.sensor_position.lon_rad), deg_from_rad(x.sensor_position.lon_rad),
                 step_deg / 2 + 1e-12);
-    EXPECT_NEAR(deg_from_rad(y.heading_rad), deg_from_rad(x.heading_rad), 0.005 + 1e-5);
+    EXPECT_NEAR(deg_from_rad(y.heading_true_rad), deg_from_rad(x.heading_true_rad), 0.005 + 1e-5);
     EXPECT_NEAR(deg_from_rad(y.pitch_rad), deg_from_rad(x.pitch_rad), 90.0 / 32768.0 + 1e-5);
     EXPECT_NEAR(deg_from_rad(y.roll_rad), deg_from_rad(x.roll_rad), 90.0 / 32768.0 + 1e-5);
     EXPECT_NEAR(y.altitude_m, x.altitude_m, 0.0005 + 1e-6);

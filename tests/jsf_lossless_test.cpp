@@ -169,7 +169,7 @@ TEST(JsfLossless, WriterOptionsAndPingFieldsSurvive) {
       p.time_utc += std::chrono::microseconds{1234567 * k + 3};  // not whole 10 ms
       p.sensor_position.lat_rad += 1.234567e-9 * k;
       p.sensor_position.lon_rad -= 7.654321e-9 * k;
-      p.heading_rad = 6.2 + 0.0123456789 * k;
+      p.heading_true_rad = 6.2 + 0.0123456789 * k;
       p.pitch_rad = -0.0123456789 * k;
       p.roll_rad = 0.0234567891 * k;
       p.heave_m = 0.1234567 * k;

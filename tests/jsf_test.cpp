@@ -48,7 +48,7 @@ SonarPing golden_ping() {
                        seconds{8} + milliseconds{250}};
   p.ping_number = 7;
   p.sensor_position = {rad_from_deg(48.5), rad_from_deg(-68.75), 0.0};
-  p.heading_rad = rad_from_deg(90.0);
+  p.heading_true_rad = rad_from_deg(90.0);
   p.pitch_rad = rad_from_deg(2.0);
   p.roll_rad = rad_from_deg(-1.0);
   p.heave_m = 0.5;  // up
@@ -173,7 +173,7 @@ TEST(JsfGolden, ReaderDecodesHandDerivedBytes) {
   EXPECT_EQ(s.ping_number, 7u);
   EXPECT_DOUBLE_EQ(deg_from_rad(s.sensor_position.lat_rad), 48.5);
   EXPECT_DOUBLE_EQ(deg_from_rad(s.sensor_position.lon_rad), -68.75);
-  EXPECT_NEAR(deg_from_rad(s.heading_rad), 90.0, 1e-12);
+  EXPECT_NEAR(deg_from_rad(s.heading_true_rad), 90.0, 1e-12);
   EXPECT_NEAR(deg_from_rad(s.pitch_rad), 364 * 180.0 / 32768.0, 1e-12);
   EXPECT_NEAR(deg_from_rad(s.roll_rad), -182 * 180.0 / 32768.0, 1e-12);
   EXPECT_DOUBLE_EQ(s.heave_m, 0.5);
@@ -223,7 +223,7 @@ TEST(JsfRoundTrip, WriterToReaderBitExact) {
         for (float& v : p.port) v = v / 1024.0f;
       }
       w.write_ping(p);
-      w.write_attitude({p.time_utc, p.heading_rad, p.pitch_rad, p.roll_rad, 0.25, 0.0});
+      w.write_attitude({p.time_utc, p.heading_true_rad, p.pitch_rad, p.roll_rad, 0.25, 0.0});
       pings.push_back(p);
     }
     w.close();
@@ -242,7 +242,8 @@ TEST(JsfRoundTrip, WriterToReaderBitExact) {
                 deg_from_rad(want.sensor_position.lat_rad), res);
     EXPECT_NEAR(deg_from_rad(p.sonar.sensor_position.lon_rad),
                 deg_from_rad(want.sensor_position.lon_rad), res);
-    EXPECT_NEAR(deg_from_rad(p.sonar.heading_rad), deg_from_rad(want.heading_rad), 0.005 + 1e-9);
+    EXPECT_NEAR(deg_from_rad(p.sonar.heading_true_rad), deg_from_rad(want.heading_true_rad),
+                0.005 + 1e-9);
     EXPECT_NEAR(deg_from_rad(p.sonar.pitch_rad), deg_from_rad(want.pitch_rad), 90.0 / 32768.0);
     EXPECT_NEAR(deg_from_rad(p.sonar.roll_rad), deg_from_rad(want.roll_rad), 90.0 / 32768.0);
     EXPECT_NEAR(p.sonar.altitude_m, want.altitude_m, 0.0005);

@@ -34,7 +34,7 @@ using xtf::test::make_ping;
 // Headings all round the circle, pitch and roll of both signs, one ping without a position.
 SonarPing varied_ping(std::uint32_t k) {
   SonarPing p = make_ping(k, 120 + k % 3, 120 + k % 3);
-  p.heading_rad = rad_from_deg(std::fmod(37.0 * k + 0.125, 360.0));
+  p.heading_true_rad = rad_from_deg(std::fmod(37.0 * k + 0.125, 360.0));
   p.pitch_rad = rad_from_deg(k % 2 ? -3.5 : 4.25);
   p.roll_rad = rad_from_deg(k % 3 ? 7.0 : -12.5);
   if (k == 5) p.sensor_position = {};
@@ -83,7 +83,7 @@ TEST(McapReader, ReadsWhatTheWriterWrote) {
         EXPECT_NEAR(p.sonar.sensor_position.lon_rad, x.sensor_position.lon_rad, 1e-15);
       }
       ASSERT_TRUE(p.attitude_valid);
-      EXPECT_NEAR(p.sonar.heading_rad, x.heading_rad, 1e-12);
+      EXPECT_NEAR(p.sonar.heading_true_rad, x.heading_true_rad, 1e-12);
       EXPECT_NEAR(p.sonar.pitch_rad, x.pitch_rad, 1e-12);
       EXPECT_NEAR(p.sonar.roll_rad, x.roll_rad, 1e-12);
       EXPECT_NEAR(p.sonar.sound_speed_m_s, x.sound_speed_m_s, 1e-4);
@@ -220,7 +220,7 @@ TEST(McapReader, BagsOfOtherWritersRead) {
       EXPECT_EQ(p.sonar.time_utc.time_since_epoch().count(),
                 1700000000120000 + std::int64_t{250000} * k);
       EXPECT_NEAR(deg_from_rad(p.sonar.sensor_position.lat_rad), 47.25 + 1e-5 * k, 1e-12);
-      EXPECT_NEAR(deg_from_rad(p.sonar.heading_rad), 30.0 + k, 1e-9);
+      EXPECT_NEAR(deg_from_rad(p.sonar.heading_true_rad), 30.0 + k, 1e-9);
       EXPECT_NEAR(p.sonar.slant_range_m, 30.0, 1e-4);
       ++k;
     }

@@ -118,7 +118,7 @@ inline void write_line(const std::filesystem::path& path, const LineSpec& s,
     p.ping_number = static_cast<std::uint32_t>(i);
     const LatLon pos = ping_position(s, i);
     p.sensor_position = {rad_from_deg(pos.lat_deg), rad_from_deg(pos.lon_deg), 0.0};
-    p.heading_rad = rad_from_deg(s.heading_deg);
+    p.heading_true_rad = rad_from_deg(s.heading_deg);
     p.altitude_m = s.altitude_m;
     p.depth_m = 20.0;
     p.speed_m_s = s.spacing_m / 0.1;

@@ -31,7 +31,7 @@ using xtf::test::make_ping;
 // position; u16 samples in 0..32767.
 SonarPing varied_ping(std::uint32_t k) {
   SonarPing p = make_ping(k, 120 + k % 3, 120 + k % 3);
-  p.heading_rad = rad_from_deg(std::fmod(37.0 * k + 0.125, 360.0));
+  p.heading_true_rad = rad_from_deg(std::fmod(37.0 * k + 0.125, 360.0));
   p.pitch_rad = rad_from_deg(k % 2 ? -3.5 : 4.25);
   p.roll_rad = rad_from_deg(k % 3 ? 7.0 : -12.5);
   if (k == 5) p.sensor_position = {};
@@ -50,7 +50,7 @@ TEST(RosbagReader, ReadsWhatTheWriterWrote) {
     w.write_ping(in.back());
     AttitudeSample a;  // an attitude message at the ping's time: the ping keeps its own
     a.time_utc = in.back().time_utc;
-    a.heading_rad = 1.0;
+    a.heading_true_rad = 1.0;
     w.write_attitude(a);
   }
   w.close();
@@ -74,7 +74,7 @@ TEST(RosbagReader, ReadsWhatTheWriterWrote) {
       EXPECT_NEAR(p.sonar.sensor_position.lon_rad, e.sensor_position.lon_rad, 1e-15);
     }
     ASSERT_TRUE(p.attitude_valid);
-    EXPECT_NEAR(p.sonar.heading_rad, e.heading_rad, 1e-12);
+    EXPECT_NEAR(p.sonar.heading_true_rad, e.heading_true_rad, 1e-12);
     EXPECT_NEAR(p.sonar.pitch_rad, e.pitch_rad, 1e-12);
     EXPECT_NEAR(p.sonar.roll_rad, e.roll_rad, 1e-12);
     EXPECT_NEAR(p.sonar.sound_speed_m_s, e.sound_speed_m_s, 1e-4);

@@ -27,7 +27,7 @@ void write_golden(const fs::path& path) {
   p.time_utc = test::test_time(0);  // 2013-09-10 21:13:08.00
   p.ping_number = 0;
   p.sensor_position = {rad_from_deg(48.5), rad_from_deg(-68.75), 0.0};
-  p.heading_rad = rad_from_deg(90.0);
+  p.heading_true_rad = rad_from_deg(90.0);
   p.altitude_m = 10.0;
   p.depth_m = 20.0;
   p.speed_m_s = 1852.0 / 3600.0 * 4.0;  // 4 knots
@@ -35,7 +35,7 @@ void write_golden(const fs::path& path) {
   p.slant_range_m = 40.0;
   p.port = {10, 20, 30, 40};  // near -> far
   p.starboard = {100, 200, 300, 32767};
-  w.write_attitude({p.time_utc, p.heading_rad, 0.0, 0.0, 0.0, 0.0});
+  w.write_attitude({p.time_utc, p.heading_true_rad, 0.0, 0.0, 0.0, 0.0});
   w.write_navigation({p.time_utc, p.sensor_position});
   w.write_ping(p);
   p.ping_number = 1;

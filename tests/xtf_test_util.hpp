@@ -54,7 +54,7 @@ inline SonarPing make_ping(std::uint32_t number, std::size_t port_n, std::size_t
   p.ping_number = number;
   p.sensor_position = {rad_from_deg(48.4455 + 1e-5 * number), rad_from_deg(-68.8283), 0.0};
   p.ship_position = Geodetic{rad_from_deg(48.4456), rad_from_deg(-68.8284), 0.0};
-  p.heading_rad = rad_from_deg(10.0 + number);
+  p.heading_true_rad = rad_from_deg(10.0 + number);
   p.pitch_rad = rad_from_deg(-1.5);
   p.roll_rad = rad_from_deg(2.25);
   p.heave_m = 0.125;

@@ -50,8 +50,8 @@ class XtfWriterTest : public ::testing::Test {
     Writer w(p, o);
     for (std::uint32_t i = 0; i < pings; ++i) {
       SonarPing ping = make_ping(i, n, n);
-      AttitudeSample a{ping.time_utc, ping.heading_rad, ping.pitch_rad,
-                       ping.roll_rad, ping.heave_m,     0.0};
+      AttitudeSample a{ping.time_utc, ping.heading_true_rad, ping.pitch_rad,
+                       ping.roll_rad, ping.heave_m,          0.0};
       w.write_attitude(a);
       w.write_navigation({ping.time_utc, ping.sensor_position});
       w.write_ping(ping);
@@ -100,7 +100,7 @@ TEST_F(XtfWriterTest, WholeFileRoundTrip) {
         ASSERT_TRUE(got.ship_position.has_value());
         EXPECT_NEAR(got.ship_position->lat_rad, want.ship_position->lat_rad, 1e-15);
         // float32 degrees: ~1e-5 deg relative
-        EXPECT_NEAR(got.heading_rad, want.heading_rad, 1e-6);
+        EXPECT_NEAR(got.heading_true_rad, want.heading_true_rad, 1e-6);
         EXPECT_NEAR(got.pitch_rad, want.pitch_rad, 1e-7);
         EXPECT_NEAR(got.roll_rad, want.roll_rad, 1e-7);
         EXPECT_NEAR(got.heave_m, want.heave_m, 1e-6);

@@ -107,11 +107,8 @@ void print_summary(const RunResult& r) {
 
 int run_simulate(const std::vector<std::string>& args) {
   po::options_description opts("options");
-  std::string scene_path, out_dir, quality;
+  std::string scene_path, out_dir;
   bool overwrite = false, quiet = false;
-  std::string seed;
-  double range_m = 0;
-  std::size_t samples = 0;
   long long threads = 0;
   double res_m = kDefaultMosaicPixelM;
   std::string of = "COG";
@@ -124,10 +121,6 @@ int run_simulate(const std::vector<std::string>& args) {
     ("output,o", po::value(&out_dir)->required(), "output directory (must not exist unless --overwrite)")
     ("overwrite", po::bool_switch(&overwrite), "replace an existing output directory")
     ("quiet,q", po::bool_switch(&quiet), "no progress bar or summary")
-    ("seed", po::value(&seed), "random seed (overrides the scene file's)")
-    ("range", po::value(&range_m), "maximum slant range, metres (overrides sonar.range_m)")
-    ("samples", po::value(&samples), "samples per channel (overrides sonar.samples)")
-    ("quality", po::value(&quality), "renderer quality: fast, default or high")
     ("threads", po::value(&threads), "worker threads (default: all cores); output is identical for any value")
     ("res", po::value(&res_m)->default_value(kDefaultMosaicPixelM), "mosaic pixel size, metres")
     ("of", po::value(&of)->default_value("COG"), "mosaic format: COG or GTiff")
@@ -138,16 +131,20 @@ int run_simulate(const std::vector<std::string>& args) {
      "largest waterfall image; longer lines are decimated along track (default 2^28)")
     ("no-truth", po::bool_switch(&no_truth), "skip the truth products");
   // clang-format on
+  // The overrides of scene-file options, as the option table declares them.
+  const std::vector<OverrideFlag> override_list = override_flags();
+  for (const OverrideFlag& f : override_list) {
+    opts.add_options()(f.name.c_str(), po::value<std::string>(), f.help.c_str());
+  }
   po::positional_options_description pos;
   pos.add("scene", 1);
   po::variables_map vm;
   if (!parse(args, opts, pos, vm, kUsage)) return 0;
 
   SimulationOverrides ov;
-  if (vm.count("seed")) ov.seed = parse_uint64(seed, "seed");
-  if (vm.count("range")) ov.range_m = range_m;
-  if (vm.count("samples")) ov.samples = samples;
-  if (vm.count("quality")) ov.quality = quality;
+  for (const OverrideFlag& f : override_list) {
+    if (vm.count(f.name)) set_override(ov, f.name, vm[f.name].as<std::string>());
+  }
   if (vm.count("threads")) ov.threads = checked_thread_count(threads, 1);
 
   RunOptions run;

@@ -107,15 +107,6 @@ std::string component_types_constraint() {
   return s;
 }
 
-const Param& lat_param() {
-  return kLat;
-}
-const Param& lon_param() {
-  return kLon;
-}
-const Param& cell_param() {
-  return kCell;
-}
 const Param& depth_param() {
   return kDepth;
 }

@@ -275,6 +275,16 @@ void prepare_dataset_dir(const DatasetSpec& spec, const fs::path& dir) {
     throw FormatError(dir.string() + ": cannot create the dataset directory");
   }
   remove_orphaned_staging(dir / ".work");
+  // The mesh models beside the items (their scenes name them relatively): the directory is
+  // complete in itself and can be moved.
+  for (const DatasetObjectType& t : spec.object_types) {
+    for (std::size_t i = 0; i < t.model_copies.size(); ++i) {
+      const std::string model = read_text(t.model_files[i]);
+      const fs::path copy = dir / t.model_copies[i];
+      fs::create_directories(copy.parent_path(), ec);
+      if (!fs::exists(copy, ec) || read_text(copy) != model) write_atomically(copy, model);
+    }
+  }
   // The same items with another count (grown or shrunk): the directory now holds this spec.
   if (!fs::exists(recorded, ec) || read_text(recorded) != spec.text) {
     write_atomically(recorded, spec.text);
@@ -347,10 +357,11 @@ DatasetItemResult run_dataset_item(const DatasetSpec& spec, const fs::path& dir,
     fs::remove_all(stage.dir);
     fs::create_directories(stage.dir);
     const fs::path scene_path = stage.dir / "scene.yaml";
-    write_text(scene_path, scene.yaml);
+    write_text(scene_path, scene.dataset_yaml);
 
     RunOptions run;
     run.overrides.quality = spec.quality;
+    run.relative_files = true;
     if (threads > 0) run.overrides.threads = threads;
     run.products.mosaic = spec.mosaic;
     run.products.waterfalls = spec.waterfalls;

@@ -286,6 +286,19 @@ DatasetItemScene dataset_item_scene(const DatasetSpec& s, std::size_t index) {
     << ", " << fx(s.display_window_db[1], 2) << "]\n"
     << (s.labels_yaml.empty() ? "" : "  labels: " + s.labels_yaml + "\n");
   item.yaml = y.str();
+  // As written into the dataset directory: each model named by its copy there, relative to
+  // items/NNNNNN/ (docs/dataset.md), so that the directory can be moved.
+  item.dataset_yaml = item.yaml;
+  for (const DatasetObjectType& t : s.object_types) {
+    for (std::size_t i = 0; i < t.model_copies.size(); ++i) {
+      const std::string from = "file: " + yaml_quoted(t.model_files[i]);
+      const std::string to = "file: " + yaml_quoted("../../" + t.model_copies[i]);
+      for (std::size_t at = item.dataset_yaml.find(from); at != std::string::npos;
+           at = item.dataset_yaml.find(from, at + to.size())) {
+        item.dataset_yaml.replace(at, from.size(), to);
+      }
+    }
+  }
   return item;
 }
 

@@ -40,6 +40,23 @@ std::filesystem::path model_file(const std::string& spec_file, const std::string
   return p.lexically_normal();
 }
 
+// The copy of the model `file` in the dataset directory (docs/dataset.md): models/ and its file
+// name, with _2, _3 ... before the extension when another model of the spec took that name.
+std::string model_copy_name(const std::vector<std::string>& files,
+                            const std::vector<std::string>& copies,
+                            const std::filesystem::path& file) {
+  for (std::size_t i = 0; i < copies.size(); ++i) {
+    if (files[i] == file.string()) return copies[i];  // the same file named twice
+  }
+  const std::filesystem::path name = file.filename();
+  for (int k = 1;; ++k) {
+    const std::string copy = "models/" + (k == 1 ? name.string()
+                                                 : name.stem().string() + "_" + std::to_string(k) +
+                                                       name.extension().string());
+    if (std::find(copies.begin(), copies.end(), copy) == copies.end()) return copy;
+  }
+}
+
 // The mesh type of a spec (`objects.types.mesh`): its models read at load, so that a missing or
 // unreadable file is an error of the spec, and their size sets the grid's margin.
 void read_mesh_type(const Fields& d, DatasetObjectType& t) {
@@ -69,6 +86,7 @@ void read_mesh_type(const Fields& d, DatasetObjectType& t) {
       d.fail("models", "'" + name + "': " + e.what());
     }
     t.model_files.push_back(file.string());
+    t.model_copies.push_back(model_copy_name(t.model_files, t.model_copies, file));
   }
   const ObjectType& mesh = *find_object_type("mesh");
   t.scale = read_object_range(d, mesh, mesh.spec_keys.front());

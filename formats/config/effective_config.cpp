@@ -60,7 +60,7 @@ void write_resolved_sonar(YAML::Node sonar, const SimulationSetup& setup) {
 void write_effective_config(const std::string& scene_path, const SimulationOverrides& overrides,
                             const SimulationSetup& setup, const Simulator& sim,
                             const std::filesystem::path& out_path,
-                            const std::vector<std::string>& product_flags) {
+                            const std::vector<std::string>& product_flags, bool absolute_files) {
   YAML::Node root = yaml::load_file(scene_path);
   // `derived` is ignored on input and replaced below: dropped before any traversal, so that
   // aliases nested in it (a "billion laughs" document) cost nothing.
@@ -82,20 +82,16 @@ void write_effective_config(const std::string& scene_path, const SimulationOverr
       for (auto e : n) absolutize(e);
     }
   };
-  absolutize(root);
+  if (absolute_files) absolutize(root);
   // A sonar preset stays named, with the values it resolved to beside it: they win over it when
   // the file is read again, so the run is reproduced whatever the preset later becomes.
   if (root["sonar"].IsMap() && root["sonar"]["preset"].IsDefined()) {
     write_resolved_sonar(root["sonar"], setup);
   }
   // The overridden options, from the declarations (formats/config/option_table.cpp); the seed
-  // always.
-  std::set<std::string_view> flags{"--seed"};
-  if (overrides.range_m) flags.insert("--range");
-  if (overrides.samples) flags.insert("--samples");
-  if (overrides.quality) flags.insert("--quality");
+  // always (a run without one draws it).
   for (const options::Option& o : options::all()) {
-    if (o.flag.empty() || !flags.count(o.flag)) continue;
+    if (!o.flag || (o.kind != options::Kind::seed && !o.flag->given(overrides))) continue;
     YAML::Node n = root;
     std::string_view section = o.section;
     while (!section.empty()) {

@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "sonarsynth/formats/config/option_table.hpp"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <type_traits>
 
+#include "sonarsynth/error.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/survey.hpp"
 
@@ -29,23 +32,58 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 #define BOOL(field) \
   [](const S& s) { return s.field ? 1.0 : 0.0; }, [](S& s, double v) { s.field = v != 0.0; }
 
+// The text of a command-line number: all of it, or an InputError naming the flag.
+template <typename T>
+T flag_number(const std::string& text, std::string_view flag, const char* allowed) {
+  T v{};
+  const char* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+  if (text.empty() || ec != std::errc() || ptr != end) {
+    throw InputError(std::string(flag) + " = '" + text + "'. Violated constraint: " + allowed);
+  }
+  return v;
+}
+
+// The command-line flags: the bounds of their values are those of the rows they override.
+const Flag kSeed{"--seed", "random seed (overrides the scene file's)",
+                 [](const SimulationOverrides& o) { return o.seed.has_value(); },
+                 [](SimulationOverrides& o, const std::string& t, std::string_view flag) {
+                   o.seed = flag_number<std::uint64_t>(t, flag,
+                                                       "an integer from 0 to 18446744073709551615");
+                 }};
+const Flag kRange{"--range", "maximum slant range, metres (overrides sonar.range_m)",
+                  [](const SimulationOverrides& o) { return o.range_m.has_value(); },
+                  [](SimulationOverrides& o, const std::string& t, std::string_view flag) {
+                    o.range_m = flag_number<double>(t, flag, "a number (metres)");
+                  }};
+const Flag kSamples{"--samples", "samples per channel (overrides sonar.samples)",
+                    [](const SimulationOverrides& o) { return o.samples.has_value(); },
+                    [](SimulationOverrides& o, const std::string& t, std::string_view flag) {
+                      o.samples = flag_number<std::size_t>(t, flag, "a whole number");
+                    }};
+const Flag kQuality{
+    "--quality", "renderer quality: fast, default or high",
+    [](const SimulationOverrides& o) { return o.quality.has_value(); },
+    [](SimulationOverrides& o, const std::string& t, std::string_view) { o.quality = t; }};
+
 // Option{section, key, unit, kind, lo, hi, lo_open, flag, word, choices, constraint, get, set}
 Option real(std::string_view sec, std::string_view key, std::string_view unit, double lo, double hi,
             bool lo_open, double (*get)(const S&), void (*set)(S&, double),
-            std::string_view flag = "") {
+            const Flag* flag = nullptr) {
   return {sec, key, unit, Kind::real, lo, hi, lo_open, flag, "", {}, "", get, set};
 }
 Option integer(std::string_view sec, std::string_view key, double lo, double hi, bool lo_open,
-               double (*get)(const S&), void (*set)(S&, double), std::string_view flag = "") {
+               double (*get)(const S&), void (*set)(S&, double), const Flag* flag = nullptr) {
   return {sec, key, "", Kind::integer, lo, hi, lo_open, flag, "", {}, "", get, set};
 }
 Option boolean(std::string_view sec, std::string_view key, double (*get)(const S&),
                void (*set)(S&, double)) {
-  return {sec, key, "", Kind::boolean, 0, 1, false, "", "", {}, "", get, set};
+  return {sec, key, "", Kind::boolean, 0, 1, false, nullptr, "", {}, "", get, set};
 }
 Option choice(std::string_view sec, std::string_view key, std::vector<std::string_view> names,
               std::string_view constraint, double (*get)(const S&), void (*set)(S&, double)) {
-  return {sec, key, "", Kind::choice, 0, 0, false, "", "", std::move(names), constraint, get, set};
+  return {sec,        key, "", Kind::choice, 0, 0, false, nullptr, "", std::move(names),
+          constraint, get, set};
 }
 
 // The rows of `sonar`: the sonar, its beams and pulse.
@@ -53,9 +91,9 @@ void add_sonar_options(std::vector<Option>& t) {
   t.push_back(
       real("sonar", "frequency_khz", "kHz", 0, 1e5, true, SCALED(config.sonar.frequency_hz, 1e3)));
   t.push_back(
-      real("sonar", "range_m", "m", 0, 1e5, true, PLAIN(config.sonar.max_range_m), "--range"));
+      real("sonar", "range_m", "m", 0, 1e5, true, PLAIN(config.sonar.max_range_m), &kRange));
   t.push_back(integer("sonar", "samples", 1, 65535, false, PLAIN(config.sonar.samples_per_channel),
-                      "--samples"));
+                      &kSamples));
   t.push_back(real("sonar", "sound_speed_m_s", "m/s", 1300, 1700, false,
                    PLAIN(config.sonar.sound_speed_m_s)));
   t.push_back(real("sonar", "tilt_deg", "deg", -90, 90, false, DEG(config.sonar.tilt_rad)));
@@ -133,13 +171,13 @@ void add_render_options(std::vector<Option>& t) {
   t.push_back(
       real("render.water", "depth_m", "m", 0, 12000, false, PLAIN(config.physics.water.depth_m)));
   t.push_back(integer("render.quality", "grid_subdivisions", 1, 64, false,
-                      PLAIN(config.quality.profile.grid_subdivisions), "--quality"));
+                      PLAIN(config.quality.profile.grid_subdivisions), &kQuality));
   t.push_back(integer("render.quality", "object_segments", 2, 256, false,
-                      PLAIN(config.quality.profile.object_segments), "--quality"));
+                      PLAIN(config.quality.profile.object_segments), &kQuality));
   t.push_back(boolean("render.quality", "solid_resting_objects",
                       BOOL(config.quality.profile.solid_resting_objects)));
   t.push_back(integer("render.quality", "gauss_points", 1, 5, false,
-                      PLAIN(config.quality.gauss_points), "--quality"));
+                      PLAIN(config.quality.gauss_points), &kQuality));
   Option planes = integer(
       "render.quality", "along_track_planes", 1, 64, false,
       [](const S& s) {
@@ -150,14 +188,14 @@ void add_render_options(std::vector<Option>& t) {
         s.config.quality.along_track_planes =
             std::isnan(v) ? QualityConfig::kAutoPlanes : static_cast<int>(v);
       },
-      "--quality");
+      &kQuality);
   planes.word = "auto";
   t.push_back(planes);
   t.push_back(real("render.quality", "along_track_tolerance_db", "dB", 0, 40, true,
-                   PLAIN(config.quality.along_track_tolerance_db), "--quality"));
+                   PLAIN(config.quality.along_track_tolerance_db), &kQuality));
   Option small =
       boolean("render.quality", "small_object_planes", BOOL(config.quality.small_object_planes));
-  small.flag = "--quality";
+  small.flag = &kQuality;
   t.push_back(small);
 }
 
@@ -354,7 +392,7 @@ std::vector<Option> make_table() {
                0,
                kInf,
                false,
-               "--seed",
+               &kSeed,
                "",
                {},
                "",
@@ -411,6 +449,17 @@ std::vector<const Option*> in_section(std::string_view section) {
     if (o.section == section) out.push_back(&o);
   }
   return out;
+}
+
+const std::vector<const Flag*>& flags() {
+  static const std::vector<const Flag*> list = [] {
+    std::vector<const Flag*> out;
+    for (const Option& o : all()) {
+      if (o.flag && std::find(out.begin(), out.end(), o.flag) == out.end()) out.push_back(o.flag);
+    }
+    return out;
+  }();
+  return list;
 }
 
 const Option& at(std::string_view path) {
@@ -499,3 +548,23 @@ YAML::Node emit(const Option& o, const SimulationSetup& s) {
 }
 
 }  // namespace sonarsynth::options
+
+namespace sonarsynth {
+
+std::vector<OverrideFlag> override_flags() {
+  std::vector<OverrideFlag> out;
+  for (const options::Flag* f : options::flags()) {
+    out.push_back({std::string(f->name.substr(2)), std::string(f->help)});
+  }
+  return out;
+}
+
+void set_override(SimulationOverrides& overrides, const std::string& name,
+                  const std::string& text) {
+  for (const options::Flag* f : options::flags()) {
+    if (f->name.substr(2) == name) return f->parse(overrides, text, f->name);
+  }
+  throw std::invalid_argument("set_override: no flag --" + name);
+}
+
+}  // namespace sonarsynth

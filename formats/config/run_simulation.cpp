@@ -229,7 +229,7 @@ RunResult run_simulation(const std::string& scene_path, const std::filesystem::p
     result.labels_s = seconds_since(t_labels);
   }
   write_effective_config(scene_path, options.overrides, *setup, sim, out.file("effective.yaml"),
-                         product_option_flags(options.products));
+                         product_option_flags(options.products), !options.relative_files);
   out.commit();
 
   const bool per_ping = setup->config.output.normalise == OutputScaling::Normalise::per_ping_max;

@@ -160,7 +160,7 @@ void check_override(const options::Option& o, T value) {
   if (!o.accepts(static_cast<double>(value))) {
     std::ostringstream v;
     v << std::setprecision(15) << value;  // "0", "1000000000", not "0.000000"
-    throw InputError(std::string(o.flag) + " = " + v.str() +
+    throw InputError(std::string(o.flag->name) + " = " + v.str() +
                      ". Violated constraint: " + o.bounds() + " (as " + o.path() + ")");
   }
 }
@@ -301,9 +301,10 @@ void read_sonar_section(const Fields& top, const SimulationOverrides& overrides,
   }
   // Command-line overrides: the same bounds as the scene file's keys, named by the flag.
   if (overrides.range_m) {
-    check_override(options::at("sonar.range_m"), *overrides.range_m);
+    const options::Option& range = options::at("sonar.range_m");
+    check_override(range, *overrides.range_m);
     s.max_range_m = *overrides.range_m;
-    setup.range_key = "--range";
+    setup.range_key = range.flag->name;
   }
   if (overrides.samples) {
     check_override(options::at("sonar.samples"), *overrides.samples);
@@ -331,7 +332,8 @@ void read_render_section(const Fields& top, const SimulationOverrides& overrides
     }
   }
   if (overrides.quality && !cfg.quality.apply_preset(*overrides.quality)) {
-    throw InputError("--quality = '" + *overrides.quality +
+    const options::Option& quality = options::at("render.quality.grid_subdivisions");
+    throw InputError(std::string(quality.flag->name) + " = '" + *overrides.quality +
                      "'. Violated constraint: " + QualityConfig::kPresetNames);
   }
 }
@@ -396,8 +398,8 @@ void check_sample_count(const Fields& top, const SimulationOverrides& overrides,
   if (const auto v = sample_count_violation(setup)) {
     const std::string& c = *v;
     if (overrides.samples) {
-      throw InputError("--samples = " + std::to_string(s.samples_per_channel) +
-                       ". Violated constraint: " + c);
+      throw InputError(std::string(options::at("sonar.samples").flag->name) + " = " +
+                       std::to_string(s.samples_per_channel) + ". Violated constraint: " + c);
     }
     top.child("sonar").fail_value("samples", c);
   }

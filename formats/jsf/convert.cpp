@@ -88,7 +88,8 @@ void repair(SonarFileFormat to, SonarPing& s, ConvertResult& r) {
     fix(s.depth_m, std::isfinite(s.depth_m), nan, "depth not finite -> unknown");
     fix(s.speed_m_s, s.speed_m_s >= 0.0 && std::isfinite(s.speed_m_s), nan,
         "speed negative or not finite -> unknown");
-    fix(s.heading_rad, std::isfinite(s.heading_rad), nan, "heading not finite -> unknown");
+    fix(s.heading_true_rad, std::isfinite(s.heading_true_rad), nan,
+        "heading not finite -> unknown");
     const bool attitude_ok = std::abs(s.pitch_rad) <= kPi / 2 && std::abs(s.roll_rad) <= kPi;
     if (!attitude_ok) {
       s.pitch_rad = s.roll_rad = nan;
@@ -238,7 +239,7 @@ bool carried_agrees(const jsf::XtfPingFields& f, const jsf::Ping& p) {
     return std::abs(jsf_value - xtf_value) <= step / 2 + 1e-6 * (1.0 + std::abs(xtf_value));
   };
   const double knot_m_s = 1852.0 / 3600.0;
-  double dh = std::fmod(std::abs(deg_from_rad(s.heading_rad) - h.SensorHeading), 360.0);
+  double dh = std::fmod(std::abs(deg_from_rad(s.heading_true_rad) - h.SensorHeading), 360.0);
   dh = std::min(dh, 360.0 - dh);
   const std::size_t n = std::max(s.port.size(), s.starboard.size());
   const double range_step = s.sound_speed_m_s * static_cast<double>(n) * 1e-9;

@@ -25,7 +25,7 @@ class JsfSource : public SideScanSource {
     r.nav_valid = ping_.nav_valid;
     r.time_valid = ping_.time_valid;
     r.layback_m = ping_.layback_m;
-    r.heading_deg = deg_from_rad(r.sonar.heading_rad);
+    r.heading_true_deg = deg_from_rad(r.sonar.heading_true_rad);
     r.index = ping_.index;
     return true;
   }

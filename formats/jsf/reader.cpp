@@ -223,7 +223,7 @@ bool Reader::next(Message& m) {
       a.roll_rad = rad_from_deg(r.i16() * 180.0 / 32768.0);
       r.skip(4);
       a.heave_m = -r.i16() / 1000.0;
-      a.heading_rad = rad_from_deg(r.u16() / 100.0);
+      a.heading_true_rad = rad_from_deg(r.u16() / 100.0);
       r.skip(4);
       a.yaw_rad = rad_from_deg(r.i16() / 100.0);
       m.kind = MessageKind::kPitchRoll;
@@ -368,7 +368,7 @@ void Reader::make_ping(Message* port, Message* stbd, Ping& ping) {
                std::to_string(h.coordinate_units) + "; readable: units 2, not both 0)" +
                where(first));
   }
-  s.heading_rad = rad_from_deg(h.heading_cdeg / 100.0);
+  s.heading_true_rad = rad_from_deg(h.heading_cdeg / 100.0);
   s.pitch_rad = rad_from_deg(h.pitch * 180.0 / 32768.0);
   s.roll_rad = rad_from_deg(h.roll * 180.0 / 32768.0);
   s.heave_m = -static_cast<double>(h.heave_m);

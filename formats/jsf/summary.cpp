@@ -29,7 +29,7 @@ FileSummary summarize(Reader& reader) {
     s.slant_range_m.add(q.slant_range_m);
     s.sample_interval_ns.add(p.header.sample_interval_ns);
     s.weighting_factor.add(p.header.weighting_factor);
-    s.heading_deg.add(deg_from_rad(q.heading_rad));
+    s.heading_deg.add(deg_from_rad(q.heading_true_rad));
     s.pitch_deg.add(deg_from_rad(q.pitch_rad));
     s.roll_deg.add(deg_from_rad(q.roll_rad));
     s.heave_m.add(q.heave_m);

@@ -154,8 +154,8 @@ SonarDataHeader sonar_header(const SonarPing& p, const WriterOptions& options) {
   h.altitude_mm = clamp_round<std::int32_t>(p.altitude_m * 1000.0);
   h.sound_speed_m_s = static_cast<float>(c);
   h.time_basis = 3;
-  const bool heading_known = std::isfinite(p.heading_rad);
-  const double heading = heading_known ? heading_deg(p.heading_rad) : 0.0;
+  const bool heading_known = std::isfinite(p.heading_true_rad);
+  const double heading = heading_known ? heading_deg(p.heading_true_rad) : 0.0;
   h.heading_cdeg = static_cast<std::uint16_t>(std::lround(heading * 100.0) % 36000);
   h.pitch = half_turn_fraction(p.pitch_rad);
   h.roll = half_turn_fraction(p.roll_rad);  // + starboard down = + port up
@@ -318,7 +318,7 @@ void Writer::write_ping(const SonarPing& p, const XtfPingFields* xtf_fields) {
 
 void Writer::write_attitude(const AttitudeSample& a) {
   using namespace std::chrono;
-  for (const double v : {a.heading_rad, a.pitch_rad, a.roll_rad, a.heave_m, a.yaw_rad}) {
+  for (const double v : {a.heading_true_rad, a.pitch_rad, a.roll_rad, a.heave_m, a.yaw_rad}) {
     if (!std::isfinite(v)) violated("attitude", "non-finite", "heading, pitch, roll, heave finite");
   }
   const int year = calendar::fields_from_time(a.time_utc).year;
@@ -343,7 +343,7 @@ void Writer::write_attitude(const AttitudeSample& a) {
   w.i16(0);                                               // temperature
   w.u16(0);                                               // device info
   w.i16(clamp_round<std::int16_t>(-a.heave_m * 1000.0));  // mm, down +
-  w.u16(static_cast<std::uint16_t>(std::lround(heading_deg(a.heading_rad) * 100.0) % 36000));
+  w.u16(static_cast<std::uint16_t>(std::lround(heading_deg(a.heading_true_rad) * 100.0) % 36000));
   // validity: pitch (6), roll (7), heave (8), heading (9), yaw (12)
   w.i32((1 << 6) | (1 << 7) | (1 << 8) | (1 << 9) | (1 << 12));
   w.i16(clamp_round<std::int16_t>(deg_from_rad(a.yaw_rad) * 100.0));

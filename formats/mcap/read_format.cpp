@@ -38,7 +38,7 @@ class McapSource : public SideScanSource {
     r.nav_valid = ping_.nav_valid;
     r.time_valid = true;
     r.layback_m = 0.0;
-    r.heading_deg = deg_from_rad(r.sonar.heading_rad);
+    r.heading_true_deg = deg_from_rad(r.sonar.heading_true_rad);
     r.index = ping_.index;
     return true;
   }
@@ -84,7 +84,7 @@ Summary summarise(Reader& reader) {
     }
     if (p.attitude_valid) {
       ++s.attitude;
-      s.heading_deg.add(deg_from_rad(p.sonar.heading_rad));
+      s.heading_deg.add(deg_from_rad(p.sonar.heading_true_rad));
       s.pitch_deg.add(deg_from_rad(p.sonar.pitch_rad));
       s.roll_deg.add(deg_from_rad(p.sonar.roll_rad));
     }

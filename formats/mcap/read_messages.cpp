@@ -247,7 +247,7 @@ void Reader::complete(std::uint64_t stamp_ns) {
     p.nav_valid = true;
   }
   if (ImuSample* s = at_or_before(imu_, stamp_ns, before); s && s->known) {
-    p.sonar.heading_rad = s->attitude.heading_rad;
+    p.sonar.heading_true_rad = s->attitude.heading_true_rad;
     p.sonar.pitch_rad = s->attitude.pitch_rad;
     p.sonar.roll_rad = s->attitude.roll_rad;
     p.attitude_valid = true;

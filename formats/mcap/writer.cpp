@@ -349,7 +349,7 @@ void Writer::write_ping(const SonarPing& p) {
     // ENU world, FLU body (REP 103): yaw from east counter-clockwise; + pitch is nose down.
     CdrWriter w(message_);
     write_imu(w, {sec, nanosec, kBodyFrame},
-              quaternion_zyx(kPi / 2 - p.heading_rad, -p.pitch_rad, p.roll_rad));
+              quaternion_zyx(kPi / 2 - p.heading_true_rad, -p.pitch_rad, p.roll_rad));
     add_message(kImuChannel, ns);
   }
   write_side(kPortChannel, p, p.port, sec, nanosec);

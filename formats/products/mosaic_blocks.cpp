@@ -295,6 +295,7 @@ void copy_with_overviews(GDALDataset& src, const char* resampling,
                          const std::vector<std::pair<std::string, std::string>>& creation_options,
                          const std::string& temp_path, const char* who,
                          const std::string& final_path) {
+  const auto cached_writes = gdal::lock_cached_writes();
   auto fail = [&](const std::string& what) {
     const std::string msg = gdal::last_error_message();
     throw FormatError(std::string(who) + ": " + final_path + ": " + what +
@@ -405,6 +406,7 @@ void copy_plain_with_overviews(
     GDALDataset& src, const char* resampling,
     const std::vector<std::pair<std::string, std::string>>& creation_options,
     const std::string& temp_path, const char* who, const std::string& final_path) {
+  const auto cached_writes = gdal::lock_cached_writes();
   copy_to_file(src, "GTiff", temp_path, creation_options, who, final_path);
   std::vector<int> factors = overview_factors(static_cast<std::size_t>(src.GetRasterXSize()),
                                               static_cast<std::size_t>(src.GetRasterYSize()));
@@ -492,6 +494,7 @@ void copy_adding_overviews(const std::string& from, const std::string& to,
                            const GroundControl& gcps, const char* who,
                            const std::string& final_path, bool cog_layout) {
   TemporaryFile source_file(from);
+  const auto cached_writes = gdal::lock_cached_writes();
   auto fail = [&](const std::string& what) {
     const std::string msg = gdal::last_error_message();
     throw FormatError(std::string(who) + ": " + final_path + ": " + what +

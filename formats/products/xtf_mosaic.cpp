@@ -26,7 +26,7 @@ struct NavPoint {
   Geodetic position;
   double margin_m = 0.0;  ///< slant range (+ layback if applied): how far samples can reach
   double slant_range_m = 0.0;
-  float heading_deg = 0.0f;  ///< SensorHeading as stored
+  float heading_true_deg = 0.0f;  ///< SensorHeading as stored (true)
   std::uint32_t ping_number = 0;
   std::uint64_t packet_index = 0;
   Eigen::Vector2d xy{0.0, 0.0};  ///< in the provisional frame
@@ -102,8 +102,8 @@ void drop_outliers(const std::string& file, FileNav& f, const GeoFrame& provisio
     NavPoint& p = pts[i];
     std::ostringstream os;
     os.precision(6);
-    if (!std::isfinite(p.heading_deg)) {
-      os << "SensorHeading = " << p.heading_deg;
+    if (!std::isfinite(p.heading_true_deg)) {
+      os << "SensorHeading = " << p.heading_true_deg;
       drop(p, result.dropped_heading, os.str());
     } else if (p.slant_range_m > options.max_slant_range_ratio * median_range) {
       os << "SlantRange = " << p.slant_range_m << " m, more than " << options.max_slant_range_ratio
@@ -225,7 +225,7 @@ std::vector<FileNav> read_navigation(const std::vector<std::filesystem::path>& f
       p.position = s.sensor_position;
       p.margin_m = margin;
       p.slant_range_m = s.slant_range_m;
-      p.heading_deg = static_cast<float>(rec.heading_deg);
+      p.heading_true_deg = static_cast<float>(rec.heading_true_deg);
       p.ping_number = s.ping_number;
       p.packet_index = rec.index;
       nav[fi].points.push_back(p);
@@ -340,7 +340,8 @@ void grid_file(const std::filesystem::path& file, const FileNav& nav,
     }
     MosaicPing mp;
     mp.sensor_xy_m = result.frame.local_from_geodetic(s.sensor_position);
-    mp.heading_grid_rad = result.frame.grid_azimuth_from_true_rad(s.heading_rad, mp.sensor_xy_m);
+    mp.heading_grid_rad =
+        result.frame.grid_azimuth_from_true_rad(s.heading_true_rad, mp.sensor_xy_m);
     mp.pitch_rad = std::isfinite(s.pitch_rad) && std::abs(s.pitch_rad) < rad_from_deg(45.0)
                        ? s.pitch_rad
                        : 0.0;

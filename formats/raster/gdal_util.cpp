@@ -31,6 +31,11 @@ void ensure_registered() {
   });
 }
 
+std::unique_lock<std::recursive_mutex> lock_cached_writes() {
+  static std::recursive_mutex cached_writes;
+  return std::unique_lock<std::recursive_mutex>(cached_writes);
+}
+
 long long limit_block_cache() {
   if (CPLGetConfigOption("GDAL_CACHEMAX", nullptr) == nullptr) GDALSetCacheMax64(kBlockCacheBytes);
   return GDALGetCacheMax64();

@@ -204,6 +204,7 @@ void copy_to_file(GDALDataset& src, const char* driver_name, const std::string& 
                   const char* who, const std::string& final_path) {
   GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driver_name);
   if (!driver) fail(who, final_path, std::string("GDAL has no ") + driver_name + " driver");
+  const auto cached_writes = gdal::lock_cached_writes();
   CPLStringList co;
   for (const auto& [k, v] : creation_options) co.SetNameValue(k.c_str(), v.c_str());
   CPLErrorReset();
@@ -386,6 +387,7 @@ void stream_to_files(std::vector<StreamTarget>& targets, std::size_t cols, std::
         continue;
       }
       t.source->next(o.rows.data());
+      const auto cached_writes = gdal::lock_cached_writes();
       const auto type_bytes = static_cast<GSpacing>(o.type_bytes);
       const auto band_bytes = static_cast<GSpacing>(o.band_bytes);
       if (o.ds->RasterIO(GF_Write, 0, static_cast<int>(r), static_cast<int>(cols), 1, o.rows.data(),

@@ -158,7 +158,7 @@ bool attitude_from_quaternion(double x, double y, double z, double w, AttitudeSa
   const double yaw = std::atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
   double heading = std::fmod(std::numbers::pi / 2 - yaw, 2 * std::numbers::pi);
   if (heading < 0) heading += 2 * std::numbers::pi;
-  a.heading_rad = heading;
+  a.heading_true_rad = heading;
   a.pitch_rad = -pitch;
   a.roll_rad = roll;
   return true;

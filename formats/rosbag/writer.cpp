@@ -277,13 +277,13 @@ void append_nav_sat_fix(std::vector<std::uint8_t>& out, const SonarPing& p, std:
 }
 
 void append_imu(std::vector<std::uint8_t>& out, std::uint32_t seq, std::uint64_t time_ns,
-                double heading_rad, double pitch_rad, double roll_rad) {
+                double heading_true_rad, double pitch_rad, double roll_rad) {
   // ENU world, body x forward, y left, z up (REP 103): yaw from east counter-clockwise,
   // pitch + nose down, roll + starboard down.
   const bool known =
-      std::isfinite(heading_rad) && std::isfinite(pitch_rad) && std::isfinite(roll_rad);
+      std::isfinite(heading_true_rad) && std::isfinite(pitch_rad) && std::isfinite(roll_rad);
   const Quaternion q =
-      known ? from_yaw_pitch_roll(std::numbers::pi / 2 - heading_rad, -pitch_rad, roll_rad)
+      known ? from_yaw_pitch_roll(std::numbers::pi / 2 - heading_true_rad, -pitch_rad, roll_rad)
             : Quaternion{0, 0, 0, 1};
   Out o(out);
   put_header(o, seq, time_ns, kVehicleFrame);
@@ -380,10 +380,10 @@ void Writer::write_side(std::uint32_t conn, const SonarPing& p, std::uint64_t ti
   end_message();
 }
 
-void Writer::write_imu(std::uint64_t time_ns, std::uint32_t seq, double heading_rad,
+void Writer::write_imu(std::uint64_t time_ns, std::uint32_t seq, double heading_true_rad,
                        double pitch_rad, double roll_rad) {
   begin_message(kImu, time_ns);
-  append_imu(chunk_, seq, time_ns, heading_rad, pitch_rad, roll_rad);
+  append_imu(chunk_, seq, time_ns, heading_true_rad, pitch_rad, roll_rad);
   end_message();
 }
 
@@ -414,13 +414,13 @@ void Writer::write_ping(const SonarPing& p) {
   begin_message(kFix, ns);
   append_nav_sat_fix(chunk_, p, ns);
   end_message();
-  write_imu(ns, imu_seq_++, p.heading_rad, p.pitch_rad, p.roll_rad);
+  write_imu(ns, imu_seq_++, p.heading_true_rad, p.pitch_rad, p.roll_rad);
   ++pings_written_;
 }
 
 void Writer::write_attitude(const AttitudeSample& a) {
   if (closed_) throw Error("rosbag: write_attitude after close");
-  write_imu(ros_time_ns(a.time_utc, "attitude"), imu_seq_++, a.heading_rad, a.pitch_rad,
+  write_imu(ros_time_ns(a.time_utc, "attitude"), imu_seq_++, a.heading_true_rad, a.pitch_rad,
             a.roll_rad);
 }
 

@@ -25,7 +25,7 @@ class XtfSource : public SideScanSource {
       r.nav_valid = packet_.ping.nav_valid && reader_.file_header().NavUnits == 3;
       r.time_valid = packet_.ping.time_valid;
       r.layback_m = packet_.ping.header.Layback;
-      r.heading_deg = packet_.ping.header.SensorHeading;
+      r.heading_true_deg = packet_.ping.header.SensorHeading;
       r.index = packet_.index;
       return true;
     }

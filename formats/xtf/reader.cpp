@@ -153,7 +153,7 @@ AttitudeSample attitude_sample(const XtfAttitudeData& d) {
   AttitudeSample a;
   a.time_utc = UtcTime{std::chrono::seconds{d.SourceEpoch}} +
                std::chrono::microseconds{std::min<std::uint32_t>(d.EpochMicroseconds, 999999)};
-  a.heading_rad = rad_from_deg(d.Heading);
+  a.heading_true_rad = rad_from_deg(d.Heading);
   a.pitch_rad = rad_from_deg(d.Pitch);
   a.roll_rad = rad_from_deg(d.Roll);
   a.heave_m = d.Heave;
@@ -516,7 +516,7 @@ void Reader::normalise(PingRecord& ping, std::uint64_t offset) {
   } else {
     s.ship_position.reset();
   }
-  s.heading_rad = rad_from_deg(h.SensorHeading);
+  s.heading_true_rad = rad_from_deg(h.SensorHeading);
   s.pitch_rad = rad_from_deg(h.SensorPitch);
   s.roll_rad = rad_from_deg(h.SensorRoll);
   s.heave_m = h.Heave;

@@ -65,7 +65,7 @@ SonarPing to_xtf_ping(const RenderedPing& ping, const GeoFrame& frame, const Son
   double heading = p.heading_rad + frame.convergence_rad(p.sensor_xy_m);  // grid -> true
   heading = std::fmod(heading, 2.0 * kPi);
   if (heading < 0) heading += 2.0 * kPi;
-  x.heading_rad = heading;
+  x.heading_true_rad = heading;
   x.pitch_rad = p.pitch_rad;
   x.roll_rad = p.roll_rad;
   x.heave_m = p.heave_m;

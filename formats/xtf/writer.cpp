@@ -246,7 +246,7 @@ void Writer::validate_ping(const SonarPing& p, bool check_position) const {
   if (tf.year < kMinYear || tf.year > kMaxYear) {
     violated(who + "time_utc year", std::to_string(tf.year), "1970 <= year <= 2100");
   }
-  if (!finite_all({p.heading_rad, p.pitch_rad, p.roll_rad, p.heave_m, p.depth_m})) {
+  if (!finite_all({p.heading_true_rad, p.pitch_rad, p.roll_rad, p.heave_m, p.depth_m})) {
     violated(who + "attitude/depth", "non-finite", "heading, pitch, roll, heave, depth finite");
   }
   if (!(std::abs(p.pitch_rad) <= kPi / 2))
@@ -352,7 +352,7 @@ void Writer::write_ping(const SonarPing& p, const StoredPingHeaders* stored) {
   const calendar::TimeFields tf = calendar::fields_from_time(to_hundredths(p.time_utc));
   const Geodetic ship = p.ship_position.value_or(p.sensor_position);
   const double sv = p.sound_speed_m_s / 2.0;  // XTF stores the one-way ("half") speed
-  const double heading = heading_deg(p.heading_rad);
+  const double heading = heading_deg(p.heading_true_rad);
   XtfPingHeader h;
   h.Header.HeaderType = static_cast<std::uint8_t>(HeaderType::kSonar);
   h.Header.NumChansToFollow = 2;
@@ -418,7 +418,7 @@ void Writer::write_ping(const SonarPing& p, const StoredPingHeaders* stored) {
 }
 
 void Writer::write_attitude(const AttitudeSample& a) {
-  if (!finite_all({a.heading_rad, a.pitch_rad, a.roll_rad, a.heave_m, a.yaw_rad})) {
+  if (!finite_all({a.heading_true_rad, a.pitch_rad, a.roll_rad, a.heave_m, a.yaw_rad})) {
     violated("attitude", "non-finite", "heading, pitch, roll, heave, yaw finite");
   }
   const calendar::TimeFields tf = calendar::fields_from_time(a.time_utc);
@@ -436,7 +436,7 @@ void Writer::write_attitude(const AttitudeSample& a) {
   d.Heave = static_cast<float>(a.heave_m);
   d.Yaw = static_cast<float>(deg_from_rad(a.yaw_rad));
   d.TimeTag = calendar::time_tag_ms(a.time_utc);
-  d.Heading = static_cast<float>(heading_deg(a.heading_rad));
+  d.Heading = static_cast<float>(heading_deg(a.heading_true_rad));
   set_date_time(d, tf, &XtfAttitudeData::Minutes, &XtfAttitudeData::Seconds);
   d.Milliseconds = static_cast<std::uint16_t>(tf.microsecond / 1000);
   append_record(d);

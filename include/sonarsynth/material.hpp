@@ -89,7 +89,6 @@ class MaterialMap {
   std::uint16_t material_at(double x_m, double y_m) const;
   std::uint16_t default_material() const { return default_; }
   std::size_t polygon_count() const { return polygons_.size(); }
-  bool has_raster() const { return !raster_.classes.empty(); }
   /// True if every point has the default material (lets the renderer skip look-ups).
   bool uniform() const { return polygons_.empty() && raster_.classes.empty(); }
 

@@ -93,7 +93,7 @@ py::dict read_sidescan(const std::filesystem::path& path, const SonarFormat* exp
       const Geodetic ship = s.ship_position.value_or(s.sensor_position);
       ship_lat.push_back(ship.lat_rad * kDegPerRad);
       ship_lon.push_back(ship.lon_rad * kDegPerRad);
-      heading.push_back(s.heading_rad);
+      heading.push_back(s.heading_true_rad);
       pitch.push_back(s.pitch_rad);
       roll.push_back(s.roll_rad);
       heave.push_back(s.heave_m);

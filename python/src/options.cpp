@@ -165,7 +165,7 @@ void bind_options(py::module_& m, py::class_<PySimulation>& cls) {
           for (const auto c : o.choices) choices.append(std::string(c));
           d["choices"] = choices;
           d["word"] = std::string(o.word);
-          d["flag"] = std::string(o.flag);
+          d["flag"] = o.flag ? std::string(o.flag->name) : std::string();
           out.append(d);
         }
         return out;

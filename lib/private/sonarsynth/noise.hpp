@@ -78,14 +78,6 @@ inline double add_thermal_noise(double a, double half_n, double sqrt_half_n, std
   return re * re + half_n * (g2 * g2);
 }
 
-/// Exp(1) from the low 32 bits of `hn`: (g3^2 + g4^2) / 2, g3 and g4 standard normals
-/// (NormalTable).
-inline double exp1_from_low_half(std::uint64_t hn, const NormalTable& normal) {
-  const auto lo = static_cast<std::uint32_t>(hn);
-  const double g3 = normal(lo), g4 = normal(lo >> 16);
-  return 0.5 * (g3 * g3 + g4 * g4);
-}
-
 /// The input checks of apply_speckle_noise for `n` samples (InputError naming the violated
 /// constraint); `field` may be empty.
 void check_speckle_inputs(const SpeckleNoise& noise, std::size_t n,

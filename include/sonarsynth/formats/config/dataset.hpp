@@ -42,7 +42,10 @@ struct DatasetObjectType {
   /// shipped model: `mine`, `wreck`), with their weights.
   WeightedChoice models;
   std::vector<std::string> model_files;  ///< absolute path of each of models.names
-  NumberRange scale{1.0, 1.0};           ///< uniform scale of the model, > 0
+  /// The copy of each of models.names in the dataset directory, relative to it
+  /// ("models/wreck.obj"; prepare_dataset_dir writes it): the item scenes name it relatively.
+  std::vector<std::string> model_copies;
+  NumberRange scale{1.0, 1.0};  ///< uniform scale of the model, > 0
   /// Largest horizontal distance of a vertex from its model's origin over the models, at scale
   /// 1, metres (read from the files at load: the grid's margin).
   double model_radius_m = 0.0;
@@ -129,7 +132,10 @@ std::uint64_t dataset_item_seed(const DatasetSpec& spec, std::size_t index);
 struct DatasetItemScene {
   std::size_t index = 0;
   std::uint64_t seed = 0;
-  std::string yaml;
+  std::string yaml;  ///< the scene; mesh models by absolute path (it loads from anywhere)
+  /// The scene as run_dataset_item writes it (items/NNNNNN/scene.yaml): the same, with each mesh
+  /// model named by its copy in the dataset directory, relative to the item's directory.
+  std::string dataset_yaml;
   std::map<std::string, int> object_counts;  ///< by type
   /// The values drawn for this item by spec key ("survey.altitude_m", "sonar.preset", ...), so
   /// that results can be sliced by them: numbers in the units of the key, names as text; the

@@ -22,6 +22,9 @@ struct RunOptions {
   /// overwrite flag and the scene/seed metadata are set by run_simulation.
   SurveyProductOptions products;
   bool overwrite = false;  ///< replace an existing output directory (OutputDirectory rules)
+  /// effective.yaml keeps the scene's relative file paths instead of making them absolute (a
+  /// dataset item: its scene's mesh models are in the dataset directory, docs/dataset.md).
+  bool relative_files = false;
   /// Called from the calling thread after each block of pings: (pings done, total).
   std::function<void(std::uint64_t, std::uint64_t)> progress;
   /// Called for each warning when it arises: the pre-run check's before rendering, the

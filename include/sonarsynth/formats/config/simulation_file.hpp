@@ -30,6 +30,20 @@ struct SimulationOverrides {
   std::optional<std::string> quality;
 };
 
+/// A command-line flag of `simulate` that overrides scene-file options ("range": --range), from
+/// the option table that declares the options (docs/scene-format.md, "Defaults and
+/// declarations").
+struct OverrideFlag {
+  std::string name;  ///< without the dashes: "seed", "range", "samples", "quality"
+  std::string help;  ///< one line for the CLI's help
+};
+/// Every override flag, in the order of the options they override.
+std::vector<OverrideFlag> override_flags();
+/// Sets the override `name` (an OverrideFlag's) in `overrides` from its command-line text;
+/// throws InputError naming the flag and the text if it is not a value of the flag's type (the
+/// bounds are checked when the scene is loaded), std::invalid_argument for an unknown name.
+void set_override(SimulationOverrides& overrides, const std::string& name, const std::string& text);
+
 /// Bounds on the work and output of one run, checked before rendering (`limits:` in the scene
 /// file, docs/scene-format.md).
 struct RunLimits {
@@ -150,11 +164,13 @@ void check_cross_keys(const SimulationSetup& setup, const std::string& name);
 /// seed and the overrides applied, and the derived values (gain, absorption, EPSG...) under
 /// `derived`, so that simulating it again reproduces the run exactly. `product_flags` (the
 /// `simulate` options of the products, product_option_flags()) are not scene settings: the
-/// header lists them, to be given again.
+/// header lists them, to be given again. `absolute_files` false: the scene's relative file paths
+/// are kept as they are (a dataset item, whose files hold within the dataset directory).
 void write_effective_config(const std::string& scene_path, const SimulationOverrides& overrides,
                             const SimulationSetup& setup, const Simulator& sim,
                             const std::filesystem::path& out_path,
-                            const std::vector<std::string>& product_flags = {});
+                            const std::vector<std::string>& product_flags = {},
+                            bool absolute_files = true);
 
 /// Parses "YYYY-MM-DDTHH:MM:SS[.ffffff]Z" (UTC); throws InputError naming `what`.
 UtcTime parse_utc(const std::string& text, const std::string& what);

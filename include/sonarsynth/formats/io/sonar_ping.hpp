@@ -26,10 +26,10 @@ struct SonarPing {
   Geodetic sensor_position{};
   /// Ship position if different from the sensor; when empty the writer stores the sensor's.
   std::optional<Geodetic> ship_position{};
-  double heading_rad = 0.0;  ///< true heading of the sensor, clockwise from north, any value
-  double pitch_rad = 0.0;    ///< + nose up
-  double roll_rad = 0.0;     ///< + starboard down
-  double heave_m = 0.0;      ///< + sensor up
+  double heading_true_rad = 0.0;  ///< true heading of the sensor, clockwise from north, any value
+  double pitch_rad = 0.0;         ///< + nose up
+  double roll_rad = 0.0;          ///< + starboard down
+  double heave_m = 0.0;           ///< + sensor up
   /// Sensor height above the seafloor, >= 0; 0 = no seabed under the sensor (no bottom pick:
   /// written as SensorPrimaryAltitude 0, which `sonarsynth info` counts).
   double altitude_m = 0.0;
@@ -45,12 +45,12 @@ struct SonarPing {
 
 /// A stand-alone attitude record (XTF type 3, JSF pitch/roll message 2020).
 struct AttitudeSample {
-  UtcTime time_utc{};        ///< stored to the millisecond (and microsecond in the epoch fields)
-  double heading_rad = 0.0;  ///< true heading, clockwise from north
-  double pitch_rad = 0.0;    ///< + nose up
-  double roll_rad = 0.0;     ///< + starboard down
-  double heave_m = 0.0;      ///< + up
-  double yaw_rad = 0.0;      ///< + turn right
+  UtcTime time_utc{};  ///< stored to the millisecond (and microsecond in the epoch fields)
+  double heading_true_rad = 0.0;  ///< true heading, clockwise from north
+  double pitch_rad = 0.0;         ///< + nose up
+  double roll_rad = 0.0;          ///< + starboard down
+  double heave_m = 0.0;           ///< + up
+  double yaw_rad = 0.0;           ///< + turn right
 };
 
 /// A stand-alone, source-time-stamped position fix (XTF type 42).

@@ -15,12 +15,12 @@ namespace sonarsynth {
 /// One side-scan ping of a sonar file of any format, as the product commands (mosaic, waterfall,
 /// match, info) and Python use it.
 struct SideScanRecord {
-  SonarPing sonar;           ///< SI units, port/starboard near -> far
-  bool nav_valid = false;    ///< sonar.sensor_position is a geographic position
-  bool time_valid = false;   ///< sonar.time_utc is a valid date and time
-  double layback_m = 0.0;    ///< file layback (0 if none)
-  double heading_deg = 0.0;  ///< the heading as the file stores it
-  std::uint64_t index = 0;   ///< increasing, unique in the file (e.g. XTF packet, JSF message)
+  SonarPing sonar;                ///< SI units, port/starboard near -> far
+  bool nav_valid = false;         ///< sonar.sensor_position is a geographic position
+  bool time_valid = false;        ///< sonar.time_utc is a valid date and time
+  double layback_m = 0.0;         ///< file layback (0 if none)
+  double heading_true_deg = 0.0;  ///< true heading as the file stores it, clockwise from north
+  std::uint64_t index = 0;        ///< increasing, unique in the file (e.g. XTF packet, JSF message)
 };
 
 /// The pings of a side-scan file whatever its format; each format's open_reader makes one

@@ -84,8 +84,8 @@ class Writer {
   void begin_message(std::uint32_t conn, std::uint64_t time_ns);
   void end_message();
   void write_side(std::uint32_t conn, const SonarPing& p, std::uint64_t time_ns);
-  void write_imu(std::uint64_t time_ns, std::uint32_t seq, double heading_rad, double pitch_rad,
-                 double roll_rad);
+  void write_imu(std::uint64_t time_ns, std::uint32_t seq, double heading_true_rad,
+                 double pitch_rad, double roll_rad);
   void write_tf_static(std::uint64_t time_ns);
   void flush_chunk();
   void write_file(const std::vector<std::uint8_t>& bytes);

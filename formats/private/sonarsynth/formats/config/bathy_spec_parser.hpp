@@ -49,10 +49,7 @@ const ComponentDecl* find_component(std::string_view type);
 /// "one of plane, ripples, fbm, seamount, scarp".
 std::string component_types_constraint();
 
-/// The grid-level numbers: centre lat_deg, lon_deg, cell_m, depth_m.
-const Param& lat_param();
-const Param& lon_param();
-const Param& cell_param();
+/// The grid-level depth_m.
 const Param& depth_param();
 
 /// One component as read: values by parameter index (nullopt: not given, the generator

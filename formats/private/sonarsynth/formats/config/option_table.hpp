@@ -17,6 +17,22 @@
 
 namespace sonarsynth::options {
 
+/// A command-line flag of `simulate` that overrides options of the table, declared here once:
+/// the CLI's options, the override checks and effective.yaml derive from it (override_flags(),
+/// set_override()).
+struct Flag {
+  std::string_view name;  ///< "--range"
+  std::string_view help;  ///< the CLI's help line
+  /// Whether the overrides give it.
+  bool (*given)(const SimulationOverrides&) = nullptr;
+  /// Sets it from its command-line text; throws InputError naming the flag (`name`), the text
+  /// and the values allowed.
+  void (*parse)(SimulationOverrides&, const std::string& text, std::string_view name) = nullptr;
+};
+
+/// The flags of the table's rows, each once, in declaration order.
+const std::vector<const Flag*>& flags();
+
 enum class Kind {
   real,     ///< a finite number (in `unit`), converted into the struct's unit by `set`
   integer,  ///< a number taken as an integer (a count)
@@ -32,9 +48,9 @@ struct Option {
   Kind kind = Kind::real;
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();
-  bool lo_open = false;   ///< lo < v rather than lo <= v
-  std::string_view flag;  ///< command-line option that overrides it ("--range"), or ""
-  std::string_view word;  ///< real/integer: a word accepted instead of a number ("auto")
+  bool lo_open = false;        ///< lo < v rather than lo <= v
+  const Flag* flag = nullptr;  ///< the command-line flag that overrides it, if any
+  std::string_view word;       ///< real/integer: a word accepted instead of a number ("auto")
   std::vector<std::string_view> choices;  ///< choice: the names, by value
   std::string_view choice_constraint;     ///< choice: "paper or lambert"
   /// The value in file units (choice: index; `word`: NaN; boolean: 0 or 1). Seeds: use seed_of.

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -28,6 +29,14 @@ inline constexpr long long kBlockCacheBytes = 8LL << 20;
 /// in the environment or as a GDAL configuration option: then GDAL's own reading of it stands.
 /// Returns the limit in force.
 long long limit_block_cache();
+
+/// Serialises the writes that go through GDAL's block cache (CreateCopy, overviews, RasterIO
+/// writes followed by a flush): the cache is the process's, and a dirty block that another
+/// thread's use of the cache evicts is written to its file at that moment, so two such writes at
+/// once would store their blocks in an order that depends on timing. Under this lock a file's
+/// blocks go to it in the same order on every run (docs/labels.md). Whole-block writes
+/// (WriteBlock) bypass the cache and need no lock. Recursive: a copy may call another under it.
+[[nodiscard]] std::unique_lock<std::recursive_mutex> lock_cached_writes();
 
 struct DatasetCloser {
   void operator()(GDALDataset* ds) const;

@@ -31,7 +31,7 @@ void append_nav_sat_fix(std::vector<std::uint8_t>& out, const SonarPing& ping,
                         std::uint64_t time_ns);
 /// sensor_msgs/Imu of the attitude (frame kVehicleFrame; docs/rosbag.md for the angles).
 void append_imu(std::vector<std::uint8_t>& out, std::uint32_t seq, std::uint64_t time_ns,
-                double heading_rad, double pitch_rad, double roll_rad);
+                double heading_true_rad, double pitch_rad, double roll_rad);
 /// tf2_msgs/TFMessage of the two transforms kVehicleFrame -> kPortFrame, kStarboardFrame.
 void append_tf_static(std::vector<std::uint8_t>& out, std::uint64_t time_ns, double tilt_rad);
 
