@@ -13,9 +13,14 @@ packages=(
   python3-pip python3-venv python3-setuptools python3-wheel python3-mypy
   libeigen3-dev libgdal-dev libpng-dev libisal-dev gdal-bin libgeographiclib-dev libboost-program-options-dev
   libyaml-cpp-dev libhwy-dev libzstd-dev zlib1g-dev libassimp-dev nlohmann-json3-dev libssl-dev libgtest-dev libgmock-dev libbenchmark-dev
-  nodejs npm gnuplot-nox python3-dev python3-numpy python3-gdal python3-pytest python3-distributed pybind11-dev
+  gnuplot-nox python3-dev python3-numpy python3-gdal python3-pytest python3-distributed pybind11-dev
   python3-torch python3-torchvision
 )
+# Node.js and npm for the tests' independent MCAP reader (tests/mcap_reader): Debian's only where
+# no npm is installed (a NodeSource nodejs brings its own npm, which Debian's npm conflicts with).
+if ! command -v npm >/dev/null; then
+  packages+=(nodejs npm)
+fi
 if [[ "${1:-}" == "--dev" ]]; then
   packages+=(clang libclang-rt-dev clang-format universal-ctags libopencv-dev
     python3-rosbag python3-std-msgs python3-geometry-msgs python3-sensor-msgs python3-tf2-msgs
