@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <functional>
 #include <random>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -48,15 +49,15 @@ inline void expect_same_bits(const MosaicImage& a, const MosaicImage& b, const s
 
 /// The pixels of `m` that hold at least one sample.
 /// A level ping heading grid north at `xy_m`, `altitude_m` above the seabed, its sides' samples
-/// spanning `slant_range_m`.
+/// spanning `slant_range_m`. The ping views `port` and `starboard`: they must outlive it.
 inline MosaicPing level_ping(const Eigen::Vector2d& xy_m, double altitude_m, double slant_range_m,
-                             std::vector<float> port, std::vector<float> starboard) {
+                             std::span<const float> port, std::span<const float> starboard) {
   MosaicPing p;
   p.sensor_xy_m = xy_m;
   p.altitude_m = altitude_m;
   p.slant_range_m = slant_range_m;
-  p.port = std::move(port);
-  p.starboard = std::move(starboard);
+  p.port = port;
+  p.starboard = starboard;
   return p;
 }
 
