@@ -233,7 +233,9 @@ TEST(McapReader, BagsOfOtherWritersRead) {
 struct Bytes {
   std::vector<std::uint8_t> b;
   Bytes& u(std::uint64_t x, int n) {
-    for (int i = 0; i < n; ++i) b.push_back(static_cast<std::uint8_t>((x >> (8 * i)) & 0xFFu));
+    for (int i = 0; i < n; ++i) {  // little endian; bytes past the eighth are zero
+      b.push_back(i < 8 ? static_cast<std::uint8_t>((x >> (8 * i)) & 0xFFu) : std::uint8_t{0});
+    }
     return *this;
   }
   Bytes& str(const std::string& s) {
