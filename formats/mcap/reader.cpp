@@ -15,6 +15,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/mcap/opcodes.hpp"
 #include "sonarsynth/formats/mcap/read_records.hpp"
+#include "sonarsynth/formats/rosbag/ping_assembler.hpp"
 
 namespace sonarsynth::mcap {
 namespace {
@@ -77,7 +78,13 @@ Reader::Reader(const std::filesystem::path& path) : Reader(xtf::open_file_source
 Reader::Reader(std::span<const std::uint8_t> bytes, std::string name)
     : Reader(xtf::memory_source(bytes, std::move(name))) {}
 
-Reader::Reader(std::unique_ptr<xtf::ByteSource> source) : source_(std::move(source)) {
+Reader::Reader(std::unique_ptr<xtf::ByteSource> source)
+    : source_(std::move(source)),
+      pings_(std::make_unique<rosbag::PingAssembler>(
+          "mcap reader: " + source_->name() + ": ", rosbag::PingAssembler::NavOrder::kBeforeImages,
+          [this](std::uint64_t offset, std::string message) {
+            report(offset, std::move(message));
+          })) {
   open();
 }
 
@@ -85,6 +92,10 @@ Reader::~Reader() = default;
 
 const std::string& Reader::name() const {
   return source_->name();
+}
+
+const std::vector<ImuSample>& Reader::imu() const {
+  return pings_->imu();
 }
 
 void Reader::report(std::uint64_t offset, std::string message) {
@@ -137,11 +148,7 @@ void Reader::open() {
   if (summary_start != 0) read_summary(summary_start, footer_pos, crc);
   if (!indexed_) scan_records(summary_start != 0 ? summary_start : footer_pos);
   for (std::size_t k = 0; k < blocks_.size(); ++k) read_block(k, false);
-  const auto by_stamp = [](const auto& a, const auto& b) {
-    return a.stamp_ns != b.stamp_ns ? a.stamp_ns < b.stamp_ns : a.ordinal < b.ordinal;
-  };
-  std::sort(fixes_.begin(), fixes_.end(), by_stamp);
-  std::sort(imu_.begin(), imu_.end(), by_stamp);
+  pings_->sort();
   if (image_info_ && tilt_rad_) image_info_->tilt_rad = *tilt_rad_;
 }
 

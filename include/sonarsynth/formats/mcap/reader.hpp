@@ -3,7 +3,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -77,7 +76,7 @@ class Reader {
   /// has no image.
   const std::optional<ImageInfo>& image_info() const { return image_info_; }
   /// Every Imu message sorted by (stamp, ordinal); `used` is set as pings take them.
-  const std::vector<ImuSample>& imu() const { return imu_; }
+  const std::vector<ImuSample>& imu() const;
   const std::vector<Anomaly>& anomalies() const { return anomalies_; }
   std::uint64_t total_anomalies() const { return anomaly_count_; }
 
@@ -89,19 +88,6 @@ class Reader {
     std::uint64_t length = 0;  ///< of the record (and, when indexed, its message indexes)
     std::uint64_t chunk_length = 0;
     bool chunk = false;
-  };
-  struct Fix {
-    std::uint64_t stamp_ns = 0;
-    std::uint64_t ordinal = 0;
-    Geodetic position{};
-    bool valid = false;
-  };
-  struct Side {
-    std::vector<float> samples;
-    std::uint64_t offset = 0, ordinal = 0;
-    std::uint32_t sequence = 0, dtype = 0;
-    double sound_speed_m_s = 0.0, slant_range_m = 0.0;
-    bool present = false;
   };
 
  private:
@@ -121,9 +107,6 @@ class Reader {
   void transforms(read::Cdr& c);
   void image(read::Cdr& c, std::uint64_t stamp, std::string_view frame, const ChannelInfo& info,
              bool images);
-  void add_side(Side side, bool port, std::uint64_t stamp_ns);
-  void complete(std::uint64_t stamp_ns);
-  void finish();
   void report(std::uint64_t offset, std::string message);
 
   std::unique_ptr<xtf::ByteSource> source_;
@@ -141,12 +124,9 @@ class Reader {
   std::vector<std::pair<std::uint64_t, std::uint16_t>> entries_;  ///< message index: offset, ch
   std::optional<ImageInfo> image_info_;
   std::optional<double> tilt_rad_;
-  std::vector<Fix> fixes_;
-  std::vector<ImuSample> imu_;
-  std::map<std::uint64_t, std::pair<Side, Side>> pending_;  ///< by stamp: port, starboard
-  std::deque<Ping> ready_;
+  std::unique_ptr<rosbag::PingAssembler>
+      pings_;  ///< the NavSatFix and Imu messages, the sides paired
   std::size_t next_block_ = 0;
-  bool finished_ = false;
   std::uint64_t ordinal_ = 0, offset_ = 0;  ///< of the message being decoded
   std::uint32_t sequence_ = 0;              ///< its Message record's sequence
   std::vector<Anomaly> anomalies_;

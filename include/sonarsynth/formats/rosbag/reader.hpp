@@ -3,7 +3,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -21,6 +20,7 @@ namespace sonarsynth::rosbag {
 namespace records {
 class Cursor;
 }
+class PingAssembler;
 
 /// One connection of a bag (a topic with its message type), from the bag's index.
 struct ConnectionInfo {
@@ -101,23 +101,10 @@ class Reader {
   /// has no image.
   const std::optional<ImageInfo>& image_info() const { return image_info_; }
   /// Every Imu message sorted by (stamp, ordinal); `used` is set as pings take them.
-  const std::vector<ImuSample>& imu() const { return imu_; }
+  const std::vector<ImuSample>& imu() const;
   const std::vector<Anomaly>& anomalies() const { return anomalies_; }
   std::uint64_t total_anomalies() const { return anomaly_count_; }
 
-  struct Fix {
-    std::uint64_t stamp_ns = 0;
-    std::uint64_t ordinal = 0;
-    Geodetic position{};
-    bool valid = false;
-  };
-  struct Side {
-    std::vector<float> samples;
-    std::uint64_t offset = 0, ordinal = 0;
-    std::uint32_t seq = 0, dtype = 0;
-    double sound_speed_m_s = 0.0, slant_range_m = 0.0;
-    bool present = false;
-  };
   enum class Kind : std::uint8_t { kNone, kImage, kFix, kImu, kTf };
 
  private:
@@ -129,9 +116,6 @@ class Reader {
   void transforms(records::Cursor& c);
   void image(records::Cursor& c, std::uint32_t seq, std::uint64_t stamp, std::string_view frame,
              const ConnectionInfo& info, std::uint64_t offset, bool images);
-  void add_side(Side side, bool port, std::uint64_t stamp_ns);
-  void complete(std::uint64_t stamp_ns);
-  void finish();
   void report(std::uint64_t offset, std::string message);
 
   std::unique_ptr<xtf::ByteSource> source_;
@@ -143,13 +127,9 @@ class Reader {
   std::vector<std::uint64_t> chunk_ordinal_;    ///< ordinal of each chunk's first message
   std::vector<std::uint8_t> buffer_;
   std::optional<ImageInfo> image_info_;
-  std::optional<double> tilt_rad_;  ///< from the first transform to a port frame
-  std::vector<Fix> fixes_;
-  std::vector<ImuSample> imu_;
-  std::map<std::uint64_t, std::pair<Side, Side>> pending_;  ///< by stamp: port, starboard
-  std::deque<Ping> ready_;
+  std::optional<double> tilt_rad_;        ///< from the first transform to a port frame
+  std::unique_ptr<PingAssembler> pings_;  ///< the NavSatFix and Imu messages, the sides paired
   std::size_t next_chunk_ = 0;
-  bool finished_ = false;
   std::uint64_t ordinal_ = 0;
   std::vector<Anomaly> anomalies_;
   std::uint64_t anomaly_count_ = 0;

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+// What the ROS 1 bag format (formats/rosbag/read_format.cpp) and the MCAP format
+// (formats/mcap/read_format.cpp) share on their read side: the summary of `info`, its JSON and
+// text after the container's own part, and the bag -> XTF and bag -> JSF conversions
+// (docs/rosbag.md and docs/robotics.md, "Reading bags").
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sonarsynth/formats/io/convert_result.hpp"
+#include "sonarsynth/formats/io/sonar_format.hpp"
+#include "sonarsynth/formats/rosbag/reader.hpp"
+#include "sonarsynth/formats/xtf/info_json.hpp"
+#include "sonarsynth/formats/xtf/summary.hpp"
+#include "sonarsynth/formats/xtf/writer.hpp"
+
+namespace sonarsynth::rosbag {
+
+/// What `info` and the conversions read of a bag reader (rosbag::Reader or mcap::Reader).
+struct PingStream {
+  std::function<bool(Ping&)> next_ping;
+  const std::optional<ImageInfo>& image_info;
+  const std::vector<ImuSample>& imu;  ///< `used` set as pings take them
+  const std::vector<Anomaly>& anomalies;
+  std::function<std::uint64_t()> total_anomalies;
+};
+
+template <class BagReader>
+PingStream ping_stream(BagReader& reader) {
+  return {[&reader](Ping& p) { return reader.next_ping(p); }, reader.image_info(), reader.imu(),
+          reader.anomalies(), [&reader] { return reader.total_anomalies(); }};
+}
+
+/// What a connection (or channel) of `type` (or schema name) is read as; nullptr if not decoded.
+const char* read_as(bool decoded, std::string_view type);
+
+struct BagSummary {
+  std::uint64_t pings = 0, nav = 0, attitude = 0;
+  xtf::ValueRange samples, slant_range_m, sound_speed_m_s, lat_deg, lon_deg, heading_deg, pitch_deg,
+      roll_deg;
+  std::optional<UtcTime> first, last;
+};
+
+/// Reads every ping.
+BagSummary summarise(const PingStream& bag);
+/// `info --json` from "sonar" on, after the container's keys.
+void add_summary_json(info::Json& j, const BagSummary& s,
+                      const std::optional<ImageInfo>& image_info,
+                      const std::vector<Anomaly>& anomalies, std::uint64_t total_anomalies);
+/// `info` from the "Sonar" line on, after the container's lines.
+void summary_text(std::ostream& os, const BagSummary& s, const std::optional<ImageInfo>& image_info,
+                  const std::vector<Anomaly>& anomalies, std::uint64_t total_anomalies,
+                  std::size_t max_anomalies);
+
+/// The XTF writer's options from the first image's settings; `note` names the source file.
+xtf::WriterOptions xtf_options(const std::optional<ImageInfo>& image_info, std::string note,
+                               bool overwrite);
+/// Writes every ping with a position (and the Imu messages no ping took, as attitude packets)
+/// to `writer`, counting in `r`; `what` names a ping's place in warnings ("bag message").
+/// Throws FormatError if no ping is written.
+void write_xtf(const PingStream& bag, xtf::Writer& writer, std::string_view what,
+               const std::filesystem::path& in, ConvertResult& r);
+
+using ConvertFunction = ConvertResult (*)(const std::filesystem::path& in,
+                                          const std::filesystem::path& out, bool overwrite,
+                                          AltitudeSource altitude_source);
+/// The conversion to JSF: `to_xtf` into an XTF file beside the output (removed afterwards),
+/// then XTF -> JSF; the drops, repairs and warnings of both.
+ConvertResult via_xtf_to_jsf(ConvertFunction to_xtf, const SonarFormat& from,
+                             const std::filesystem::path& in, const std::filesystem::path& out,
+                             bool overwrite, AltitudeSource altitude_source);
+
+}  // namespace sonarsynth::rosbag
