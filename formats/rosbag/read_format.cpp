@@ -28,9 +28,9 @@
 namespace sonarsynth::rosbag {
 namespace {
 
-class RosbagSource : public SideScanSource {
+class RosbagSource : public ReaderSource<Reader> {
  public:
-  explicit RosbagSource(const std::filesystem::path& path) : reader_(path) {}
+  explicit RosbagSource(const std::filesystem::path& path) : ReaderSource(path, sonar_format()) {}
   bool next(SideScanRecord& r) override {
     if (!reader_.next_ping(ping_)) return false;
     r.sonar = std::move(ping_.sonar);
@@ -41,14 +41,8 @@ class RosbagSource : public SideScanSource {
     r.index = ping_.index;
     return true;
   }
-  const SonarFormat& format() const override { return sonar_format(); }
-  std::uint64_t total_anomalies() const override { return reader_.total_anomalies(); }
-  std::vector<std::string> anomaly_messages(std::size_t max) const override {
-    return first_anomaly_messages(reader_.anomalies(), max);
-  }
 
  private:
-  Reader reader_;
   Ping ping_;
 };
 
@@ -186,10 +180,6 @@ std::string info_text(const Reader& reader, const Summary& s, std::size_t max_an
   return os.str();
 }
 
-void note(ConvertResult& r, std::string w) {
-  if (r.warnings.size() < 10) r.warnings.push_back(std::move(w));
-}
-
 xtf::WriterOptions xtf_options(const Reader& reader, const std::filesystem::path& in,
                                bool overwrite) {
   xtf::WriterOptions o;
@@ -246,7 +236,7 @@ ConvertResult rosbag_to_xtf(const std::filesystem::path& in, const std::filesyst
         writer.write_attitude(imu[next_imu].attitude);
         ++r.attitude_records;
       } catch (const InputError& e) {
-        note(r, std::string("Imu message skipped: ") + e.what());
+        r.warn(std::string("Imu message skipped: ") + e.what());
       }
     }
   };
@@ -259,7 +249,7 @@ ConvertResult rosbag_to_xtf(const std::filesystem::path& in, const std::filesyst
     if (!p.nav_valid) {
       ++r.pings_skipped;
       ++r.dropped["no position"];
-      note(r, where + " dropped: no position (no NavSatFix with a fix at or before it)");
+      r.warn(where + " dropped: no position (no NavSatFix with a fix at or before it)");
       continue;
     }
     if (u16) {
@@ -276,12 +266,12 @@ ConvertResult rosbag_to_xtf(const std::filesystem::path& in, const std::filesyst
     } catch (const InputError& e) {
       ++r.pings_skipped;
       ++r.dropped["not storable in XTF"];
-      note(r, where + " dropped: " + e.what());
+      r.warn(where + " dropped: " + e.what());
     }
   }
   flush_attitude(std::numeric_limits<std::uint64_t>::max());
   r.reader_anomalies = reader.total_anomalies();
-  for (const Anomaly& a : reader.anomalies()) note(r, a.message);
+  for (const Anomaly& a : reader.anomalies()) r.warn(a.message);
   if (r.pings == 0) {
     throw FormatError("convert: " + in.string() + ": no ping to write (" +
                       std::to_string(r.pings_skipped) + " dropped)");
