@@ -6,31 +6,52 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace bench {
+
+namespace {
+
+/// kFloorRel x the median of the non-zero bins of ref[b0, b1); none when all are zero.
+std::optional<double> block_floor(const std::vector<double>& ref, std::size_t b0, std::size_t b1) {
+  std::vector<double> lit;
+  for (std::size_t i = b0; i < b1; ++i)
+    if (ref[i] > 0.0) lit.push_back(ref[i]);
+  if (lit.empty()) return std::nullopt;
+  return kFloorRel * median(lit);
+}
+
+/// The method filled the bin (finite and above 1e-4 of the reference).
+bool filled(double got, double ref) {
+  return std::isfinite(got) && got > 1e-4 * ref;
+}
+
+/// |10 log10(got / ref)| capped at kCapDb; kCapDb for a bin the method did not fill.
+double error_db(double got, double ref) {
+  return filled(got, ref) ? std::min(kCapDb, std::abs(10.0 * std::log10(got / ref))) : kCapDb;
+}
+
+/// Bin i is next to a bin of its block below the floor (a shadow or first-return edge).
+bool at_edge(const std::vector<double>& ref, std::size_t i, std::size_t b0, std::size_t b1,
+             double floor) {
+  return (i > b0 && !(ref[i - 1] >= floor)) || (i + 1 < b1 && !(ref[i + 1] >= floor));
+}
+
+}  // namespace
 
 void ErrorStats::add(const std::vector<double>& got, const std::vector<double>& ref,
                      std::size_t block) {
   for (std::size_t b0 = 0; b0 < ref.size(); b0 += block) {
     const std::size_t b1 = std::min(ref.size(), b0 + block);
-    std::vector<double> lit;
-    for (std::size_t i = b0; i < b1; ++i)
-      if (ref[i] > 0.0) lit.push_back(ref[i]);
-    if (lit.empty()) continue;
-    const double floor = kFloorRel * median(lit);
+    const std::optional<double> floor = block_floor(ref, b0, b1);
+    if (!floor) continue;
     for (std::size_t i = b0; i < b1; ++i) {
       if (!std::isfinite(got[i]) || got[i] < 0.0) ++nonfinite;
-      if (!(ref[i] >= floor)) continue;
-      const bool edge =
-          (i > b0 && !(ref[i - 1] >= floor)) || (i + 1 < b1 && !(ref[i + 1] >= floor));
-      double e = kCapDb;
-      if (std::isfinite(got[i]) && got[i] > 1e-4 * ref[i]) {
-        e = std::min(kCapDb, std::abs(10.0 * std::log10(got[i] / ref[i])));
-      } else {
-        ++empty;
-      }
-      if (edge) {
+      if (!(ref[i] >= *floor)) continue;
+      const double e = error_db(got[i], ref[i]);
+      if (!filled(got[i], ref[i])) ++empty;
+      if (at_edge(ref, i, b0, b1, *floor)) {
         edge_sum_sq_db += e * e;
         edge_worst_db = std::max(edge_worst_db, e);
         ++edge_bins;
@@ -47,20 +68,11 @@ void worst_bins(const std::vector<double>& got, const std::vector<double>& ref, 
                 std::size_t count, std::size_t offset, std::vector<BinError>& out) {
   for (std::size_t b0 = 0; b0 < ref.size(); b0 += block) {
     const std::size_t b1 = std::min(ref.size(), b0 + block);
-    std::vector<double> lit;
-    for (std::size_t i = b0; i < b1; ++i)
-      if (ref[i] > 0.0) lit.push_back(ref[i]);
-    if (lit.empty()) continue;
-    const double floor = kFloorRel * median(lit);
+    const std::optional<double> floor = block_floor(ref, b0, b1);
+    if (!floor) continue;
     for (std::size_t i = b0; i < b1; ++i) {
-      if (!(ref[i] >= floor)) continue;
-      const bool edge =
-          (i > b0 && !(ref[i - 1] >= floor)) || (i + 1 < b1 && !(ref[i + 1] >= floor));
-      double e = kCapDb;
-      if (std::isfinite(got[i]) && got[i] > 1e-4 * ref[i]) {
-        e = std::min(kCapDb, std::abs(10.0 * std::log10(got[i] / ref[i])));
-      }
-      out.push_back({e, offset + i, edge});
+      if (!(ref[i] >= *floor)) continue;
+      out.push_back({error_db(got[i], ref[i]), offset + i, at_edge(ref, i, b0, b1, *floor)});
     }
   }
   std::sort(out.begin(), out.end(),

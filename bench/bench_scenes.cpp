@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "sonarsynth/bathy_gen.hpp"
+#include "sonarsynth/enum_names.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
 
 namespace bench {
@@ -14,6 +15,8 @@ using namespace sonarsynth;
 
 namespace {
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr EnumName<SceneKind> kSceneKindNames[] = {
+    {SceneKind::flat, "flat"}, {SceneKind::rough, "rough"}, {SceneKind::paper, "paper"}};
 
 const Scene& paper_scene(const std::string& yaml) {
   static std::map<std::string, std::unique_ptr<Scene>> cache;
@@ -24,15 +27,11 @@ const Scene& paper_scene(const std::string& yaml) {
 }  // namespace
 
 const char* to_string(SceneKind k) {
-  switch (k) {
-    case SceneKind::flat:
-      return "flat";
-    case SceneKind::rough:
-      return "rough";
-    case SceneKind::paper:
-      return "paper";
-  }
-  return "?";
+  return enum_name(kSceneKindNames, k);
+}
+
+SceneKind parse_scene_kind(const std::string& text) {
+  return parse_enum(kSceneKindNames, text, "--scenes");
 }
 
 Track track_for(SceneKind kind, int pings) {

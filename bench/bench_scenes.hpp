@@ -15,6 +15,8 @@ namespace bench {
 
 enum class SceneKind { flat, rough, paper };
 const char* to_string(SceneKind k);
+/// The kind to_string names; throws InputError for another name.
+SceneKind parse_scene_kind(const std::string& text);
 
 /// Sensor altitude above the flat seabed; not on a bin edge (the closed form cancels there).
 inline constexpr double kFlatAltitudeM = 10.003;

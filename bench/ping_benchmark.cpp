@@ -19,20 +19,16 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <exception>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
 #include "sonarsynth/simulator.hpp"
 #include "sonarsynth/sonar_presets.hpp"
-
-#ifndef SONARSYNTH_SAMPLES_DIR
-#define SONARSYNTH_SAMPLES_DIR "samples"
-#endif
 
 namespace {
 
@@ -78,10 +74,7 @@ int run(int argc, char** argv) {
   SimulationConfig cfg;  // defaults: speckle + texture, 4096 samples, 75 m, shadows, truth
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error("missing value after " + a);
-      return argv[++i];
-    };
+    const auto next = [&] { return bench::value_after(i, argc, argv); };
     if (a == "--runs") {
       runs = std::max(1, std::stoi(next()));
     } else if (a == "--threads") {
@@ -187,10 +180,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "ping_benchmark: %s\n", e.what());
-    return 1;
-  }
+  return bench::guarded_main("ping_benchmark", run, argc, argv);
 }

@@ -16,16 +16,13 @@
 #include "sonarsynth/formats/rosbag/writer.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
+#include "throughput_ping.hpp"
 
 namespace fs = std::filesystem;
+using bench::median;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 template <class W, class Options>
 double write_seconds(const fs::path& path, Options options, sonarsynth::SonarPing& ping,
@@ -77,16 +74,7 @@ int main(int argc, char** argv) {
   const int runs = argc > 3 ? std::atoi(argv[3]) : 5;
   const fs::path dir = argc > 4 ? fs::path(argv[4]) : fs::temp_directory_path();
 
-  sonarsynth::SonarPing ping;
-  ping.sensor_position = {sonarsynth::rad_from_deg(48.4), sonarsynth::rad_from_deg(-68.8), 0.0};
-  ping.altitude_m = 10.0;
-  ping.slant_range_m = 75.0;
-  ping.port.resize(samples);
-  ping.starboard.resize(samples);
-  for (std::size_t i = 0; i < samples; ++i) {
-    ping.port[i] = static_cast<float>((i * 7919) % 32768);
-    ping.starboard[i] = static_cast<float>((i * 104729) % 32768);
-  }
+  sonarsynth::SonarPing ping = bench::throughput_ping(samples);
   std::vector<double> bag_s, xtf_s, ratio;
   std::uint64_t bag_bytes = 0, xtf_bytes = 0;
   for (int run = 0; run < runs; ++run) {

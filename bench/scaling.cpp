@@ -12,20 +12,16 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <exception>
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "bench_metrics.hpp"
 #include "bench_scenes.hpp"
 #include "sonarsynth/bathy_gen.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
 #include "sonarsynth/keyed_random.hpp"
 #include "sonarsynth/simulator.hpp"
-
-#ifndef SONARSYNTH_SAMPLES_DIR
-#define SONARSYNTH_SAMPLES_DIR "samples"
-#endif
 
 namespace {
 
@@ -210,10 +206,7 @@ int run(int argc, char** argv) {
   bool header = false;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error("missing value after " + a);
-      return argv[++i];
-    };
+    const auto next = [&] { return bench::value_after(i, argc, argv); };
     if (a == "--runs") {
       runs = std::stoi(next());
     } else if (a == "--cells") {
@@ -247,10 +240,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "scaling: %s\n", e.what());
-    return 1;
-  }
+  return bench::guarded_main("scaling", run, argc, argv);
 }

@@ -25,20 +25,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "analytic/flat_seabed.hpp"
+#include "bench_main.hpp"
 #include "bench_metrics.hpp"
 #include "bench_render.hpp"
 #include "bench_scenes.hpp"
-
-#ifndef SONARSYNTH_SAMPLES_DIR
-#define SONARSYNTH_SAMPLES_DIR "samples"
-#endif
 
 namespace {
 
@@ -333,10 +329,7 @@ int run(int argc, char** argv) {
   std::vector<RaySpec> rays_only;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error("missing value after " + a);
-      return argv[++i];
-    };
+    const auto next = [&] { return bench::value_after(i, argc, argv); };
     if (a == "--out") {
       out = next();
     } else if (a == "--pings") {
@@ -358,10 +351,7 @@ int run(int argc, char** argv) {
       kinds.clear();
       std::stringstream ss(next());
       std::string tok;
-      while (std::getline(ss, tok, ','))
-        kinds.push_back(tok == "flat"    ? SceneKind::flat
-                        : tok == "rough" ? SceneKind::rough
-                                         : SceneKind::paper);
+      while (std::getline(ss, tok, ',')) kinds.push_back(parse_scene_kind(tok));
     } else if (a == "--rays") {
       std::stringstream ss(next());
       std::string tok;
@@ -385,10 +375,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "speed_accuracy: %s\n", e.what());
-    return 1;
-  }
+  return bench::guarded_main("speed_accuracy", run, argc, argv);
 }

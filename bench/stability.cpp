@@ -14,11 +14,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <string>
 #include <vector>
 
 #include "analytic/flat_seabed.hpp"
+#include "bench_main.hpp"
 #include "bench_metrics.hpp"
 #include "bench_render.hpp"
 #include "bench_scenes.hpp"
@@ -372,10 +372,5 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "stability: %s\n", e.what());
-    return 1;
-  }
+  return bench::guarded_main("stability", run, argc, argv);
 }

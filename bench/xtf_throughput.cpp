@@ -12,19 +12,12 @@
 
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
+#include "throughput_ping.hpp"
 
 namespace xtf = sonarsynth::xtf;
 namespace fs = std::filesystem;
+using bench::median;
 using Clock = std::chrono::steady_clock;
-
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   const std::uint32_t pings = argc > 1 ? static_cast<std::uint32_t>(std::atoi(argv[1])) : 10000;
@@ -33,16 +26,7 @@ int main(int argc, char** argv) {
   const fs::path dir = argc > 4 ? fs::path(argv[4]) : fs::temp_directory_path();
   const fs::path path = dir / "sonarsynth_xtf_throughput.xtf";
 
-  sonarsynth::SonarPing ping;
-  ping.sensor_position = {sonarsynth::rad_from_deg(48.4), sonarsynth::rad_from_deg(-68.8), 0.0};
-  ping.altitude_m = 10.0;
-  ping.slant_range_m = 75.0;
-  ping.port.resize(samples);
-  ping.starboard.resize(samples);
-  for (std::size_t i = 0; i < samples; ++i) {
-    ping.port[i] = static_cast<float>((i * 7919) % 32768);
-    ping.starboard[i] = static_cast<float>((i * 104729) % 32768);
-  }
+  sonarsynth::SonarPing ping = bench::throughput_ping(samples);
   const auto t0 = sonarsynth::UtcTime{std::chrono::sys_days{std::chrono::year{2024} / 1 / 1}};
 
   std::vector<double> write_s, read_s;

@@ -8,10 +8,20 @@
 #include <numbers>
 #include <sstream>
 
+#include "sonarsynth/enum_names.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth {
 namespace {
+
+constexpr EnumName<AltitudeSource> kAltitudeSourceNames[] = {{AltitudeSource::kHeader, "header"},
+                                                             {AltitudeSource::kTrack, "track"},
+                                                             {AltitudeSource::kAuto, "auto"}};
+
+constexpr EnumName<GainNormalisation> kGainNormalisationNames[] = {
+    {GainNormalisation::kOff, "off"},
+    {GainNormalisation::kRange, "range"},
+    {GainNormalisation::kAngle, "angle"}};
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The water level and the seabed level of a side: percentiles of its smoothed samples (the
@@ -216,22 +226,11 @@ std::vector<double> BottomTracker::altitudes_m() const {
 }
 
 AltitudeSource parse_altitude_source(const std::string& text, const std::string& what) {
-  if (text == "header") return AltitudeSource::kHeader;
-  if (text == "track") return AltitudeSource::kTrack;
-  if (text == "auto") return AltitudeSource::kAuto;
-  throw InputError(what + " = '" + text + "'. Violated constraint: one of header, track, auto");
+  return parse_enum(kAltitudeSourceNames, text, what);
 }
 
 const char* to_string(AltitudeSource s) {
-  switch (s) {
-    case AltitudeSource::kHeader:
-      return "header";
-    case AltitudeSource::kTrack:
-      return "track";
-    case AltitudeSource::kAuto:
-      break;
-  }
-  return "auto";
+  return enum_name(kAltitudeSourceNames, s);
 }
 
 AltitudeChoice choose_altitude(AltitudeSource source, double header_m, double tracked_m,
@@ -255,22 +254,11 @@ AltitudeChoice choose_altitude(AltitudeSource source, double header_m, double tr
 }
 
 GainNormalisation parse_gain_normalisation(const std::string& text, const std::string& what) {
-  if (text == "off") return GainNormalisation::kOff;
-  if (text == "range") return GainNormalisation::kRange;
-  if (text == "angle") return GainNormalisation::kAngle;
-  throw InputError(what + " = '" + text + "'. Violated constraint: one of off, range, angle");
+  return parse_enum(kGainNormalisationNames, text, what);
 }
 
 const char* to_string(GainNormalisation g) {
-  switch (g) {
-    case GainNormalisation::kOff:
-      return "off";
-    case GainNormalisation::kRange:
-      return "range";
-    case GainNormalisation::kAngle:
-      break;
-  }
-  return "angle";
+  return enum_name(kGainNormalisationNames, g);
 }
 
 GainNormaliser::GainNormaliser(GainNormalisation mode, double range_bin_m, double angle_bin_rad,

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/enum_names.hpp"
 #include "sonarsynth/error.hpp"
 
 // clang-format off
@@ -71,29 +72,19 @@ std::int64_t hardware_targets() {
   return all;
 }
 
+constexpr EnumName<Target> kTargetNames[] = {{Target::automatic, "auto"},
+                                             {Target::avx512, "avx512"},
+                                             {Target::avx2, "avx2"},
+                                             {Target::scalar, "scalar"}};
+
 }  // namespace
 
 Target parse_target(std::string_view name, std::string_view what) {
-  if (name == "auto") return Target::automatic;
-  if (name == "avx512") return Target::avx512;
-  if (name == "avx2") return Target::avx2;
-  if (name == "scalar") return Target::scalar;
-  throw InputError(std::string(what) + " = '" + std::string(name) +
-                   "'. Allowed: auto, avx512, avx2, scalar");
+  return parse_enum(kTargetNames, name, what);
 }
 
 std::string_view target_name(Target t) {
-  switch (t) {
-    case Target::avx512:
-      return "avx512";
-    case Target::avx2:
-      return "avx2";
-    case Target::scalar:
-      return "scalar";
-    case Target::automatic:
-      break;
-  }
-  return "auto";
+  return enum_name(kTargetNames, t);
 }
 
 bool supported(Target t) {

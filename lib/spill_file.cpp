@@ -29,28 +29,31 @@ SpillFile::~SpillFile() {
   std::filesystem::remove(path_, ignored);
 }
 
-void SpillFile::write(std::uint64_t offset, const void* data, std::size_t bytes) {
-  const auto* p = static_cast<const char*>(data);
+namespace {
+
+/// Calls `io` (::pwrite or ::pread) until all `bytes` are done, again after EINTR; false if it
+/// fails (errno says why) or reaches the end of the file.
+template <class Byte, class Io>
+bool transfer_all(Io io, int fd, Byte* p, std::size_t bytes, std::uint64_t offset) {
   while (bytes > 0) {
-    const ssize_t n = ::pwrite(fd_, p, bytes, static_cast<off_t>(offset));
+    const ssize_t n = io(fd, p, bytes, static_cast<off_t>(offset));
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) fail("write");
+    if (n <= 0) return false;
     p += n;
     bytes -= static_cast<std::size_t>(n);
     offset += static_cast<std::uint64_t>(n);
   }
+  return true;
+}
+
+}  // namespace
+
+void SpillFile::write(std::uint64_t offset, const void* data, std::size_t bytes) {
+  if (!transfer_all(::pwrite, fd_, static_cast<const char*>(data), bytes, offset)) fail("write");
 }
 
 void SpillFile::read(std::uint64_t offset, void* data, std::size_t bytes) const {
-  auto* p = static_cast<char*>(data);
-  while (bytes > 0) {
-    const ssize_t n = ::pread(fd_, p, bytes, static_cast<off_t>(offset));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) fail("read");
-    p += n;
-    bytes -= static_cast<std::size_t>(n);
-    offset += static_cast<std::uint64_t>(n);
-  }
+  if (!transfer_all(::pread, fd_, static_cast<char*>(data), bytes, offset)) fail("read");
 }
 
 void SpillFile::fail(const char* what) const {

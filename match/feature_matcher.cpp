@@ -5,6 +5,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "sonarsynth/enum_names.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth::match {
@@ -40,6 +41,14 @@ void detect(const MatchImage& img, Detector d, const MatchOptions& o, std::vecto
   f->compute(img.grey, kp, desc);
 }
 
+constexpr EnumName<Detector> kDetectorNames[] = {{Detector::sift, "sift"},
+                                                 {Detector::brisk, "brisk"},
+                                                 {Detector::orb, "orb"},
+                                                 {Detector::akaze, "akaze"}};
+constexpr EnumName<TransformModel> kModelNames[] = {{TransformModel::homography, "homography"},
+                                                    {TransformModel::affine, "affine"},
+                                                    {TransformModel::similarity, "similarity"}};
+
 }  // namespace
 
 std::vector<Detector> all_detectors() {
@@ -47,46 +56,20 @@ std::vector<Detector> all_detectors() {
 }
 
 Detector parse_detector(const std::string& text, const char* option) {
-  if (text == "sift") return Detector::sift;
-  if (text == "brisk") return Detector::brisk;
-  if (text == "orb") return Detector::orb;
-  if (text == "akaze" || text == "a-kaze") return Detector::akaze;
-  throw InputError(std::string("--") + option + " = '" + text +
-                   "'. Violated constraint: one of sift, brisk, orb, akaze");
+  if (text == "a-kaze") return Detector::akaze;
+  return parse_enum(kDetectorNames, text, std::string("--") + option);
 }
 
 const char* detector_name(Detector detector) {
-  switch (detector) {
-    case Detector::brisk:
-      return "brisk";
-    case Detector::orb:
-      return "orb";
-    case Detector::akaze:
-      return "akaze";
-    case Detector::sift:
-      break;
-  }
-  return "sift";
+  return enum_name(kDetectorNames, detector);
 }
 
 TransformModel parse_model(const std::string& text, const char* option) {
-  if (text == "homography") return TransformModel::homography;
-  if (text == "affine") return TransformModel::affine;
-  if (text == "similarity") return TransformModel::similarity;
-  throw InputError(std::string("--") + option + " = '" + text +
-                   "'. Violated constraint: one of homography, affine, similarity");
+  return parse_enum(kModelNames, text, std::string("--") + option);
 }
 
 const char* model_name(TransformModel model) {
-  switch (model) {
-    case TransformModel::affine:
-      return "affine";
-    case TransformModel::similarity:
-      return "similarity";
-    case TransformModel::homography:
-      break;
-  }
-  return "homography";
+  return enum_name(kModelNames, model);
 }
 
 void MatchOptions::validate() const {

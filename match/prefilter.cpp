@@ -3,6 +3,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "sonarsynth/enum_names.hpp"
 #include "sonarsynth/error.hpp"
 
 namespace sonarsynth::match {
@@ -22,24 +23,15 @@ void PrefilterOptions::validate() const {
   }
 }
 
+constexpr EnumName<Prefilter> kPrefilterNames[] = {
+    {Prefilter::none, "none"}, {Prefilter::median, "median"}, {Prefilter::bilateral, "bilateral"}};
+
 Prefilter parse_prefilter(const std::string& text, const char* option) {
-  if (text == "none") return Prefilter::none;
-  if (text == "median") return Prefilter::median;
-  if (text == "bilateral") return Prefilter::bilateral;
-  throw InputError(std::string("--") + option + " = '" + text +
-                   "'. Violated constraint: one of none, median, bilateral");
+  return parse_enum(kPrefilterNames, text, std::string("--") + option);
 }
 
 const char* prefilter_name(Prefilter filter) {
-  switch (filter) {
-    case Prefilter::median:
-      return "median";
-    case Prefilter::bilateral:
-      return "bilateral";
-    case Prefilter::none:
-      break;
-  }
-  return "none";
+  return enum_name(kPrefilterNames, filter);
 }
 
 cv::Mat apply_prefilter(const cv::Mat& grey, Prefilter filter, const PrefilterOptions& options) {

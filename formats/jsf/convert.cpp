@@ -27,17 +27,11 @@ namespace {
 /// The two formats this file converts between.
 enum class SonarFileFormat : std::uint8_t { kXtf, kJsf };
 
-constexpr std::size_t kMaxWarnings = 10;
-
 std::string num(double v) {
   std::ostringstream os;
   os.precision(10);
   os << v;
   return os.str();
-}
-
-void warn(ConvertResult& r, std::string w) {
-  if (r.warnings.size() < kMaxWarnings) r.warnings.push_back(std::move(w));
 }
 
 /// The field a writer's InputError names ("xtf writer: ping 7: altitude_m = -1. Violated
@@ -55,7 +49,7 @@ void drop(ConvertResult& r, const std::string& reason, const std::string& where,
           const std::string& detail) {
   ++r.pings_skipped;
   ++r.dropped[reason];
-  warn(r, where + " dropped: " + detail);
+  r.warn(where + " dropped: " + detail);
 }
 
 /// Why a ping cannot be converted at all (docs/conversion.md, "Drops"), or "" if it can.
@@ -298,19 +292,7 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
   if (khz > 0.0 && khz * 1e3 <= 655350.0) o.frequency_hz = khz * 1e3;
   jsf::Writer writer(out, o);
   xtf::Packet packet;
-  while (reader.next(packet)) {
-    if (packet.kind == xtf::PacketKind::kAttitude) {
-      const AttitudeSample a = xtf::attitude_sample(packet.attitude);
-      try {
-        writer.write_attitude(a);
-        ++r.attitude_records;
-      } catch (const InputError& e) {
-        warn(r, std::string("attitude packet ") + std::to_string(packet.index) +
-                    " skipped: " + e.what());
-      }
-      continue;
-    }
-    if (packet.kind != xtf::PacketKind::kPing) continue;
+  while (xtf::next_ping_copying_attitude(reader, packet, writer, r)) {
     SonarPing& s = packet.ping.sonar;
     choose_ping_altitude(s, k++, tracked, source, r);
     if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
@@ -333,7 +315,7 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
     }
   }
   r.reader_anomalies = reader.total_anomalies();
-  for (const xtf::Anomaly& a : reader.anomalies()) warn(r, a.message);
+  for (const xtf::Anomaly& a : reader.anomalies()) r.warn(a.message);
   refuse_empty(in, r);
   writer.close();
   return r;
@@ -377,7 +359,7 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
         writer->write_attitude(next_attitude->second);
         ++r.attitude_records;
       } catch (const InputError& e) {
-        warn(r, std::string("pitch/roll message skipped: ") + e.what());
+        r.warn(std::string("pitch/roll message skipped: ") + e.what());
       }
     }
   };
@@ -415,7 +397,7 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
     }
   }
   r.reader_anomalies = reader.total_anomalies();
-  for (const jsf::Anomaly& a : reader.anomalies()) warn(r, a.message);
+  for (const jsf::Anomaly& a : reader.anomalies()) r.warn(a.message);
   refuse_empty(in, r);
   flush_attitude(reader.file_size() + 1);
   open(0.0);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <sstream>
 
 #include "sonarsynth/error.hpp"
@@ -25,33 +26,14 @@ std::string num(double v) {
 }  // namespace
 
 const char* anomaly_kind_name(AnomalyKind kind) {
-  switch (kind) {
-    case AnomalyKind::kGarbageSkipped:
-      return "garbage_skipped";
-    case AnomalyKind::kBadByteCount:
-      return "bad_byte_count";
-    case AnomalyKind::kOversizedMessage:
-      return "oversized_message";
-    case AnomalyKind::kBadSonarData:
-      return "bad_sonar_data";
-    case AnomalyKind::kUnpairedChannel:
-      return "unpaired_channel";
-    case AnomalyKind::kInvalidTime:
-      return "invalid_time";
-    case AnomalyKind::kTimeBackwards:
-      return "time_backwards";
-    case AnomalyKind::kZeroNavigation:
-      return "zero_navigation";
-    case AnomalyKind::kOtherSubsystem:
-      return "other_subsystem";
-    case AnomalyKind::kSoundSpeedAssumed:
-      return "sound_speed_assumed";
-    case AnomalyKind::kBadWeighting:
-      return "bad_weighting_factor";
-    case AnomalyKind::kBadRange:
-      return "bad_range";
-  }
-  return "unknown";
+  // In AnomalyKind order.
+  static constexpr const char* kNames[] = {
+      "garbage_skipped",  "bad_byte_count",      "oversized_message",    "bad_sonar_data",
+      "unpaired_channel", "invalid_time",        "time_backwards",       "zero_navigation",
+      "other_subsystem",  "sound_speed_assumed", "bad_weighting_factor", "bad_range"};
+  static_assert(std::size(kNames) == kAnomalyKindCount);
+  const auto k = static_cast<std::size_t>(kind);
+  return k < kAnomalyKindCount ? kNames[k] : "unknown";
 }
 
 void ReaderOptions::validate() const {
@@ -100,16 +82,7 @@ void Reader::open() {
 }
 
 void Reader::report(AnomalyKind kind, std::uint64_t offset, std::string message) {
-  ++anomaly_counts_[static_cast<std::size_t>(kind)];
-  if (anomalies_.size() < options_.max_anomaly_messages) {
-    anomalies_.push_back({kind, offset, std::move(message), messages_});
-  }
-}
-
-std::uint64_t Reader::total_anomalies() const {
-  std::uint64_t n = 0;
-  for (const auto c : anomaly_counts_) n += c;
-  return n;
+  log_anomaly({kind, offset, std::move(message), messages_}, options_.max_anomaly_messages);
 }
 
 bool Reader::plausible_header_at(std::uint64_t offset, MessageHeader& header) {

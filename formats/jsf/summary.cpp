@@ -42,9 +42,7 @@ FileSummary summarize(Reader& reader) {
   s.sonar_counts = reader.sonar_counts();
   s.system_information = reader.system_information();
   s.ping_subsystem = reader.subsystem();
-  for (std::size_t k = 0; k < kAnomalyKindCount; ++k) {
-    s.anomaly_counts[k] = reader.anomaly_count(static_cast<AnomalyKind>(k));
-  }
+  s.anomaly_counts = reader.anomaly_counts();
   s.anomalies = reader.anomalies();
   return s;
 }

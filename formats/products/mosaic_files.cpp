@@ -9,6 +9,7 @@
 #include <system_error>
 #include <utility>
 
+#include "sonarsynth/enum_names.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/raster/gdal_grid.hpp"
 
@@ -16,6 +17,10 @@ namespace sonarsynth {
 namespace {
 
 namespace fs = std::filesystem;
+
+constexpr EnumName<MosaicRule> kRuleNames[] = {{MosaicRule::weighted_mean, "mean"},
+                                               {MosaicRule::max, "max"},
+                                               {MosaicRule::nearest, "nearest"}};
 
 /// "(x, y)" of a local point in the frame's projected coordinates, to 0.1 m.
 std::string projected_text(const GeoFrame& frame, double x, double y) {
@@ -125,22 +130,11 @@ void check_request(const MosaicRequest& q) {
 }  // namespace
 
 MosaicRule parse_mosaic_rule(const std::string& text, const std::string& what) {
-  if (text == "mean") return MosaicRule::weighted_mean;
-  if (text == "max") return MosaicRule::max;
-  if (text == "nearest") return MosaicRule::nearest;
-  throw InputError(what + " = '" + text + "'. Violated constraint: one of mean, max, nearest");
+  return parse_enum(kRuleNames, text, what);
 }
 
 const char* to_string(MosaicRule rule) {
-  switch (rule) {
-    case MosaicRule::weighted_mean:
-      return "mean";
-    case MosaicRule::max:
-      return "max";
-    case MosaicRule::nearest:
-      return "nearest";
-  }
-  return "?";
+  return enum_name(kRuleNames, rule);
 }
 
 std::string MosaicSummary::text() const {

@@ -9,8 +9,10 @@
 #include <cstring>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 #include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/products/waterfall.hpp"
 
 namespace sonarsynth::detail {
 namespace {
@@ -132,6 +134,20 @@ bool SideSpool::Reader::next(std::span<float> out) {
 
 void SideSpool::Reader::rewind() {
   offset_ = 0;
+}
+
+SpooledRows::SpooledRows() = default;
+SpooledRows::SpooledRows(std::unique_ptr<SideSpool> spool) : spool_(std::move(spool)) {}
+SpooledRows::~SpooledRows() = default;
+SpooledRows::SpooledRows(SpooledRows&&) noexcept = default;
+SpooledRows& SpooledRows::operator=(SpooledRows&&) noexcept = default;
+
+std::size_t SpooledRows::rows() const {
+  return spool_ ? spool_->rows() : 0;
+}
+
+std::size_t SpooledRows::cols() const {
+  return spool_ ? spool_->cols() : 0;
 }
 
 }  // namespace sonarsynth::detail

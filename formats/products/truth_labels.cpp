@@ -232,18 +232,7 @@ void waterfall_label_row(std::span<const float> cls, std::span<const std::int32_
 }
 
 LabelWaterfall::LabelWaterfall(const std::filesystem::path& spool_dir)
-    : spool_(std::make_unique<detail::SideSpool>(spool_dir, 3, "label waterfall")) {}
-LabelWaterfall::~LabelWaterfall() = default;
-LabelWaterfall::LabelWaterfall(LabelWaterfall&&) noexcept = default;
-LabelWaterfall& LabelWaterfall::operator=(LabelWaterfall&&) noexcept = default;
-
-std::size_t LabelWaterfall::rows() const {
-  return spool_ ? spool_->rows() : 0;
-}
-
-std::size_t LabelWaterfall::cols() const {
-  return spool_ ? spool_->cols() : 0;
-}
+    : SpooledRows(std::make_unique<detail::SideSpool>(spool_dir, 3, "label waterfall")) {}
 
 void LabelWaterfall::add_ping(std::span<const SampleClass> port_class,
                               std::span<const SampleClass> stbd_class,

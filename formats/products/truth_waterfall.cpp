@@ -148,19 +148,7 @@ class TruthView final : public raster::RowSource {
 }  // namespace
 
 TruthWaterfall::TruthWaterfall(const std::filesystem::path& spool_dir)
-    : spool_(std::make_unique<detail::SideSpool>(spool_dir, 3, "truth waterfall")) {}
-
-TruthWaterfall::~TruthWaterfall() = default;
-TruthWaterfall::TruthWaterfall(TruthWaterfall&&) noexcept = default;
-TruthWaterfall& TruthWaterfall::operator=(TruthWaterfall&&) noexcept = default;
-
-std::size_t TruthWaterfall::rows() const {
-  return spool_ ? spool_->rows() : 0;
-}
-
-std::size_t TruthWaterfall::cols() const {
-  return spool_ ? spool_->cols() : 0;
-}
+    : SpooledRows(std::make_unique<detail::SideSpool>(spool_dir, 3, "truth waterfall")) {}
 
 void TruthWaterfall::add_ping(std::span<const SampleClass> port_class,
                               std::span<const SampleClass> stbd_class,

@@ -199,18 +199,6 @@ Waterfall::Waterfall(WaterfallOptions options) : options_(std::move(options)) {
   spool_ = std::make_unique<detail::SideSpool>(options_.spool_dir, 1, "waterfall");
 }
 
-Waterfall::~Waterfall() = default;
-Waterfall::Waterfall(Waterfall&&) noexcept = default;
-Waterfall& Waterfall::operator=(Waterfall&&) noexcept = default;
-
-std::size_t Waterfall::rows() const {
-  return spool_ ? spool_->rows() : 0;
-}
-
-std::size_t Waterfall::cols() const {
-  return spool_ ? spool_->cols() : 0;
-}
-
 std::size_t Waterfall::pings_per_row() const {
   const std::size_t c = cols(), r = rows();
   if (c == 0 || r == 0 || c * r <= options_.max_pixels) return 1;

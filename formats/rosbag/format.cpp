@@ -67,10 +67,6 @@ WriterOptions conversion_options(const xtf::Reader& reader, bool overwrite) {
   return o;
 }
 
-void note(ConvertResult& r, std::string w) {
-  if (r.warnings.size() < 10) r.warnings.push_back(std::move(w));
-}
-
 }  // namespace
 
 WriterOptions simulation_writer_options(const SonarConfig& sonar,
@@ -92,18 +88,7 @@ ConvertResult xtf_to_rosbag(const std::filesystem::path& in, const std::filesyst
   xtf::Reader reader(in);
   Writer writer(out, conversion_options(reader, overwrite));
   xtf::Packet packet;
-  while (reader.next(packet)) {
-    if (packet.kind == xtf::PacketKind::kAttitude) {
-      const AttitudeSample a = xtf::attitude_sample(packet.attitude);
-      try {
-        writer.write_attitude(a);
-        ++r.attitude_records;
-      } catch (const InputError& e) {
-        note(r, "attitude packet " + std::to_string(packet.index) + " skipped: " + e.what());
-      }
-      continue;
-    }
-    if (packet.kind != xtf::PacketKind::kPing) continue;
+  while (xtf::next_ping_copying_attitude(reader, packet, writer, r)) {
     SonarPing& s = packet.ping.sonar;
     if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
       s.sensor_position = {};  // NavSatFix status STATUS_NO_FIX
@@ -116,12 +101,12 @@ ConvertResult xtf_to_rosbag(const std::filesystem::path& in, const std::filesyst
     } catch (const InputError& e) {
       ++r.pings_skipped;
       ++r.dropped[reason.empty() ? "not storable in a ROS 1 bag" : reason];
-      note(r, "XTF packet " + std::to_string(packet.index) + " (ping " +
-                  std::to_string(s.ping_number) + ") dropped: " + e.what());
+      r.warn("XTF packet " + std::to_string(packet.index) + " (ping " +
+             std::to_string(s.ping_number) + ") dropped: " + e.what());
     }
   }
   r.reader_anomalies = reader.total_anomalies();
-  for (const xtf::Anomaly& a : reader.anomalies()) note(r, a.message);
+  for (const xtf::Anomaly& a : reader.anomalies()) r.warn(a.message);
   if (r.pings == 0) {
     throw FormatError("convert: " + in.string() + ": no ping to write (" +
                       std::to_string(r.pings_skipped) + " dropped)");

@@ -22,9 +22,9 @@
 namespace sonarsynth::rosbag {
 namespace {
 
-class RosbagSource : public SideScanSource {
+class RosbagSource : public ReaderSource<Reader> {
  public:
-  explicit RosbagSource(const std::filesystem::path& path) : reader_(path) {}
+  explicit RosbagSource(const std::filesystem::path& path) : ReaderSource(path, sonar_format()) {}
   bool next(SideScanRecord& r) override {
     if (!reader_.next_ping(ping_)) return false;
     r.sonar = std::move(ping_.sonar);
@@ -35,14 +35,8 @@ class RosbagSource : public SideScanSource {
     r.index = ping_.index;
     return true;
   }
-  const SonarFormat& format() const override { return sonar_format(); }
-  std::uint64_t total_anomalies() const override { return reader_.total_anomalies(); }
-  std::vector<std::string> anomaly_messages(std::size_t max) const override {
-    return first_anomaly_messages(reader_.anomalies(), max);
-  }
 
  private:
-  Reader reader_;
   Ping ping_;
 };
 

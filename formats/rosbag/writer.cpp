@@ -151,19 +151,18 @@ void put_covariance(Out& o, bool no_estimate) {
   for (int i = 1; i < 9; ++i) o.f64(0.0);
 }
 
-const std::array<std::string, kConnCount>& md5s() {
-  static const std::array<std::string, kConnCount> v = [] {
-    std::array<std::string, kConnCount> a;
-    for (std::size_t i = 0; i < kConnCount; ++i) a[i] = message_md5(kConnections[i].type);
-    return a;
-  }();
-  return v;
-}
+struct ConnectionTexts {
+  std::string md5sum;
+  std::string definition;
+};
 
-const std::array<std::string, kConnCount>& definitions() {
-  static const std::array<std::string, kConnCount> v = [] {
-    std::array<std::string, kConnCount> a;
-    for (std::size_t i = 0; i < kConnCount; ++i) a[i] = message_definition(kConnections[i].type);
+/// Each connection's md5sum and message definition, computed once.
+const std::array<ConnectionTexts, kConnCount>& connection_texts() {
+  static const std::array<ConnectionTexts, kConnCount> v = [] {
+    std::array<ConnectionTexts, kConnCount> a;
+    for (std::size_t i = 0; i < kConnCount; ++i) {
+      a[i] = {message_md5(kConnections[i].type), message_definition(kConnections[i].type)};
+    }
     return a;
   }();
   return v;
@@ -179,8 +178,8 @@ void put_connection(Out& o, std::uint32_t conn) {
   const std::size_t d = o.open_length();
   o.field_str("topic", c.topic);
   o.field_str("type", c.type);
-  o.field_str("md5sum", md5s()[conn]);
-  o.field_str("message_definition", definitions()[conn]);
+  o.field_str("md5sum", connection_texts()[conn].md5sum);
+  o.field_str("message_definition", connection_texts()[conn].definition);
   if (c.latching) o.field_str("latching", "1");
   o.close_length(d);
 }

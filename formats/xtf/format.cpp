@@ -15,9 +15,9 @@
 namespace sonarsynth::xtf {
 namespace {
 
-class XtfSource : public SideScanSource {
+class XtfSource : public ReaderSource<Reader> {
  public:
-  explicit XtfSource(const std::filesystem::path& path) : reader_(path) {}
+  explicit XtfSource(const std::filesystem::path& path) : ReaderSource(path, sonar_format()) {}
   bool next(SideScanRecord& r) override {
     while (reader_.next(packet_)) {
       if (packet_.kind != PacketKind::kPing) continue;
@@ -31,14 +31,8 @@ class XtfSource : public SideScanSource {
     }
     return false;
   }
-  const SonarFormat& format() const override { return sonar_format(); }
-  std::uint64_t total_anomalies() const override { return reader_.total_anomalies(); }
-  std::vector<std::string> anomaly_messages(std::size_t max) const override {
-    return first_anomaly_messages(reader_.anomalies(), max);
-  }
 
  private:
-  Reader reader_;
   Packet packet_;
 };
 

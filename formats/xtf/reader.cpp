@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <sstream>
 #include <type_traits>
 
@@ -37,116 +38,86 @@ float ibm_to_float(std::uint32_t v) {
   return static_cast<float>((v & 0x80000000u) ? -magnitude : magnitude);
 }
 
-enum class SampleKind { kU8, kI8, kU16, kI16, kU32, kI32, kF32, kIbm32, kUnsupported };
-
-SampleKind sample_kind(const XtfChanInfo& c, Signedness signedness, std::uint16_t& bytes) {
-  const bool is_signed = signedness == Signedness::kSigned ||
-                         (signedness == Signedness::kFromUniPolar && c.UniPolar == 0);
-  switch (c.SampleFormat) {
-    case 1:
-      bytes = 4;
-      return SampleKind::kIbm32;
-    case 2:
-      bytes = 4;
-      return is_signed ? SampleKind::kI32 : SampleKind::kU32;
-    case 3:
-      bytes = 2;
-      return is_signed ? SampleKind::kI16 : SampleKind::kU16;
-    case 5:
-      bytes = 4;
-      return SampleKind::kF32;
-    case 8:
-      bytes = 1;
-      return is_signed ? SampleKind::kI8 : SampleKind::kU8;
-    case 0:
-      break;
-    default:
-      bytes = 0;
-      return SampleKind::kUnsupported;
-  }
-  bytes = c.BytesPerSample;
-  switch (c.BytesPerSample) {
-    case 1:
-      return is_signed ? SampleKind::kI8 : SampleKind::kU8;
-    case 2:
-      return is_signed ? SampleKind::kI16 : SampleKind::kU16;
-    case 4:
-      return is_signed ? SampleKind::kI32 : SampleKind::kU32;
-    default:
-      break;
-  }
-  return SampleKind::kUnsupported;
+/// The little-endian unsigned integer of sizeof(U) bytes at `b`.
+template <class U>
+U load_le(const std::uint8_t* b) {
+  U v = 0;
+  for (std::size_t k = 0; k < sizeof(U); ++k) v = static_cast<U>(v | (U{b[k]} << (8 * k)));
+  return v;
 }
 
-void convert_samples(const std::uint8_t* p, std::size_t n, SampleKind kind, float* out) {
-  const auto le16 = [](const std::uint8_t* b) {
-    return static_cast<std::uint16_t>(b[0] | (b[1] << 8));
-  };
-  const auto le32 = [](const std::uint8_t* b) {
-    return static_cast<std::uint32_t>(b[0]) | (static_cast<std::uint32_t>(b[1]) << 8) |
-           (static_cast<std::uint32_t>(b[2]) << 16) | (static_cast<std::uint32_t>(b[3]) << 24);
-  };
-  switch (kind) {
-    case SampleKind::kU8:
-      for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(p[i]);
-      break;
-    case SampleKind::kI8:
-      for (std::size_t i = 0; i < n; ++i)
-        out[i] = static_cast<float>(static_cast<std::int8_t>(p[i]));
-      break;
-    case SampleKind::kU16:
-      for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(le16(p + 2 * i));
-      break;
-    case SampleKind::kI16:
-      for (std::size_t i = 0; i < n; ++i) {
-        out[i] = static_cast<float>(static_cast<std::int16_t>(le16(p + 2 * i)));
-      }
-      break;
-    case SampleKind::kU32:
-      for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(le32(p + 4 * i));
-      break;
-    case SampleKind::kI32:
-      for (std::size_t i = 0; i < n; ++i) {
-        out[i] = static_cast<float>(static_cast<std::int32_t>(le32(p + 4 * i)));
-      }
-      break;
-    case SampleKind::kF32:
-      for (std::size_t i = 0; i < n; ++i) out[i] = std::bit_cast<float>(le32(p + 4 * i));
-      break;
-    case SampleKind::kIbm32:
-      for (std::size_t i = 0; i < n; ++i) out[i] = ibm_to_float(le32(p + 4 * i));
-      break;
-    case SampleKind::kUnsupported:
-      break;
+/// Converts `n` samples of a channel's sample format at `p` to floats.
+using SampleDecoder = void (*)(const std::uint8_t* p, std::size_t n, float* out);
+
+/// Integers of type T.
+template <class T>
+void decode_integers(const std::uint8_t* p, std::size_t n, float* out) {
+  for (std::size_t i = 0; i < n; ++i) {
+    out[i] =
+        static_cast<float>(static_cast<T>(load_le<std::make_unsigned_t<T>>(p + sizeof(T) * i)));
   }
+}
+
+void decode_ieee32(const std::uint8_t* p, std::size_t n, float* out) {
+  for (std::size_t i = 0; i < n; ++i)
+    out[i] = std::bit_cast<float>(load_le<std::uint32_t>(p + 4 * i));
+}
+
+void decode_ibm32(const std::uint8_t* p, std::size_t n, float* out) {
+  for (std::size_t i = 0; i < n; ++i) out[i] = ibm_to_float(load_le<std::uint32_t>(p + 4 * i));
+}
+
+/// Integers of `bytes` bytes (1, 2 or 4); nullptr for another width.
+SampleDecoder integer_decoder(std::size_t bytes, bool is_signed) {
+  switch (bytes) {
+    case 1:
+      return is_signed ? &decode_integers<std::int8_t> : &decode_integers<std::uint8_t>;
+    case 2:
+      return is_signed ? &decode_integers<std::int16_t> : &decode_integers<std::uint16_t>;
+    case 4:
+      return is_signed ? &decode_integers<std::int32_t> : &decode_integers<std::uint32_t>;
+    default:
+      return nullptr;
+  }
+}
+
+/// The decoder of a channel's samples and their width in `bytes`; nullptr if unsupported.
+SampleDecoder sample_decoder(const XtfChanInfo& c, Signedness signedness, std::uint16_t& bytes) {
+  const bool is_signed = signedness == Signedness::kSigned ||
+                         (signedness == Signedness::kFromUniPolar && c.UniPolar == 0);
+  bytes = 4;
+  switch (static_cast<SampleFormatCode>(c.SampleFormat)) {
+    case SampleFormatCode::kIbmFloat32:
+      return decode_ibm32;
+    case SampleFormatCode::kIeeeFloat32:
+      return decode_ieee32;
+    case SampleFormatCode::kInt32:
+      return integer_decoder(4, is_signed);
+    case SampleFormatCode::kInt16:
+      bytes = 2;
+      return integer_decoder(2, is_signed);
+    case SampleFormatCode::kInt8:
+      bytes = 1;
+      return integer_decoder(1, is_signed);
+    case SampleFormatCode::kLegacy:
+      bytes = c.BytesPerSample;
+      return integer_decoder(bytes, is_signed);
+  }
+  bytes = 0;
+  return nullptr;
 }
 
 }  // namespace
 
 const char* anomaly_kind_name(AnomalyKind kind) {
-  switch (kind) {
-    case AnomalyKind::kGarbageSkipped:
-      return "garbage_skipped";
-    case AnomalyKind::kBadRecordSize:
-      return "bad_record_size";
-    case AnomalyKind::kTruncatedPacket:
-      return "truncated_packet";
-    case AnomalyKind::kBadChannel:
-      return "bad_channel";
-    case AnomalyKind::kSamplesBeyondRecord:
-      return "samples_beyond_record";
-    case AnomalyKind::kOversizedPacket:
-      return "oversized_packet";
-    case AnomalyKind::kHeaderChannelCount:
-      return "header_channel_count";
-    case AnomalyKind::kInvalidTime:
-      return "invalid_time";
-    case AnomalyKind::kTimeBackwards:
-      return "time_backwards";
-    case AnomalyKind::kZeroNavigation:
-      return "zero_navigation";
-  }
-  return "unknown";
+  // In AnomalyKind order.
+  static constexpr const char* kNames[] = {
+      "garbage_skipped",       "bad_record_size",  "truncated_packet",     "bad_channel",
+      "samples_beyond_record", "oversized_packet", "header_channel_count", "invalid_time",
+      "time_backwards",        "zero_navigation"};
+  static_assert(std::size(kNames) == kAnomalyKindCount);
+  const auto k = static_cast<std::size_t>(kind);
+  return k < kAnomalyKindCount ? kNames[k] : "unknown";
 }
 
 AttitudeSample attitude_sample(const XtfAttitudeData& d) {
@@ -187,17 +158,8 @@ const std::string& Reader::name() const {
   return source_->name();
 }
 
-std::uint64_t Reader::total_anomalies() const {
-  std::uint64_t n = 0;
-  for (auto c : anomaly_counts_) n += c;
-  return n;
-}
-
 void Reader::report(AnomalyKind kind, std::uint64_t offset, std::string message) {
-  ++anomaly_counts_[static_cast<std::size_t>(kind)];
-  if (anomalies_.size() < options_.max_anomaly_messages) {
-    anomalies_.push_back({kind, offset, std::move(message), current_packet_});
-  }
+  log_anomaly({kind, offset, std::move(message), current_packet_}, options_.max_anomaly_messages);
 }
 
 void Reader::open() {
@@ -430,8 +392,8 @@ bool Reader::decode_ping(std::span<const std::uint8_t> bytes, std::uint64_t offs
     }
     const XtfChanInfo& info = chan_info_[number];
     std::uint16_t bps = 0;
-    const SampleKind kind = sample_kind(info, options_.signedness, bps);
-    if (kind == SampleKind::kUnsupported || bps == 0) {
+    const SampleDecoder decode = sample_decoder(info, options_.signedness, bps);
+    if (decode == nullptr || bps == 0) {
       report(AnomalyKind::kBadChannel, offset,
              "xtf reader: CHANINFO[" + std::to_string(number) +
                  "] has SampleFormat = " + std::to_string(info.SampleFormat) +
@@ -453,7 +415,7 @@ bool Reader::decode_ping(std::span<const std::uint8_t> bytes, std::uint64_t offs
     }
     ch.type_of_channel = info.TypeOfChannel;
     ch.samples.resize(static_cast<std::size_t>(samples));
-    convert_samples(bytes.data() + r.position(), ch.samples.size(), kind, ch.samples.data());
+    decode(bytes.data() + r.position(), ch.samples.size(), ch.samples.data());
     r.skip(static_cast<std::size_t>(need));
     if (info.TypeOfChannel == static_cast<std::uint8_t>(ChannelType::kPort)) {
       std::reverse(ch.samples.begin(), ch.samples.end());  // stored far -> near

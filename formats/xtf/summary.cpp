@@ -67,9 +67,7 @@ FileSummary summarize(Reader& reader) {
         break;
     }
   }
-  for (std::size_t k = 0; k < kAnomalyKindCount; ++k) {
-    s.anomaly_counts[k] = reader.anomaly_count(static_cast<AnomalyKind>(k));
-  }
+  s.anomaly_counts = reader.anomaly_counts();
   s.anomalies = reader.anomalies();
   return s;
 }

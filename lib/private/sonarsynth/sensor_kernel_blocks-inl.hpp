@@ -24,6 +24,15 @@ namespace sonarsynth::sensor_kernel::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 namespace ch = sonarsynth::counter_hash::HWY_NAMESPACE;
 
+// c_0 t^n + c_1 t^(n-1) + ... + c_n by Horner's rule, one MulAdd per coefficient (coefficients
+// highest degree first, as numpy.polyval takes them).
+template <class DF, class... C>
+HWY_INLINE hn::Vec<DF> polyval(DF df, hn::Vec<DF> t, float c0, C... c) {
+  auto p = hn::Set(df, c0);
+  ((p = hn::MulAdd(p, t, hn::Set(df, c))), ...);
+  return p;
+}
+
 // -ln u of a word, u = uniform_open(w) in (0, 1) (a normal float, >= 2^-25): Exp(1), at most
 // 17.3. u = 2^k m, m in [sqrt(1/2), sqrt(2)) (musl's reduction); ln m = x - x^2 / 2 + x^3 P(x),
 // x = m - 1, P of degree 7 (least squares on Chebyshev nodes: |error| < 1e-8 on the interval,
@@ -37,14 +46,8 @@ HWY_INLINE hn::Vec<DF> exp1(DF df, DU du, hn::Vec<DU> w) {
   const auto m =
       hn::BitCast(df, hn::Add(hn::And(ix, hn::Set(du, 0x7fffffU)), hn::Set(du, 0x3f3504f3U)));
   const auto x = hn::Sub(m, hn::Set(df, 1.0f));
-  auto p = hn::Set(df, -0.0810311586f);
-  p = hn::MulAdd(p, x, hn::Set(df, 0.127132242f));
-  p = hn::MulAdd(p, x, hn::Set(df, -0.129720777f));
-  p = hn::MulAdd(p, x, hn::Set(df, 0.142020356f));
-  p = hn::MulAdd(p, x, hn::Set(df, -0.166422508f));
-  p = hn::MulAdd(p, x, hn::Set(df, 0.200014747f));
-  p = hn::MulAdd(p, x, hn::Set(df, -0.250002966f));
-  p = hn::MulAdd(p, x, hn::Set(df, 0.333333285f));
+  const auto p = polyval(df, x, -0.0810311586f, 0.127132242f, -0.129720777f, 0.142020356f,
+                         -0.166422508f, 0.200014747f, -0.250002966f, 0.333333285f);
   const auto x2 = hn::Mul(x, x);
   // ln m = x - x^2 / 2 + x^3 p; ln u = k ln 2 + ln m (ln 2 split in two for k up to 25).
   auto ln = hn::MulAdd(hn::Mul(x2, x), p, hn::NegMulAdd(x2, hn::Set(df, 0.5f), x));
@@ -65,13 +68,8 @@ HWY_INLINE hn::Vec<DF> quarter_angle(DF df, DU du, hn::Vec<DU> w) {
 template <class DF>
 HWY_INLINE hn::Vec<DF> cos_quarter(DF df, hn::Vec<DF> theta) {
   const auto t = hn::Mul(theta, theta);
-  auto c = hn::Set(df, 1.0f / 479001600.0f);
-  c = hn::MulAdd(c, t, hn::Set(df, -1.0f / 3628800.0f));
-  c = hn::MulAdd(c, t, hn::Set(df, 1.0f / 40320.0f));
-  c = hn::MulAdd(c, t, hn::Set(df, -1.0f / 720.0f));
-  c = hn::MulAdd(c, t, hn::Set(df, 1.0f / 24.0f));
-  c = hn::MulAdd(c, t, hn::Set(df, -0.5f));
-  return hn::MulAdd(c, t, hn::Set(df, 1.0f));
+  return polyval(df, t, 1.0f / 479001600.0f, -1.0f / 3628800.0f, 1.0f / 40320.0f, -1.0f / 720.0f,
+                 1.0f / 24.0f, -0.5f, 1.0f);
 }
 
 // cos(theta), theta uniform on (-pi, pi), from a word: cos of a uniform angle on (0, pi / 2)
@@ -88,13 +86,8 @@ HWY_INLINE hn::Vec<DF> cos_uniform(DF df, DU du, hn::Vec<DU> w) {
 template <class DF>
 HWY_INLINE hn::Vec<DF> sin_quarter(DF df, hn::Vec<DF> theta) {
   const auto t = hn::Mul(theta, theta);
-  auto s = hn::Set(df, 1.0f / 6227020800.0f);
-  s = hn::MulAdd(s, t, hn::Set(df, -1.0f / 39916800.0f));
-  s = hn::MulAdd(s, t, hn::Set(df, 1.0f / 362880.0f));
-  s = hn::MulAdd(s, t, hn::Set(df, -1.0f / 5040.0f));
-  s = hn::MulAdd(s, t, hn::Set(df, 1.0f / 120.0f));
-  s = hn::MulAdd(s, t, hn::Set(df, -1.0f / 6.0f));
-  s = hn::MulAdd(s, t, hn::Set(df, 1.0f));
+  const auto s = polyval(df, t, 1.0f / 6227020800.0f, -1.0f / 39916800.0f, 1.0f / 362880.0f,
+                         -1.0f / 5040.0f, 1.0f / 120.0f, -1.0f / 6.0f, 1.0f);
   return hn::Mul(s, theta);
 }
 

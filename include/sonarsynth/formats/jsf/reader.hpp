@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/formats/io/anomaly_log.hpp"
 #include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/jsf/records.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
@@ -100,7 +101,7 @@ struct Ping {
 /// by their byte count, the reader resynchronises on 0x1601 after garbage or a wrong byte
 /// count, a truncated last message is reported and the rest kept. Memory is bounded by the
 /// largest message (<= max_message_bytes); every size is checked against the file size.
-class Reader {
+class Reader : public AnomalyLog<Anomaly, kAnomalyKindCount> {
  public:
   /// Throws FormatError if the file cannot be opened or does not start with a message header
   /// (bytes 01 16): not a JSF file.
@@ -134,12 +135,6 @@ class Reader {
   /// The subsystem next_ping() reads (-1 until the first sonar data message is seen).
   int subsystem() const { return subsystem_; }
 
-  const std::vector<Anomaly>& anomalies() const { return anomalies_; }
-  std::uint64_t anomaly_count(AnomalyKind kind) const {
-    return anomaly_counts_[static_cast<std::size_t>(kind)];
-  }
-  std::uint64_t total_anomalies() const;
-
  private:
   void open();
   void report(AnomalyKind kind, std::uint64_t offset, std::string message);
@@ -163,8 +158,6 @@ class Reader {
   std::optional<XtfFileFields> xtf_file_;
   std::optional<XtfPingFields> carried_;  ///< the last message 9999 not yet given to a ping
   int subsystem_ = -1;
-  std::vector<Anomaly> anomalies_;
-  std::array<std::uint64_t, kAnomalyKindCount> anomaly_counts_{};
   std::uint64_t messages_ = 0;
   Message pending_;  ///< a port message waiting for its starboard
   bool have_pending_ = false;

@@ -19,7 +19,26 @@ namespace sonarsynth {
 
 namespace detail {
 class SideSpool;
-}
+
+/// What the waterfall products (Waterfall, TruthWaterfall, LabelWaterfall) share: the spool file
+/// their rows go to (formats/products/row_spool.cpp), which the product creates.
+class SpooledRows {
+ public:
+  /// Pings added so far.
+  std::size_t rows() const;
+  /// 2 x the longest side added so far.
+  std::size_t cols() const;
+
+ protected:
+  SpooledRows();
+  explicit SpooledRows(std::unique_ptr<SideSpool> spool);
+  ~SpooledRows();
+  SpooledRows(SpooledRows&&) noexcept;
+  SpooledRows& operator=(SpooledRows&&) noexcept;
+
+  std::unique_ptr<SideSpool> spool_;
+};
+}  // namespace detail
 
 /// How a waterfall image is scaled and written.
 /// libpng's default limit on an image's width (PNG_USER_WIDTH_MAX): a wider PNG fails with
@@ -79,21 +98,14 @@ struct WaterfallOptions {
 /// options.spool_dir (unlinked as soon as it is created, so nothing is left behind; its space
 /// is freed when the Waterfall is destroyed) and write() streams the rows from it into the image
 /// file. The file takes 4 bytes per sample plus 16 per row.
-class Waterfall {
+class Waterfall : public detail::SpooledRows {
  public:
   /// Throws InputError for invalid options, FormatError if the spool file cannot be created.
   explicit Waterfall(WaterfallOptions options = {});
-  ~Waterfall();
-  Waterfall(Waterfall&&) noexcept;
-  Waterfall& operator=(Waterfall&&) noexcept;
   /// Appends one ping; samples NEAR -> FAR. With slant_correct, altitude_m > 0 is required
   /// (otherwise the row is added uncorrected) and slant_range_m is the range of the last sample.
   void add_ping(std::span<const float> port, std::span<const float> starboard, double slant_range_m,
                 double altitude_m);
-  /// Pings added so far.
-  std::size_t rows() const;
-  /// 2 x the longest side added so far.
-  std::size_t cols() const;
   /// Pings averaged into one image row: 1 while cols() x rows() <= max_pixels, else the smallest
   /// N with cols() x ceil(rows() / N) <= max_pixels.
   std::size_t pings_per_row() const;
@@ -116,7 +128,6 @@ class Waterfall {
 
  private:
   WaterfallOptions options_;
-  std::unique_ptr<detail::SideSpool> spool_;
 };
 
 struct WaterfallResult {
@@ -181,20 +192,15 @@ struct WaterfallGroundControl {
   std::vector<Point> points;
 };
 
-class TruthWaterfall {
+class TruthWaterfall : public detail::SpooledRows {
  public:
   /// `spool_dir` empty = the system's temporary directory. Throws FormatError if the spool file
   /// cannot be created.
   explicit TruthWaterfall(const std::filesystem::path& spool_dir = {});
-  ~TruthWaterfall();
-  TruthWaterfall(TruthWaterfall&&) noexcept;
-  TruthWaterfall& operator=(TruthWaterfall&&) noexcept;
   /// Spans NEAR -> FAR; the three spans of a side must have the same size.
   void add_ping(std::span<const SampleClass> port_class, std::span<const SampleClass> stbd_class,
                 std::span<const std::int32_t> port_id, std::span<const std::int32_t> stbd_id,
                 std::span<const float> port_grazing_rad, std::span<const float> stbd_grazing_rad);
-  std::size_t rows() const;
-  std::size_t cols() const;
   /// Ground control points written into the rasters by write() and write_with_labels() (none
   /// by default). Every file also gets internal overviews when larger than 256 pixels a side
   /// (nearest for classes and ids, average for the grazing angle), laid out as GDAL's COG
@@ -220,9 +226,8 @@ class TruthWaterfall {
                          const LabelRowTap& tap = {}) const;
 
  private:
-  /// Bands: class, object id (the int32's bits, so that ids stay exact for the label rasters),
-  /// grazing (deg).
-  std::unique_ptr<detail::SideSpool> spool_;
+  // spool_'s bands: class, object id (the int32's bits, so that ids stay exact for the label
+  // rasters), grazing (deg).
   WaterfallGroundControl gcps_;
   TruthGrazing grazing_ = TruthGrazing::hundredths;
   bool cog_layout_ = true;

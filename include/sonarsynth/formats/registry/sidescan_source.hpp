@@ -53,4 +53,24 @@ std::vector<std::string> first_anomaly_messages(const Anomalies& anomalies, std:
   return out;
 }
 
+/// What a format's SideScanSource forwards to its Reader (made from the path, with
+/// total_anomalies() and anomalies()): the format's source derives from it and adds next().
+template <class Reader>
+class ReaderSource : public SideScanSource {
+ public:
+  ReaderSource(const std::filesystem::path& path, const SonarFormat& format)
+      : reader_(path), format_(format) {}
+  const SonarFormat& format() const override { return format_; }
+  std::uint64_t total_anomalies() const override { return reader_.total_anomalies(); }
+  std::vector<std::string> anomaly_messages(std::size_t max) const override {
+    return first_anomaly_messages(reader_.anomalies(), max);
+  }
+
+ protected:
+  Reader reader_;
+
+ private:
+  const SonarFormat& format_;
+};
+
 }  // namespace sonarsynth

@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "sonarsynth/error.hpp"
+#include "sonarsynth/formats/io/anomaly_log.hpp"
+#include "sonarsynth/formats/io/convert_result.hpp"
 #include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/xtf/records.hpp"
 
@@ -123,7 +126,7 @@ AttitudeSample attitude_sample(const XtfAttitudeData& attitude);
 /// than 6 channels are supported, a truncated last packet is reported and the rest kept.
 /// Memory is bounded by the largest packet (<= max_packet_bytes), never by the file size; every
 /// size taken from the file is checked in 64-bit arithmetic against the file size.
-class Reader {
+class Reader : public AnomalyLog<Anomaly, kAnomalyKindCount> {
  public:
   /// Throws FormatError if the file cannot be opened, is shorter than the 1024-byte header or
   /// does not start with FileFormat 0x7B.
@@ -148,12 +151,6 @@ class Reader {
   /// Broken packets are reported in anomalies() and skipped; throws only on I/O errors.
   bool next(Packet& packet);
 
-  const std::vector<Anomaly>& anomalies() const { return anomalies_; }
-  std::uint64_t anomaly_count(AnomalyKind kind) const {
-    return anomaly_counts_[static_cast<std::size_t>(kind)];
-  }
-  std::uint64_t total_anomalies() const;
-
  private:
   void open();
   void report(AnomalyKind kind, std::uint64_t offset, std::string message);
@@ -174,13 +171,30 @@ class Reader {
   std::vector<XtfChanInfo> chan_info_;
   std::vector<std::uint8_t> buffer_;
   std::vector<std::uint8_t> scan_buffer_;
-  std::vector<Anomaly> anomalies_;
-  std::array<std::uint64_t, kAnomalyKindCount> anomaly_counts_{};
   std::uint64_t packets_ = 0;         ///< packets with a valid header read so far
   std::uint64_t sonar_packets_ = 0;   ///< sonar packets (HeaderType 0) among them
   std::uint64_t current_packet_ = 0;  ///< index given to anomalies reported now
   bool have_last_time_ = false;
   UtcTime last_time_{};
 };
+
+/// A conversion's reading loop: the next ping packet of `reader` (false at the end). The
+/// attitude packets before it are written through `writer.write_attitude` (any format's writer)
+/// and counted in `result`, or, where the writer refuses one, skipped with a warning naming it.
+template <class Writer>
+bool next_ping_copying_attitude(Reader& reader, Packet& packet, Writer& writer,
+                                ConvertResult& result) {
+  while (reader.next(packet)) {
+    if (packet.kind == PacketKind::kPing) return true;
+    if (packet.kind != PacketKind::kAttitude) continue;
+    try {
+      writer.write_attitude(attitude_sample(packet.attitude));
+      ++result.attitude_records;
+    } catch (const InputError& e) {
+      result.warn("attitude packet " + std::to_string(packet.index) + " skipped: " + e.what());
+    }
+  }
+  return false;
+}
 
 }  // namespace sonarsynth::xtf

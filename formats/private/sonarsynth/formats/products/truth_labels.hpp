@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "sonarsynth/formats/products/waterfall.hpp"
 #include "sonarsynth/formats/raster/raster_util.hpp"
 #include "sonarsynth/geo_frame.hpp"
 #include "sonarsynth/height_grid.hpp"
@@ -21,9 +22,6 @@
 #include "sonarsynth/rendered_ping.hpp"
 
 namespace sonarsynth {
-namespace detail {
-class SideSpool;
-}
 
 namespace labels {
 
@@ -73,23 +71,16 @@ const std::vector<std::pair<std::string, std::string>>& label_tiff_options();
 /// Class and instance rasters of one line, rows = pings, columns as the waterfall's (port
 /// FAR -> NEAR | starboard NEAR -> FAR, slant range), padding nodata. Rows are spooled to an
 /// unnamed temporary file in `spool_dir` (12 bytes per sample) like TruthWaterfall's.
-class LabelWaterfall {
+class LabelWaterfall : public detail::SpooledRows {
  public:
+  /// spool_'s bands: class, id low 16 bits, id high 16 bits.
   explicit LabelWaterfall(const std::filesystem::path& spool_dir = {});
-  ~LabelWaterfall();
-  LabelWaterfall(LabelWaterfall&&) noexcept;
-  LabelWaterfall& operator=(LabelWaterfall&&) noexcept;
   void add_ping(std::span<const SampleClass> port_class, std::span<const SampleClass> stbd_class,
                 std::span<const std::int32_t> port_id, std::span<const std::int32_t> stbd_id);
-  std::size_t rows() const;
-  std::size_t cols() const;
   /// Writes `class_path` (Byte) and `instance_path` (UInt32) GeoTIFFs without georeferencing,
   /// each under a temporary name renamed when complete; `metadata` first, then the writer's items.
   void write(const std::string& class_path, const std::string& instance_path, bool overwrite,
              const MetadataItems& metadata) const;
-
- private:
-  std::unique_ptr<detail::SideSpool> spool_;  ///< bands: class, id low 16 bits, id high 16 bits
 };
 
 /// The single int32 label the mosaic grids per sample (MosaicPing::*_labels, nearest to nadir)
