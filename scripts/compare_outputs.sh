@@ -33,6 +33,8 @@ if [ -n "$real" ]; then
   run_both convert-real real.jsf convert "$real"
   run_both mosaic-real mosaic.tif mosaic "$real"
   run_both waterfall-real waterfall.png waterfall "$real"
+  run_both convert-real-bag real.bag convert "$real"
+  run_both convert-real-mcap real.mcap convert "$real"
   for side in old new; do
     cli=$old; [ $side = new ] && cli=$new
     "$cli" info --json "$real" >"$work/$side/info-real.json" 2>&1 || echo "$side info: exit $?"
@@ -40,6 +42,8 @@ if [ -n "$real" ]; then
     "$cli" convert "$work/run/real.jsf" -o "$work/run/back.xtf" >>"$work/$side/convert-real.log" 2>&1 ||
       echo "$side convert back: exit $?"
     mv "$work/run/back.xtf" "$work/$side/convert-real/"
+    "$cli" info --json "$work/$side/convert-real-bag/real.bag" >"$work/$side/info-real-bag.json" 2>&1 ||
+      echo "$side info bag: exit $?"
   done
 fi
 normalise() {  # drops lines that name the program or a wall time
@@ -48,9 +52,9 @@ normalise() {  # drops lines that name the program or a wall time
     *) sha256sum "$1" | cut -d' ' -f1 ;;
   esac
 }
-# GeoTIFFs whose bytes differ: same pixels (every band and overview) and metadata? The block
-# order of the multi-band truth rasters depends on GDAL's shared block cache, so it is not
-# byte-reproducible from run to run (docs/labels.md).
+# GeoTIFFs whose bytes differ: same pixels (every band and overview) and metadata? Builds before
+# the truth rasters' writes were serialised wrote their blocks in an order that depended on GDAL's
+# shared block cache (docs/labels.md), so an old build's truth raster may differ in layout only.
 same_pixels() {
   /usr/bin/python3 - "$1" "$2" <<'PY'
 import sys

@@ -13,49 +13,22 @@
 #include "sonarsynth/formats/mcap/format.hpp"
 #include "sonarsynth/formats/mcap/opcodes.hpp"
 #include "sonarsynth/formats/mcap/reader.hpp"
-#include "sonarsynth/formats/registry/sidescan_source.hpp"
 #include "sonarsynth/formats/rosbag/read_common.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/info_json.hpp"
-#include "sonarsynth/formats/xtf/writer.hpp"
-#include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::mcap {
 namespace {
 
 using rosbag::add_summary_json;
+using rosbag::bag_to_xtf;
+using rosbag::BagSource;
 using rosbag::BagSummary;
 using rosbag::ping_stream;
 using rosbag::read_as;
 using rosbag::summarise;
 using rosbag::summary_text;
 using rosbag::via_xtf_to_jsf;
-using rosbag::write_xtf;
-using rosbag::xtf_options;
-
-class McapSource : public SideScanSource {
- public:
-  explicit McapSource(const std::filesystem::path& path) : reader_(path) {}
-  bool next(SideScanRecord& r) override {
-    if (!reader_.next_ping(ping_)) return false;
-    r.sonar = std::move(ping_.sonar);
-    r.nav_valid = ping_.nav_valid;
-    r.time_valid = true;
-    r.layback_m = 0.0;
-    r.heading_true_deg = deg_from_rad(r.sonar.heading_true_rad);
-    r.index = ping_.index;
-    return true;
-  }
-  const SonarFormat& format() const override { return sonar_format(); }
-  std::uint64_t total_anomalies() const override { return reader_.total_anomalies(); }
-  std::vector<std::string> anomaly_messages(std::size_t max) const override {
-    return first_anomaly_messages(reader_.anomalies(), max);
-  }
-
- private:
-  Reader reader_;
-  Ping ping_;
-};
 
 std::string info_json(const Reader& reader, const BagSummary& s) {
   using info::Json;
@@ -108,7 +81,7 @@ bool identify(std::span<const std::uint8_t> head) {
 }
 
 std::unique_ptr<SideScanSource> open_reader(const std::filesystem::path& path) {
-  return std::make_unique<McapSource>(path);
+  return std::make_unique<BagSource<Reader>>(path, sonar_format());
 }
 
 SonarFileInfo file_info(const std::filesystem::path& path, std::size_t max_anomalies) {
@@ -119,16 +92,8 @@ SonarFileInfo file_info(const std::filesystem::path& path, std::size_t max_anoma
 
 ConvertResult mcap_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,
                           bool overwrite, AltitudeSource /*altitude_source*/) {
-  ConvertResult r;
-  r.from = &sonar_format();
-  r.to = &xtf::sonar_format();
-  Reader reader(in);
-  xtf::Writer writer(
-      out, xtf_options(reader.image_info(),
-                       "converted by sonarsynth from the MCAP file " + in.filename().string(),
-                       overwrite));
-  write_xtf(ping_stream(reader), writer, "MCAP chunk (or message)", in, r);
-  return r;
+  return bag_to_xtf<Reader>(sonar_format(), "MCAP file", "MCAP chunk (or message)", in, out,
+                            overwrite);
 }
 
 ConvertResult mcap_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,

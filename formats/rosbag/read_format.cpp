@@ -10,35 +10,14 @@
 #include <vector>
 
 #include "sonarsynth/formats/jsf/format.hpp"
-#include "sonarsynth/formats/registry/sidescan_source.hpp"
 #include "sonarsynth/formats/rosbag/format.hpp"
 #include "sonarsynth/formats/rosbag/read_common.hpp"
 #include "sonarsynth/formats/rosbag/reader.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/info_json.hpp"
-#include "sonarsynth/formats/xtf/writer.hpp"
-#include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::rosbag {
 namespace {
-
-class RosbagSource : public ReaderSource<Reader> {
- public:
-  explicit RosbagSource(const std::filesystem::path& path) : ReaderSource(path, sonar_format()) {}
-  bool next(SideScanRecord& r) override {
-    if (!reader_.next_ping(ping_)) return false;
-    r.sonar = std::move(ping_.sonar);
-    r.nav_valid = ping_.nav_valid;
-    r.time_valid = true;
-    r.layback_m = 0.0;
-    r.heading_true_deg = deg_from_rad(r.sonar.heading_true_rad);
-    r.index = ping_.index;
-    return true;
-  }
-
- private:
-  Ping ping_;
-};
 
 std::string info_json(const Reader& reader, const BagSummary& s) {
   using info::Json;
@@ -86,7 +65,7 @@ bool identify(std::span<const std::uint8_t> head) {
 }
 
 std::unique_ptr<SideScanSource> open_reader(const std::filesystem::path& path) {
-  return std::make_unique<RosbagSource>(path);
+  return std::make_unique<BagSource<Reader>>(path, sonar_format());
 }
 
 SonarFileInfo file_info(const std::filesystem::path& path, std::size_t max_anomalies) {
@@ -97,16 +76,7 @@ SonarFileInfo file_info(const std::filesystem::path& path, std::size_t max_anoma
 
 ConvertResult rosbag_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,
                             bool overwrite, AltitudeSource /*altitude_source*/) {
-  ConvertResult r;
-  r.from = &sonar_format();
-  r.to = &xtf::sonar_format();
-  Reader reader(in);
-  xtf::Writer writer(
-      out, xtf_options(reader.image_info(),
-                       "converted by sonarsynth from the ROS 1 bag " + in.filename().string(),
-                       overwrite));
-  write_xtf(ping_stream(reader), writer, "bag message", in, r);
-  return r;
+  return bag_to_xtf<Reader>(sonar_format(), "ROS 1 bag", "bag message", in, out, overwrite);
 }
 
 ConvertResult rosbag_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -17,7 +18,9 @@
 
 #include "sonarsynth/formats/io/convert_result.hpp"
 #include "sonarsynth/formats/io/sonar_format.hpp"
+#include "sonarsynth/formats/registry/sidescan_source.hpp"
 #include "sonarsynth/formats/rosbag/reader.hpp"
+#include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/info_json.hpp"
 #include "sonarsynth/formats/xtf/summary.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
@@ -38,6 +41,27 @@ PingStream ping_stream(BagReader& reader) {
   return {[&reader](Ping& p) { return reader.next_ping(p); }, reader.image_info(), reader.imu(),
           reader.anomalies(), [&reader] { return reader.total_anomalies(); }};
 }
+
+/// A bag reader's pings as side-scan records (times always present; no layback in a bag).
+template <class BagReader>
+class BagSource : public ReaderSource<BagReader> {
+ public:
+  BagSource(const std::filesystem::path& path, const SonarFormat& format)
+      : ReaderSource<BagReader>(path, format) {}
+  bool next(SideScanRecord& r) override {
+    if (!this->reader_.next_ping(ping_)) return false;
+    r.sonar = std::move(ping_.sonar);
+    r.nav_valid = ping_.nav_valid;
+    r.time_valid = true;
+    r.layback_m = 0.0;
+    r.heading_true_deg = deg_from_rad(r.sonar.heading_true_rad);
+    r.index = ping_.index;
+    return true;
+  }
+
+ private:
+  Ping ping_;
+};
 
 /// What a connection (or channel) of `type` (or schema name) is read as; nullptr if not decoded.
 const char* read_as(bool decoded, std::string_view type);
@@ -68,6 +92,25 @@ xtf::WriterOptions xtf_options(const std::optional<ImageInfo>& image_info, std::
 /// Throws FormatError if no ping is written.
 void write_xtf(const PingStream& bag, xtf::Writer& writer, std::string_view what,
                const std::filesystem::path& in, ConvertResult& r);
+
+/// Bag -> XTF for a bag reader of the format `from`: the XTF options from the first image, the
+/// file note "converted by sonarsynth from the <container> <file name>", every ping through
+/// write_xtf (`what` as there).
+template <class BagReader>
+ConvertResult bag_to_xtf(const SonarFormat& from, std::string_view container, std::string_view what,
+                         const std::filesystem::path& in, const std::filesystem::path& out,
+                         bool overwrite) {
+  ConvertResult r;
+  r.from = &from;
+  r.to = &xtf::sonar_format();
+  BagReader reader(in);
+  xtf::Writer writer(out, xtf_options(reader.image_info(),
+                                      "converted by sonarsynth from the " + std::string(container) +
+                                          " " + in.filename().string(),
+                                      overwrite));
+  write_xtf(ping_stream(reader), writer, what, in, r);
+  return r;
+}
 
 using ConvertFunction = ConvertResult (*)(const std::filesystem::path& in,
                                           const std::filesystem::path& out, bool overwrite,
