@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// What the file throughput benchmarks (xtf_throughput, rosbag_throughput) share: the ping
+// What the file throughput benchmarks (xtf_throughput, bag_throughput) share: the ping
 // they write and the median of their runs.
 #pragma once
 
