@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "error_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/run_simulation.hpp"
 #include "sonarsynth/formats/io/byte_io.hpp"
@@ -370,6 +371,36 @@ TEST_F(McapTest, EdgeValuesQuantiseAsInTheXtf) {
     EXPECT_EQ(bag.port[0].samples, x[0].port);
     EXPECT_EQ(bag.starboard[0].samples, x[0].starboard);
   }
+}
+
+// Stand-alone attitude samples are Imu messages of their own (indexed, counted in the summary);
+// a non-finite angle or a time outside builtin_interfaces/Time is refused, naming the field.
+TEST_F(McapTest, AttitudeSamplesAreImuMessages) {
+  SonarPing p;
+  p.time_utc = UtcTime(std::chrono::seconds(1'700'000'000));
+  p.sensor_position = {rad_from_deg(43.0), rad_from_deg(5.0)};
+  p.slant_range_m = 20.0;
+  p.port = p.starboard = std::vector<float>(16, 100.0f);
+  mcap::WriterOptions o;
+  o.overwrite = true;
+  mcap::Writer w(dir_ / "att.mcap", o);
+  w.write_ping(p);
+  const AttitudeSample a{p.time_utc + std::chrono::milliseconds(40), 0.5, 0.01, -0.02, 0.0, 0.0};
+  w.write_attitude(a);
+  w.write_attitude({a.time_utc + std::chrono::milliseconds(40), 0.6, 0.0, 0.0, 0.0, 0.0});
+  AttitudeSample nan_heading = a;
+  nan_heading.heading_true_rad = std::numeric_limits<double>::quiet_NaN();
+  test::expect_error([&] { w.write_attitude(nan_heading); }, {"attitude.heading_true_rad", "nan"},
+                     "a NaN heading");
+  AttitudeSample before_1970 = a;
+  before_1970.time_utc = UtcTime(std::chrono::seconds(-1));
+  test::expect_error([&] { w.write_attitude(before_1970); }, {"attitude.time_utc", "-1000000"},
+                     "an attitude time before 1970");
+  w.close();
+  const Bag bag = read_bag(dir_ / "att.mcap");
+  EXPECT_EQ(bag.messages_per_topic.at("/sonarsynth/imu"), 3u);
+  EXPECT_EQ(bag.messages, 4u + 1u + 2u);
+  EXPECT_EQ(bag.statistics_messages, bag.messages);
 }
 
 // `convert` XTF -> MCAP: the bag holds the XTF's samples (as uint16, the file's type).

@@ -81,31 +81,27 @@ ConvertResult xtf_to_mcap(const std::filesystem::path& in, const std::filesystem
   }
   Writer writer(out, o);
   xtf::Packet packet;
-  while (reader.next(packet)) {
-    if (packet.kind != xtf::PacketKind::kPing) continue;
+  while (xtf::next_ping_copying_attitude(reader, packet, writer, r)) {
     SonarPing& s = packet.ping.sonar;
     if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
       s.sensor_position = {};  // no position: NavSatFix STATUS_NO_FIX (docs/robotics.md)
     }
+    const std::string reason = !packet.ping.time_valid ? "no valid time" : "";
     try {
+      if (!reason.empty()) throw InputError(reason);
       writer.write_ping(s);
       ++r.pings;
     } catch (const InputError& e) {
       ++r.pings_skipped;
-      const std::string what = e.what();
-      const std::size_t eq = what.find(" = ");
-      ++r.dropped[eq == std::string::npos ? what : what.substr(0, eq)];
-      if (r.warnings.size() < 10) {
-        r.warnings.push_back("XTF packet " + std::to_string(packet.index) + " skipped: " + what);
-      }
+      ++r.dropped[reason.empty() ? "not storable in MCAP" : reason];
+      r.warn("XTF packet " + std::to_string(packet.index) + " (ping " +
+             std::to_string(s.ping_number) + ") dropped: " + e.what());
     }
   }
   r.reader_anomalies = reader.total_anomalies();
-  for (const xtf::Anomaly& a : reader.anomalies()) {
-    if (r.warnings.size() < 10) r.warnings.push_back(a.message);
-  }
+  for (const xtf::Anomaly& a : reader.anomalies()) r.warn(a.message);
   if (r.pings == 0) {
-    throw FormatError("convert: " + in.string() + ": no ping could be written to the bag (" +
+    throw FormatError("convert: " + in.string() + ": no ping to write (" +
                       std::to_string(r.pings_skipped) + " dropped)");
   }
   writer.close();

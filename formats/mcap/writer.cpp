@@ -12,6 +12,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <utility>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/mcap/opcodes.hpp"
@@ -302,6 +303,39 @@ void Writer::write_side(std::uint16_t channel, const SonarPing& p,
   add_message(channel, ns);
 }
 
+Writer::Ros2Time Writer::ros2_time(UtcTime t, const char* field) {
+  const std::int64_t us = t.time_since_epoch().count();
+  const std::int64_t max_us = std::int64_t{std::numeric_limits<std::int32_t>::max()} * 1'000'000;
+  if (us < 0 || us > max_us) {
+    violated(field, std::to_string(us) + " us since 1970",
+             "from 1970 to 2038-01-19 (builtin_interfaces/Time's int32 seconds)");
+  }
+  return {static_cast<std::int32_t>(us / 1'000'000),
+          static_cast<std::uint32_t>((us % 1'000'000) * 1000),
+          static_cast<std::uint64_t>(us) * 1000u};
+}
+
+void Writer::write_imu_message(std::int32_t sec, std::uint32_t nanosec, std::uint64_t ns,
+                               double heading_true_rad, double pitch_rad, double roll_rad) {
+  // ENU world, FLU body (REP 103): yaw from east counter-clockwise; + pitch is nose down.
+  CdrWriter w(message_);
+  write_imu(w, {sec, nanosec, kBodyFrame},
+            quaternion_zyx(kPi / 2 - heading_true_rad, -pitch_rad, roll_rad));
+  add_message(kImuChannel, ns);
+}
+
+void Writer::write_attitude(const AttitudeSample& a) {
+  if (closed_) throw FormatError("mcap writer: " + path().string() + " is already closed");
+  for (const auto& [name, v] : {std::pair{"attitude.heading_true_rad", a.heading_true_rad},
+                                {"attitude.pitch_rad", a.pitch_rad},
+                                {"attitude.roll_rad", a.roll_rad}}) {
+    if (!std::isfinite(v)) violated(name, std::to_string(v), "finite");
+  }
+  const auto [sec, nanosec, ns] = ros2_time(a.time_utc, "attitude.time_utc");
+  write_imu_message(sec, nanosec, ns, a.heading_true_rad, a.pitch_rad, a.roll_rad);
+  if (chunk_.size() >= options_.chunk_bytes) flush_chunk();
+}
+
 void Writer::write_ping(const SonarPing& p) {
   if (closed_) throw FormatError("mcap writer: " + path().string() + " is already closed");
   if (p.port.empty()) violated("ping.port.size()", "0", "port.size() >= 1");
@@ -312,15 +346,7 @@ void Writer::write_ping(const SonarPing& p) {
   if (!(p.sound_speed_m_s > 0.0) || !std::isfinite(p.sound_speed_m_s)) {
     violated("ping.sound_speed_m_s", std::to_string(p.sound_speed_m_s), "finite and > 0");
   }
-  const std::int64_t us = p.time_utc.time_since_epoch().count();
-  const std::int64_t max_us = std::int64_t{std::numeric_limits<std::int32_t>::max()} * 1'000'000;
-  if (us < 0 || us > max_us) {
-    violated("ping.time_utc", std::to_string(us) + " us since 1970",
-             "from 1970 to 2038-01-19 (builtin_interfaces/Time's int32 seconds)");
-  }
-  const auto sec = static_cast<std::int32_t>(us / 1'000'000);
-  const auto nanosec = static_cast<std::uint32_t>((us % 1'000'000) * 1000);
-  const std::uint64_t ns = static_cast<std::uint64_t>(us) * 1000u;
+  const auto [sec, nanosec, ns] = ros2_time(p.time_utc, "ping.time_utc");
 
   if (pings_written_ == 0) {
     // The sonar on the vehicle: the navigated point is the transducers' (SonarPing), and each
@@ -345,13 +371,7 @@ void Writer::write_ping(const SonarPing& p) {
                       std::numeric_limits<double>::quiet_NaN());
     add_message(kNavChannel, ns);
   }
-  {
-    // ENU world, FLU body (REP 103): yaw from east counter-clockwise; + pitch is nose down.
-    CdrWriter w(message_);
-    write_imu(w, {sec, nanosec, kBodyFrame},
-              quaternion_zyx(kPi / 2 - p.heading_true_rad, -p.pitch_rad, p.roll_rad));
-    add_message(kImuChannel, ns);
-  }
+  write_imu_message(sec, nanosec, ns, p.heading_true_rad, p.pitch_rad, p.roll_rad);
   write_side(kPortChannel, p, p.port, sec, nanosec);
   write_side(kStarboardChannel, p, p.starboard, sec, nanosec);
   ++pings_written_;

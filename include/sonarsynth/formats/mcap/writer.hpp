@@ -66,6 +66,10 @@ class Writer {
   /// Appends one ping (four messages). Throws InputError naming the field if the ping cannot be
   /// stored (empty side, time before 1970 or after 2038, slant range or sound speed not > 0).
   void write_ping(const SonarPing& ping);
+  /// Appends a stand-alone attitude sample as a sensor_msgs/Imu on the ping's Imu topic (an XTF
+  /// attitude packet in a conversion). Throws InputError naming the field for a time outside
+  /// 1970-2038 or a non-finite angle.
+  void write_attitude(const AttitudeSample& attitude);
   /// Flushes the last chunk, writes the summary and renames the file into place. Throws
   /// FormatError on failure.
   void close();
@@ -83,6 +87,15 @@ class Writer {
   struct Zstd;
   static constexpr std::size_t kChannels = 5;
 
+  struct Ros2Time {
+    std::int32_t sec;
+    std::uint32_t nanosec;
+    std::uint64_t ns;  ///< since 1970, the MCAP log time
+  };
+  /// `t` as builtin_interfaces/Time; throws InputError naming `field` outside 1970-2038.
+  static Ros2Time ros2_time(UtcTime t, const char* field);
+  void write_imu_message(std::int32_t sec, std::uint32_t nanosec, std::uint64_t ns,
+                         double heading_true_rad, double pitch_rad, double roll_rad);
   void write_start();
   void add_message(std::uint16_t channel, std::uint64_t time_ns);
   void write_side(std::uint16_t channel, const SonarPing& ping, const std::vector<float>& samples,
