@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bag_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/mcap/read_records.hpp"
 #include "sonarsynth/formats/mcap/reader.hpp"
@@ -29,17 +30,10 @@ namespace sonarsynth::mcap {
 namespace {
 
 namespace fs = std::filesystem;
+using test::varied_ping;
+using test::xtf_attitudes;
+using test::xtf_pings;
 using xtf::test::make_ping;
-
-// Headings all round the circle, pitch and roll of both signs, one ping without a position.
-SonarPing varied_ping(std::uint32_t k) {
-  SonarPing p = make_ping(k, 120 + k % 3, 120 + k % 3);
-  p.heading_true_rad = rad_from_deg(std::fmod(37.0 * k + 0.125, 360.0));
-  p.pitch_rad = rad_from_deg(k % 2 ? -3.5 : 4.25);
-  p.roll_rad = rad_from_deg(k % 3 ? 7.0 : -12.5);
-  if (k == 5) p.sensor_position = {};
-  return p;
-}
 
 TEST(McapReader, ReadsWhatTheWriterWrote) {
   const fs::path dir = xtf::test::temp_dir("mcap_read");
@@ -96,27 +90,6 @@ TEST(McapReader, ReadsWhatTheWriterWrote) {
   fs::remove_all(dir);
 }
 
-std::vector<xtf::PingRecord> xtf_pings(const fs::path& path) {
-  xtf::Reader r(path);
-  xtf::Packet packet;
-  std::vector<xtf::PingRecord> out;
-  while (r.next(packet)) {
-    if (packet.kind == xtf::PacketKind::kPing) out.push_back(packet.ping);
-  }
-  return out;
-}
-
-std::vector<AttitudeSample> xtf_attitudes(const fs::path& path) {
-  xtf::Reader r(path);
-  xtf::Packet packet;
-  std::vector<AttitudeSample> out;
-  while (r.next(packet)) {
-    if (packet.kind == xtf::PacketKind::kAttitude)
-      out.push_back(xtf::attitude_sample(packet.attitude));
-  }
-  return out;
-}
-
 /// XTF `a` -> MCAP -> XTF `b`: every ping of `a` with a position is in `b` with the same
 /// samples, time, position, attitude and sound speed, and every attitude packet of `a` is in `b`
 /// with its time and angles.
@@ -126,21 +99,11 @@ void expect_round_trip(const fs::path& a, const fs::path& dir, std::size_t witho
   const ConvertResult back = convert_sonar_file(dir / "a.mcap", dir / "b.xtf", true);
   EXPECT_EQ(back.pings + without_position, to_bag.pings);
   EXPECT_EQ(back.reader_anomalies, 0u);
-  const std::vector<AttitudeSample> aa = xtf_attitudes(a);
-  const std::vector<AttitudeSample> ab = xtf_attitudes(dir / "b.xtf");
-  EXPECT_EQ(to_bag.attitude_records, aa.size());
-  EXPECT_EQ(back.attitude_records, aa.size());
-  ASSERT_EQ(ab.size(), aa.size());
-  for (std::size_t i = 0; i < aa.size(); ++i) {
-    EXPECT_EQ(ab[i].time_utc, aa[i].time_utc) << "attitude " << i;
-    // The XTF's float degrees through a quaternion, back to float degrees.
-    const auto near_deg = [](double x_rad, double y_rad) {
-      return std::abs(std::remainder(deg_from_rad(x_rad) - deg_from_rad(y_rad), 360.0)) < 1e-5;
-    };
-    EXPECT_TRUE(near_deg(ab[i].heading_true_rad, aa[i].heading_true_rad)) << "attitude " << i;
-    EXPECT_NEAR(deg_from_rad(ab[i].pitch_rad), deg_from_rad(aa[i].pitch_rad), 1e-5);
-    EXPECT_NEAR(deg_from_rad(ab[i].roll_rad), deg_from_rad(aa[i].roll_rad), 1e-5);
-  }
+  const std::size_t attitudes = xtf_attitudes(a).size();
+  EXPECT_EQ(to_bag.attitude_records, attitudes);
+  EXPECT_EQ(back.attitude_records, attitudes);
+  // The XTF's float degrees through a quaternion, back to float degrees.
+  test::expect_same_attitudes(a, dir / "b.xtf", 1e-5);
   const xtf::XtfChanInfo ca = xtf::Reader(a).chan_info().at(0);
   const xtf::XtfChanInfo cb = xtf::Reader(dir / "b.xtf").chan_info().at(0);
   EXPECT_EQ(cb.Frequency, ca.Frequency);
@@ -182,11 +145,7 @@ TEST(McapReader, XtfToMcapToXtfKeepsSamplesAndNavigation) {
       const SonarPing p = varied_ping(k);
       if (k != 5) w.write_ping(p);  // XTF refuses a ping without a position
       // Attitude packets between pings, one every third ping: Imu messages of their own.
-      if (k % 3 == 1) {
-        w.write_attitude({p.time_utc + std::chrono::milliseconds(37),
-                          rad_from_deg(std::fmod(11.0 * k + 350.5, 360.0)), rad_from_deg(-2.0 + k),
-                          rad_from_deg(5.0 - 0.5 * k), 0.0, 0.0});
-      }
+      if (k % 3 == 1) w.write_attitude(test::attitude_after(p, k));
     }
     w.close();
   }

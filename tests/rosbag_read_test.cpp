@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bag_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/registry/sidescan_source.hpp"
@@ -25,18 +26,8 @@ namespace sonarsynth::rosbag {
 namespace {
 
 namespace fs = std::filesystem;
-using xtf::test::make_ping;
-
-// Pings with headings all round the circle, pitch and roll of both signs, one without a
-// position; u16 samples in 0..32767.
-SonarPing varied_ping(std::uint32_t k) {
-  SonarPing p = make_ping(k, 120 + k % 3, 120 + k % 3);
-  p.heading_true_rad = rad_from_deg(std::fmod(37.0 * k + 0.125, 360.0));
-  p.pitch_rad = rad_from_deg(k % 2 ? -3.5 : 4.25);
-  p.roll_rad = rad_from_deg(k % 3 ? 7.0 : -12.5);
-  if (k == 5) p.sensor_position = {};
-  return p;
-}
+using test::varied_ping;
+using test::xtf_pings;
 
 TEST(RosbagReader, ReadsWhatTheWriterWrote) {
   const fs::path dir = xtf::test::temp_dir("rosbag_read");
@@ -89,16 +80,6 @@ TEST(RosbagReader, ReadsWhatTheWriterWrote) {
   fs::remove_all(dir);
 }
 
-std::vector<xtf::PingRecord> xtf_pings(const fs::path& path) {
-  xtf::Reader r(path);
-  xtf::Packet packet;
-  std::vector<xtf::PingRecord> out;
-  while (r.next(packet)) {
-    if (packet.kind == xtf::PacketKind::kPing) out.push_back(packet.ping);
-  }
-  return out;
-}
-
 TEST(RosbagReader, XtfToBagToXtfKeepsSamplesAndNavigation) {
   const fs::path dir = xtf::test::temp_dir("rosbag_round_trip");
   {
@@ -109,16 +90,22 @@ TEST(RosbagReader, XtfToBagToXtfKeepsSamplesAndNavigation) {
     o.vertical_beam_width_rad = rad_from_deg(45.0);
     xtf::Writer w(dir / "a.xtf", o);
     for (std::uint32_t k = 0; k < 20; ++k) {
-      if (k != 5) w.write_ping(varied_ping(k));  // XTF refuses a ping without a position
+      const SonarPing p = varied_ping(k);
+      if (k != 5) w.write_ping(p);  // XTF refuses a ping without a position
+      // Attitude packets between pings, one every third ping: Imu messages of their own.
+      if (k % 3 == 1) w.write_attitude(test::attitude_after(p, k));
     }
     w.close();
   }
   const ConvertResult to_bag = convert_sonar_file(dir / "a.xtf", dir / "a.bag", false);
   EXPECT_EQ(to_bag.pings, 19u);
+  EXPECT_EQ(to_bag.attitude_records, 7u);
   EXPECT_EQ(identify_sonar_format(dir / "a.bag"), find_sonar_format("rosbag"));
   const ConvertResult back = convert_sonar_file(dir / "a.bag", dir / "b.xtf", false);
   EXPECT_EQ(back.pings, 19u);
   EXPECT_EQ(back.pings_skipped, 0u);
+  EXPECT_EQ(back.attitude_records, 7u);
+  test::expect_same_attitudes(dir / "a.xtf", dir / "b.xtf", 1e-5);
   // The sonar settings: PingInfo and the port frame's transform on /tf_static.
   const xtf::XtfChanInfo ca = xtf::Reader(dir / "a.xtf").chan_info().at(0);
   const xtf::XtfChanInfo cb = xtf::Reader(dir / "b.xtf").chan_info().at(0);
