@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
-# ROS 2 bags (MCAP) read back (docs/robotics.md, "Reading bags"): the bag of a run reads as the
-# XTF of the same run through read_sonar, and `info`, `waterfall` and `mosaic` of the bag equal
-# those of the XTF (the bag carries no altitude: both mosaics use the tracked bottom).
+# Bags read back (docs/rosbag.md and docs/robotics.md, "Reading bags"): the ROS 1 bag and the
+# MCAP file of a run read as the XTF of the same run through read_sonar, and `info`, `waterfall`
+# and `mosaic` of the MCAP file equal those of the XTF (the bag carries no altitude: both mosaics
+# use the tracked bottom).
 import json
 import subprocess
 
@@ -13,21 +14,22 @@ import sonarsynth
 
 def simulate(scene_path, cli, tmp_path):
     scene = tmp_path / "mcap_scene.yaml"
-    scene.write_text(open(scene_path).read() + "output: {formats: [xtf, mcap]}\n")
+    scene.write_text(open(scene_path).read() + "output: {formats: [xtf, rosbag, mcap]}\n")
     out = tmp_path / "out"
     subprocess.run([cli, "simulate", str(scene), "-o", str(out), "--no-mosaic",
                     "--no-waterfall", "--no-truth"], check=True, capture_output=True)
     return out
 
 
-def test_sonarsynth_reads_its_mcap_bags_as_the_xtf_of_the_run(scene_path, cli, tmp_path):
+@pytest.mark.parametrize("fmt,ext", [("rosbag", "bag"), ("mcap", "mcap")])
+def test_sonarsynth_reads_its_bags_as_the_xtf_of_the_run(scene_path, cli, tmp_path, fmt, ext):
     out = simulate(scene_path, cli, tmp_path)
     for name in ["a", "b"]:
         x = sonarsynth.read_xtf(str(out / f"{name}.xtf"))
-        b = sonarsynth.read_sonar(str(out / f"{name}.mcap"))
-        assert b["format"] == "mcap" and not b["anomalies"]
+        b = sonarsynth.read_sonar(str(out / f"{name}.{ext}"))
+        assert b["format"] == fmt and not b["anomalies"]
         assert np.array_equal(b["port"], x["port"]) and np.array_equal(b["starboard"], x["starboard"])
-        # Each line's pings are numbered from 0, as the bag's Message sequence.
+        # Each line's pings are numbered from 0 (the MCAP's Message sequence; the ROS 1 header seq).
         assert np.array_equal(b["ping_number"], x["ping_number"])
         # XTF stores times to 1/100 s (rounded), the bag to the nanosecond.
         assert np.abs(b["time_utc_us"] - x["time_utc_us"]).max() <= 5000
