@@ -42,7 +42,9 @@ if [ -n "$real" ]; then
     "$cli" convert "$work/run/real.jsf" -o "$work/run/back.xtf" >>"$work/$side/convert-real.log" 2>&1 ||
       echo "$side convert back: exit $?"
     mv "$work/run/back.xtf" "$work/$side/convert-real/"
-    "$cli" info --json "$work/$side/convert-real-bag/real.bag" >"$work/$side/info-real-bag.json" 2>&1 ||
+    # info names the file: both builds read it at the same path.
+    cp "$work/$side/convert-real-bag/real.bag" "$work/run/"
+    "$cli" info --json "$work/run/real.bag" >"$work/$side/info-real-bag.json" 2>&1 ||
       echo "$side info bag: exit $?"
   done
 fi
