@@ -79,6 +79,7 @@ TEST_F(SimulationFile, DefaultsAreTheStructsDefaults) {
     EXPECT_EQ(c.seed, SimulationConfig{}.seed);
     EXPECT_EQ(s->sample_format, "u16");
     EXPECT_FALSE(s->allow_more_than_8192_samples);
+    EXPECT_FALSE(s->bag_truth);
     const RunLimits limits;
     EXPECT_EQ(s->limits.max_pings, limits.max_pings);
     EXPECT_EQ(s->limits.max_output_gb, limits.max_output_gb);
@@ -133,6 +134,7 @@ void expect_same_members(const SimulationSetup& a, const SimulationSetup& b) {
   EXPECT_TRUE(same(x.noise.paper_uniform_variance, y.noise.paper_uniform_variance));
   EXPECT_EQ(x.output.normalise, y.output.normalise);
   EXPECT_EQ(a.display_linear, b.display_linear);
+  EXPECT_EQ(a.bag_truth, b.bag_truth);
   EXPECT_EQ(x.output.tvg, y.output.tvg);
   EXPECT_TRUE(same(x.output.gain_db, y.output.gain_db));
   EXPECT_EQ(x.output.max_value, y.output.max_value);
@@ -233,8 +235,9 @@ TEST_F(SimulationFile, EffectiveYamlRoundTripsEveryOption) {
        "survey:\n  depth_m: 25\n", fast},
       {"vertical_beam: {shape: sinc, height_over_wavelength: 1.5}", "pulse: {type: cw}",
        ", along_track_planes: auto",
-       "output: {tvg: spherical, normalise: per_ping_max, display: linear}", "survey:\n",
-       SimulationOverrides{}},
+       "output: {tvg: spherical, normalise: per_ping_max, display: linear, formats: [xtf, mcap], "
+       "bag_truth: true}",
+       "survey:\n", SimulationOverrides{}},
       {"vertical_beam: {shape: uniform}", "pulse: {type: cw}", "", "output: {}", "survey:\n",
        SimulationOverrides{}, "uniform_variance: 0.03"},
   };

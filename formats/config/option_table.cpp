@@ -285,6 +285,8 @@ void add_output_options(std::vector<Option>& t) {
       }));
   t.push_back(
       boolean("output", "allow_more_than_8192_samples", BOOL(allow_more_than_8192_samples)));
+  // output.bag_truth: the truth topics of the ROS bags (docs/robotics.md, "Truth topics").
+  t.push_back(boolean("output", "bag_truth", BOOL(bag_truth)));
   // output.jsf: true, the alias of "jsf" in output.formats (read after this table, which it
   // then overrides: formats/config/simulation_file.cpp).
   t.push_back(boolean(

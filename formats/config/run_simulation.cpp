@@ -101,6 +101,7 @@ std::vector<std::unique_ptr<SurveyFileSink>> sonar_file_writers(
   files_context.scene_name = setup.scene.name;
   files_context.sample_format = setup.sample_format;
   files_context.allow_more_than_8192_samples = setup.allow_more_than_8192_samples;
+  files_context.bag_truth = setup.bag_truth;
   std::vector<std::unique_ptr<SurveyFileSink>> sonar_files;
   for (const SonarFormat* f : sonar_formats()) {
     if (!setup.writes_format(f->name)) continue;

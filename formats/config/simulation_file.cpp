@@ -372,6 +372,7 @@ void read_output_section(const Fields& top, SimulationSetup& setup) {
     f.only(keys_of("output", {"labels", "display_window_db", "mosaic", "formats"}));
     options::read_all(f, "output", setup);
     if (f.has("formats")) read_output_formats(f, setup);
+    if (const auto v = bag_truth_violation(setup)) f.fail_value("bag_truth", *v);
     if (f.has("labels")) read_labels(f.child("labels"), setup.labels, setup.config.truth);
     if (f.has("mosaic")) {
       const Fields m = f.child("mosaic");
@@ -469,6 +470,17 @@ std::optional<std::string> sample_count_violation(const SimulationSetup& setup) 
          "output.allow_more_than_8192_samples: true to write more)";
 }
 
+std::optional<std::string> bag_truth_violation(const SimulationSetup& setup) {
+  if (!setup.bag_truth) return std::nullopt;
+  if (!setup.config.truth) {
+    return "output.truth: true (the truth topics carry the rendered truth; output.truth is false)";
+  }
+  if (!setup.writes_format("mcap") && !setup.writes_format("rosbag")) {
+    return "mcap or rosbag in output.formats (the bags that carry the truth topics)";
+  }
+  return std::nullopt;
+}
+
 void check_cross_keys(const SimulationSetup& setup, const std::string& name) {
   const auto fail = [&](const std::string& key, const std::string& value,
                         const std::string& constraint) {
@@ -491,6 +503,7 @@ void check_cross_keys(const SimulationSetup& setup, const std::string& name) {
   if (const auto v = sample_count_violation(setup)) {
     fail("sonar.samples", std::to_string(c.sonar.samples_per_channel), *v);
   }
+  if (const auto v = bag_truth_violation(setup)) fail("output.bag_truth", "true", *v);
 }
 
 SimulationSetup load_simulation(const std::string& path, const SimulationOverrides& overrides) {

@@ -18,11 +18,19 @@ namespace sonarsynth::mcap {
 namespace {
 
 /// One bag per survey line (`<dir>/<line name>.mcap`), the same pings as the XTF of the run
-/// (to_xtf_ping), so that both agree sample for sample.
+/// (to_xtf_ping), so that both agree sample for sample; with options.truth each ping's truth
+/// on the truth topics.
 class McapSurveyWriter : public LineFileWriter<Writer, WriterOptions> {
  public:
   McapSurveyWriter(const SurveyWriterContext& c, WriterOptions options)
-      : LineFileWriter(c.dir, c.line_names, *c.frame, *c.sonar, std::move(options), ".mcap") {}
+      : LineFileWriter(c.dir, c.line_names, *c.frame, *c.sonar, options, ".mcap"),
+        truth_(options.truth) {}
+
+ private:
+  void after_ping(Writer& w, const SonarPing& written, const RenderedPing& p) override {
+    if (truth_) w.write_truth(written, p.port, p.starboard);
+  }
+  bool truth_;
 };
 
 std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& c) {
@@ -33,6 +41,7 @@ std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& 
   o.vertical_beam_width_rad = c.sonar->vertical_beam.width_3db_full_rad();
   o.tilt_rad = c.sonar->tilt_rad;
   o.overwrite = true;  // inside the run's own fresh temporary directory
+  o.truth = c.bag_truth;
   return std::make_unique<McapSurveyWriter>(c, o);
 }
 

@@ -80,6 +80,21 @@ constexpr std::string_view kTransform =
 constexpr std::string_view kTransformStamped =
     "std_msgs/Header header\nstring child_frame_id\ngeometry_msgs/Transform transform\n";
 constexpr std::string_view kTfMessage = "geometry_msgs/TransformStamped[] transforms\n";
+// sonarsynth's own per-sample truth of one side (docs/robotics.md, "Truth topics"); the ROS 1
+// text (formats/rosbag/messages.cpp) has the same constants and fields, with comments.
+constexpr std::string_view kSideScanTruth =
+    "uint8 CLASS_WATER_COLUMN = 0\n"
+    "uint8 CLASS_SEABED = 1\n"
+    "uint8 CLASS_OBJECT = 2\n"
+    "uint8 CLASS_SHADOW = 3\n"
+    "uint8 CLASS_NO_SEABED = 4\n"
+    "int32 LABEL_NONE = -1\n"
+    "std_msgs/Header header\n"
+    "uint32 samples\n"
+    "uint8[] sample_class\n"
+    "int32[] label\n"
+    "float32[] grazing_rad\n"
+    "float32[] ground_range_m\n";
 
 struct Dependency {
   std::string_view name;  // pkg/Type
@@ -205,6 +220,13 @@ const Ros2MessageType& tf_message_type() {
   return t;
 }
 
+const Ros2MessageType& side_scan_truth_type() {
+  static const Ros2MessageType t{"sonarsynth_msgs/msg/SideScanTruth",
+                                 definition(kSideScanTruth, {{"std_msgs/Header", kHeader},
+                                                             {"builtin_interfaces/Time", kTime}})};
+  return t;
+}
+
 std::span<std::uint8_t> write_raw_sonar_image(CdrWriter& w, const RawSonarImageFields& f) {
   write_header(w, f.header);
   w.f32(f.frequency_hz);  // ping_info
@@ -225,6 +247,18 @@ std::span<std::uint8_t> write_raw_sonar_image(CdrWriter& w, const RawSonarImageF
                            : f.dtype == SonarImageDtype::kUint16 ? 2
                                                                  : 4;
   return w.u8_sequence(std::size_t{f.samples} * size);
+}
+
+void write_side_scan_truth(CdrWriter& w, const Ros2Header& h, const SideOutput& side) {
+  write_header(w, h);
+  const std::size_t n = side.truth_class.size();
+  w.u32(static_cast<std::uint32_t>(n));
+  const std::span<std::uint8_t> classes = w.u8_sequence(n);
+  for (std::size_t i = 0; i < n; ++i) classes[i] = static_cast<std::uint8_t>(side.truth_class[i]);
+  w.u32(static_cast<std::uint32_t>(n));
+  for (const std::int32_t v : side.truth_label) w.i32(v);
+  w.f32_sequence(side.truth_grazing_rad);
+  w.f32_sequence(side.truth_ground_range_m);
 }
 
 void write_nav_sat_fix(CdrWriter& w, const Ros2Header& h, bool fix, double lat_deg, double lon_deg,

@@ -12,6 +12,7 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "sonarsynth/error.hpp"
@@ -64,15 +65,19 @@ struct ChannelDef {
   std::uint16_t schema_id;
   std::string_view topic;
 };
-constexpr std::array<ChannelDef, 5> kChannelDefs = {{
+// The two truth channels (and their schema 5) only in a bag written with WriterOptions::truth.
+constexpr std::array<ChannelDef, 7> kChannelDefs = {{
     {1, 1, kPortTopic},
     {2, 1, kStarboardTopic},
     {3, 2, kNavSatTopic},
     {4, 3, kImuTopic},
     {5, 4, kTfStaticTopic},
+    {6, 5, kPortTruthTopic},
+    {7, 5, kStarboardTruthTopic},
 }};
 constexpr std::uint16_t kPortChannel = 1, kStarboardChannel = 2, kNavChannel = 3, kImuChannel = 4,
-                        kTfChannel = 5;
+                        kTfChannel = 5, kPortTruthChannel = 6, kStarboardTruthChannel = 7;
+constexpr std::uint16_t kBaseChannels = 5, kBaseSchemas = 4;
 
 /// rosbag2's QoS of /tf_static (transient local, so that a late subscriber gets the TF).
 constexpr std::string_view kTfStaticQos =
@@ -90,15 +95,19 @@ const Ros2MessageType& schema_type(std::uint16_t id) {
       return nav_sat_fix_type();
     case 3:
       return imu_type();
+    case 5:
+      return side_scan_truth_type();
     default:
       return tf_message_type();
   }
 }
 
-/// The four Schema records then the five Channel records; returns the two groups' lengths.
-std::pair<std::uint64_t, std::uint64_t> write_schemas_and_channels(std::vector<std::uint8_t>& out) {
+/// The Schema records then the Channel records (four and five, one and two more with the truth
+/// topics); returns the two groups' lengths.
+std::pair<std::uint64_t, std::uint64_t> write_schemas_and_channels(std::vector<std::uint8_t>& out,
+                                                                   bool truth) {
   const std::size_t begin = out.size();
-  for (std::uint16_t id = 1; id <= 4; ++id) {
+  for (std::uint16_t id = 1; id <= kBaseSchemas + (truth ? 1 : 0); ++id) {
     const Ros2MessageType& t = schema_type(id);
     Record r(out, kSchema);
     r.u16(id);
@@ -108,6 +117,7 @@ std::pair<std::uint64_t, std::uint64_t> write_schemas_and_channels(std::vector<s
   }
   const std::size_t middle = out.size();
   for (const ChannelDef& c : kChannelDefs) {
+    if (c.id > kBaseChannels && !truth) break;
     Record r(out, kChannel);
     r.u16(c.id);
     r.u16(c.schema_id);
@@ -250,7 +260,7 @@ void Writer::write_start() {
     r.str("ros2");
     r.str("sonarsynth");
   }
-  write_schemas_and_channels(record_);
+  write_schemas_and_channels(record_, options_.truth);
   emit(record_, true);
 }
 
@@ -378,6 +388,30 @@ void Writer::write_ping(const SonarPing& p) {
   if (chunk_.size() >= options_.chunk_bytes) flush_chunk();
 }
 
+void Writer::write_truth(const SonarPing& p, const SideOutput& port, const SideOutput& starboard) {
+  if (closed_) throw FormatError("mcap writer: " + path().string() + " is already closed");
+  if (!options_.truth) {
+    violated("options.truth", "false", "true to write truth (the truth topics are declared first)");
+  }
+  const auto [sec, nanosec, ns] = ros2_time(p.time_utc, "ping.time_utc");
+  for (const auto& [side, name, channel, frame] :
+       {std::tuple{&port, "port", kPortTruthChannel, kPortFrame},
+        std::tuple{&starboard, "starboard", kStarboardTruthChannel, kStarboardFrame}}) {
+    const std::size_t n = side->truth_class.size();
+    const std::string field = std::string("truth.") + name;
+    if (n == 0) violated(field + ".truth_class.size()", "0", "the ping rendered with truth");
+    if (side->truth_label.size() != n || side->truth_grazing_rad.size() != n ||
+        side->truth_ground_range_m.size() != n) {
+      violated(field + ".truth_label.size()", std::to_string(side->truth_label.size()),
+               "every truth vector of the side as long as truth_class (" + std::to_string(n) + ")");
+    }
+    CdrWriter w(message_);
+    write_side_scan_truth(w, {sec, nanosec, frame}, *side);
+    add_message(channel, ns);
+  }
+  if (chunk_.size() >= options_.chunk_bytes) flush_chunk();
+}
+
 void Writer::flush_chunk() {
   if (chunk_.empty()) return;
   compressed_.resize(ZSTD_compressBound(chunk_.size()));
@@ -431,20 +465,22 @@ void Writer::write_summary() {
   emit(record_, false);
   const std::uint64_t summary_start = bytes_written_;
   record_.clear();
-  const auto [schemas_length, channels_length] = write_schemas_and_channels(record_);
+  const auto [schemas_length, channels_length] =
+      write_schemas_and_channels(record_, options_.truth);
+  const std::size_t channels = kBaseChannels + (options_.truth ? 2u : 0u);
   const std::size_t statistics_at = record_.size();
   {
     Record r(record_, kStatistics);
     r.u64(messages_written_);
-    r.u16(4);  // schemas
-    r.u32(static_cast<std::uint32_t>(kChannels));
+    r.u16(static_cast<std::uint16_t>(kBaseSchemas + (options_.truth ? 1 : 0)));
+    r.u32(static_cast<std::uint32_t>(channels));
     r.u32(0);  // attachments
     r.u32(0);  // metadata
     r.u32(static_cast<std::uint32_t>(chunk_indexes_.size()));
     r.u64(start_ns_);
     r.u64(end_ns_);
-    r.u32(static_cast<std::uint32_t>(kChannels * 10));
-    for (std::size_t c = 0; c < kChannels; ++c) {
+    r.u32(static_cast<std::uint32_t>(channels * 10));
+    for (std::size_t c = 0; c < channels; ++c) {
       r.u16(static_cast<std::uint16_t>(c + 1));
       r.u64(channel_messages_[c]);
     }

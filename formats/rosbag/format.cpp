@@ -21,10 +21,18 @@ namespace sonarsynth::rosbag {
 namespace {
 
 /// One bag per survey line (`<dir>/<line name>.bag`), the same pings as the XTF of the run.
+/// With output.bag_truth, each ping's truth on the truth topics.
 class RosbagSurveyWriter : public LineFileWriter<Writer, WriterOptions> {
  public:
   RosbagSurveyWriter(const SurveyWriterContext& c, WriterOptions o)
-      : LineFileWriter(c.dir, c.line_names, *c.frame, *c.sonar, std::move(o), ".bag") {}
+      : LineFileWriter(c.dir, c.line_names, *c.frame, *c.sonar, std::move(o), ".bag"),
+        truth_(c.bag_truth) {}
+
+ private:
+  void after_ping(Writer& w, const SonarPing& written, const RenderedPing& p) override {
+    if (truth_) w.write_truth(written, p.port, p.starboard);
+  }
+  bool truth_;
 };
 
 std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& c) {

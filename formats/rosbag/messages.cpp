@@ -17,7 +17,7 @@ namespace {
 // The .msg files, byte for byte. std_msgs 0.5.13, geometry_msgs, sensor_msgs 1.13.1 and tf2_msgs
 // 0.7.6 as Debian 12's python3-*-msgs packages carry them (their classes' _full_text);
 // marine_acoustic_msgs 2.0.2 (ROS 1, the catkin package of github.com/apl-ocean-iss/marine_msgs).
-constexpr std::array<MessageText, 12> kTexts = {{
+constexpr std::array<MessageText, 13> kTexts = {{
     {"std_msgs/Header",
      R"msg(# Standard metadata for higher-level stamped data types.
 # This is generally used to communicate timestamped data 
@@ -245,6 +245,24 @@ float32[] tx_angles
 float32[] rx_angles
 
 SonarImageData image
+)msg"},
+    // sonarsynth's own (docs/robotics.md, "Truth topics"); formats/mcap/ros2_messages.cpp has
+    // the ROS 2 text, the same fields without the comments.
+    {"sonarsynth_msgs/SideScanTruth",
+     R"msg(# Per-sample truth of one side of a sonarsynth ping: element i of each array is
+# sample i (near -> far) of the RawSonarImage with the same stamp and frame_id.
+uint8 CLASS_WATER_COLUMN = 0  # before the first seabed return: no return
+uint8 CLASS_SEABED = 1        # dominated by the seabed (label 0)
+uint8 CLASS_OBJECT = 2        # dominated by an object (label > 0)
+uint8 CLASS_SHADOW = 3        # no return: occluded seabed
+uint8 CLASS_NO_SEABED = 4     # no return: no seabed (a hole, beyond the bathymetry)
+int32 LABEL_NONE = -1
+Header header
+uint32 samples                # the length of each array
+uint8[] sample_class          # CLASS_*
+int32[] label                 # object id, 0 seabed; of a shadow its caster; LABEL_NONE none
+float32[] grazing_rad         # grazing angle on the seabed, rad; NaN where none
+float32[] ground_range_m      # horizontal distance from nadir across track, m; NaN where none
 )msg"},
 }};
 

@@ -31,7 +31,17 @@ constexpr std::uint8_t kOpConnection = 0x07;
 constexpr std::string_view kMagic = "#ROSBAG V2.0\n";
 constexpr std::size_t kBagHeaderBytes = 4096;  // the bag header record, padded with spaces
 
-enum Conn : std::uint32_t { kPort = 0, kStarboard, kFix, kImu, kTfStatic, kConnCount };
+// The truth connections appear only in a bag given truth (Writer::write_truth).
+enum Conn : std::uint32_t {
+  kPort = 0,
+  kStarboard,
+  kFix,
+  kImu,
+  kTfStatic,
+  kPortTruth,
+  kStarboardTruth,
+  kConnCount
+};
 
 struct Connection {
   const char* topic;
@@ -44,6 +54,8 @@ constexpr std::array<Connection, kConnCount> kConnections = {{
     {kFixTopic, "sensor_msgs/NavSatFix", false},
     {kImuTopic, "sensor_msgs/Imu", false},
     {kTfStaticTopic, "tf2_msgs/TFMessage", true},
+    {kPortTruthTopic, "sonarsynth_msgs/SideScanTruth", false},
+    {kStarboardTruthTopic, "sonarsynth_msgs/SideScanTruth", false},
 }};
 
 /// Appends little-endian fields to a growing byte vector (through ByteWriter).
@@ -262,6 +274,22 @@ void append_raw_sonar_image(std::vector<std::uint8_t>& out, const SonarPing& p, 
                  o.take(n * bps).take(n * bps).data(), clipped);
 }
 
+void append_side_scan_truth(std::vector<std::uint8_t>& out, const SonarPing& p, bool starboard,
+                            std::uint64_t time_ns, const SideOutput& side) {
+  Out o(out);
+  put_header(o, p.ping_number, time_ns, starboard ? kStarboardFrame : kPortFrame);
+  const auto n = static_cast<std::uint32_t>(side.truth_class.size());
+  o.u32(n);  // samples
+  o.u32(n);
+  for (const SampleClass c : side.truth_class) o.u8(static_cast<std::uint8_t>(c));
+  o.u32(n);
+  for (const std::int32_t v : side.truth_label) o.u32(static_cast<std::uint32_t>(v));
+  o.u32(n);
+  for (const float v : side.truth_grazing_rad) o.f32(v);
+  o.u32(n);
+  for (const float v : side.truth_ground_range_m) o.f32(v);
+}
+
 void append_nav_sat_fix(std::vector<std::uint8_t>& out, const SonarPing& p, std::uint64_t time_ns) {
   Out o(out);
   put_header(o, p.ping_number, time_ns, kVehicleFrame);
@@ -415,6 +443,33 @@ void Writer::write_ping(const SonarPing& p) {
   end_message();
   write_imu(ns, imu_seq_++, p.heading_true_rad, p.pitch_rad, p.roll_rad);
   ++pings_written_;
+}
+
+void Writer::write_truth(const SonarPing& p, const SideOutput& port, const SideOutput& starboard) {
+  if (closed_) throw Error("rosbag: write_truth after close");
+  const std::uint64_t ns = ros_time_ns(p.time_utc, "ping");
+  for (const SideOutput* side : {&port, &starboard}) {
+    const std::string name = side == &port ? "truth.port" : "truth.starboard";
+    const std::size_t n = side->truth_class.size();
+    if (n == 0) {
+      throw InputError(name +
+                       ".truth_class.size() = 0. Violated constraint: the ping rendered "
+                       "with truth");
+    }
+    if (side->truth_label.size() != n || side->truth_grazing_rad.size() != n ||
+        side->truth_ground_range_m.size() != n) {
+      throw InputError(name + ".truth_label.size() = " + std::to_string(side->truth_label.size()) +
+                       ". Violated constraint: every truth vector of the side as long as "
+                       "truth_class (" +
+                       std::to_string(n) + ")");
+    }
+  }
+  begin_message(kPortTruth, ns);
+  append_side_scan_truth(chunk_, p, false, ns, port);
+  end_message();
+  begin_message(kStarboardTruth, ns);
+  append_side_scan_truth(chunk_, p, true, ns, starboard);
+  end_message();
 }
 
 void Writer::write_attitude(const AttitudeSample& a) {

@@ -68,7 +68,8 @@ async function main() {
     const text = new TextDecoder().decode(schema.data);
     decoders.set(id, { topic: channel.topic, type: schema.name, reader: new MessageReader(parse(text, { ros2: true })) });
   }
-  const out = { profile: reader.header.profile, chunks: reader.chunkIndexes.length, compression: [], topics: {}, messages: 0, pings: [], nav: [], imu: [], tf: [] };
+  const out = { profile: reader.header.profile, schemas: reader.schemasById.size, types: {}, chunks: reader.chunkIndexes.length, compression: [], topics: {}, messages: 0, pings: [], nav: [], imu: [], tf: [], truth: [] };
+  for (const d of [...decoders.values()].sort((a, b) => (a.topic < b.topic ? -1 : 1))) out.types[d.topic] = d.type;
   out.compression = [...new Set(reader.chunkIndexes.map((c) => c.compression))];
   const port = new Map();
   // readMessages checks each chunk's CRC and uses the message indexes (log-time order).
@@ -89,10 +90,16 @@ async function main() {
       out.nav.push({ t_us: t, lat_deg: msg.latitude, lon_deg: msg.longitude, frame_id: msg.header.frame_id });
     } else if (d.type === "sensor_msgs/msg/Imu") {
       out.imu.push({ t_us: t, q: [msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w] });
+    } else if (d.type === "sonarsynth_msgs/msg/SideScanTruth") {
+      // Typed arrays as plain arrays; NaN prints as null.
+      out.truth.push({ topic: d.topic, t_us: t, frame_id: msg.header.frame_id, samples: msg.samples, sample_class: Array.from(msg.sample_class), label: Array.from(msg.label), grazing_rad: Array.from(msg.grazing_rad), ground_range_m: Array.from(msg.ground_range_m) });
     } else if (d.type === "tf2_msgs/msg/TFMessage") {
       for (const tr of msg.transforms) out.tf.push({ parent: tr.header.frame_id, child: tr.child_frame_id, rotation: tr.transform.rotation });
     }
   }
+  // Per ping (time) port then starboard.
+  const sideOf = (m) => (m.topic.endsWith("/starboard/truth") ? 1 : 0);
+  out.truth.sort((a, b) => a.t_us - b.t_us || sideOf(a) - sideOf(b));
   const stats = reader.statistics;
   if (!stats || Number(stats.messageCount) !== out.messages) fail(`statistics say ${stats && stats.messageCount} messages, read ${out.messages}`);
   for (const [id, n] of stats.channelMessageCounts) {

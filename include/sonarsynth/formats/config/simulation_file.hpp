@@ -105,6 +105,10 @@ struct SimulationSetup {
   /// output.allow_more_than_8192_samples: write more samples per channel than common XTF
   /// readers accept.
   bool allow_more_than_8192_samples = false;
+  /// output.bag_truth: the mcap and rosbag files also carry each ping's per-sample truth on
+  /// topics of their own (docs/robotics.md, "Truth topics"). Needs output.truth: true and a bag
+  /// format in output.formats (bag_truth_violation).
+  bool bag_truth = false;
   /// output.formats: the sonar formats `simulate` writes, one `<line><extension>` file per line
   /// and format (names of sonar_formats(), e.g. "xtf", "jsf"; docs/scene-format.md). The files
   /// are written in the order of the format list whatever the order here. output.jsf: true is
@@ -154,6 +158,9 @@ std::optional<std::string> ping_period_violation(const SimulationSetup& setup);
 std::optional<std::string> ring_down_violation(const SimulationSetup& setup);
 /// - sonar.samples at most 8192 unless output.allow_more_than_8192_samples.
 std::optional<std::string> sample_count_violation(const SimulationSetup& setup);
+
+/// - output.bag_truth: true only with output.truth: true and mcap or rosbag in output.formats.
+std::optional<std::string> bag_truth_violation(const SimulationSetup& setup);
 
 /// Throws InputError "<name>: <key> = <value>. Violated constraint: ..." for the first of the
 /// constraints above that `setup` violates; the ring-down is checked when it is not the default

@@ -41,6 +41,9 @@ struct SurveyWriterContext {
   std::string scene_name;
   std::string sample_format = "u16";  ///< output.sample_format: u16, u8 or f32
   bool allow_more_than_8192_samples = false;
+  /// output.bag_truth: the ROS bag formats also write each ping's truth on topics of their own
+  /// (docs/robotics.md, "Truth topics"); the run renders with truth (checked when it is read).
+  bool bag_truth = false;
 };
 
 /// What `sonarsynth info` prints about a file, made by the file's format (the CLI prints it,

@@ -15,6 +15,7 @@
 #include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/geo_frame.hpp"
+#include "sonarsynth/rendered_ping.hpp"
 
 namespace sonarsynth::mcap {
 
@@ -25,6 +26,9 @@ inline constexpr std::string_view kStarboardTopic = "/sonarsynth/sidescan/starbo
 inline constexpr std::string_view kNavSatTopic = "/sonarsynth/fix";
 inline constexpr std::string_view kImuTopic = "/sonarsynth/imu";
 inline constexpr std::string_view kTfStaticTopic = "/tf_static";
+/// The truth topics (channels 6 and 7), only in a bag written with WriterOptions::truth.
+inline constexpr std::string_view kPortTruthTopic = "/sonarsynth/sidescan/port/truth";
+inline constexpr std::string_view kStarboardTruthTopic = "/sonarsynth/sidescan/starboard/truth";
 
 /// The frames (docs/robotics.md, as docs/rosbag.md): the vehicle body (x forward, y left, z
 /// up: REP 103), whose origin is the navigated point and the transducers, and one frame per
@@ -44,6 +48,10 @@ struct WriterOptions {
   std::size_t chunk_bytes = std::size_t{4} << 20;        ///< uncompressed, [1 KiB, 1 GiB]
   int zstd_level = 1;                                    ///< [1, 19]
   bool overwrite = false;                                ///< replace an existing file
+  /// Declare the truth topics (a sonarsynth_msgs/SideScanTruth schema, two channels) for
+  /// write_truth (output.bag_truth, docs/robotics.md "Truth topics"); false: the bag is as
+  /// without the option, byte for byte.
+  bool truth = false;
   /// Throws InputError naming the violated constraint.
   void validate() const;
 };
@@ -70,6 +78,11 @@ class Writer {
   /// attitude packet in a conversion). Throws InputError naming the field for a time outside
   /// 1970-2038 or a non-finite angle.
   void write_attitude(const AttitudeSample& attitude);
+  /// Appends one sonarsynth_msgs/SideScanTruth per side of the rendered ping `ping` (after it was
+  /// written), stamped as its RawSonarImage (time, the side's frame). Throws InputError naming
+  /// the field unless options.truth and each side holds truth (all its truth vectors of one
+  /// length >= 1).
+  void write_truth(const SonarPing& ping, const SideOutput& port, const SideOutput& starboard);
   /// Flushes the last chunk, writes the summary and renames the file into place. Throws
   /// FormatError on failure.
   void close();
@@ -85,7 +98,7 @@ class Writer {
  private:
   struct ChunkIndex;
   struct Zstd;
-  static constexpr std::size_t kChannels = 5;
+  static constexpr std::size_t kChannels = 7;  ///< the most channels (with the truth topics)
 
   struct Ros2Time {
     std::int32_t sec;

@@ -9,6 +9,7 @@
 
 #include "sonarsynth/formats/io/atomic_file.hpp"
 #include "sonarsynth/formats/io/sonar_ping.hpp"
+#include "sonarsynth/rendered_ping.hpp"
 
 namespace sonarsynth::rosbag {
 
@@ -18,6 +19,9 @@ inline constexpr const char* kStarboardTopic = "/sonarsynth/sidescan/starboard";
 inline constexpr const char* kFixTopic = "/sonarsynth/fix";
 inline constexpr const char* kImuTopic = "/sonarsynth/imu";
 inline constexpr const char* kTfStaticTopic = "/tf_static";
+/// The truth topics, only in a bag given truth (Writer::write_truth; docs/robotics.md).
+inline constexpr const char* kPortTruthTopic = "/sonarsynth/sidescan/port/truth";
+inline constexpr const char* kStarboardTruthTopic = "/sonarsynth/sidescan/starboard/truth";
 
 /// Frames of a sonarsynth bag (docs/rosbag.md, "Frames").
 inline constexpr const char* kVehicleFrame = "base_link";
@@ -59,6 +63,11 @@ class Writer {
   void write_ping(const SonarPing& ping);
   /// Appends an Imu message of `attitude` (an XTF attitude packet).
   void write_attitude(const AttitudeSample& attitude);
+  /// Appends one sonarsynth_msgs/SideScanTruth per side of the rendered ping `ping` (after it was
+  /// written) on the truth topics, stamped as its RawSonarImage (time, seq, the side's frame).
+  /// Throws InputError naming the field unless each side holds truth (all its truth vectors of
+  /// one length >= 1). A bag never given truth has no truth connection.
+  void write_truth(const SonarPing& ping, const SideOutput& port, const SideOutput& starboard);
   /// Writes the last chunk, the index and the bag header; renames the file into place. Throws
   /// FormatError on failure.
   void close();

@@ -54,7 +54,9 @@ class LineFileWriter : public SurveyFileSink {
   }
   void ping(const RenderedPing& p) override {
     if (!writer_) throw Error(extension_ + " survey writer: ping outside a line");
-    writer_->write_ping(to_xtf_ping(p, frame_, sonar_));
+    const SonarPing written = to_xtf_ping(p, frame_, sonar_);
+    writer_->write_ping(written);
+    after_ping(*writer_, written, p);
   }
   void end_line(std::size_t /*line*/) override {
     if (!writer_) return;
@@ -72,6 +74,10 @@ class LineFileWriter : public SurveyFileSink {
   std::uint64_t bytes_written() const { return bytes_; }
 
  protected:
+  /// Called after each ping is written, with the ping as written and as rendered: a format
+  /// that stores more of the rendered ping (the bags' truth topics) writes it here.
+  virtual void after_ping(W& /*writer*/, const SonarPing& /*written*/,
+                          const RenderedPing& /*rendered*/) {}
   /// `frame` and `sonar` are copied; `options` are validated here.
   LineFileWriter(std::filesystem::path dir, std::vector<std::string> line_names,
                  const GeoFrame& frame, const SonarConfig& sonar, Options options,

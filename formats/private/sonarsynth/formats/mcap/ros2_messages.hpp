@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "sonarsynth/rendered_ping.hpp"
+
 namespace sonarsynth::mcap {
 
 /// Appends one message in ROS 2's CDR: the 4-byte encapsulation header 00 01 00 00 (plain CDR,
@@ -55,6 +57,7 @@ const Ros2MessageType& raw_sonar_image_type();  ///< marine_acoustic_msgs/msg/Ra
 const Ros2MessageType& nav_sat_fix_type();      ///< sensor_msgs/msg/NavSatFix
 const Ros2MessageType& imu_type();              ///< sensor_msgs/msg/Imu
 const Ros2MessageType& tf_message_type();       ///< tf2_msgs/msg/TFMessage
+const Ros2MessageType& side_scan_truth_type();  ///< sonarsynth_msgs/msg/SideScanTruth
 
 /// std_msgs/Header: builtin_interfaces/Time stamp (sec, nanosec), frame_id.
 struct Ros2Header {
@@ -86,6 +89,12 @@ struct RawSonarImageFields {
 /// Serialises a RawSonarImage; returns the image bytes (samples x the dtype's size, little
 /// endian, near -> far) for the caller to fill.
 std::span<std::uint8_t> write_raw_sonar_image(CdrWriter& w, const RawSonarImageFields& f);
+
+/// sonarsynth_msgs/SideScanTruth of one side's truth (docs/robotics.md, "Truth topics"): the
+/// sample count, then per sample the SampleClass code, the label, the grazing angle (rad) and
+/// the ground range (m), near -> far. The four truth vectors of `side` must have one length
+/// (Writer::write_truth checks).
+void write_side_scan_truth(CdrWriter& w, const Ros2Header& h, const SideOutput& side);
 
 /// sensor_msgs/NavSatFix: latitude/longitude in degrees, altitude in metres (NaN = unknown);
 /// status STATUS_FIX, or STATUS_NO_FIX when `fix` is false; service SERVICE_GPS; covariance

@@ -7,6 +7,7 @@
 
 #include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/formats/rosbag/writer.hpp"
+#include "sonarsynth/rendered_ping.hpp"
 #include "sonarsynth/sonar.hpp"
 
 /// The ROS 1 serialization of the messages of a sonarsynth bag, one message body each (what a
@@ -26,6 +27,12 @@ std::uint64_t ros_time_ns(UtcTime t, const char* who);
 void append_raw_sonar_image(std::vector<std::uint8_t>& out, const SonarPing& ping, bool starboard,
                             std::uint64_t time_ns, const WriterOptions& options,
                             std::uint64_t& clipped);
+/// sonarsynth_msgs/SideScanTruth of one side's truth (seq = ping_number, frame kPortFrame or
+/// kStarboardFrame), stamped `time_ns`: the sample count, then per sample the SampleClass code,
+/// the label, the grazing angle (rad) and the ground range (m). The four truth vectors of `side`
+/// must have one length (Writer::write_truth checks).
+void append_side_scan_truth(std::vector<std::uint8_t>& out, const SonarPing& ping, bool starboard,
+                            std::uint64_t time_ns, const SideOutput& side);
 /// sensor_msgs/NavSatFix of the ping's sensor position (frame kVehicleFrame).
 void append_nav_sat_fix(std::vector<std::uint8_t>& out, const SonarPing& ping,
                         std::uint64_t time_ns);
