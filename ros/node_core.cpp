@@ -169,4 +169,42 @@ void Waterfall::image(std::uint8_t* rgb) const {
   }
 }
 
+const double LatencyHistogram::kRelativeError = std::exp2(0.5 / kBinsPerOctave) - 1.0;
+
+void LatencyHistogram::add(double latency_s) {
+  const double v = latency_s > 0.0 ? latency_s : 0.0;  // also NaN -> 0
+  std::size_t bin = 0;
+  if (v >= kHighestS) {
+    bin = kBins - 1;
+  } else if (v >= kLowestS) {
+    const double octaves = std::log2(v / kLowestS);
+    bin = 1 + std::min(static_cast<std::size_t>(octaves * kBinsPerOctave), kBins - 3);
+  }
+  ++counts_[bin];
+  min_ = count_ == 0 ? v : std::min(min_, v);
+  max_ = count_ == 0 ? v : std::max(max_, v);
+  ++count_;
+}
+
+double LatencyHistogram::quantile(double q) const {
+  if (count_ == 0) return 0.0;
+  const double rank_d = std::ceil(q * static_cast<double>(count_));
+  const std::uint64_t rank =
+      rank_d < 1.0 ? 1 : std::min(count_, static_cast<std::uint64_t>(rank_d));
+  std::uint64_t seen = 0;
+  std::size_t bin = 0;
+  for (; bin < kBins; ++bin) {
+    seen += counts_[bin];
+    if (seen >= rank) break;
+  }
+  if (bin == 0) return min_;  // the value is in [min, kLowestS)
+  if (bin == kBins - 1) return max_;
+  const double centre = kLowestS * std::exp2((static_cast<double>(bin - 1) + 0.5) / kBinsPerOctave);
+  return std::clamp(centre, min_, max_);
+}
+
+void LatencyHistogram::clear() {
+  *this = LatencyHistogram{};
+}
+
 }  // namespace sonarsynth::ros_node

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -96,6 +97,38 @@ SimulationSetup load_setup(const std::string& path, const OptionValues& values,
 /// The Simulator of `setup` as `simulate` and the Python module build it: the setup's reference
 /// altitude and, when the file has survey lines, their pilot poses. Moves the scene out.
 std::shared_ptr<const Simulator> make_simulator(SimulationSetup& setup);
+
+/// The latency statistics of the node's log line (docs/robotics.md, "Latency") in fixed memory: a
+/// log-scale histogram of kBinsPerOctave bins per octave from kLowestS to kHighestS (about 7.7 KB,
+/// whatever the number of pings), with the count, minimum and maximum kept exactly.
+/// quantile(q) is the nearest-rank q-quantile (the ceil(q n)-th smallest value) to within a
+/// relative error of kRelativeError (1.09 %): the bin holding that value is found exactly and
+/// its geometric centre reported, clamped to [min, max]. Values below kLowestS (including 0)
+/// are reported to within kLowestS absolute; values above kHighestS as the maximum.
+class LatencyHistogram {
+ public:
+  static constexpr int kBinsPerOctave = 32;
+  static constexpr int kOctaves = 30;
+  static constexpr double kLowestS = 1e-6;
+  static constexpr double kHighestS = kLowestS * double(1ull << kOctaves);  ///< ~1074 s
+  /// 2^(1 / (2 kBinsPerOctave)) - 1: half a bin's width, as a ratio.
+  static const double kRelativeError;
+
+  /// Adds one latency, seconds (a negative or NaN value counts as 0).
+  void add(double latency_s);
+  /// The nearest-rank q-quantile, 0 < q <= 1 (0 when empty).
+  double quantile(double q) const;
+  std::uint64_t count() const { return count_; }
+  double min() const { return count_ ? min_ : 0.0; }
+  double max() const { return count_ ? max_ : 0.0; }
+  void clear();
+
+ private:
+  static constexpr std::size_t kBins = std::size_t{kBinsPerOctave} * kOctaves + 2;
+  std::array<std::uint64_t, kBins> counts_{};  ///< [0] below kLowestS, [kBins-1] above kHighestS
+  std::uint64_t count_ = 0;
+  double min_ = 0.0, max_ = 0.0;
+};
 
 /// The rolling waterfall (docs/robotics.md): `rows` rows of 2 x samples pixels, RGB 8-bit, the
 /// newest ping at the top, port far -> near on the left then starboard near -> far; a sample s

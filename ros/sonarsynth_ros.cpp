@@ -108,17 +108,6 @@ Settings read_settings(const ros::NodeHandle& pnh) {
   return s;
 }
 
-/// Median and 99th percentile (nearest rank) of `v`, which is sorted in place.
-std::pair<double, double> median_p99(std::vector<double>& v) {
-  if (v.empty()) return {0.0, 0.0};
-  std::sort(v.begin(), v.end());
-  const auto rank = [&](double q) {
-    const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
-    return v[std::clamp<std::size_t>(k, 1, v.size()) - 1];
-  };
-  return {rank(0.5), rank(0.99)};
-}
-
 class SonarNode {
  public:
   SonarNode(ros::NodeHandle& nh, Settings s, SimulationSetup setup)
@@ -157,25 +146,25 @@ class SonarNode {
   void report(bool total) {
     const double wall_s =
         std::chrono::duration<double>(Clock::now() - (total ? start_ : report_start_)).count();
-    std::vector<double>& v = total ? all_latency_s_ : window_latency_s_;
-    const std::size_t n = v.size();
-    const auto [median, p99] = median_p99(v);
+    const LatencyHistogram& h = total ? all_latency_ : window_latency_;
+    const std::uint64_t n = h.count();
     char line[400];
-    std::snprintf(line, sizeof line,
-                  "sonarsynth_ros: %s%zu pings published (%.1f pings/s), latency median %.3f ms, "
-                  "p99 %.3f ms; skipped %llu (pose gaps) + %llu (bad poses), refused %llu "
-                  "odometry messages",
-                  total ? "in total: " : "", n, wall_s > 0 ? static_cast<double>(n) / wall_s : 0.0,
-                  1e3 * median, 1e3 * p99, static_cast<unsigned long long>(clock_.skipped()),
-                  static_cast<unsigned long long>(bad_poses_),
-                  static_cast<unsigned long long>(refused_));
+    std::snprintf(
+        line, sizeof line,
+        "sonarsynth_ros: %s%llu pings published (%.1f pings/s), latency median %.3f ms, "
+        "p99 %.3f ms, max %.3f ms; skipped %llu (pose gaps) + %llu (bad poses), refused %llu "
+        "odometry messages",
+        total ? "in total: " : "", static_cast<unsigned long long>(n),
+        wall_s > 0 ? static_cast<double>(n) / wall_s : 0.0, 1e3 * h.quantile(0.5),
+        1e3 * h.quantile(0.99), 1e3 * h.max(), static_cast<unsigned long long>(clock_.skipped()),
+        static_cast<unsigned long long>(bad_poses_), static_cast<unsigned long long>(refused_));
     if (total) {
       std::printf("%s\n", line);  // after ros::shutdown(), rosconsole no longer prints
       std::fflush(stdout);
     } else {
       ROS_INFO("%s", line);
     }
-    window_latency_s_.clear();
+    window_latency_.clear();
     report_start_ = Clock::now();
   }
 
@@ -245,8 +234,8 @@ class SonarNode {
     Float64 l;
     l.data = latency_s;
     latency_.publish(l);
-    window_latency_s_.push_back(latency_s);
-    all_latency_s_.push_back(latency_s);
+    window_latency_.add(latency_s);
+    all_latency_.add(latency_s);
   }
 
   void publish_waterfall(std::uint64_t time_ns) {
@@ -279,7 +268,7 @@ class SonarNode {
   ImuBytes imu_msg_;
   bool tf_sent_ = false;
   std::uint64_t since_image_ = 0, bad_poses_ = 0, refused_ = 0, clipped_ = 0;
-  std::vector<double> window_latency_s_, all_latency_s_;
+  LatencyHistogram window_latency_, all_latency_;  // fixed memory (docs/robotics.md, "Latency")
   Clock::time_point start_, report_start_;
 };
 

@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
 // The node's ROS-free part against analytic truths: the frames (docs/robotics.md, "Frames"), the
 // interpolation, the ping clock, the waterfall's layout and the parameters' mapping onto the
-// scene file's options.
+// scene file's options, the latency histogram against exact quantiles.
 #include "node_core.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
+#include <vector>
 
 #include "sonarsynth/error.hpp"
 
@@ -139,6 +142,73 @@ TEST(NodeParameters, OptionValuesGoThroughTheSceneFile) {
     EXPECT_NE(std::string(e.what()).find("range_m"), std::string::npos) << e.what();
   }
   EXPECT_THROW(load_setup(scene, {{"sonar.no_such_key", "1"}}, {}), InputError);
+}
+
+// The exact nearest-rank q-quantile: the ceil(q n)-th smallest value.
+double exact_quantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+  return v[std::clamp<std::size_t>(k, 1, v.size()) - 1];
+}
+
+void expect_quantiles_within_resolution(const std::vector<double>& v, const char* what) {
+  LatencyHistogram h;
+  for (double x : v) h.add(x);
+  ASSERT_EQ(h.count(), v.size());
+  EXPECT_EQ(h.min(), *std::min_element(v.begin(), v.end())) << what;
+  EXPECT_EQ(h.max(), *std::max_element(v.begin(), v.end())) << what;
+  const double bound = LatencyHistogram::kRelativeError * (1.0 + 1e-12);
+  for (double q : {1e-4, 0.01, 0.1, 0.25, 0.5, 0.75, 0.9, 0.99, 0.999, 1.0}) {
+    const double exact = exact_quantile(v, q);
+    EXPECT_LE(std::abs(h.quantile(q) / exact - 1.0), bound)
+        << what << " q " << q << ": " << h.quantile(q) << " vs exact " << exact;
+  }
+}
+
+TEST(NodeLatency, HistogramQuantilesWithinItsResolution) {
+  EXPECT_NEAR(LatencyHistogram::kRelativeError, 0.0108893, 1e-6);  // 2^(1/64) - 1
+  std::mt19937_64 rng(7);
+  std::vector<double> v;
+  // A grid of 1 ms steps, shuffled: 1, 2, ..., 20000 ms.
+  for (int i = 1; i <= 20000; ++i) v.push_back(1e-3 * i);
+  std::shuffle(v.begin(), v.end(), rng);
+  expect_quantiles_within_resolution(v, "grid");
+  v.clear();
+  std::exponential_distribution<double> expo(1.0 / 2e-3);  // mean 2 ms
+  for (int i = 0; i < 100000; ++i) v.push_back(expo(rng) + 1e-5);
+  expect_quantiles_within_resolution(v, "exponential");
+  v.clear();
+  std::lognormal_distribution<double> logn(std::log(1e-3), 1.5);  // median 1 ms, wide tail
+  for (int i = 0; i < 100000; ++i) v.push_back(logn(rng));
+  expect_quantiles_within_resolution(v, "lognormal");
+  v.clear();
+  std::uniform_real_distribution<double> uni(0.5e-3, 50e-3);
+  for (int i = 0; i < 50001; ++i) v.push_back(uni(rng));
+  expect_quantiles_within_resolution(v, "uniform");
+}
+
+TEST(NodeLatency, HistogramEdgesExactAndOutOfRange) {
+  LatencyHistogram h;
+  EXPECT_EQ(h.quantile(0.5), 0.0);  // empty
+  for (int i = 0; i < 9; ++i) h.add(3.25e-3);
+  EXPECT_EQ(h.quantile(0.5), 3.25e-3);  // one value: clamped to min = max, exact
+  EXPECT_EQ(h.quantile(1.0), 3.25e-3);
+  h.clear();
+  EXPECT_EQ(h.count(), 0u);
+  // Below the lowest bin (0, a negative value): reported as the minimum, within kLowestS.
+  h.add(-1.0);
+  h.add(2e-7);
+  h.add(5e-7);
+  h.add(2000.0);  // above the highest bin: reported as the maximum
+  EXPECT_EQ(h.count(), 4u);
+  EXPECT_EQ(h.min(), 0.0);
+  EXPECT_EQ(h.quantile(0.25), 0.0);
+  EXPECT_LE(std::abs(h.quantile(0.75) - 5e-7), LatencyHistogram::kLowestS);
+  EXPECT_EQ(h.quantile(1.0), 2000.0);
+  // Fixed memory: the same size after a million pings.
+  for (int i = 0; i < 1000000; ++i) h.add(1e-3 * (1 + i % 97));
+  EXPECT_EQ(h.count(), 1000004u);
+  EXPECT_LT(sizeof(LatencyHistogram), 8192u);
 }
 
 }  // namespace
