@@ -95,6 +95,12 @@ constexpr std::string_view kSideScanTruth =
     "int32[] label\n"
     "float32[] grazing_rad\n"
     "float32[] ground_range_m\n";
+// The CLASS_* constants above and in the ROS 1 text are SampleClass's codes.
+static_assert(static_cast<int>(SampleClass::water_column) == 0 &&
+              static_cast<int>(SampleClass::seabed) == 1 &&
+              static_cast<int>(SampleClass::object) == 2 &&
+              static_cast<int>(SampleClass::shadow) == 3 &&
+              static_cast<int>(SampleClass::no_seabed) == 4);
 
 struct Dependency {
   std::string_view name;  // pkg/Type

@@ -18,6 +18,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/mcap/opcodes.hpp"
 #include "sonarsynth/formats/mcap/ros2_messages.hpp"
+#include "sonarsynth/formats/rosbag/message_bytes.hpp"
 
 namespace sonarsynth::mcap {
 namespace {
@@ -393,18 +394,13 @@ void Writer::write_truth(const SonarPing& p, const SideOutput& port, const SideO
   if (!options_.truth) {
     violated("options.truth", "false", "true to write truth (the truth topics are declared first)");
   }
+  if (const auto v = rosbag::truth_violation(port, starboard)) {
+    throw InputError("mcap writer: " + *v);
+  }
   const auto [sec, nanosec, ns] = ros2_time(p.time_utc, "ping.time_utc");
-  for (const auto& [side, name, channel, frame] :
-       {std::tuple{&port, "port", kPortTruthChannel, kPortFrame},
-        std::tuple{&starboard, "starboard", kStarboardTruthChannel, kStarboardFrame}}) {
-    const std::size_t n = side->truth_class.size();
-    const std::string field = std::string("truth.") + name;
-    if (n == 0) violated(field + ".truth_class.size()", "0", "the ping rendered with truth");
-    if (side->truth_label.size() != n || side->truth_grazing_rad.size() != n ||
-        side->truth_ground_range_m.size() != n) {
-      violated(field + ".truth_label.size()", std::to_string(side->truth_label.size()),
-               "every truth vector of the side as long as truth_class (" + std::to_string(n) + ")");
-    }
+  for (const auto& [side, channel, frame] :
+       {std::tuple{&port, kPortTruthChannel, kPortFrame},
+        std::tuple{&starboard, kStarboardTruthChannel, kStarboardFrame}}) {
     CdrWriter w(message_);
     write_side_scan_truth(w, {sec, nanosec, frame}, *side);
     add_message(channel, ns);

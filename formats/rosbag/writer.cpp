@@ -9,8 +9,10 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <string_view>
+#include <utility>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/byte_io.hpp"
@@ -445,25 +447,29 @@ void Writer::write_ping(const SonarPing& p) {
   ++pings_written_;
 }
 
-void Writer::write_truth(const SonarPing& p, const SideOutput& port, const SideOutput& starboard) {
-  if (closed_) throw Error("rosbag: write_truth after close");
-  const std::uint64_t ns = ros_time_ns(p.time_utc, "ping");
+std::optional<std::string> truth_violation(const SideOutput& port, const SideOutput& starboard) {
   for (const SideOutput* side : {&port, &starboard}) {
     const std::string name = side == &port ? "truth.port" : "truth.starboard";
     const std::size_t n = side->truth_class.size();
-    if (n == 0) {
-      throw InputError(name +
-                       ".truth_class.size() = 0. Violated constraint: the ping rendered "
-                       "with truth");
-    }
-    if (side->truth_label.size() != n || side->truth_grazing_rad.size() != n ||
-        side->truth_ground_range_m.size() != n) {
-      throw InputError(name + ".truth_label.size() = " + std::to_string(side->truth_label.size()) +
-                       ". Violated constraint: every truth vector of the side as long as "
-                       "truth_class (" +
-                       std::to_string(n) + ")");
+    if (n == 0)
+      return name + ".truth_class.size() = 0. Violated constraint: the ping rendered with truth";
+    for (const auto& [field, size] :
+         {std::pair{".truth_label", side->truth_label.size()},
+          std::pair{".truth_grazing_rad", side->truth_grazing_rad.size()},
+          std::pair{".truth_ground_range_m", side->truth_ground_range_m.size()}}) {
+      if (size != n) {
+        return name + field + ".size() = " + std::to_string(size) +
+               ". Violated constraint: as truth_class's (" + std::to_string(n) + ")";
+      }
     }
   }
+  return std::nullopt;
+}
+
+void Writer::write_truth(const SonarPing& p, const SideOutput& port, const SideOutput& starboard) {
+  if (closed_) throw Error("rosbag: write_truth after close");
+  const std::uint64_t ns = ros_time_ns(p.time_utc, "ping");
+  if (const auto v = truth_violation(port, starboard)) throw InputError("rosbag writer: " + *v);
   begin_message(kPortTruth, ns);
   append_side_scan_truth(chunk_, p, false, ns, port);
   end_message();

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,10 @@ void append_raw_sonar_image(std::vector<std::uint8_t>& out, const SonarPing& pin
 /// must have one length (Writer::write_truth checks).
 void append_side_scan_truth(std::vector<std::uint8_t>& out, const SonarPing& ping, bool starboard,
                             std::uint64_t time_ns, const SideOutput& side);
+/// Why the sides' truth cannot become SideScanTruth messages ("<field> = <value>. Violated
+/// constraint: ..."), or nullopt: each side was rendered with truth and its four truth vectors
+/// have one length. Both bag writers' write_truth (ROS 1 and MCAP) check with it.
+std::optional<std::string> truth_violation(const SideOutput& port, const SideOutput& starboard);
 /// sensor_msgs/NavSatFix of the ping's sensor position (frame kVehicleFrame).
 void append_nav_sat_fix(std::vector<std::uint8_t>& out, const SonarPing& ping,
                         std::uint64_t time_ns);
