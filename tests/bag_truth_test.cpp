@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "bag_run_test_util.hpp"
 #include "error_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/run_simulation.hpp"
@@ -30,25 +31,6 @@ namespace sonarsynth {
 namespace {
 namespace fs = std::filesystem;
 
-// A line of about 30 m along latitude 43, a pipe it crosses and a rock to port (north): the
-// truth holds seabed, object (labels 3 and 5), shadow and water column samples.
-const char* const kScene = R"(
-name: bag-truth
-seed: 7
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [100, 100], cell_m: 0.5, depth_m: 12}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 3.0
-  altitude_m: 5
-  lines:
-    - {name: a, waypoints: [{lat_deg: 43.0, lon_deg: 4.9998}, {lat_deg: 43.0, lon_deg: 5.0002}]}
-objects:
-  - {type: pipe, id: 3, start: {east_m: 0, north_m: -30}, end: {east_m: 0, north_m: 30}, diameter_m: 0.4}
-  - {type: rock, id: 5, position: {east_m: 2, north_m: 8}, diameter_m: 1.2}
-sonar: {frequency_khz: 600, range_m: 20, samples: 300}
-)";
-
 /// Keeps every rendered ping's two sides.
 class Capture : public PingSink {
  public:
@@ -56,32 +38,15 @@ class Capture : public PingSink {
   std::vector<RenderedPing> pings;
 };
 
-class BagTruthTest : public ::testing::Test {
+// The bag tests' line crossing a pipe and passing a rock to port (north): the truth holds
+// seabed, object (labels 3 and 5), shadow and water column samples.
+class BagTruthTest : public test::BagRunTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_bag_truth_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path write_scene(const std::string& output) {
-    const fs::path scene = dir_ / "scene.yaml";
-    std::ofstream(scene) << kScene << "output: {" << output << "}\n";
-    return scene;
-  }
-  /// Runs the scene with `output` as its output section; returns the run's directory.
-  fs::path simulate(const std::string& output) {
-    const fs::path scene = write_scene(output);
-    RunOptions o;
-    o.products.mosaic = false;
-    o.products.waterfalls = false;
-    o.products.truth = false;
-    (void)run_simulation(scene.string(), dir_ / "out", o);
-    return dir_ / "out";
-  }
+  BagTruthTest()
+      : BagRunTest("bag_truth_", test::bag_scene("bag-truth", R"(objects:
+  - {type: pipe, id: 3, start: {east_m: 0, north_m: -30}, end: {east_m: 0, north_m: 30}, diameter_m: 0.4}
+  - {type: rock, id: 5, position: {east_m: 2, north_m: 8}, diameter_m: 1.2}
+)")) {}
   /// The pings of the scene as the library renders them (the run's simulator, set up as
   /// run_simulation does, rendering into a sink of ours).
   std::vector<RenderedPing> render_reference() {
@@ -101,7 +66,6 @@ class BagTruthTest : public ::testing::Test {
     std::ifstream in(json_path);
     return nlohmann::json::parse(in);
   }
-  fs::path dir_;
 };
 
 /// One truth message as a reader printed it (NaN printed as null) equals the side's truth.
@@ -158,10 +122,7 @@ void expect_truth(const nlohmann::json& truth, const std::vector<RenderedPing>& 
 // log time, checked by the reader); every value equals the rendered truth.
 TEST_F(BagTruthTest, McapTruthReadByTheNpmReaderEqualsTheRenderedTruth) {
   const fs::path modules = SONARSYNTH_MCAP_READER_MODULES;
-  if (!fs::exists(modules / "@mcap" / "core")) {
-    GTEST_SKIP() << "the npm reader is not installed (" << modules.string()
-                 << " missing): run tests/mcap_reader/install.sh BUILD_DIR";
-  }
+  if (const std::string why = test::npm_reader_missing(modules); !why.empty()) GTEST_SKIP() << why;
   const fs::path out = simulate("formats: [xtf, mcap], bag_truth: true");
   const nlohmann::json j =
       run_json("NODE_PATH='" + modules.string() + "' node '" + SONARSYNTH_MCAP_READER_SCRIPT +

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "bag_run_test_util.hpp"
 #include "error_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/run_simulation.hpp"
@@ -34,20 +35,6 @@
 namespace sonarsynth {
 namespace {
 namespace fs = std::filesystem;
-
-const char* const kScene = R"(
-name: mcap-run
-seed: 7
-bathymetry:
-  generate: {centre: {lat_deg: 43.0, lon_deg: 5.0}, size_m: [100, 100], cell_m: 0.5, depth_m: 12}
-survey:
-  start_time: "2026-03-01T10:00:00Z"
-  speed_m_s: 3.0
-  altitude_m: 5
-  lines:
-    - {name: a, waypoints: [{lat_deg: 43.0, lon_deg: 4.9998}, {lat_deg: 43.0, lon_deg: 5.0002}]}
-sonar: {frequency_khz: 600, range_m: 20, samples: 300}
-)";
 
 std::vector<std::uint8_t> file_bytes(const fs::path& p) {
   std::ifstream f(p, std::ios::binary);
@@ -272,26 +259,12 @@ std::vector<XtfPing> read_xtf(const fs::path& path) {
   return out;
 }
 
-class McapTest : public ::testing::Test {
+class McapTest : public test::BagRunTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sonarsynth_mcap_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  McapTest() : BagRunTest("mcap_", test::bag_scene("mcap-run", "")) {}
   /// Runs the scene with output.formats [xtf, mcap] and `output` appended.
   fs::path simulate(const std::string& output) {
-    const fs::path scene = dir_ / "scene.yaml";
-    std::ofstream(scene) << kScene << "output: {formats: [xtf, mcap]" << output << "}\n";
-    RunOptions o;
-    o.products.mosaic = false;
-    o.products.waterfalls = false;
-    o.products.truth = false;
-    (void)run_simulation(scene.string(), dir_ / "out", o);
-    return dir_ / "out";
+    return BagRunTest::simulate("formats: [xtf, mcap]" + output);
   }
   /// Every ping of the bag equals the XTF's: samples exactly, time to XTF's 10 ms (rounded).
   static void expect_same_pings(const Bag& bag, const std::vector<XtfPing>& xtf,
@@ -308,7 +281,6 @@ class McapTest : public ::testing::Test {
       EXPECT_LE(distance_ns(bag.port[i].time_ns, xtf[i].time_ns), 5'000'000u) << "ping " << i;
     }
   }
-  fs::path dir_;
 };
 
 // The bag of a run: records well formed, CRCs right, every message indexed and counted, and per
@@ -333,6 +305,19 @@ TEST_F(McapTest, BagOfARunHoldsTheXtfPings) {
   }
 }
 
+/// Writes `ping` alone into `path` (replaced) with samples encoded as `e`; returns the samples
+/// the writer clipped.
+template <class Writer, class WriterOptions>
+std::uint64_t write_one(const fs::path& path, xtf::SampleEncoding e, const SonarPing& ping) {
+  WriterOptions o;
+  o.sample_encoding = e;
+  o.overwrite = true;
+  Writer w(path, o);
+  w.write_ping(ping);
+  w.close();
+  return w.clipped_samples();
+}
+
 // Values at the edges of rounding and clamping (halves, negatives, above full scale, NaN,
 // infinities) come out of the bag as out of the XTF writer, counted as clipped alike.
 TEST_F(McapTest, EdgeValuesQuantiseAsInTheXtf) {
@@ -351,19 +336,9 @@ TEST_F(McapTest, EdgeValuesQuantiseAsInTheXtf) {
     p.slant_range_m = 20.0;
     p.port = edge;
     p.starboard = edge;
-    xtf::WriterOptions xo;
-    xo.sample_encoding = e;
-    xo.overwrite = true;
-    xtf::Writer xw(dir_ / "edge.xtf", xo);
-    xw.write_ping(p);
-    xw.close();
-    mcap::WriterOptions mo;
-    mo.sample_encoding = e;
-    mo.overwrite = true;
-    mcap::Writer mw(dir_ / "edge.mcap", mo);
-    mw.write_ping(p);
-    mw.close();
-    EXPECT_EQ(mw.clipped_samples(), xw.clipped_samples());
+    const std::uint64_t mcap_clipped =
+        write_one<mcap::Writer, mcap::WriterOptions>(dir_ / "edge.mcap", e, p);
+    EXPECT_EQ(mcap_clipped, (write_one<xtf::Writer, xtf::WriterOptions>(dir_ / "edge.xtf", e, p)));
     const std::vector<XtfPing> x = read_xtf(dir_ / "edge.xtf");
     const Bag bag = read_bag(dir_ / "edge.mcap");
     ASSERT_EQ(x.size(), 1u);
@@ -417,10 +392,7 @@ TEST_F(McapTest, ConvertXtfToMcapKeepsEverySample) {
 // (tests/mcap_reader, installed by tests/mcap_reader/install.sh into the build directory).
 TEST_F(McapTest, IndependentNpmReaderDecodesTheXtfPings) {
   const fs::path modules = SONARSYNTH_MCAP_READER_MODULES;
-  if (!fs::exists(modules / "@mcap" / "core")) {
-    GTEST_SKIP() << "the npm reader is not installed (" << modules.string()
-                 << " missing): run tests/mcap_reader/install.sh BUILD_DIR (scripts/test.sh does)";
-  }
+  if (const std::string why = test::npm_reader_missing(modules); !why.empty()) GTEST_SKIP() << why;
   const fs::path out = simulate("");
   const fs::path json_path = dir_ / "bag.json";
   const std::string command = "NODE_PATH='" + modules.string() + "' node '" +
