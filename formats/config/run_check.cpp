@@ -151,13 +151,15 @@ void check_output_and_memory(const std::string& file, const SimulationSetup& set
                : setup.config.quality.profile.grid_subdivisions) *
           kProfileBytesPerCrossing;
   const double memory = threads * per_thread + mosaic_pixels * kMosaicMemoryBytesPerPixel;
+  // Both messages name the mosaic, where the run makes one.
+  const std::string mosaic_text = products.mosaic ? ", a mosaic of " + num(mosaic_pixels, 4) +
+                                                        " pixels at --res " +
+                                                        num(products.mosaic_pixel_m) + " m"
+                                                  : "";
   if (!(bytes <= limits.max_output_gb * 1e9)) {
     throw InputError(file + ": the run would write about " + gb(bytes) + " (" +
                      num(total_pings, 4) + " pings of " + num(samples) + " samples per side" +
-                     (products.mosaic
-                          ? ", a mosaic of " + num(mosaic_pixels, 4) + " pixels at --res " +
-                                num(products.mosaic_pixel_m) + " m"
-                          : "") +
+                     mosaic_text +
                      "), more than limits.max_output_gb = " + num(limits.max_output_gb) +
                      ". Violated constraint: estimated output <= limits.max_output_gb; raise "
                      "limits.max_output_gb in the scene file if intended");
@@ -166,11 +168,7 @@ void check_output_and_memory(const std::string& file, const SimulationSetup& set
     throw InputError(file + ": the run would need about " + gb(memory) + " of memory (" +
                      num(threads) + " thread(s) x " + gb(per_thread) + " for " + num(samples) +
                      " samples and " + num(crossings, 4) + " grid cells within range (cell " +
-                     num(std::abs(g.dx_m)) + " x " + num(std::abs(g.dy_m)) + " m)" +
-                     (products.mosaic
-                          ? ", a mosaic of " + num(mosaic_pixels, 4) + " pixels at --res " +
-                                num(products.mosaic_pixel_m) + " m"
-                          : "") +
+                     num(std::abs(g.dx_m)) + " x " + num(std::abs(g.dy_m)) + " m)" + mosaic_text +
                      "), more than limits.max_memory_gb = " + num(limits.max_memory_gb) +
                      ". Violated constraint: estimated memory <= limits.max_memory_gb; raise "
                      "limits.max_memory_gb in the scene file if intended");

@@ -18,6 +18,7 @@
 #include "sonarsynth/formats/config/scene_file.hpp"
 #include "sonarsynth/formats/config/simulation_file_parts.hpp"
 #include "sonarsynth/formats/config/yaml_fields.hpp"
+#include "sonarsynth/formats/io/utc_text.hpp"
 #include "sonarsynth/formats/registry/sonar_formats.hpp"
 #include "sonarsynth/formats/xtf/writer.hpp"
 #include "sonarsynth/sonar_presets.hpp"
@@ -186,16 +187,7 @@ UtcTime parse_utc(const std::string& text, const std::string& what) {
 }
 
 std::string format_utc(UtcTime t) {
-  const auto days = std::chrono::floor<std::chrono::days>(t);
-  const std::chrono::year_month_day ymd{days};
-  const auto us = (t - days).count();
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%04d-%02u-%02uT%02lld:%02lld:%09.6fZ",
-                static_cast<int>(ymd.year()), static_cast<unsigned>(ymd.month()),
-                static_cast<unsigned>(ymd.day()), static_cast<long long>(us / 3600000000LL),
-                static_cast<long long>(us / 60000000LL % 60),
-                static_cast<double>(us % 60000000LL) / 1e6);
-  return buf;
+  return calendar::utc_text(t);
 }
 
 namespace yaml {

@@ -60,19 +60,10 @@ double estimated_bytes(const SonarConfig& sonar, const std::string& /*sample_for
 }  // namespace
 
 const SonarFormat& sonar_format() {
-  static const SonarFormat format{
-      .name = "jsf",
-      .display_name = "JSF",
-      .description = "EdgeTech JSF (Discover sonar data file)",
-      .extensions = {".jsf"},
-      .capabilities = {.read = true, .simulate = true},
-      .identify = identify,
-      .open_reader = open_reader,
-      .info = file_info,
-      .create_survey_writer = create_survey_writer,
-      .estimated_bytes = estimated_bytes,
-      .conversions = {{"xtf", "jsf", xtf_to_jsf}, {"jsf", "xtf", jsf_to_xtf}},
-  };
+  static const SonarFormat format = reading_and_simulating_format(
+      "jsf", "JSF", "EdgeTech JSF (Discover sonar data file)", {".jsf"}, identify, open_reader,
+      file_info, create_survey_writer, estimated_bytes,
+      {{"xtf", "jsf", xtf_to_jsf}, {"jsf", "xtf", jsf_to_xtf}});
   return format;
 }
 

@@ -192,8 +192,8 @@ SonarDataHeader sonar_header(const SonarPing& p, const WriterOptions& options) {
 }
 
 Writer::Writer(std::filesystem::path path, WriterOptions options)
-    : options_((options.validate(), std::move(options))),
-      output_(std::move(path), options_.overwrite),
+    : SonarFileWriter((options.validate(), std::move(path)), options.overwrite),
+      options_(std::move(options)),
       stream_buffer_(std::size_t{1} << 20) {
   output_.open(out_, stream_buffer_, "jsf writer");
 }

@@ -10,28 +10,13 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/mcap/read_format.hpp"
 #include "sonarsynth/formats/mcap/writer.hpp"
+#include "sonarsynth/formats/rosbag/write_common.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/survey_writer.hpp"
 
 namespace sonarsynth::mcap {
 namespace {
-
-/// One bag per survey line (`<dir>/<line name>.mcap`), the same pings as the XTF of the run
-/// (to_xtf_ping), so that both agree sample for sample; with options.truth each ping's truth
-/// on the truth topics.
-class McapSurveyWriter : public LineFileWriter<Writer, WriterOptions> {
- public:
-  McapSurveyWriter(const SurveyWriterContext& c, WriterOptions options)
-      : LineFileWriter(c.dir, c.line_names, *c.frame, *c.sonar, options, ".mcap"),
-        truth_(options.truth) {}
-
- private:
-  void after_ping(Writer& w, const SonarPing& written, const RenderedPing& p) override {
-    if (truth_) w.write_truth(written, p.port, p.starboard);
-  }
-  bool truth_;
-};
 
 std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& c) {
   WriterOptions o;
@@ -42,7 +27,7 @@ std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& 
   o.tilt_rad = c.sonar->tilt_rad;
   o.overwrite = true;  // inside the run's own fresh temporary directory
   o.truth = c.bag_truth;
-  return std::make_unique<McapSurveyWriter>(c, o);
+  return std::make_unique<rosbag::BagSurveyWriter<Writer, WriterOptions>>(c, o, ".mcap");
 }
 
 // Per ping: four Message records (31 bytes each) with their CDR messages (NavSatFix 128 bytes,
@@ -66,14 +51,7 @@ xtf::SampleEncoding encoding_of(const xtf::Reader& reader) {
   return xtf::SampleEncoding::kFloat32;
 }
 
-}  // namespace
-
-ConvertResult xtf_to_mcap(const std::filesystem::path& in, const std::filesystem::path& out,
-                          bool overwrite, AltitudeSource /*altitude_source*/) {
-  ConvertResult r;
-  r.from = &xtf::sonar_format();
-  r.to = &sonar_format();
-  xtf::Reader reader(in);
+WriterOptions conversion_options(const xtf::Reader& reader, bool overwrite) {
   WriterOptions o;
   o.overwrite = overwrite;
   o.sample_encoding = encoding_of(reader);
@@ -88,51 +66,23 @@ ConvertResult xtf_to_mcap(const std::filesystem::path& in, const std::filesystem
     o.vertical_beam_width_rad = angle(c.BeamWidth, o.vertical_beam_width_rad);
     o.tilt_rad = angle(c.TiltAngle, o.tilt_rad);
   }
-  Writer writer(out, o);
-  xtf::Packet packet;
-  while (xtf::next_ping_copying_attitude(reader, packet, writer, r)) {
-    SonarPing& s = packet.ping.sonar;
-    if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
-      s.sensor_position = {};  // no position: NavSatFix STATUS_NO_FIX (docs/robotics.md)
-    }
-    const std::string reason = !packet.ping.time_valid ? "no valid time" : "";
-    try {
-      if (!reason.empty()) throw InputError(reason);
-      writer.write_ping(s);
-      ++r.pings;
-    } catch (const InputError& e) {
-      ++r.pings_skipped;
-      ++r.dropped[reason.empty() ? "not storable in MCAP" : reason];
-      r.warn("XTF packet " + std::to_string(packet.index) + " (ping " +
-             std::to_string(s.ping_number) + ") dropped: " + e.what());
-    }
-  }
-  r.reader_anomalies = reader.total_anomalies();
-  for (const xtf::Anomaly& a : reader.anomalies()) r.warn(a.message);
-  if (r.pings == 0) {
-    throw FormatError("convert: " + in.string() + ": no ping to write (" +
-                      std::to_string(r.pings_skipped) + " dropped)");
-  }
-  writer.close();
-  return r;
+  return o;
+}
+
+}  // namespace
+
+ConvertResult xtf_to_mcap(const std::filesystem::path& in, const std::filesystem::path& out,
+                          bool overwrite, AltitudeSource /*altitude_source*/) {
+  return rosbag::xtf_to_bag<Writer>(
+      sonar_format(), "MCAP", in, out,
+      [overwrite](const xtf::Reader& reader) { return conversion_options(reader, overwrite); });
 }
 
 const SonarFormat& sonar_format() {
-  static const SonarFormat format{
-      .name = "mcap",
-      .display_name = "MCAP",
-      .description = "ROS 2 bag in MCAP, a RawSonarImage per side (docs/robotics.md)",
-      .extensions = {".mcap"},
-      .capabilities = {.read = true, .simulate = true},
-      .identify = identify,
-      .open_reader = open_reader,
-      .info = file_info,
-      .create_survey_writer = create_survey_writer,
-      .estimated_bytes = estimated_bytes,
-      .conversions = {{"xtf", "mcap", xtf_to_mcap},
-                      {"mcap", "xtf", mcap_to_xtf},
-                      {"mcap", "jsf", mcap_to_jsf}},
-  };
+  static const SonarFormat format = reading_and_simulating_format(
+      "mcap", "MCAP", "ROS 2 bag in MCAP, a RawSonarImage per side (docs/robotics.md)", {".mcap"},
+      identify, open_reader, file_info, create_survey_writer, estimated_bytes,
+      {{"xtf", "mcap", xtf_to_mcap}, {"mcap", "xtf", mcap_to_xtf}, {"mcap", "jsf", mcap_to_jsf}});
   return format;
 }
 

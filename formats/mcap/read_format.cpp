@@ -5,7 +5,6 @@
 
 #include <cstring>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,57 +19,37 @@
 namespace sonarsynth::mcap {
 namespace {
 
-using rosbag::add_summary_json;
+using rosbag::bag_file_info;
 using rosbag::bag_to_xtf;
 using rosbag::BagSource;
-using rosbag::BagSummary;
-using rosbag::ping_stream;
+using rosbag::ContainerInfo;
 using rosbag::read_as;
-using rosbag::summarise;
-using rosbag::summary_text;
 using rosbag::via_xtf_to_jsf;
 
-std::string info_json(const Reader& reader, const BagSummary& s) {
-  using info::Json;
-  Json j;
-  j["file"] = info::file_text(reader.name());
-  j["format"] = "MCAP";
-  j["size_bytes"] = reader.file_size();
-  j["profile"] = info::file_text(reader.profile());
-  j["library"] = info::file_text(reader.library());
-  j["indexed"] = reader.indexed();
-  j["chunks"] = reader.chunk_count();
-  Json channels = Json::array();
-  for (const ChannelInfo& c : reader.channels()) {
-    const char* as = read_as(c.decoded, c.schema);
-    channels.push_back({{"id", c.id},
-                        {"topic", info::file_text(c.topic)},
-                        {"schema", info::file_text(c.schema)},
-                        {"message_encoding", info::file_text(c.message_encoding)},
-                        {"messages", c.messages},
-                        {"read_as", as ? Json(as) : Json(nullptr)}});
+ContainerInfo container(const Reader& reader) {
+  ContainerInfo c{
+      .format = "MCAP",
+      .keys = {{"profile", info::file_text(reader.profile())},
+               {"library", info::file_text(reader.library())},
+               {"indexed", reader.indexed()},
+               {"chunks", reader.chunk_count()}},
+      .text = "MCAP, profile '" + reader.profile() + "', library '" + reader.library() + "', " +
+              std::to_string(reader.chunk_count()) + " chunks, " +
+              (reader.indexed() ? "read through its index" : "no index: records walked"),
+      .list_key = "channels",
+      .list_title = "Channels",
+      .rows = {}};
+  for (const ChannelInfo& ch : reader.channels()) {
+    c.rows.push_back(
+        {.id = ch.id,
+         .topic = ch.topic,
+         .type = {"schema", ch.schema},
+         .detail = {"message_encoding", ch.message_encoding},
+         .text = (ch.schema.empty() ? "no schema" : ch.schema) + ", " + ch.message_encoding,
+         .messages = ch.messages,
+         .read_as = read_as(ch.decoded, ch.schema)});
   }
-  j["channels"] = std::move(channels);
-  add_summary_json(j, s, reader.image_info(), reader.anomalies(), reader.total_anomalies());
-  return j.dump(2, ' ', true);
-}
-
-std::string info_text(const Reader& reader, const BagSummary& s, std::size_t max_anomalies) {
-  std::ostringstream os;
-  os << "File: " << reader.name() << " (" << reader.file_size() << " bytes)\n"
-     << "Format: MCAP, profile '" << reader.profile() << "', library '" << reader.library() << "', "
-     << reader.chunk_count() << " chunks, "
-     << (reader.indexed() ? "read through its index" : "no index: records walked")
-     << "\nChannels:\n";
-  for (const ChannelInfo& c : reader.channels()) {
-    const char* as = read_as(c.decoded, c.schema);
-    os << "  " << c.topic << " (" << (c.schema.empty() ? "no schema" : c.schema) << ", "
-       << c.message_encoding << "): " << c.messages << " messages"
-       << (as ? std::string(", read as ") + as : std::string()) << "\n";
-  }
-  summary_text(os, s, reader.image_info(), reader.anomalies(), reader.total_anomalies(),
-               max_anomalies);
-  return os.str();
+  return c;
 }
 
 }  // namespace
@@ -85,9 +64,7 @@ std::unique_ptr<SideScanSource> open_reader(const std::filesystem::path& path) {
 }
 
 SonarFileInfo file_info(const std::filesystem::path& path, std::size_t max_anomalies) {
-  Reader reader(path);
-  const BagSummary s = summarise(ping_stream(reader));
-  return {info_json(reader, s), info_text(reader, s, max_anomalies)};
+  return bag_file_info<Reader>(path, max_anomalies, container);
 }
 
 ConvertResult mcap_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,

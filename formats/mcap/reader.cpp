@@ -79,28 +79,8 @@ Reader::Reader(std::span<const std::uint8_t> bytes, std::string name)
     : Reader(xtf::memory_source(bytes, std::move(name))) {}
 
 Reader::Reader(std::unique_ptr<xtf::ByteSource> source)
-    : source_(std::move(source)),
-      pings_(std::make_unique<rosbag::PingAssembler>(
-          "mcap reader: " + source_->name() + ": ", rosbag::PingAssembler::NavOrder::kBeforeImages,
-          [this](std::uint64_t offset, std::string message) {
-            report(offset, std::move(message));
-          })) {
+    : BagReaderBase(std::move(source), "mcap reader", true) {
   open();
-}
-
-Reader::~Reader() = default;
-
-const std::string& Reader::name() const {
-  return source_->name();
-}
-
-const std::vector<ImuSample>& Reader::imu() const {
-  return pings_->imu();
-}
-
-void Reader::report(std::uint64_t offset, std::string message) {
-  ++anomaly_count_;
-  if (anomalies_.size() < 1000) anomalies_.push_back({offset, std::move(message)});
 }
 
 void Reader::open() {

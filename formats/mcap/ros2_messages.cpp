@@ -126,18 +126,6 @@ void write_header(CdrWriter& w, const Ros2Header& h) {
   w.string(h.frame_id);
 }
 
-void write_quaternion(CdrWriter& w, const Quaternion& q) {
-  w.f64(q.x);
-  w.f64(q.y);
-  w.f64(q.z);
-  w.f64(q.w);
-}
-
-void write_covariance(CdrWriter& w, double first) {
-  w.f64(first);
-  for (int i = 1; i < 9; ++i) w.f64(0.0);
-}
-
 }  // namespace
 
 CdrWriter::CdrWriter(std::vector<std::uint8_t>& out) : out_(out) {
@@ -275,18 +263,18 @@ void write_nav_sat_fix(CdrWriter& w, const Ros2Header& h, bool fix, double lat_d
   w.f64(lat_deg);
   w.f64(lon_deg);
   w.f64(altitude_m);
-  write_covariance(w, 0.0);
+  rosbag::put_covariance(w, 0.0);
   w.u8(0);  // COVARIANCE_TYPE_UNKNOWN
 }
 
 void write_imu(CdrWriter& w, const Ros2Header& h, const Quaternion& orientation) {
   write_header(w, h);
-  write_quaternion(w, orientation);
-  write_covariance(w, 0.0);  // orientation: covariance unknown
+  rosbag::put_quaternion(w, orientation);
+  rosbag::put_covariance(w, 0.0);  // orientation: covariance unknown
   for (int i = 0; i < 3; ++i) w.f64(0.0);
-  write_covariance(w, -1.0);  // angular velocity not provided
+  rosbag::put_covariance(w, -1.0);  // angular velocity not provided
   for (int i = 0; i < 3; ++i) w.f64(0.0);
-  write_covariance(w, -1.0);  // linear acceleration not provided
+  rosbag::put_covariance(w, -1.0);  // linear acceleration not provided
 }
 
 void write_tf_message(CdrWriter& w, std::int32_t sec, std::uint32_t nanosec,
@@ -298,7 +286,7 @@ void write_tf_message(CdrWriter& w, std::int32_t sec, std::uint32_t nanosec,
     w.f64(t.x_m);
     w.f64(t.y_m);
     w.f64(t.z_m);
-    write_quaternion(w, t.rotation);
+    rosbag::put_quaternion(w, t.rotation);
   }
 }
 

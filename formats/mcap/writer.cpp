@@ -136,15 +136,6 @@ std::pair<std::uint64_t, std::uint64_t> write_schemas_and_channels(std::vector<s
   return {middle - begin, out.size() - middle};
 }
 
-/// ZYX (yaw about z, then pitch about y, then roll about x) rotation as a quaternion.
-Quaternion quaternion_zyx(double yaw, double pitch, double roll) {
-  const double cy = std::cos(yaw / 2), sy = std::sin(yaw / 2);
-  const double cp = std::cos(pitch / 2), sp = std::sin(pitch / 2);
-  const double cr = std::cos(roll / 2), sr = std::sin(roll / 2);
-  return {sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy,
-          cr * cp * cy + sr * sp * sy};
-}
-
 /// The samples as the XTF writer stores them: integers rounded half up and clamped to
 /// [0, max], non-finite values 0, each such value counted in `clipped`; float32 as given
 /// (non-finite values 0, counted). In floats, t = v + 0.5 is exact for |v| < 2^23 and every
@@ -222,8 +213,8 @@ void WriterOptions::validate() const {
 }
 
 Writer::Writer(std::filesystem::path path, WriterOptions options)
-    : options_((options.validate(), std::move(options))),
-      output_(std::move(path), options_.overwrite),
+    : SonarFileWriter((options.validate(), std::move(path)), options.overwrite),
+      options_(std::move(options)),
       stream_buffer_(std::size_t{1} << 20),
       zstd_(std::make_unique<Zstd>()) {
   if (!zstd_->cctx) throw FormatError("mcap writer: cannot create a zstd context");
@@ -331,7 +322,7 @@ void Writer::write_imu_message(std::int32_t sec, std::uint32_t nanosec, std::uin
   // ENU world, FLU body (REP 103): yaw from east counter-clockwise; + pitch is nose down.
   CdrWriter w(message_);
   write_imu(w, {sec, nanosec, kBodyFrame},
-            quaternion_zyx(kPi / 2 - heading_true_rad, -pitch_rad, roll_rad));
+            rosbag::quaternion_zyx(kPi / 2 - heading_true_rad, -pitch_rad, roll_rad));
   add_message(kImuChannel, ns);
 }
 
@@ -364,8 +355,8 @@ void Writer::write_ping(const SonarPing& p) {
     // side's frame turns x to its beam axis, depressed by the tilt (docs/robotics.md).
     const double t = options_.tilt_rad;
     const std::array<Transform, 2> tf = {{
-        {kBodyFrame, kPortFrame, 0.0, 0.0, 0.0, quaternion_zyx(kPi / 2, t, 0.0)},
-        {kBodyFrame, kStarboardFrame, 0.0, 0.0, 0.0, quaternion_zyx(-kPi / 2, t, 0.0)},
+        {kBodyFrame, kPortFrame, 0.0, 0.0, 0.0, rosbag::quaternion_zyx(kPi / 2, t, 0.0)},
+        {kBodyFrame, kStarboardFrame, 0.0, 0.0, 0.0, rosbag::quaternion_zyx(-kPi / 2, t, 0.0)},
     }};
     CdrWriter w(message_);
     write_tf_message(w, sec, nanosec, tf);

@@ -14,6 +14,7 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/atomic_file.hpp"
+#include "sonarsynth/formats/io/utc_text.hpp"
 #include "sonarsynth/formats/raster/gdal_util.hpp"
 
 namespace sonarsynth::geo_truth {
@@ -21,19 +22,6 @@ namespace {
 
 constexpr const char* kWho = "truth vectors";
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string utc_text(UtcTime t) {
-  const auto days = std::chrono::floor<std::chrono::days>(t);
-  const std::chrono::year_month_day ymd{days};
-  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(t - days).count();
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%04d-%02u-%02uT%02lld:%02lld:%09.6fZ",
-                static_cast<int>(ymd.year()), static_cast<unsigned>(ymd.month()),
-                static_cast<unsigned>(ymd.day()), static_cast<long long>(us / 3600000000LL),
-                static_cast<long long>(us / 60000000LL % 60),
-                static_cast<double>(us % 60000000LL) / 1e6);
-  return buf;
-}
 
 /// Near and far seabed points of one ping side (local frame), or none.
 struct Edge {
@@ -405,8 +393,9 @@ void GeoTruthWriter::finish() {
     for (const Sighting& s : sightings(id)) {
       json << (first ? "" : ", ") << "{\"line\": \"" << names_[s.line]
            << "\", \"first_ping\": " << s.first_ping << ", \"last_ping\": " << s.last_ping
-           << ", \"pings\": " << s.pings << ", \"first_time\": \"" << utc_text(s.first_time)
-           << "\", \"last_time\": \"" << utc_text(s.last_time) << "\"}";
+           << ", \"pings\": " << s.pings << ", \"first_time\": \""
+           << calendar::utc_text(s.first_time) << "\", \"last_time\": \""
+           << calendar::utc_text(s.last_time) << "\"}";
       total += s.pings;
       first = false;
     }
@@ -434,8 +423,8 @@ void GeoTruthWriter::finish() {
     OGRFeature t(tracks.layer->GetLayerDefn());
     t.SetField("line", names_[l].c_str());
     t.SetField("pings", static_cast<GIntBig>(d.pings));
-    t.SetField("first_ping_time", utc_text(d.first_time).c_str());
-    t.SetField("last_ping_time", utc_text(d.last_time).c_str());
+    t.SetField("first_ping_time", calendar::utc_text(d.first_time).c_str());
+    t.SetField("last_ping_time", calendar::utc_text(d.last_time).c_str());
     OGRLineString ls;
     for (const Eigen::Vector2d& xy : d.track_xy) {
       const Geodetic q = frame.geodetic_from_local(xy);

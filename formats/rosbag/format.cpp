@@ -11,6 +11,7 @@
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/rosbag/message_bytes.hpp"
 #include "sonarsynth/formats/rosbag/read_format.hpp"
+#include "sonarsynth/formats/rosbag/write_common.hpp"
 #include "sonarsynth/formats/rosbag/writer.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
@@ -20,25 +21,10 @@
 namespace sonarsynth::rosbag {
 namespace {
 
-/// One bag per survey line (`<dir>/<line name>.bag`), the same pings as the XTF of the run.
-/// With output.bag_truth, each ping's truth on the truth topics.
-class RosbagSurveyWriter : public LineFileWriter<Writer, WriterOptions> {
- public:
-  RosbagSurveyWriter(const SurveyWriterContext& c, WriterOptions o)
-      : LineFileWriter(c.dir, c.line_names, *c.frame, *c.sonar, std::move(o), ".bag"),
-        truth_(c.bag_truth) {}
-
- private:
-  void after_ping(Writer& w, const SonarPing& written, const RenderedPing& p) override {
-    if (truth_) w.write_truth(written, p.port, p.starboard);
-  }
-  bool truth_;
-};
-
 std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& c) {
   WriterOptions o = simulation_writer_options(*c.sonar, c.sample_format);
   o.overwrite = true;  // inside the run's own fresh temporary directory
-  return std::make_unique<RosbagSurveyWriter>(c, std::move(o));
+  return std::make_unique<BagSurveyWriter<Writer, WriterOptions>>(c, std::move(o), ".bag");
 }
 
 // Per ping: two image messages (record header ~60 bytes, message ~110 bytes plus the samples),
@@ -90,55 +76,19 @@ WriterOptions simulation_writer_options(const SonarConfig& sonar,
 
 ConvertResult xtf_to_rosbag(const std::filesystem::path& in, const std::filesystem::path& out,
                             bool overwrite, AltitudeSource /*altitude_source*/) {
-  ConvertResult r;
-  r.from = &xtf::sonar_format();
-  r.to = &sonar_format();
-  xtf::Reader reader(in);
-  Writer writer(out, conversion_options(reader, overwrite));
-  xtf::Packet packet;
-  while (xtf::next_ping_copying_attitude(reader, packet, writer, r)) {
-    SonarPing& s = packet.ping.sonar;
-    if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
-      s.sensor_position = {};  // NavSatFix status STATUS_NO_FIX
-    }
-    const std::string reason = !packet.ping.time_valid ? "no valid time" : "";
-    try {
-      if (!reason.empty()) throw InputError(reason);
-      writer.write_ping(s);
-      ++r.pings;
-    } catch (const InputError& e) {
-      ++r.pings_skipped;
-      ++r.dropped[reason.empty() ? "not storable in a ROS 1 bag" : reason];
-      r.warn("XTF packet " + std::to_string(packet.index) + " (ping " +
-             std::to_string(s.ping_number) + ") dropped: " + e.what());
-    }
-  }
-  r.reader_anomalies = reader.total_anomalies();
-  for (const xtf::Anomaly& a : reader.anomalies()) r.warn(a.message);
-  if (r.pings == 0) {
-    throw FormatError("convert: " + in.string() + ": no ping to write (" +
-                      std::to_string(r.pings_skipped) + " dropped)");
-  }
-  writer.close();
-  return r;
+  return xtf_to_bag<Writer>(
+      sonar_format(), "a ROS 1 bag", in, out,
+      [overwrite](const xtf::Reader& reader) { return conversion_options(reader, overwrite); });
 }
 
 const SonarFormat& sonar_format() {
-  static const SonarFormat format{
-      .name = "rosbag",
-      .display_name = "ROS 1 bag",
-      .description = "ROS 1 bag, format 2.0 (marine_acoustic_msgs side-scan images, navigation)",
-      .extensions = {".bag"},
-      .capabilities = {.read = true, .simulate = true},
-      .identify = identify,
-      .open_reader = open_reader,
-      .info = file_info,
-      .create_survey_writer = create_survey_writer,
-      .estimated_bytes = estimated_bytes,
-      .conversions = {{"xtf", "rosbag", xtf_to_rosbag},
-                      {"rosbag", "xtf", rosbag_to_xtf},
-                      {"rosbag", "jsf", rosbag_to_jsf}},
-  };
+  static const SonarFormat format = reading_and_simulating_format(
+      "rosbag", "ROS 1 bag",
+      "ROS 1 bag, format 2.0 (marine_acoustic_msgs side-scan images, navigation)", {".bag"},
+      identify, open_reader, file_info, create_survey_writer, estimated_bytes,
+      {{"xtf", "rosbag", xtf_to_rosbag},
+       {"rosbag", "xtf", rosbag_to_xtf},
+       {"rosbag", "jsf", rosbag_to_jsf}});
   return format;
 }
 

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <utility>
 
 #include "sonarsynth/error.hpp"
@@ -124,6 +125,31 @@ void summary_text(std::ostream& os, const BagSummary& s, const std::optional<Ima
     if (k++ >= max_anomalies) break;
     os << "  " << a.message << "\n";
   }
+}
+
+SonarFileInfo bag_info(const ContainerInfo& c, const std::string& name, std::uint64_t size,
+                       const PingStream& bag, const BagSummary& s, std::size_t max_anomalies) {
+  using info::Json;
+  Json j = info::file_json(name, c.format, size);
+  for (const auto& [key, value] : c.keys.items()) j[key] = value;
+  Json rows = Json::array();
+  std::ostringstream os;
+  os << "File: " << name << " (" << size << " bytes)\nFormat: " << c.text << "\n"
+     << c.list_title << ":\n";
+  for (const TopicRow& r : c.rows) {
+    rows.push_back({{"id", r.id},
+                    {"topic", info::file_text(r.topic)},
+                    {r.type.first, info::file_text(r.type.second)},
+                    {r.detail.first, info::file_text(r.detail.second)},
+                    {"messages", r.messages},
+                    {"read_as", r.read_as ? Json(r.read_as) : Json(nullptr)}});
+    os << "  " << r.topic << " (" << r.text << "): " << r.messages << " messages"
+       << (r.read_as ? std::string(", read as ") + r.read_as : std::string()) << "\n";
+  }
+  j[c.list_key] = std::move(rows);
+  add_summary_json(j, s, bag.image_info, bag.anomalies, bag.total_anomalies());
+  summary_text(os, s, bag.image_info, bag.anomalies, bag.total_anomalies(), max_anomalies);
+  return {j.dump(2, ' ', true), os.str()};
 }
 
 xtf::WriterOptions xtf_options(const std::optional<ImageInfo>& image_info, std::string note,

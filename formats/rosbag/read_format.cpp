@@ -5,7 +5,6 @@
 
 #include <cstring>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,41 +18,23 @@
 namespace sonarsynth::rosbag {
 namespace {
 
-std::string info_json(const Reader& reader, const BagSummary& s) {
-  using info::Json;
-  Json j;
-  j["file"] = info::file_text(reader.name());
-  j["format"] = "ROS 1 bag";
-  j["size_bytes"] = reader.file_size();
-  j["version"] = "2.0";
-  j["chunks"] = reader.chunk_count();
-  Json conns = Json::array();
-  for (const ConnectionInfo& c : reader.connections()) {
-    const char* as = read_as(c.decoded, c.type);
-    conns.push_back({{"id", c.id},
-                     {"topic", info::file_text(c.topic)},
-                     {"type", info::file_text(c.type)},
-                     {"md5sum", info::file_text(c.md5sum)},
-                     {"messages", c.messages},
-                     {"read_as", as ? Json(as) : Json(nullptr)}});
+ContainerInfo container(const Reader& reader) {
+  ContainerInfo c{.format = "ROS 1 bag",
+                  .keys = {{"version", "2.0"}, {"chunks", reader.chunk_count()}},
+                  .text = "ROS 1 bag 2.0, " + std::to_string(reader.chunk_count()) + " chunks",
+                  .list_key = "connections",
+                  .list_title = "Connections",
+                  .rows = {}};
+  for (const ConnectionInfo& conn : reader.connections()) {
+    c.rows.push_back({.id = conn.id,
+                      .topic = conn.topic,
+                      .type = {"type", conn.type},
+                      .detail = {"md5sum", conn.md5sum},
+                      .text = conn.type,
+                      .messages = conn.messages,
+                      .read_as = read_as(conn.decoded, conn.type)});
   }
-  j["connections"] = std::move(conns);
-  add_summary_json(j, s, reader.image_info(), reader.anomalies(), reader.total_anomalies());
-  return j.dump(2, ' ', true);
-}
-
-std::string info_text(const Reader& reader, const BagSummary& s, std::size_t max_anomalies) {
-  std::ostringstream os;
-  os << "File: " << reader.name() << " (" << reader.file_size() << " bytes)\n"
-     << "Format: ROS 1 bag 2.0, " << reader.chunk_count() << " chunks\nConnections:\n";
-  for (const ConnectionInfo& c : reader.connections()) {
-    const char* as = read_as(c.decoded, c.type);
-    os << "  " << c.topic << " (" << c.type << "): " << c.messages << " messages"
-       << (as ? std::string(", read as ") + as : std::string()) << "\n";
-  }
-  summary_text(os, s, reader.image_info(), reader.anomalies(), reader.total_anomalies(),
-               max_anomalies);
-  return os.str();
+  return c;
 }
 
 }  // namespace
@@ -69,9 +50,7 @@ std::unique_ptr<SideScanSource> open_reader(const std::filesystem::path& path) {
 }
 
 SonarFileInfo file_info(const std::filesystem::path& path, std::size_t max_anomalies) {
-  Reader reader(path);
-  const BagSummary s = summarise(ping_stream(reader));
-  return {info_json(reader, s), info_text(reader, s, max_anomalies)};
+  return bag_file_info<Reader>(path, max_anomalies, container);
 }
 
 ConvertResult rosbag_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,

@@ -17,18 +17,6 @@
 namespace sonarsynth::rosbag {
 namespace {
 
-constexpr std::string_view kMagic = "#ROSBAG V2.0\n";
-constexpr std::uint8_t kOpMessageData = 0x02;
-constexpr std::uint8_t kOpBagHeader = 0x03;
-constexpr std::uint8_t kOpChunk = 0x05;
-constexpr std::uint8_t kOpChunkInfo = 0x06;
-constexpr std::uint8_t kOpConnection = 0x07;
-
-constexpr std::string_view kImageType = "marine_acoustic_msgs/RawSonarImage";
-constexpr std::string_view kFixType = "sensor_msgs/NavSatFix";
-constexpr std::string_view kImuType = "sensor_msgs/Imu";
-constexpr std::string_view kTfType = "tf2_msgs/TFMessage";
-
 using records::Cursor;
 using records::fail;
 using records::field;
@@ -47,29 +35,35 @@ Reader::Reader(const std::filesystem::path& path) : Reader(xtf::open_file_source
 Reader::Reader(std::span<const std::uint8_t> bytes, std::string name)
     : Reader(xtf::memory_source(bytes, std::move(name))) {}
 
-Reader::Reader(std::unique_ptr<xtf::ByteSource> source)
+BagReaderBase::BagReaderBase(std::unique_ptr<xtf::ByteSource> source, std::string_view reader,
+                             bool nav_before_images)
     : source_(std::move(source)),
-      pings_(std::make_unique<PingAssembler>("rosbag reader: " + source_->name() + ": ",
-                                             PingAssembler::NavOrder::kAfterImages,
+      pings_(std::make_unique<PingAssembler>(std::string(reader) + ": " + source_->name() + ": ",
+                                             nav_before_images
+                                                 ? PingAssembler::NavOrder::kBeforeImages
+                                                 : PingAssembler::NavOrder::kAfterImages,
                                              [this](std::uint64_t offset, std::string message) {
                                                report(offset, std::move(message));
-                                             })) {
-  open();
-}
+                                             })) {}
 
-Reader::~Reader() = default;
+BagReaderBase::~BagReaderBase() = default;
 
-const std::string& Reader::name() const {
+const std::string& BagReaderBase::name() const {
   return source_->name();
 }
 
-const std::vector<ImuSample>& Reader::imu() const {
+const std::vector<ImuSample>& BagReaderBase::imu() const {
   return pings_->imu();
 }
 
-void Reader::report(std::uint64_t offset, std::string message) {
+void BagReaderBase::report(std::uint64_t offset, std::string message) {
   ++anomaly_count_;
   if (anomalies_.size() < 1000) anomalies_.push_back({offset, std::move(message)});
+}
+
+Reader::Reader(std::unique_ptr<xtf::ByteSource> source)
+    : BagReaderBase(std::move(source), "rosbag reader", false) {
+  open();
 }
 
 void Reader::open() {

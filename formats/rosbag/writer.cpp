@@ -16,21 +16,15 @@
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/byte_io.hpp"
+#include "sonarsynth/formats/rosbag/bag_records.hpp"
 #include "sonarsynth/formats/rosbag/message_bytes.hpp"
 #include "sonarsynth/formats/rosbag/messages.hpp"
+#include "sonarsynth/formats/rosbag/quaternion.hpp"
 #include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth::rosbag {
 namespace {
 
-// Record op codes (docs/rosbag.md, "File layout").
-constexpr std::uint8_t kOpMessageData = 0x02;
-constexpr std::uint8_t kOpBagHeader = 0x03;
-constexpr std::uint8_t kOpIndexData = 0x04;
-constexpr std::uint8_t kOpChunk = 0x05;
-constexpr std::uint8_t kOpChunkInfo = 0x06;
-constexpr std::uint8_t kOpConnection = 0x07;
-constexpr std::string_view kMagic = "#ROSBAG V2.0\n";
 constexpr std::size_t kBagHeaderBytes = 4096;  // the bag header record, padded with spaces
 
 // The truth connections appear only in a bag given truth (Writer::write_truth).
@@ -133,36 +127,10 @@ class Out {
   std::vector<std::uint8_t>& b_;
 };
 
-struct Quaternion {
-  double x, y, z, w;
-};
-
-/// Rotation by yaw about z, then pitch about the new y, then roll about the new x.
-Quaternion from_yaw_pitch_roll(double yaw, double pitch, double roll) {
-  const double cy = std::cos(yaw / 2), sy = std::sin(yaw / 2);
-  const double cp = std::cos(pitch / 2), sp = std::sin(pitch / 2);
-  const double cr = std::cos(roll / 2), sr = std::sin(roll / 2);
-  return {sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy,
-          cr * cp * cy + sr * sp * sy};
-}
-
 void put_header(Out& o, std::uint32_t seq, std::uint64_t ns, std::string_view frame) {
   o.u32(seq);
   o.time(ns);
   o.str(frame);
-}
-
-void put_quaternion(Out& o, const Quaternion& q) {
-  o.f64(q.x);
-  o.f64(q.y);
-  o.f64(q.z);
-  o.f64(q.w);
-}
-
-/// float64[9] covariance: all 0 ("unknown"), or element 0 = -1 ("no estimate").
-void put_covariance(Out& o, bool no_estimate) {
-  o.f64(no_estimate ? -1.0 : 0.0);
-  for (int i = 1; i < 9; ++i) o.f64(0.0);
 }
 
 struct ConnectionTexts {
@@ -301,7 +269,7 @@ void append_nav_sat_fix(std::vector<std::uint8_t>& out, const SonarPing& p, std:
   o.f64(deg_from_rad(p.sensor_position.lat_rad));
   o.f64(deg_from_rad(p.sensor_position.lon_rad));
   o.f64(std::numeric_limits<double>::quiet_NaN());  // altitude: not available
-  put_covariance(o, false);
+  put_covariance(o, 0.0);
   o.u8(0);  // COVARIANCE_TYPE_UNKNOWN
 }
 
@@ -312,16 +280,16 @@ void append_imu(std::vector<std::uint8_t>& out, std::uint32_t seq, std::uint64_t
   const bool known =
       std::isfinite(heading_true_rad) && std::isfinite(pitch_rad) && std::isfinite(roll_rad);
   const Quaternion q =
-      known ? from_yaw_pitch_roll(std::numbers::pi / 2 - heading_true_rad, -pitch_rad, roll_rad)
+      known ? quaternion_zyx(std::numbers::pi / 2 - heading_true_rad, -pitch_rad, roll_rad)
             : Quaternion{0, 0, 0, 1};
   Out o(out);
   put_header(o, seq, time_ns, kVehicleFrame);
   put_quaternion(o, q);
-  put_covariance(o, !known);
+  put_covariance(o, known ? 0.0 : -1.0);
   for (int i = 0; i < 3; ++i) o.f64(0.0);  // angular_velocity: none
-  put_covariance(o, true);
+  put_covariance(o, -1.0);
   for (int i = 0; i < 3; ++i) o.f64(0.0);  // linear_acceleration: none
-  put_covariance(o, true);
+  put_covariance(o, -1.0);
 }
 
 void append_tf_static(std::vector<std::uint8_t>& out, std::uint64_t time_ns, double tilt_rad) {
@@ -332,7 +300,7 @@ void append_tf_static(std::vector<std::uint8_t>& out, std::uint64_t time_ns, dou
     put_header(o, 0, time_ns, kVehicleFrame);
     o.str(frame);
     for (int i = 0; i < 3; ++i) o.f64(0.0);  // at the vehicle's reference point
-    put_quaternion(o, from_yaw_pitch_roll(yaw, tilt_rad, 0.0));
+    put_quaternion(o, quaternion_zyx(yaw, tilt_rad, 0.0));
   }
 }
 
@@ -361,7 +329,7 @@ void WriterOptions::validate() const {
 }
 
 Writer::Writer(std::filesystem::path path, WriterOptions options)
-    : options_(std::move(options)), output_(std::move(path), options_.overwrite) {
+    : SonarFileWriter(std::move(path), options.overwrite), options_(std::move(options)) {
   options_.validate();
   out_.open(output_.temp_path(), std::ios::binary | std::ios::trunc);
   if (!out_) throw FormatError("rosbag: cannot create " + output_.temp_path().string());

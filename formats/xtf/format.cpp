@@ -76,19 +76,9 @@ double estimated_bytes(const SonarConfig& sonar, const std::string& sample_forma
 }  // namespace
 
 const SonarFormat& sonar_format() {
-  static const SonarFormat format{
-      .name = "xtf",
-      .display_name = "XTF",
-      .description = "eXtended Triton Format (Triton Imaging)",
-      .extensions = {".xtf"},
-      .capabilities = {.read = true, .simulate = true},
-      .identify = identify,
-      .open_reader = open_reader,
-      .info = file_info,
-      .create_survey_writer = create_survey_writer,
-      .estimated_bytes = estimated_bytes,
-      .conversions = {},
-  };
+  static const SonarFormat format = reading_and_simulating_format(
+      "xtf", "XTF", "eXtended Triton Format (Triton Imaging)", {".xtf"}, identify, open_reader,
+      file_info, create_survey_writer, estimated_bytes, {});
   return format;
 }
 

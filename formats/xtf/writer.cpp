@@ -159,8 +159,8 @@ std::vector<std::string> WriterOptions::compatibility_warnings() const {
 
 // ---------------------------------------------------------------------------------------------
 Writer::Writer(std::filesystem::path path, WriterOptions options)
-    : options_((options.validate(), std::move(options))),
-      output_(std::move(path), options_.overwrite),
+    : SonarFileWriter((options.validate(), std::move(path)), options.overwrite),
+      options_(std::move(options)),
       stream_buffer_(std::size_t{1} << 20),
       warnings_(options_.compatibility_warnings()) {
   output_.open(out_, stream_buffer_, "xtf writer");

@@ -9,28 +9,14 @@
 
 #include "sonarsynth/formats/mcap/reader.hpp"
 #include "sonarsynth/formats/mcap/writer.hpp"
+#include "test_pings.hpp"
 
 int main() {
   namespace mcap = sonarsynth::mcap;
   const auto path = std::filesystem::temp_directory_path() / "sonarsynth_consumer_mcap.mcap";
   std::uint64_t messages = 0;
-  {
-    mcap::WriterOptions options;
-    options.overwrite = true;
-    mcap::Writer writer(path, options);
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      sonarsynth::SonarPing ping;
-      ping.time_utc = sonarsynth::UtcTime(std::chrono::seconds(1'700'000'000 + i));
-      ping.ping_number = i;
-      ping.sensor_position = {sonarsynth::rad_from_deg(48.45), sonarsynth::rad_from_deg(-68.83)};
-      ping.slant_range_m = 48.0;
-      ping.port.assign(64, 100.0f);
-      ping.starboard.assign(64, 200.0f);
-      writer.write_ping(ping);
-    }
-    writer.close();
-    messages = writer.messages_written();
-  }
+  write_test_file<mcap::Writer, mcap::WriterOptions>(
+      path, 3, 48.0, [&](const mcap::Writer& writer) { messages = writer.messages_written(); });
   std::array<char, 8> head{}, tail{};
   std::ifstream f(path, std::ios::binary);
   f.read(head.data(), 8);

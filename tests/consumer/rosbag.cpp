@@ -8,29 +8,14 @@
 #include <string>
 
 #include "sonarsynth/formats/rosbag/writer.hpp"
+#include "test_pings.hpp"
 
 int main() {
   namespace rosbag = sonarsynth::rosbag;
   const auto path = std::filesystem::temp_directory_path() / "sonarsynth_consumer_rosbag.bag";
   std::uint64_t pings = 0;
-  {
-    rosbag::WriterOptions options;
-    options.overwrite = true;
-    rosbag::Writer writer(path, options);
-    for (std::uint32_t i = 0; i < 3; ++i) {
-      sonarsynth::SonarPing ping;
-      ping.time_utc = sonarsynth::UtcTime(std::chrono::seconds(1'700'000'000 + i));
-      ping.ping_number = i;
-      ping.sensor_position = {sonarsynth::rad_from_deg(48.45), sonarsynth::rad_from_deg(-68.83)};
-      ping.altitude_m = 10.0;
-      ping.slant_range_m = 48.0;
-      ping.port.assign(64, 100.0f);
-      ping.starboard.assign(64, 200.0f);
-      writer.write_ping(ping);
-    }
-    writer.close();
-    pings = writer.pings_written();
-  }
+  write_test_file<rosbag::Writer, rosbag::WriterOptions>(
+      path, 3, 48.0, [&](const rosbag::Writer& writer) { pings = writer.pings_written(); });
   std::string line;
   std::getline(std::ifstream(path, std::ios::binary), line);
   const auto bytes = std::filesystem::file_size(path);

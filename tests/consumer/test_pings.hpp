@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
 
 #include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/geo_frame.hpp"
@@ -23,4 +24,16 @@ void write_test_pings(Writer& writer, std::uint32_t count, double slant_range_m)
     writer.write_ping(ping);
   }
   writer.close();
+}
+
+/// Writes `count` test pings into a new file `path` (replacing any) with a codec's Writer and
+/// options of its defaults, then gives the closed writer to `done`.
+template <class Writer, class WriterOptions, class Done>
+void write_test_file(const std::filesystem::path& path, std::uint32_t count, double slant_range_m,
+                     Done done) {
+  WriterOptions options;
+  options.overwrite = true;
+  Writer writer(path, options);
+  write_test_pings(writer, count, slant_range_m);
+  done(writer);
 }

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sonarsynth {
@@ -43,6 +45,33 @@ class AtomicOutput {
   std::filesystem::path final_path_;
   std::filesystem::path temp_path_;
   bool committed_ = false;
+};
+
+/// What the sonar file writers (XTF, JSF, ROS 1 bag, MCAP) share: the file, written under a
+/// temporary name and appearing under `path()` only when the writer's close() succeeds (an
+/// AtomicOutput), and the counts of what was written.
+class SonarFileWriter {
+ public:
+  SonarFileWriter(const SonarFileWriter&) = delete;
+  SonarFileWriter& operator=(const SonarFileWriter&) = delete;
+
+  const std::filesystem::path& path() const { return output_.final_path(); }
+  std::uint64_t pings_written() const { return pings_written_; }
+  std::uint64_t bytes_written() const { return bytes_written_; }
+  /// Samples the format cannot hold as given (out of its range or non-finite), stored clamped;
+  /// each writer says how.
+  std::uint64_t clipped_samples() const { return clipped_samples_; }
+
+ protected:
+  /// Throws FormatError as AtomicOutput does.
+  SonarFileWriter(std::filesystem::path path, bool overwrite)
+      : output_(std::move(path), overwrite) {}
+  ~SonarFileWriter() = default;
+
+  AtomicOutput output_;
+  std::uint64_t pings_written_ = 0;
+  std::uint64_t bytes_written_ = 0;
+  std::uint64_t clipped_samples_ = 0;
 };
 
 /// Temporary outputs (files or directories) of this process that are not committed yet.

@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "sonarsynth/bottom_track.hpp"
@@ -99,5 +100,27 @@ struct SonarFormat {
   /// pair in every format's list.
   std::vector<SonarConversion> conversions;
 };
+
+/// The descriptor of a format that reads and simulates: both capabilities, with the codec's
+/// functions for them (every one set) and its conversions.
+inline SonarFormat reading_and_simulating_format(
+    std::string_view name, std::string_view display_name, std::string_view description,
+    std::vector<std::string_view> extensions, decltype(SonarFormat::identify) identify,
+    decltype(SonarFormat::open_reader) open_reader, decltype(SonarFormat::info) info,
+    decltype(SonarFormat::create_survey_writer) create_survey_writer,
+    decltype(SonarFormat::estimated_bytes) estimated_bytes,
+    std::vector<SonarConversion> conversions) {
+  return {.name = name,
+          .display_name = display_name,
+          .description = description,
+          .extensions = std::move(extensions),
+          .capabilities = {.read = true, .simulate = true},
+          .identify = identify,
+          .open_reader = open_reader,
+          .info = info,
+          .create_survey_writer = create_survey_writer,
+          .estimated_bytes = estimated_bytes,
+          .conversions = std::move(conversions)};
+}
 
 }  // namespace sonarsynth

@@ -49,13 +49,11 @@ SonarDataHeader sonar_header(const SonarPing& ping, const WriterOptions& options
 /// starboard (channel 1), both near -> far, protocol version 13, byte count 240 + 2 n.
 /// Attitude samples become pitch/roll messages (2020). The file is written under a temporary
 /// name and appears under `path` only when close() succeeds.
-class Writer {
+class Writer : public SonarFileWriter {
  public:
   /// Throws InputError for invalid options, FormatError if the file cannot be created.
   explicit Writer(std::filesystem::path path, WriterOptions options = {});
   ~Writer();
-  Writer(const Writer&) = delete;
-  Writer& operator=(const Writer&) = delete;
 
   /// Appends one ping (two messages). Throws InputError naming the field if the ping cannot be
   /// stored (no position, time before 1970 or after 2100, empty side, too many samples...).
@@ -70,11 +68,7 @@ class Writer {
   /// Flushes, closes and renames the file into place. Throws FormatError on failure.
   void close();
 
-  const std::filesystem::path& path() const { return output_.final_path(); }
-  std::uint64_t pings_written() const { return pings_written_; }
-  std::uint64_t bytes_written() const { return bytes_written_; }
-  /// Samples that were negative or non-finite and stored as 0.
-  std::uint64_t clipped_samples() const { return clipped_samples_; }
+  // clipped_samples(): samples that were negative or non-finite and stored as 0.
 
  private:
   void start();
@@ -83,16 +77,12 @@ class Writer {
                      const std::vector<float>& samples);
 
   WriterOptions options_;
-  AtomicOutput output_;
   std::ofstream out_;
   std::vector<char> stream_buffer_;
   std::vector<std::uint8_t> buffer_;
   std::vector<std::int16_t> stored_;
   bool started_ = false;
   bool closed_ = false;
-  std::uint64_t pings_written_ = 0;
-  std::uint64_t bytes_written_ = 0;
-  std::uint64_t clipped_samples_ = 0;
 };
 
 }  // namespace sonarsynth::jsf

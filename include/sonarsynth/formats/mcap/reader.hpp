@@ -50,21 +50,16 @@ struct ChannelInfo {
 /// offset that does not point at its record, lz4 chunks) throws FormatError naming the file,
 /// the byte offset and the field; a message that cannot be used (e.g. big-endian CDR) is skipped
 /// and reported as an anomaly.
-class Reader {
+class Reader : public rosbag::BagReaderBase {
  public:
   /// Throws FormatError if the file cannot be opened or is not a readable MCAP file.
   explicit Reader(const std::filesystem::path& path);
   Reader(std::span<const std::uint8_t> bytes, std::string name);
   explicit Reader(std::unique_ptr<xtf::ByteSource> source);
-  ~Reader();
-  Reader(const Reader&) = delete;
-  Reader& operator=(const Reader&) = delete;
 
   /// The next ping, in the order its second side appears in the file; false at the end.
   bool next_ping(Ping& ping);
 
-  const std::string& name() const;
-  std::uint64_t file_size() const { return size_; }
   const std::string& profile() const { return profile_; }
   const std::string& library() const { return library_; }
   /// True when read through the summary's chunk and message indexes, false when the records
@@ -72,13 +67,6 @@ class Reader {
   bool indexed() const { return indexed_; }
   std::size_t chunk_count() const { return chunk_count_; }
   const std::vector<ChannelInfo>& channels() const { return channels_; }
-  /// Of the first side-scan image and the transforms (read by the constructor); empty if the bag
-  /// has no image.
-  const std::optional<ImageInfo>& image_info() const { return image_info_; }
-  /// Every Imu message sorted by (stamp, ordinal); `used` is set as pings take them.
-  const std::vector<ImuSample>& imu() const;
-  const std::vector<Anomaly>& anomalies() const { return anomalies_; }
-  std::uint64_t total_anomalies() const { return anomaly_count_; }
 
   enum class Kind : std::uint8_t { kNone, kImage, kFix, kImu, kTf };
   /// A part of the data section holding messages: a chunk (with its message indexes when
@@ -107,10 +95,7 @@ class Reader {
   void transforms(read::Cdr& c);
   void image(read::Cdr& c, std::uint64_t stamp, std::string_view frame, const ChannelInfo& info,
              bool images);
-  void report(std::uint64_t offset, std::string message);
 
-  std::unique_ptr<xtf::ByteSource> source_;
-  std::uint64_t size_ = 0;
   std::string profile_, library_;
   bool indexed_ = false;
   std::size_t chunk_count_ = 0;
@@ -122,15 +107,9 @@ class Reader {
   std::vector<Block> blocks_;                   ///< in file order
   std::vector<std::uint8_t> buffer_, chunk_;
   std::vector<std::pair<std::uint64_t, std::uint16_t>> entries_;  ///< message index: offset, ch
-  std::optional<ImageInfo> image_info_;
-  std::optional<double> tilt_rad_;
-  std::unique_ptr<rosbag::PingAssembler>
-      pings_;  ///< the NavSatFix and Imu messages, the sides paired
   std::size_t next_block_ = 0;
   std::uint64_t ordinal_ = 0, offset_ = 0;  ///< of the message being decoded
   std::uint32_t sequence_ = 0;              ///< its Message record's sequence
-  std::vector<Anomaly> anomalies_;
-  std::uint64_t anomaly_count_ = 0;
 };
 
 }  // namespace sonarsynth::mcap

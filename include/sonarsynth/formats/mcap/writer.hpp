@@ -63,13 +63,11 @@ struct WriterOptions {
 /// its MessageIndex records; close() writes DataEnd (with the data section's CRC-32), the
 /// summary (Schemas, Channels, Statistics, ChunkIndexes), the SummaryOffsets and the Footer
 /// (with the summary CRC). The file appears under `path` only when close() succeeds.
-class Writer {
+class Writer : public SonarFileWriter {
  public:
   /// Throws InputError for invalid options, FormatError if the file cannot be created.
   explicit Writer(std::filesystem::path path, WriterOptions options = {});
   ~Writer();
-  Writer(const Writer&) = delete;
-  Writer& operator=(const Writer&) = delete;
 
   /// Appends one ping (four messages). Throws InputError naming the field if the ping cannot be
   /// stored (empty side, time before 1970 or after 2038, slant range or sound speed not > 0).
@@ -87,13 +85,9 @@ class Writer {
   /// FormatError on failure.
   void close();
 
-  const std::filesystem::path& path() const { return output_.final_path(); }
-  std::uint64_t pings_written() const { return pings_written_; }
   std::uint64_t messages_written() const { return messages_written_; }
-  std::uint64_t bytes_written() const { return bytes_written_; }
-  /// Samples rounded outside the encoding's range (or non-finite) and clamped, as the XTF writer
-  /// counts them.
-  std::uint64_t clipped_samples() const { return clipped_samples_; }
+  // clipped_samples(): samples rounded outside the encoding's range (or non-finite) and clamped, as
+  // the XTF writer counts them.
 
  private:
   struct ChunkIndex;
@@ -118,7 +112,6 @@ class Writer {
   void emit(const std::vector<std::uint8_t>& bytes, bool data_section);
 
   WriterOptions options_;
-  AtomicOutput output_;
   std::ofstream out_;
   std::vector<char> stream_buffer_;
   std::unique_ptr<Zstd> zstd_;
@@ -134,10 +127,7 @@ class Writer {
   std::uint64_t start_ns_ = 0, end_ns_ = 0;
   std::uint32_t data_crc_ = 0;
   bool closed_ = false;
-  std::uint64_t pings_written_ = 0;
   std::uint64_t messages_written_ = 0;
-  std::uint64_t bytes_written_ = 0;
-  std::uint64_t clipped_samples_ = 0;
 };
 
 }  // namespace sonarsynth::mcap

@@ -72,6 +72,42 @@ struct ImuSample {
   bool used = false;   ///< given to a ping by next_ping()
 };
 
+/// What the ROS 1 bag reader and the MCAP reader (mcap::Reader) share: the file, the first
+/// image's settings, the pings assembled from the navigation, attitude and image messages, and
+/// the anomalies.
+class BagReaderBase {
+ public:
+  BagReaderBase(const BagReaderBase&) = delete;
+  BagReaderBase& operator=(const BagReaderBase&) = delete;
+
+  const std::string& name() const;
+  std::uint64_t file_size() const { return size_; }
+  /// Of the first side-scan image and the transforms (read by the constructor); empty if the bag
+  /// has no image.
+  const std::optional<ImageInfo>& image_info() const { return image_info_; }
+  /// Every Imu message sorted by (stamp, ordinal); `used` is set as pings take them.
+  const std::vector<ImuSample>& imu() const;
+  const std::vector<Anomaly>& anomalies() const { return anomalies_; }
+  std::uint64_t total_anomalies() const { return anomaly_count_; }
+
+ protected:
+  /// `reader` starts every anomaly ("rosbag reader", then ": <file>: "); `nav_before_images`:
+  /// the bag's writer puts a ping's navigation and attitude before its images (MCAP), not after.
+  BagReaderBase(std::unique_ptr<xtf::ByteSource> source, std::string_view reader,
+                bool nav_before_images);
+  ~BagReaderBase();
+  /// Counts an anomaly, keeping the first 1000.
+  void report(std::uint64_t offset, std::string message);
+
+  std::unique_ptr<xtf::ByteSource> source_;
+  std::uint64_t size_ = 0;
+  std::optional<ImageInfo> image_info_;
+  std::optional<double> tilt_rad_;        ///< from the first transform to a port frame
+  std::unique_ptr<PingAssembler> pings_;  ///< the NavSatFix and Imu messages, the sides paired
+  std::vector<Anomaly> anomalies_;
+  std::uint64_t anomaly_count_ = 0;
+};
+
 /// ROS 1 bag reader (format 2.0 with its index, uncompressed chunks: docs/rosbag.md, "Reading
 /// bags"). Finds the side-scan, navigation and attitude connections by message type (and MD5
 /// sum), not by topic, so bags of other sources with the standard messages read too. The
@@ -80,30 +116,18 @@ struct ImuSample {
 /// unknown op code, a length past the end, a compressed chunk) throws FormatError naming the
 /// file, the byte offset and the field; a message that cannot be used is skipped and reported
 /// as an anomaly.
-class Reader {
+class Reader : public BagReaderBase {
  public:
   /// Throws FormatError if the file cannot be opened or is not an indexed ROS 1 bag 2.0.
   explicit Reader(const std::filesystem::path& path);
   Reader(std::span<const std::uint8_t> bytes, std::string name);
   explicit Reader(std::unique_ptr<xtf::ByteSource> source);
-  ~Reader();
-  Reader(const Reader&) = delete;
-  Reader& operator=(const Reader&) = delete;
 
   /// The next ping, in the order its second side appears in the file; false at the end.
   bool next_ping(Ping& ping);
 
-  const std::string& name() const;
-  std::uint64_t file_size() const { return size_; }
   std::size_t chunk_count() const { return chunks_.size(); }
   const std::vector<ConnectionInfo>& connections() const { return connections_; }
-  /// Of the first side-scan image and the transforms (read by the constructor); empty if the bag
-  /// has no image.
-  const std::optional<ImageInfo>& image_info() const { return image_info_; }
-  /// Every Imu message sorted by (stamp, ordinal); `used` is set as pings take them.
-  const std::vector<ImuSample>& imu() const;
-  const std::vector<Anomaly>& anomalies() const { return anomalies_; }
-  std::uint64_t total_anomalies() const { return anomaly_count_; }
 
   enum class Kind : std::uint8_t { kNone, kImage, kFix, kImu, kTf };
 
@@ -116,23 +140,15 @@ class Reader {
   void transforms(records::Cursor& c);
   void image(records::Cursor& c, std::uint32_t seq, std::uint64_t stamp, std::string_view frame,
              const ConnectionInfo& info, std::uint64_t offset, bool images);
-  void report(std::uint64_t offset, std::string message);
 
-  std::unique_ptr<xtf::ByteSource> source_;
-  std::uint64_t size_ = 0;
   std::vector<ConnectionInfo> connections_;
   std::map<std::uint32_t, std::size_t> by_id_;  ///< connection id -> connections_ index
   std::vector<Kind> kinds_;                     ///< per connections_ entry
   std::vector<std::uint64_t> chunks_;           ///< chunk record positions, ascending
   std::vector<std::uint64_t> chunk_ordinal_;    ///< ordinal of each chunk's first message
   std::vector<std::uint8_t> buffer_;
-  std::optional<ImageInfo> image_info_;
-  std::optional<double> tilt_rad_;        ///< from the first transform to a port frame
-  std::unique_ptr<PingAssembler> pings_;  ///< the NavSatFix and Imu messages, the sides paired
   std::size_t next_chunk_ = 0;
   std::uint64_t ordinal_ = 0;
-  std::vector<Anomaly> anomalies_;
-  std::uint64_t anomaly_count_ = 0;
 };
 
 }  // namespace sonarsynth::rosbag

@@ -50,13 +50,11 @@ struct WriterOptions {
 /// sensor_msgs/Imu, all stamped with the ping time; the sonar's frames on /tf_static once,
 /// stamped with the first ping's time. The file is written under a temporary name and appears
 /// under `path` only when close() succeeds.
-class Writer {
+class Writer : public SonarFileWriter {
  public:
   /// Throws InputError for invalid options, FormatError if the file cannot be created.
   explicit Writer(std::filesystem::path path, WriterOptions options = {});
   ~Writer();
-  Writer(const Writer&) = delete;
-  Writer& operator=(const Writer&) = delete;
 
   /// Appends one ping. Throws InputError naming the field if it cannot be stored (time before
   /// 1970 or past 2106, an empty side, slant range or sound speed not > 0).
@@ -72,11 +70,8 @@ class Writer {
   /// FormatError on failure.
   void close();
 
-  const std::filesystem::path& path() const { return output_.final_path(); }
-  std::uint64_t pings_written() const { return pings_written_; }
-  std::uint64_t bytes_written() const { return bytes_written_; }
-  /// Samples that were out of the sample type's range or non-finite and clamped (as XTF).
-  std::uint64_t clipped_samples() const { return clipped_samples_; }
+  // clipped_samples(): samples that were out of the sample type's range or non-finite and clamped
+  // (as XTF).
 
  private:
   struct ChunkEntry {
@@ -100,7 +95,6 @@ class Writer {
   void write_file(const std::vector<std::uint8_t>& bytes);
 
   WriterOptions options_;
-  AtomicOutput output_;
   std::ofstream out_;
   std::vector<std::uint8_t> chunk_, record_;
   std::vector<ChunkEntry> entries_;
@@ -110,9 +104,6 @@ class Writer {
   bool tf_written_ = false;
   bool closed_ = false;
   std::uint32_t imu_seq_ = 0;
-  std::uint64_t pings_written_ = 0;
-  std::uint64_t bytes_written_ = 0;
-  std::uint64_t clipped_samples_ = 0;
 };
 
 }  // namespace sonarsynth::rosbag

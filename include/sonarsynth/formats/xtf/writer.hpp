@@ -82,13 +82,11 @@ struct StoredPingHeaders {
 /// The file is written under a temporary name and appears under `path` only when close()
 /// succeeds; destroying a Writer without close() leaves nothing behind. Memory use does not
 /// grow with the number of pings; offsets are 64-bit, so files larger than 4 GB work.
-class Writer {
+class Writer : public SonarFileWriter {
  public:
   /// Throws InputError for invalid options, FormatError if the file cannot be created.
   explicit Writer(std::filesystem::path path, WriterOptions options = {});
   ~Writer();
-  Writer(const Writer&) = delete;
-  Writer& operator=(const Writer&) = delete;
 
   /// Appends one ping. Its time is stored rounded to the nearest 10 ms (XTF's HSeconds), with
   /// the carry into seconds, minutes, hours and the date. Throws InputError naming the field if
@@ -105,11 +103,8 @@ class Writer {
   /// Flushes, closes and renames the file into place. Throws FormatError on failure.
   void close();
 
-  const std::filesystem::path& path() const { return output_.final_path(); }
-  std::uint64_t pings_written() const { return pings_written_; }
-  std::uint64_t bytes_written() const { return bytes_written_; }
-  /// Samples that were rounded outside the encoding's range (or non-finite) and clamped.
-  std::uint64_t clipped_samples() const { return clipped_samples_; }
+  // clipped_samples(): samples that were rounded outside the encoding's range (or non-finite) and
+  // clamped.
   /// options.compatibility_warnings(), for the caller to show.
   const std::vector<std::string>& warnings() const { return warnings_; }
 
@@ -131,16 +126,12 @@ class Writer {
   XtfFileHeader header_;
   bool header_needs_samples_ = true;   ///< CHANINFO.Reserved not yet set from a ping
   bool header_patch_pending_ = false;  ///< close() must rewrite the header
-  AtomicOutput output_;
   std::ofstream out_;
   std::vector<char> stream_buffer_;
   std::vector<std::uint8_t> buffer_;
   std::vector<std::string> warnings_;
   bool started_ = false;
   bool closed_ = false;
-  std::uint64_t pings_written_ = 0;
-  std::uint64_t bytes_written_ = 0;
-  std::uint64_t clipped_samples_ = 0;
 };
 
 /// The number of bytes a packet of `n` bytes occupies once padded to a multiple of 64.

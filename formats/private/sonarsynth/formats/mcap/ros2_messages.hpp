@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "sonarsynth/formats/rosbag/quaternion.hpp"
 #include "sonarsynth/rendered_ping.hpp"
 
 namespace sonarsynth::mcap {
@@ -66,10 +67,7 @@ struct Ros2Header {
   std::string_view frame_id;
 };
 
-/// A unit quaternion (x, y, z, w), as geometry_msgs/Quaternion orders it.
-struct Quaternion {
-  double x = 0.0, y = 0.0, z = 0.0, w = 1.0;
-};
+using rosbag::Quaternion;
 
 /// marine_acoustic_msgs/SonarImageData dtype values.
 enum class SonarImageDtype : std::uint32_t { kUint8 = 0, kUint16 = 2, kFloat32 = 8 };

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The records of a ROS 1 bag (format 2.0) and the serialised message fields, bounds-checked:
 // every error is a FormatError naming the file, the byte offset and the field (docs/rosbag.md,
-// "Reading bags with sonarsynth"). Used by formats/rosbag/reader.cpp.
+// "Reading bags with sonarsynth"). Used by formats/rosbag/reader.cpp; the writer
+// (formats/rosbag/writer.cpp) shares the magic and the op codes.
 #pragma once
 
 #include <array>
@@ -15,6 +16,25 @@
 #include <vector>
 
 #include "sonarsynth/formats/io/sonar_ping.hpp"
+
+namespace sonarsynth::rosbag {
+
+/// The first line of a bag (docs/rosbag.md, "File layout").
+inline constexpr std::string_view kMagic = "#ROSBAG V2.0\n";
+// Record op codes (docs/rosbag.md, "File layout").
+inline constexpr std::uint8_t kOpMessageData = 0x02;
+inline constexpr std::uint8_t kOpBagHeader = 0x03;
+inline constexpr std::uint8_t kOpIndexData = 0x04;
+inline constexpr std::uint8_t kOpChunk = 0x05;
+inline constexpr std::uint8_t kOpChunkInfo = 0x06;
+inline constexpr std::uint8_t kOpConnection = 0x07;
+// The message types the reader decodes (docs/rosbag.md, "Reading bags").
+inline constexpr std::string_view kImageType = "marine_acoustic_msgs/RawSonarImage";
+inline constexpr std::string_view kFixType = "sensor_msgs/NavSatFix";
+inline constexpr std::string_view kImuType = "sensor_msgs/Imu";
+inline constexpr std::string_view kTfType = "tf2_msgs/TFMessage";
+
+}  // namespace sonarsynth::rosbag
 
 namespace sonarsynth::rosbag::records {
 

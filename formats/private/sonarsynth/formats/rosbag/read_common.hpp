@@ -14,6 +14,7 @@
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "sonarsynth/formats/io/convert_result.hpp"
@@ -83,6 +84,41 @@ void add_summary_json(info::Json& j, const BagSummary& s,
 void summary_text(std::ostream& os, const BagSummary& s, const std::optional<ImageInfo>& image_info,
                   const std::vector<Anomaly>& anomalies, std::uint64_t total_anomalies,
                   std::size_t max_anomalies);
+
+/// A connection (ROS 1) or channel (MCAP) as `info` lists it.
+struct TopicRow {
+  std::uint64_t id = 0;
+  std::string topic;
+  std::pair<const char*, std::string> type, detail;  ///< JSON keys and values after "topic"
+  std::string text;                                  ///< the text's words in parentheses
+  std::uint64_t messages = 0;
+  const char* read_as = nullptr;  ///< read_as() of it
+};
+
+/// What `info` says of a bag's container, before the summary.
+struct ContainerInfo {
+  const char* format;      ///< "format" of the JSON
+  info::Json keys;         ///< the container's keys after "size_bytes" (an object)
+  std::string text;        ///< the text's line after "Format: "
+  const char* list_key;    ///< the JSON key of the rows ("connections") ...
+  const char* list_title;  ///< ... and the text's ("Connections")
+  std::vector<TopicRow> rows;
+};
+
+/// `info` of the bag read by `reader` (named `name`, `size` bytes) of container `c`: the
+/// container's part, then the summary `s`'s.
+SonarFileInfo bag_info(const ContainerInfo& c, const std::string& name, std::uint64_t size,
+                       const PingStream& bag, const BagSummary& s, std::size_t max_anomalies);
+
+/// `info` of the bag `path` read by a BagReader, its container described by `describe(reader)`.
+template <class BagReader, class Describe>
+SonarFileInfo bag_file_info(const std::filesystem::path& path, std::size_t max_anomalies,
+                            Describe describe) {
+  BagReader reader(path);
+  const PingStream bag = ping_stream(reader);
+  const BagSummary s = summarise(bag);
+  return bag_info(describe(reader), reader.name(), reader.file_size(), bag, s, max_anomalies);
+}
 
 /// The XTF writer's options from the first image's settings; `note` names the source file.
 xtf::WriterOptions xtf_options(const std::optional<ImageInfo>& image_info, std::string note,
