@@ -161,6 +161,47 @@ void choose_ping_altitude(SonarPing& s, std::size_t k, const std::vector<double>
   }
 }
 
+/// What both directions share: the result with its from/to formats, the altitudes tracked for
+/// the chosen source, ping by ping, and the accounting of each write and of the reader's
+/// anomalies.
+class Conversion {
+ public:
+  Conversion(const std::filesystem::path& in, SonarFileFormat from, AltitudeSource source)
+      : in_(in), source_(source), tracked_(tracked_altitudes(in, from, source)) {
+    result.from = from == SonarFileFormat::kXtf ? &xtf::sonar_format() : &jsf::sonar_format();
+    result.to = from == SonarFileFormat::kXtf ? &jsf::sonar_format() : &xtf::sonar_format();
+  }
+  /// The next ping read (every ping, in the order tracked_altitudes() read them).
+  void choose_altitude(SonarPing& s) {
+    choose_ping_altitude(s, next_++, tracked_, source_, result);
+  }
+  /// Runs `write` (one ping); a ping the writer refuses is dropped and counted.
+  template <class Write>
+  void write_ping(const std::string& where, Write&& write) {
+    try {
+      write();
+      ++result.pings;
+    } catch (const InputError& e) {
+      drop(result, writer_reason(e.what()), where, e.what());
+    }
+  }
+  /// After the last ping: the reader's anomalies, and the refusal when no ping was converted.
+  template <class Reader>
+  void finish(const Reader& reader) {
+    result.reader_anomalies = reader.total_anomalies();
+    for (const auto& a : reader.anomalies()) result.warn(a.message);
+    refuse_empty(in_, result);
+  }
+
+  ConvertResult result;
+
+ private:
+  std::filesystem::path in_;
+  AltitudeSource source_;
+  std::vector<double> tracked_;
+  std::size_t next_ = 0;
+};
+
 template <std::size_t N>
 std::string text_of(const std::array<char, N>& a) {
   std::size_t n = 0;
@@ -279,11 +320,8 @@ void apply_xtf_file_fields(const jsf::XtfFileFields& f, xtf::WriterOptions& o) {
 
 ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
                          bool overwrite, AltitudeSource source) {
-  const std::vector<double> tracked = tracked_altitudes(in, SonarFileFormat::kXtf, source);
-  std::size_t k = 0;
-  ConvertResult r;
-  r.from = &xtf::sonar_format();
-  r.to = &jsf::sonar_format();
+  Conversion c(in, SonarFileFormat::kXtf, source);
+  ConvertResult& r = c.result;
   xtf::Reader reader(in);
   jsf::WriterOptions o;
   o.overwrite = overwrite;
@@ -294,7 +332,7 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
   xtf::Packet packet;
   while (xtf::next_ping_copying_attitude(reader, packet, writer, r)) {
     SonarPing& s = packet.ping.sonar;
-    choose_ping_altitude(s, k++, tracked, source, r);
+    c.choose_altitude(s);
     if (!packet.ping.nav_valid || reader.file_header().NavUnits != 3) {
       s.sensor_position = {};  // stored as 0, 0: "no position" for JSF readers
     }
@@ -307,27 +345,17 @@ ConvertResult xtf_to_jsf(const std::filesystem::path& in, const std::filesystem:
     }
     repair(SonarFileFormat::kJsf, s, r);
     const jsf::XtfPingFields carried = xtf_ping_fields(packet.ping, reader.file_header().NavUnits);
-    try {
-      writer.write_ping(s, &carried);
-      ++r.pings;
-    } catch (const InputError& e) {
-      drop(r, writer_reason(e.what()), where, e.what());
-    }
+    c.write_ping(where, [&] { writer.write_ping(s, &carried); });
   }
-  r.reader_anomalies = reader.total_anomalies();
-  for (const xtf::Anomaly& a : reader.anomalies()) r.warn(a.message);
-  refuse_empty(in, r);
+  c.finish(reader);
   writer.close();
   return r;
 }
 
 ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,
                          bool overwrite, AltitudeSource source) {
-  const std::vector<double> tracked = tracked_altitudes(in, SonarFileFormat::kJsf, source);
-  std::size_t k = 0;
-  ConvertResult r;
-  r.from = &jsf::sonar_format();
-  r.to = &xtf::sonar_format();
+  Conversion c(in, SonarFileFormat::kJsf, source);
+  ConvertResult& r = c.result;
   jsf::Reader reader(in);
   std::unique_ptr<xtf::Writer> writer;
   xtf::WriterOptions o;
@@ -364,7 +392,7 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
     }
   };
   while (reader.next_ping(ping)) {
-    choose_ping_altitude(ping.sonar, k++, tracked, source, r);
+    c.choose_altitude(ping.sonar);
     flush_attitude(ping.offset);
     open(ping.header.mixer_frequency_hz);
     std::string why = drop_reason(ping.sonar);
@@ -389,16 +417,9 @@ ConvertResult jsf_to_xtf(const std::filesystem::path& in, const std::filesystem:
     std::optional<xtf::StoredPingHeaders> stored;
     if (ping.xtf_fields)
       stored = xtf::StoredPingHeaders{ping.xtf_fields->ping, ping.xtf_fields->channels};
-    try {
-      writer->write_ping(ping.sonar, stored ? &*stored : nullptr);
-      ++r.pings;
-    } catch (const InputError& e) {
-      drop(r, writer_reason(e.what()), where, e.what());
-    }
+    c.write_ping(where, [&] { writer->write_ping(ping.sonar, stored ? &*stored : nullptr); });
   }
-  r.reader_anomalies = reader.total_anomalies();
-  for (const jsf::Anomaly& a : reader.anomalies()) r.warn(a.message);
-  refuse_empty(in, r);
+  c.finish(reader);
   flush_attitude(reader.file_size() + 1);
   open(0.0);
   writer->close();
