@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <utility>
 
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/io/atomic_file.hpp"
@@ -51,29 +52,32 @@ std::vector<std::pair<std::string, std::string>> class_band_items() {
   return items;
 }
 
-MetadataItems class_items(const MetadataItems& run, const std::string& quantity,
+// The run's items, then what a label raster says of itself: its quantity, units and codes.
+MetadataItems label_items(const MetadataItems& run, const std::string& quantity,
+                          const std::string& units, const MetadataItems& codes,
                           const std::string& nodata) {
   MetadataItems items = run;
   items.insert(items.end(), {{"SONARSYNTH_VERSION", kVersion},
                              {"SONARSYNTH_QUANTITY", quantity},
-                             {"SONARSYNTH_UNITS", "none (class code)"},
-                             {"SONARSYNTH_CLASS_CODES", class_codes_text()},
-                             {"SONARSYNTH_NODATA", nodata},
-                             {"SONARSYNTH_LABELS_DOC", "docs/labels.md"}});
+                             {"SONARSYNTH_UNITS", units}});
+  items.insert(items.end(), codes.begin(), codes.end());
+  items.insert(items.end(),
+               {{"SONARSYNTH_NODATA", nodata}, {"SONARSYNTH_LABELS_DOC", "docs/labels.md"}});
   return items;
+}
+
+MetadataItems class_items(const MetadataItems& run, const std::string& quantity,
+                          const std::string& nodata) {
+  return label_items(run, quantity, "none (class code)",
+                     {{"SONARSYNTH_CLASS_CODES", class_codes_text()}}, nodata);
 }
 
 MetadataItems instance_items(const MetadataItems& run, const std::string& quantity,
                              const std::string& nodata) {
-  MetadataItems items = run;
-  items.insert(items.end(), {{"SONARSYNTH_VERSION", kVersion},
-                             {"SONARSYNTH_QUANTITY", quantity},
-                             {"SONARSYNTH_UNITS", "none (object id)"},
-                             {"SONARSYNTH_INSTANCE_CODES", kInstanceCodes},
-                             {"SONARSYNTH_SHADOW_ATTRIBUTION", kShadowAttribution},
-                             {"SONARSYNTH_NODATA", nodata},
-                             {"SONARSYNTH_LABELS_DOC", "docs/labels.md"}});
-  return items;
+  return label_items(run, quantity, "none (object id)",
+                     {{"SONARSYNTH_INSTANCE_CODES", kInstanceCodes},
+                      {"SONARSYNTH_SHADOW_ATTRIBUTION", kShadowAttribution}},
+                     nodata);
 }
 
 const std::vector<std::pair<std::string, std::string>> kTiffOptions = {
@@ -160,14 +164,21 @@ constexpr const char* kWaterfallLayout =
 
 namespace {
 
+/// A one-band label raster: what it says it holds, its band's name and its nodata value.
+raster::RasterLabels label_raster(MetadataItems items, const char* description, double nodata) {
+  raster::RasterLabels l;
+  l.metadata = std::move(items);
+  l.descriptions = {description};
+  l.has_nodata = true;
+  l.nodata = nodata;
+  return l;
+}
+
 /// What a class raster says it holds: `metadata` first, then the class items.
 raster::RasterLabels class_labels(const MetadataItems& metadata, const std::string& quantity,
                                   const std::string& nodata) {
-  raster::RasterLabels l;
-  l.metadata = class_items(metadata, quantity, nodata);
-  l.descriptions = {"class"};
-  l.has_nodata = true;
-  l.nodata = kClassNodata;
+  raster::RasterLabels l =
+      label_raster(class_items(metadata, quantity, nodata), "class", kClassNodata);
   l.band_metadata = {class_band_items()};
   l.color_table = class_colour_table();
   return l;
@@ -175,12 +186,7 @@ raster::RasterLabels class_labels(const MetadataItems& metadata, const std::stri
 
 raster::RasterLabels instance_labels(const MetadataItems& metadata, const std::string& quantity,
                                      const std::string& nodata) {
-  raster::RasterLabels l;
-  l.metadata = instance_items(metadata, quantity, nodata);
-  l.descriptions = {"instance"};
-  l.has_nodata = true;
-  l.nodata = kInstanceNodata;
-  return l;
+  return label_raster(instance_items(metadata, quantity, nodata), "instance", kInstanceNodata);
 }
 
 }  // namespace
