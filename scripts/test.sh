@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Installs what is missing, builds with warnings as errors and runs the whole test suite.
-# Environment: BUILD_DIR (default build), SONARSYNTH_SANITIZE=ON for an ASan+UBSan build.
+# Environment: BUILD_DIR (default build), SONARSYNTH_SANITIZE=ON for an ASan+UBSan build,
+# SONARSYNTH_TEST_CMAKE_ARGS (more CMake arguments, e.g. -DSONARSYNTH_BUILD_BENCH=OFF).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -10,7 +11,7 @@ sanitize=${SONARSYNTH_SANITIZE:-OFF}
 build_type=Release
 [[ "$sanitize" == ON ]] && build_type=RelWithDebInfo
 cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type" -DSONARSYNTH_WERROR=ON \
-  -DSONARSYNTH_SANITIZE="$sanitize" >/dev/null
+  -DSONARSYNTH_SANITIZE="$sanitize" ${SONARSYNTH_TEST_CMAKE_ARGS:-} >/dev/null
 cmake --build "$build_dir" --parallel 2
 # The independent MCAP reader of mcap_tests (npm packages into the build directory; the test
 # is skipped without them).
