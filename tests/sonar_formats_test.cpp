@@ -59,6 +59,23 @@ TEST(SonarFormats, EveryDescriptorHasWhatItsCapabilitiesPromise) {
   EXPECT_TRUE(sonar_format_names().starts_with("xtf, jsf, rosbag")) << sonar_format_names();
 }
 
+// A format is named under a capability exactly when it has it, in the list's order; the help
+// texts and refusals name formats this way.
+TEST(SonarFormats, NamesTheFormatsOfACapability) {
+  for (bool SonarFormatCapabilities::*cap :
+       {&SonarFormatCapabilities::read, &SonarFormatCapabilities::simulate}) {
+    std::string expected;
+    for (const SonarFormat* f : sonar_formats()) {
+      if (!(f->capabilities.*cap)) continue;
+      expected += (expected.empty() ? "" : ", ") + std::string(f->name);
+    }
+    EXPECT_EQ(sonar_format_names(cap), expected);
+  }
+  // The codecs of today all read and simulate; an empty capability list would name nothing.
+  EXPECT_EQ(sonar_format_names(&SonarFormatCapabilities::read), sonar_format_names());
+  EXPECT_TRUE(sonar_format_names(&SonarFormatCapabilities::simulate).starts_with("xtf, jsf"));
+}
+
 TEST(SonarFormats, LooksUpByNameAndExtensionInAnyCase) {
   EXPECT_EQ(find_sonar_format("JSF"), &jsf::sonar_format());
   EXPECT_EQ(find_sonar_format("xtf"), &xtf::sonar_format());

@@ -200,17 +200,6 @@ LabelOutput read_label_output(const Fields& f, bool truth) {
 
 namespace {
 
-// "xtf, jsf": the formats `simulate` writes.
-std::string simulated_format_names() {
-  std::string out;
-  for (const SonarFormat* f : sonar_formats()) {
-    if (!f->capabilities.simulate) continue;
-    if (!out.empty()) out += ", ";
-    out += f->name;
-  }
-  return out;
-}
-
 // output.formats: [xtf, jsf] (docs/scene-format.md), names of the format list that `simulate`
 // writes; output.jsf (read before, from the option table) is the alias of listing jsf.
 void read_output_formats(const Fields& f, SimulationSetup& setup) {
@@ -229,7 +218,8 @@ void read_output_formats(const Fields& f, SimulationSetup& setup) {
                        "'. Violated constraint: " + constraint);
     };
     if (!format || !format->capabilities.simulate) {
-      refuse("a sonar format simulate writes: one of " + simulated_format_names());
+      refuse("a sonar format simulate writes: one of " +
+             sonar_format_names(&SonarFormatCapabilities::simulate));
     }
     if (std::find(names.begin(), names.end(), format->name) != names.end()) {
       refuse("each format once");

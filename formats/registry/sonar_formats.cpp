@@ -57,17 +57,6 @@ std::string conversion_extensions() {
   return out;
 }
 
-/// "xtf, jsf, ...": the formats identify_sonar_format() recognises (capabilities.read).
-std::string readable_format_names() {
-  std::string out;
-  for (const SonarFormat* f : sonar_formats()) {
-    if (!f->capabilities.read) continue;
-    if (!out.empty()) out += ", ";
-    out += f->name;
-  }
-  return out;
-}
-
 }  // namespace
 
 std::span<const SonarFormat* const> sonar_formats() {
@@ -91,9 +80,10 @@ const SonarFormat* find_sonar_format(std::string_view name) {
   return nullptr;
 }
 
-std::string sonar_format_names() {
+std::string sonar_format_names(bool SonarFormatCapabilities::*capability) {
   std::string out;
   for (const SonarFormat* f : sonar_formats()) {
+    if (capability != nullptr && !(f->capabilities.*capability)) continue;
     if (!out.empty()) out += ", ";
     out += f->name;
   }
@@ -162,7 +152,7 @@ ConvertResult convert_sonar_file(const std::filesystem::path& in, const std::fil
   const SonarFormat* from = identify_sonar_format(in);
   if (!from) {
     throw FormatError("convert: " + in.string() + ": not a file of any known format (" +
-                      readable_format_names() + ")");
+                      sonar_format_names(&SonarFormatCapabilities::read) + ")");
   }
   if (from == to) {
     throw InputError("convert: " + in.string() + " is already " + std::string(from->display_name) +

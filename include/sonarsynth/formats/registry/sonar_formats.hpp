@@ -25,8 +25,9 @@ const SonarFormat* find_sonar_format(std::string_view name);
 /// and the known names otherwise.
 const SonarFormat& sonar_format_named(std::string_view name, std::string_view what);
 
-/// "xtf, jsf": the known names, for messages and help texts.
-std::string sonar_format_names();
+/// "xtf, jsf": the known names, for messages and help texts; with `capability` (e.g.
+/// &SonarFormatCapabilities::read) only those of the formats that have it.
+std::string sonar_format_names(bool SonarFormatCapabilities::*capability = nullptr);
 
 /// By the extension of `path` (any case), or nullptr.
 const SonarFormat* sonar_format_for_extension(const std::filesystem::path& path);
