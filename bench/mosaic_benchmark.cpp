@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "height_grid_test_util.hpp"  // tests/: the seabed sampled from a surface
 #include "sonarsynth/bottom_track.hpp"
 #include "sonarsynth/mosaic.hpp"
 
@@ -46,15 +47,8 @@ Survey make_survey(std::size_t samples) {
   g.rows = 801;
   g.x0_m = -200.0;
   g.y0_m = 200.0;
-  std::vector<float> h(g.size());
-  for (std::size_t r = 0; r < g.rows; ++r) {
-    for (std::size_t c = 0; c < g.cols; ++c) {
-      const double x = g.x0_m + static_cast<double>(c) * g.dx_m;
-      const double y = g.y0_m + static_cast<double>(r) * g.dy_m;
-      h[r * g.cols + c] = static_cast<float>(-20.0 + 0.02 * x + 0.3 * std::sin(0.1 * y));
-    }
-  }
-  Survey s{HeightGrid(g, std::move(h)), {}, {}, {}, {}};
+  const auto seabed = [](double x, double y) { return -20.0 + 0.02 * x + 0.3 * std::sin(0.1 * y); };
+  Survey s{test::sampled_grid(g, seabed), {}, {}, {}, {}};
   std::mt19937 rng(7);
   std::exponential_distribution<float> e(1.0f);
   s.port.resize(samples);

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "cli_test_util.hpp"
+#include "fields_test_util.hpp"
 #include "sonarsynth/formats/jsf/convert.hpp"
 #include "sonarsynth/formats/jsf/reader.hpp"
 #include "sonarsynth/formats/registry/sonar_formats.hpp"
@@ -314,21 +315,15 @@ TEST(JsfLossless, RealIver2FileSurvives) {
   xtf::Reader b(out);
   const xtf::XtfFileHeader& x = a.file_header();
   const xtf::XtfFileHeader& y = b.file_header();
-  EXPECT_EQ(x.SonarName, y.SonarName);
-  EXPECT_EQ(x.NoteString, y.NoteString);
-  EXPECT_EQ(x.NavUnits, y.NavUnits);
-  EXPECT_EQ(x.NumberOfSonarChannels, y.NumberOfSonarChannels);
+  using H = xtf::XtfFileHeader;
+  test::expect_equal_fields(x, y, &H::SonarName, &H::NoteString, &H::NavUnits,
+                            &H::NumberOfSonarChannels);
   for (std::size_t c = 0; c < 2; ++c) {
-    const xtf::XtfChanInfo& p = x.ChanInfo[c];
-    const xtf::XtfChanInfo& q = y.ChanInfo[c];
-    EXPECT_EQ(p.TypeOfChannel, q.TypeOfChannel) << c;
-    EXPECT_EQ(p.BytesPerSample, q.BytesPerSample) << c;
-    EXPECT_EQ(p.SampleFormat, q.SampleFormat) << c;
-    EXPECT_EQ(p.UniPolar, q.UniPolar) << c;
-    EXPECT_EQ(p.Frequency, q.Frequency) << c;
-    EXPECT_EQ(p.HorizBeamAngle, q.HorizBeamAngle) << c;
-    EXPECT_EQ(p.TiltAngle, q.TiltAngle) << c;
-    EXPECT_EQ(p.BeamWidth, q.BeamWidth) << c;
+    SCOPED_TRACE("channel " + std::to_string(c));
+    using C = xtf::XtfChanInfo;
+    test::expect_equal_fields(x.ChanInfo[c], y.ChanInfo[c], &C::TypeOfChannel, &C::BytesPerSample,
+                              &C::SampleFormat, &C::UniPolar, &C::Frequency, &C::HorizBeamAngle,
+                              &C::TiltAngle, &C::BeamWidth);
   }
   fs::remove_all(dir);
 }

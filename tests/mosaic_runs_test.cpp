@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "height_grid_test_util.hpp"
 #include "mosaic_test_util.hpp"
 #include "sonarsynth/mosaic.hpp"
 
@@ -25,17 +26,10 @@ HeightGrid rough_seabed() {
   g.rows = 400;
   g.x0_m = -60.0;
   g.y0_m = 60.0;
-  std::vector<float> h(g.size());
-  for (std::size_t r = 0; r < g.rows; ++r) {
-    for (std::size_t c = 0; c < g.cols; ++c) {
-      const double x = g.x0_m + static_cast<double>(c) * g.dx_m;
-      const double y = g.y0_m + static_cast<double>(r) * g.dy_m;
-      const bool hole = std::hypot(x - 20.0, y + 15.0) < 4.0;
-      h[r * g.cols + c] =
-          hole ? NAN : static_cast<float>(-15.0 + 0.1 * x + 1.5 * std::sin(0.4 * y + 0.1 * x));
-    }
-  }
-  return HeightGrid(g, std::move(h));
+  return test::sampled_grid(g, [](double x, double y) {
+    const bool hole = std::hypot(x - 20.0, y + 15.0) < 4.0;
+    return hole ? NAN : -15.0 + 0.1 * x + 1.5 * std::sin(0.4 * y + 0.1 * x);
+  });
 }
 
 struct Case {

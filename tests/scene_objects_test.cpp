@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "fields_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/scene_file.hpp"
 
@@ -42,21 +43,17 @@ void add(Scene& scene, const std::string& entry) {
 void expect_same_objects(const Scene& a, const Scene& b) {
   ASSERT_EQ(a.objects.primitives().size(), b.objects.primitives().size());
   for (std::size_t i = 0; i < a.objects.primitives().size(); ++i) {
-    const ObjectPrimitive &p = a.objects.primitives()[i], &q = b.objects.primitives()[i];
-    EXPECT_EQ(p.shape, q.shape) << i;
-    EXPECT_EQ(p.id, q.id) << i;
-    EXPECT_EQ(p.material, q.material) << i;
-    EXPECT_EQ(p.centre_xy_m, q.centre_xy_m) << i;
-    EXPECT_EQ(p.heading_rad, q.heading_rad) << i;
-    EXPECT_EQ(p.half_extent_m, q.half_extent_m) << i;
-    EXPECT_EQ(p.base_z_m, q.base_z_m) << i;
-    EXPECT_EQ(p.clearance_m, q.clearance_m) << i;
+    SCOPED_TRACE("primitive " + std::to_string(i));
+    using P = ObjectPrimitive;
+    test::expect_equal_fields(a.objects.primitives()[i], b.objects.primitives()[i], &P::shape,
+                              &P::id, &P::material, &P::centre_xy_m, &P::heading_rad,
+                              &P::half_extent_m, &P::base_z_m, &P::clearance_m);
   }
   ASSERT_EQ(a.object_records.size(), b.object_records.size());
   for (std::size_t i = 0; i < a.object_records.size(); ++i) {
-    EXPECT_EQ(a.object_records[i].id, b.object_records[i].id) << i;
-    EXPECT_EQ(a.object_records[i].type, b.object_records[i].type) << i;
-    EXPECT_EQ(a.object_records[i].material, b.object_records[i].material) << i;
+    SCOPED_TRACE("record " + std::to_string(i));
+    test::expect_equal_fields(a.object_records[i], b.object_records[i], &ObjectRecord::id,
+                              &ObjectRecord::type, &ObjectRecord::material);
   }
 }
 

@@ -11,6 +11,8 @@
 #include <string>
 
 #include "cli_test_util.hpp"
+#include "fields_test_util.hpp"
+#include "sonarsynth/sonar.hpp"
 
 namespace sonarsynth::simulation_file_test {
 
@@ -42,6 +44,17 @@ inline constexpr const char* kBathy =
 // Equal as option values: NaN (auto) equals NaN.
 inline bool same(double a, double b) {
   return a == b || (std::isnan(a) && std::isnan(b));
+}
+
+/// The sonar of `a` and `b` member by member, without the option table.
+inline void expect_same_members(const SonarConfig& a, const SonarConfig& b) {
+  using S = SonarConfig;
+  test::expect_equal_fields(a, b, &S::frequency_hz, &S::max_range_m, &S::samples_per_channel,
+                            &S::sound_speed_m_s, &S::tilt_rad, &S::horizontal_beam_width_rad,
+                            &S::pulse, &S::pulse_length_s, &S::bandwidth_hz, &S::ping_period_s);
+  using V = VerticalBeamPattern;
+  test::expect_equal_fields(a.vertical_beam, b.vertical_beam, &V::shape, &V::width_3db_rad,
+                            &V::upper_half_width_rad, &V::height_over_wavelength);
 }
 
 }  // namespace sonarsynth::simulation_file_test

@@ -16,6 +16,54 @@ namespace sonarsynth {
 namespace {
 
 using namespace simulation_file_test;
+using simulation_file_test::expect_same_members;  // with the overloads below
+using test::expect_equal_fields;
+using test::expect_same_fields;
+
+// The structs of `a` and `b` member by member, without the option table.
+void expect_same_members(const PhysicsConfig& a, const PhysicsConfig& b) {
+  using P = PhysicsConfig;
+  expect_equal_fields(a, b, &P::backscatter, &P::shadows, &P::absorption, &P::calibration_k);
+  using W = Seawater;
+  expect_equal_fields(a.water, b.water, &W::temperature_c, &W::salinity_psu, &W::ph, &W::depth_m);
+}
+
+void expect_same_members(const QualityConfig& a, const QualityConfig& b) {
+  using P = ProfileOptions;
+  expect_equal_fields(a.profile, b.profile, &P::grid_subdivisions, &P::object_segments,
+                      &P::solid_resting_objects);
+  using Q = QualityConfig;
+  expect_equal_fields(a, b, &Q::gauss_points, &Q::along_track_planes, &Q::along_track_tolerance_db);
+}
+
+void expect_same_members(const NoiseConfig& a, const NoiseConfig& b) {
+  using N = NoiseConfig;
+  expect_equal_fields(a, b, &N::model, &N::paper_uniform_half_width, &N::snr_at_max_range_db,
+                      &N::texture, &N::freeze_cell_m, &N::along_track_correlation,
+                      &N::aperture_translation, &N::range_correlation);
+  expect_same_fields(a, b, &N::paper_uniform_variance);
+}
+
+void expect_same_members(const OutputScaling& a, const OutputScaling& b) {
+  using O = OutputScaling;
+  expect_equal_fields(a, b, &O::normalise, &O::tvg, &O::max_value, &O::round_to_integer,
+                      &O::quantity, &O::detector, &O::detector_sub_samples);
+  expect_same_fields(a, b, &O::gain_db, &O::seabed_median_dbfs, &O::tvg_spreading_db_per_decade,
+                     &O::tvg_absorption_share);
+}
+
+void expect_same_members(const RunLimits& a, const RunLimits& b) {
+  expect_equal_fields(a, b, &RunLimits::max_pings, &RunLimits::max_output_gb,
+                      &RunLimits::max_memory_gb);
+}
+
+void expect_same_members(const VehicleConfig& a, const VehicleConfig& b) {
+  using V = VehicleConfig;
+  expect_equal_fields(a, b, &V::speed_m_s, &V::depth_mode, &V::altitude_m, &V::depth_m,
+                      &V::layback_m, &V::turn_time_s, &V::turn_radius_m);
+  expect_equal_fields(a.disturbance, b.disturbance, &Disturbance::roll_amplitude_rad,
+                      &Disturbance::yaw_amplitude_rad, &Disturbance::period_s);
+}
 
 // A key left out keeps its struct's default: sections given empty read the same values as
 // sections left out (where no reader code runs), and those are the structs' own members.
@@ -34,45 +82,14 @@ TEST_F(SimulationFile, DefaultsAreTheStructsDefaults) {
   // The structs, member by member (not through the table).
   for (const SimulationSetup* s : {&absent, &empty}) {
     const SimulationConfig& c = s->config;
-    const SonarConfig sonar;
-    EXPECT_EQ(c.sonar.frequency_hz, sonar.frequency_hz);
-    EXPECT_EQ(c.sonar.max_range_m, sonar.max_range_m);
-    EXPECT_EQ(c.sonar.samples_per_channel, sonar.samples_per_channel);
-    EXPECT_EQ(c.sonar.sound_speed_m_s, sonar.sound_speed_m_s);
-    EXPECT_EQ(c.sonar.tilt_rad, sonar.tilt_rad);
+    expect_same_members(c.sonar, SonarConfig{});
     EXPECT_EQ(c.sonar.tilt_rad, rad_from_deg(20.0));  // what tilt_deg: 20 gives
-    EXPECT_EQ(c.sonar.horizontal_beam_width_rad, sonar.horizontal_beam_width_rad);
-    EXPECT_EQ(c.sonar.vertical_beam.shape, sonar.vertical_beam.shape);
-    EXPECT_EQ(c.sonar.vertical_beam.width_3db_rad, sonar.vertical_beam.width_3db_rad);
-    EXPECT_EQ(c.sonar.pulse, sonar.pulse);
-    EXPECT_EQ(c.sonar.pulse_length_s, sonar.pulse_length_s);
-    EXPECT_EQ(c.sonar.ping_period_s, sonar.ping_period_s);
-    const PhysicsConfig physics;
-    EXPECT_EQ(c.physics.backscatter, physics.backscatter);
-    EXPECT_EQ(c.physics.shadows, physics.shadows);
-    EXPECT_EQ(c.physics.absorption, physics.absorption);
-    EXPECT_EQ(c.physics.calibration_k, physics.calibration_k);
-    EXPECT_EQ(c.physics.water.temperature_c, physics.water.temperature_c);
-    EXPECT_EQ(c.physics.water.salinity_psu, physics.water.salinity_psu);
-    EXPECT_EQ(c.physics.water.ph, physics.water.ph);
-    EXPECT_EQ(c.physics.water.depth_m, physics.water.depth_m);
-    const QualityConfig quality;
-    EXPECT_EQ(c.quality.profile.grid_subdivisions, quality.profile.grid_subdivisions);
-    EXPECT_EQ(c.quality.profile.object_segments, quality.profile.object_segments);
-    EXPECT_EQ(c.quality.gauss_points, quality.gauss_points);
-    EXPECT_EQ(c.quality.along_track_planes, quality.along_track_planes);
-    EXPECT_EQ(c.quality.along_track_tolerance_db, quality.along_track_tolerance_db);
-    const NoiseConfig noise;
-    EXPECT_EQ(c.noise.model, noise.model);
-    EXPECT_EQ(c.noise.paper_uniform_half_width, noise.paper_uniform_half_width);
-    EXPECT_EQ(c.noise.snr_at_max_range_db, noise.snr_at_max_range_db);
-    EXPECT_EQ(c.noise.texture, noise.texture);
-    EXPECT_EQ(c.noise.freeze_cell_m, noise.freeze_cell_m);
+    expect_same_members(c.physics, PhysicsConfig{});
+    expect_same_members(c.quality, QualityConfig{});
+    expect_same_members(c.noise, NoiseConfig{});
     EXPECT_TRUE(std::isnan(c.noise.paper_uniform_variance));
-    const OutputScaling output;
-    EXPECT_EQ(c.output.tvg, output.tvg);
+    expect_same_members(c.output, OutputScaling{});
     EXPECT_TRUE(std::isnan(c.output.gain_db));
-    EXPECT_EQ(c.output.max_value, output.max_value);
     EXPECT_EQ(c.output.normalise, OutputScaling::Normalise::none);
     EXPECT_FALSE(s->display_linear);
     EXPECT_EQ(c.truth, SimulationConfig{}.truth);
@@ -80,19 +97,8 @@ TEST_F(SimulationFile, DefaultsAreTheStructsDefaults) {
     EXPECT_EQ(s->sample_format, "u16");
     EXPECT_FALSE(s->allow_more_than_8192_samples);
     EXPECT_FALSE(s->bag_truth);
-    const RunLimits limits;
-    EXPECT_EQ(s->limits.max_pings, limits.max_pings);
-    EXPECT_EQ(s->limits.max_output_gb, limits.max_output_gb);
-    EXPECT_EQ(s->limits.max_memory_gb, limits.max_memory_gb);
-    const VehicleConfig vehicle;
-    EXPECT_EQ(s->vehicle.speed_m_s, vehicle.speed_m_s);
-    EXPECT_EQ(s->vehicle.depth_mode, vehicle.depth_mode);
-    EXPECT_EQ(s->vehicle.altitude_m, vehicle.altitude_m);
-    EXPECT_EQ(s->vehicle.layback_m, vehicle.layback_m);
-    EXPECT_EQ(s->vehicle.turn_time_s, vehicle.turn_time_s);
-    EXPECT_EQ(s->vehicle.turn_radius_m, vehicle.turn_radius_m);
-    EXPECT_EQ(s->vehicle.disturbance.roll_amplitude_rad, vehicle.disturbance.roll_amplitude_rad);
-    EXPECT_EQ(s->vehicle.disturbance.period_s, vehicle.disturbance.period_s);
+    expect_same_members(s->limits, RunLimits{});
+    expect_same_members(s->vehicle, VehicleConfig{});
     EXPECT_EQ(format_utc(s->start_time), "2026-01-01T00:00:00.000000Z");
   }
   // A paper beam given without its widths takes VerticalBeamPattern's.
@@ -109,73 +115,26 @@ TEST_F(SimulationFile, DefaultsAreTheStructsDefaults) {
 void expect_same_members(const SimulationSetup& a, const SimulationSetup& b) {
   const SimulationConfig &x = a.config, &y = b.config;
   EXPECT_EQ(x.seed, y.seed);
-  EXPECT_EQ(x.sonar.frequency_hz, y.sonar.frequency_hz);
-  EXPECT_EQ(x.sonar.max_range_m, y.sonar.max_range_m);
-  EXPECT_EQ(x.sonar.samples_per_channel, y.sonar.samples_per_channel);
-  EXPECT_EQ(x.sonar.tilt_rad, y.sonar.tilt_rad);
-  EXPECT_EQ(x.sonar.vertical_beam.shape, y.sonar.vertical_beam.shape);
-  EXPECT_EQ(x.sonar.vertical_beam.width_3db_rad, y.sonar.vertical_beam.width_3db_rad);
-  EXPECT_EQ(x.sonar.vertical_beam.upper_half_width_rad, y.sonar.vertical_beam.upper_half_width_rad);
-  EXPECT_EQ(x.sonar.vertical_beam.height_over_wavelength,
-            y.sonar.vertical_beam.height_over_wavelength);
-  EXPECT_EQ(x.sonar.pulse, y.sonar.pulse);
-  EXPECT_EQ(x.sonar.pulse_length_s, y.sonar.pulse_length_s);
-  EXPECT_EQ(x.sonar.bandwidth_hz, y.sonar.bandwidth_hz);
-  EXPECT_EQ(x.physics.backscatter, y.physics.backscatter);
-  EXPECT_EQ(x.physics.water.depth_m, y.physics.water.depth_m);
-  EXPECT_EQ(x.quality.profile.grid_subdivisions, y.quality.profile.grid_subdivisions);
-  EXPECT_EQ(x.quality.profile.object_segments, y.quality.profile.object_segments);
-  EXPECT_EQ(x.quality.profile.solid_resting_objects, y.quality.profile.solid_resting_objects);
-  EXPECT_EQ(x.quality.gauss_points, y.quality.gauss_points);
-  EXPECT_EQ(x.quality.along_track_planes, y.quality.along_track_planes);
-  EXPECT_EQ(x.quality.along_track_tolerance_db, y.quality.along_track_tolerance_db);
-  EXPECT_EQ(x.noise.model, y.noise.model);
-  EXPECT_EQ(x.noise.freeze_cell_m, y.noise.freeze_cell_m);
-  EXPECT_TRUE(same(x.noise.paper_uniform_variance, y.noise.paper_uniform_variance));
-  EXPECT_EQ(x.output.normalise, y.output.normalise);
+  expect_same_members(x.sonar, y.sonar);
+  expect_same_members(x.physics, y.physics);
+  expect_same_members(x.quality, y.quality);
+  expect_same_members(x.noise, y.noise);
+  expect_same_members(x.output, y.output);
   EXPECT_EQ(a.display_linear, b.display_linear);
   EXPECT_EQ(a.bag_truth, b.bag_truth);
-  EXPECT_EQ(x.output.tvg, y.output.tvg);
-  EXPECT_TRUE(same(x.output.gain_db, y.output.gain_db));
-  EXPECT_EQ(x.output.max_value, y.output.max_value);
-  EXPECT_EQ(x.output.round_to_integer, y.output.round_to_integer);
-  EXPECT_EQ(x.output.quantity, y.output.quantity);
-  EXPECT_EQ(x.noise.along_track_correlation, y.noise.along_track_correlation);
-  EXPECT_EQ(x.noise.aperture_translation, y.noise.aperture_translation);
-  EXPECT_EQ(x.noise.range_correlation, y.noise.range_correlation);
-  EXPECT_EQ(x.output.detector, y.output.detector);
-  EXPECT_EQ(x.output.detector_sub_samples, y.output.detector_sub_samples);
-  EXPECT_TRUE(same(x.output.seabed_median_dbfs, y.output.seabed_median_dbfs));
-  for (auto [u, w] :
-       {std::pair{x.sensor.noise_floor_dbfs, y.sensor.noise_floor_dbfs},
-        std::pair{x.sensor.volume_reverberation_db, y.sensor.volume_reverberation_db},
-        std::pair{x.sensor.shadow_fill_db, y.sensor.shadow_fill_db},
-        std::pair{x.sensor.first_return_reflection_db, y.sensor.first_return_reflection_db},
-        std::pair{x.sensor.first_return_rms_slope, y.sensor.first_return_rms_slope},
-        std::pair{x.sensor.side_lobe_db, y.sensor.side_lobe_db},
-        std::pair{x.sensor.ring_down_m, y.sensor.ring_down_m},
-        std::pair{x.sensor.volume_texture_shape, y.sensor.volume_texture_shape},
-        std::pair{x.sensor.shadow_fill_texture_shape, y.sensor.shadow_fill_texture_shape},
-        std::pair{x.sensor.volume_patch_along_track_m, y.sensor.volume_patch_along_track_m},
-        std::pair{x.sensor.volume_patch_range_m, y.sensor.volume_patch_range_m},
-        std::pair{x.sensor.shadow_fill_patch_along_track_m,
-                  y.sensor.shadow_fill_patch_along_track_m},
-        std::pair{x.sensor.shadow_fill_patch_range_m, y.sensor.shadow_fill_patch_range_m},
-        std::pair{x.output.tvg_spreading_db_per_decade, y.output.tvg_spreading_db_per_decade},
-        std::pair{x.output.tvg_absorption_share, y.output.tvg_absorption_share}}) {
-    EXPECT_TRUE(same(u, w)) << u << " vs " << w;
-  }
+  using Z = SensorConfig;
+  expect_same_fields(
+      x.sensor, y.sensor, &Z::noise_floor_dbfs, &Z::volume_reverberation_db, &Z::shadow_fill_db,
+      &Z::first_return_reflection_db, &Z::first_return_rms_slope, &Z::side_lobe_db, &Z::ring_down_m,
+      &Z::volume_texture_shape, &Z::shadow_fill_texture_shape, &Z::volume_patch_along_track_m,
+      &Z::volume_patch_range_m, &Z::shadow_fill_patch_along_track_m, &Z::shadow_fill_patch_range_m);
   EXPECT_EQ(x.truth, y.truth);
   EXPECT_EQ(a.mosaic_processing.nadir, b.mosaic_processing.nadir);
   EXPECT_EQ(a.mosaic_processing.gain, b.mosaic_processing.gain);
   EXPECT_EQ(a.sample_format, b.sample_format);
   EXPECT_EQ(a.output_formats, b.output_formats);
-  EXPECT_EQ(a.limits.max_pings, b.limits.max_pings);
-  EXPECT_EQ(a.vehicle.depth_mode, b.vehicle.depth_mode);
-  EXPECT_EQ(a.vehicle.altitude_m, b.vehicle.altitude_m);
-  EXPECT_EQ(a.vehicle.depth_m, b.vehicle.depth_m);
-  EXPECT_EQ(a.vehicle.turn_time_s, b.vehicle.turn_time_s);
-  EXPECT_EQ(a.vehicle.disturbance.yaw_amplitude_rad, b.vehicle.disturbance.yaw_amplitude_rad);
+  expect_same_members(a.limits, b.limits);
+  expect_same_members(a.vehicle, b.vehicle);
   EXPECT_EQ(a.start_time, b.start_time);
 }
 

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "cli_test_util.hpp"
+#include "simulation_file_test_util.hpp"
 #include "sonarsynth/error.hpp"
 #include "sonarsynth/formats/config/simulation_file.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
@@ -261,18 +262,7 @@ TEST_F(SonarPresetFile, EffectiveYamlRecordsTheResolvedValues) {
 
     const SonarConfig& x = a.config.sonar;
     const SonarConfig b = load_simulation(eff.string()).config.sonar;
-    EXPECT_EQ(x.frequency_hz, b.frequency_hz);
-    EXPECT_EQ(x.max_range_m, b.max_range_m);
-    EXPECT_EQ(x.samples_per_channel, b.samples_per_channel);
-    EXPECT_EQ(x.sound_speed_m_s, b.sound_speed_m_s);
-    EXPECT_EQ(x.ping_period_s, b.ping_period_s);
-    EXPECT_EQ(x.tilt_rad, b.tilt_rad);
-    EXPECT_EQ(x.horizontal_beam_width_rad, b.horizontal_beam_width_rad);
-    EXPECT_EQ(x.vertical_beam.shape, b.vertical_beam.shape);
-    EXPECT_EQ(x.vertical_beam.width_3db_rad, b.vertical_beam.width_3db_rad);
-    EXPECT_EQ(x.pulse, b.pulse);
-    EXPECT_EQ(x.pulse_length_s, b.pulse_length_s);
-    EXPECT_EQ(x.bandwidth_hz, b.bandwidth_hz);
+    simulation_file_test::expect_same_members(x, b);
   }
 }
 

@@ -223,9 +223,7 @@ TEST(Waterfall, LongLineIsDecimatedAlongTrackToFitMaxPixels) {
   o.fixed_db = true;
   o.lo_db = -10.0;
   o.hi_db = 10.0;
-  o.spool_dir = dir;
-  Waterfall wf(o);
-  for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
+  const Waterfall wf = waterfall_of(o, dir, pings);
   EXPECT_EQ(wf.rows(), 1003u);
   EXPECT_EQ(wf.pings_per_row(), 11u);
   EXPECT_EQ(wf.image_rows(), 92u);  // ceil(1003 / 11)

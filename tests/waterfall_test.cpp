@@ -140,9 +140,7 @@ TEST(Waterfall, PngAndTifHoldTheExpectedColours) {
       o.fixed_db = fixed;
       o.lo_db = -3.0;
       o.hi_db = 6.0;
-      o.spool_dir = dir;
-      Waterfall wf(o);
-      for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
+      const Waterfall wf = waterfall_of(o, dir, pings);
       const DisplayRange range = fixed ? DisplayRange{-3.0, 6.0} : robust_db_range(img, 5.0, 90.0);
       const std::vector<std::uint8_t> want = colourise(img, range, map);
       for (const std::string ext : {".png", ".tif"}) {
@@ -181,12 +179,8 @@ TEST(Waterfall, PercentileScalingEqualsRobustDbRangeOfTheWholeImage) {
   const auto [pings, cols, img] = random_image(2000, 600, 3);
   WaterfallOptions o;
   o.colormap = Colormap::grey;
-  o.spool_dir = dir;
   ASSERT_GT(img.size(), 8 * o.range_samples);  // the subsample takes every 9th value at most
-  Waterfall wf(o);
-  for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
-  const std::string path = (dir / "big.png").string();
-  wf.write(path);
+  const std::string path = write_waterfall(o, pings, dir, "big.png");
   int c = 0, r = 0;
   std::string driver;
   const std::vector<std::uint8_t> got = read_bytes(path, &c, &r, &driver);
@@ -231,11 +225,7 @@ TEST(Waterfall, LargeColourPngSplitsItsImageDataIntoValidChunks) {
   const auto [pings, cols, img] = random_image(1500, 600, 5);
   WaterfallOptions o;
   o.colormap = Colormap::black_brown_yellow;
-  o.spool_dir = dir;
-  Waterfall wf(o);
-  for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
-  const std::string path = (dir / "colour.png").string();
-  wf.write(path);
+  const std::string path = write_waterfall(o, pings, dir, "colour.png");
   const std::vector<std::string> chunks = png_chunks(path);
   ASSERT_GE(chunks.size(), 4u);
   EXPECT_EQ(chunks.front(), "IHDR");
@@ -266,12 +256,8 @@ TEST(Waterfall, PngTextChunksAreTheMetadataItems) {
   const auto dir = test::mosaic_temp_dir("wf_text");
   const std::vector<Ping> pings = random_pings(5, 4, 3);
   WaterfallOptions o;
-  o.spool_dir = dir;
   o.metadata = {{"B_ITEM", "first"}, {"A_ITEM", "x = 1, y = 2"}, {"B_ITEM", "second"}};
-  Waterfall wf(o);
-  for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
-  const std::string path = (dir / "t.png").string();
-  wf.write(path);
+  const std::string path = write_waterfall(o, pings, dir, "t.png");
   GDALAllRegister();
   GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
   ASSERT_NE(ds, nullptr);

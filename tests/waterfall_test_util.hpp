@@ -15,6 +15,7 @@
 
 #include "sonarsynth/colormap.hpp"
 #include "sonarsynth/display_scale.hpp"
+#include "sonarsynth/formats/products/waterfall.hpp"
 
 namespace sonarsynth::test {
 
@@ -130,6 +131,23 @@ inline std::vector<std::uint8_t> read_bytes(const std::string& path, int* cols, 
   }
   GDALClose(ds);
   return out;
+}
+
+/// A waterfall of options `o` (spooled in `dir`) holding `pings`, without navigation.
+inline Waterfall waterfall_of(WaterfallOptions o, const fs::path& dir,
+                              const std::vector<Ping>& pings) {
+  o.spool_dir = dir;
+  Waterfall wf(o);
+  for (const Ping& p : pings) wf.add_ping(p.port, p.stbd, 0.0, 0.0);
+  return wf;
+}
+
+/// waterfall_of(o, dir, pings) written to `dir` / `name`; returns the file's path.
+inline std::string write_waterfall(const WaterfallOptions& o, const std::vector<Ping>& pings,
+                                   const fs::path& dir, const std::string& name) {
+  const std::string path = (dir / name).string();
+  waterfall_of(o, dir, pings).write(path);
+  return path;
 }
 
 /// The number of positions where two equally long byte images differ (a count, not a dump of

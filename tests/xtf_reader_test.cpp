@@ -241,6 +241,40 @@ class XtfBrokenTest : public ::testing::Test {
     packet_size_ = (good_.size() - 1024) / 3;
   }
   std::uint64_t packet(int i) const { return 1024 + static_cast<std::uint64_t>(i) * packet_size_; }
+  /// Reads `b` (named `name`) and expects `count` pings, the one at `at` numbered `number`, and
+  /// one anomaly of `kind`; the reader's anomalies go to `anomalies`.
+  static void expect_one_skip(const std::vector<std::uint8_t>& b, const std::string& name,
+                              std::size_t count, std::size_t at, std::uint32_t number,
+                              AnomalyKind kind, std::vector<Anomaly>* anomalies = nullptr) {
+    Reader r(b, name);
+    const auto pings = read_pings(r);
+    ASSERT_EQ(pings.size(), count);
+    EXPECT_EQ(pings[at].header.PingNumber, number);
+    EXPECT_EQ(r.anomaly_count(kind), 1u);
+    if (anomalies != nullptr) *anomalies = r.anomalies();
+  }
+  /// What reading `b` (named `name`) gives: the number of pings, the anomalies of `kind` and the
+  /// reader's anomalies.
+  struct Read {
+    std::size_t pings = 0;
+    std::uint64_t of_kind = 0;
+    std::vector<Anomaly> anomalies;
+  };
+  static Read read_all(const std::vector<std::uint8_t>& b, const std::string& name,
+                       AnomalyKind kind) {
+    Reader r(b, name);
+    return {read_pings(r).size(), r.anomaly_count(kind), r.anomalies()};
+  }
+  /// Reads `b` (named `name`) and expects `count` pings and one anomaly of `kind`; returns the
+  /// reader's anomalies.
+  static std::vector<Anomaly> expect_one_anomaly(const std::vector<std::uint8_t>& b,
+                                                 const std::string& name, std::size_t count,
+                                                 AnomalyKind kind) {
+    Read got = read_all(b, name, kind);
+    EXPECT_EQ(got.pings, count);
+    EXPECT_EQ(got.of_kind, 1u);
+    return std::move(got.anomalies);
+  }
   std::vector<std::uint8_t> good_;
   std::uint64_t packet_size_ = 0;
 };
@@ -274,57 +308,41 @@ TEST_F(XtfBrokenTest, GarbageBetweenPacketsIsSkipped) {
   const std::vector<std::uint8_t> garbage = {0xCE, 0x00, 0x12, 0xCE, 0xFA, 0xFF, 0xFF, 0xFF, 0xFF,
                                              0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0x01, 0x02};
   b.insert(b.begin() + static_cast<std::ptrdiff_t>(packet(1)), garbage.begin(), garbage.end());
-  Reader r(b, "garbage");
-  const auto pings = read_pings(r);
-  ASSERT_EQ(pings.size(), 3u);
-  EXPECT_EQ(pings[2].header.PingNumber, 2u);
-  EXPECT_EQ(r.anomaly_count(AnomalyKind::kGarbageSkipped), 1u);
-  EXPECT_EQ(r.anomalies()[0].offset, packet(1));
-  EXPECT_NE(r.anomalies()[0].message.find("skipped 17 bytes"), std::string::npos)
-      << r.anomalies()[0].message;
+  std::vector<Anomaly> a;
+  ASSERT_NO_FATAL_FAILURE(expect_one_skip(b, "garbage", 3, 2, 2, AnomalyKind::kGarbageSkipped, &a));
+  EXPECT_EQ(a[0].offset, packet(1));
+  EXPECT_NE(a[0].message.find("skipped 17 bytes"), std::string::npos) << a[0].message;
 }
 
 TEST_F(XtfBrokenTest, BadMagicInAPacketResyncs) {
   auto b = good_;
   b[packet(1)] = 0x00;  // ping 1 loses its magic: skipped, ping 2 found again
-  Reader r(b, "magic");
-  const auto pings = read_pings(r);
-  ASSERT_EQ(pings.size(), 2u);
-  EXPECT_EQ(pings[1].header.PingNumber, 2u);
-  EXPECT_EQ(r.anomaly_count(AnomalyKind::kGarbageSkipped), 1u);
+  expect_one_skip(b, "magic", 2, 1, 2, AnomalyKind::kGarbageSkipped);
 }
 
 TEST_F(XtfBrokenTest, NumBytesThisRecordZero) {
   auto b = good_;
   put<std::uint32_t>(b, packet(1) + 10, 0);
-  Reader r(b, "zero");
-  const auto pings = read_pings(r);
-  ASSERT_EQ(pings.size(), 2u);
-  EXPECT_EQ(pings[1].header.PingNumber, 2u);
-  EXPECT_EQ(r.anomaly_count(AnomalyKind::kBadRecordSize), 1u);
-  EXPECT_NE(
-      r.anomalies()[0].message.find("NumBytesThisRecord = 0 at byte " + std::to_string(packet(1))),
-      std::string::npos)
-      << r.anomalies()[0].message;
+  std::vector<Anomaly> a;
+  ASSERT_NO_FATAL_FAILURE(expect_one_skip(b, "zero", 2, 1, 2, AnomalyKind::kBadRecordSize, &a));
+  EXPECT_NE(a[0].message.find("NumBytesThisRecord = 0 at byte " + std::to_string(packet(1))),
+            std::string::npos)
+      << a[0].message;
 }
 
 TEST_F(XtfBrokenTest, NumBytesThisRecordHuge) {
   auto b = good_;
   put<std::uint32_t>(b, packet(0) + 10, 0xFFFFFFF0u);
-  Reader r(b, "huge");
-  const auto pings = read_pings(r);
-  ASSERT_EQ(pings.size(), 2u);  // ping 0 lost, 1 and 2 found by resync
-  EXPECT_EQ(pings[0].header.PingNumber, 1u);
-  EXPECT_EQ(r.anomaly_count(AnomalyKind::kBadRecordSize), 1u);
+  // ping 0 lost, 1 and 2 found by resync
+  expect_one_skip(b, "huge", 2, 0, 1, AnomalyKind::kBadRecordSize);
 }
 
 TEST_F(XtfBrokenTest, NumBytesThisRecordSmallerThanThePingHeader) {
   auto b = good_;
   put<std::uint32_t>(b, packet(1) + 10, 64);
-  Reader r(b, "small");
-  const auto pings = read_pings(r);
-  EXPECT_EQ(pings.size(), 2u);
-  EXPECT_GE(r.anomaly_count(AnomalyKind::kBadRecordSize), 1u);
+  const Read got = read_all(b, "small", AnomalyKind::kBadRecordSize);
+  EXPECT_EQ(got.pings, 2u);
+  EXPECT_GE(got.of_kind, 1u);
 }
 
 TEST_F(XtfBrokenTest, TruncatedLastPacketIsReportedAndTheRestKept) {
@@ -337,41 +355,29 @@ TEST_F(XtfBrokenTest, TruncatedLastPacketIsReportedAndTheRestKept) {
   // a few trailing bytes, too few for a header
   const std::vector<std::uint8_t> c(good_.begin(),
                                     good_.begin() + static_cast<std::ptrdiff_t>(packet(2)) + 5);
-  Reader r2(c, "trunc2");
-  EXPECT_EQ(read_pings(r2).size(), 2u);
-  EXPECT_EQ(r2.anomaly_count(AnomalyKind::kTruncatedPacket), 1u);
+  expect_one_anomaly(c, "trunc2", 2, AnomalyKind::kTruncatedPacket);
 }
 
 TEST_F(XtfBrokenTest, NumSamplesBeyondTheRecord) {
   auto b = good_;
   put<std::uint32_t>(b, packet(1) + 256 + 42, 1000000);
-  Reader r(b, "samples");
-  const auto pings = read_pings(r);
-  ASSERT_EQ(pings.size(), 2u);
-  EXPECT_EQ(pings[1].header.PingNumber, 2u);
-  EXPECT_EQ(r.anomaly_count(AnomalyKind::kSamplesBeyondRecord), 1u);
+  ASSERT_NO_FATAL_FAILURE(
+      expect_one_skip(b, "samples", 2, 1, 2, AnomalyKind::kSamplesBeyondRecord));
   put<std::uint32_t>(b, packet(1) + 256 + 42, 0xFFFFFFFFu);  // 64-bit product, no wrap
-  Reader r2(b, "samples2");
-  EXPECT_EQ(read_pings(r2).size(), 2u);
-  EXPECT_EQ(r2.anomaly_count(AnomalyKind::kSamplesBeyondRecord), 1u);
+  expect_one_anomaly(b, "samples2", 2, AnomalyKind::kSamplesBeyondRecord);
 }
 
 TEST_F(XtfBrokenTest, ChannelNumberOutOfRange) {
   auto b = good_;
   put<std::uint16_t>(b, packet(0) + 256, 7);
-  Reader r(b, "chan");
-  const auto pings = read_pings(r);
-  EXPECT_EQ(pings.size(), 2u);
-  EXPECT_EQ(r.anomaly_count(AnomalyKind::kBadChannel), 1u);
-  EXPECT_NE(r.anomalies()[0].message.find("ChannelNumber = 7"), std::string::npos);
+  const std::vector<Anomaly> a = expect_one_anomaly(b, "chan", 2, AnomalyKind::kBadChannel);
+  EXPECT_NE(a[0].message.find("ChannelNumber = 7"), std::string::npos);
 }
 
 TEST_F(XtfBrokenTest, NumChansToFollowBeyondTheRecord) {
   auto b = good_;
   put<std::uint16_t>(b, packet(0) + 4, 60000);
-  Reader r(b, "nchan");
-  EXPECT_EQ(read_pings(r).size(), 2u);
-  EXPECT_EQ(r.anomaly_count(AnomalyKind::kBadRecordSize), 1u);
+  expect_one_anomaly(b, "nchan", 2, AnomalyKind::kBadRecordSize);
 }
 
 // A count that passes the "64 bytes per channel" bound but not once the samples of the first
