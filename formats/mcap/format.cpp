@@ -1,17 +1,23 @@
 // SPDX-License-Identifier: MIT
-// The MCAP format's descriptor, its `simulate` writer and the XTF -> MCAP conversion; the read
-// side is in read_format.cpp (docs/robotics.md, docs/architecture.md "Adding a sonar format").
+// The MCAP format's descriptor, its `simulate` writer, the XTF -> MCAP conversion and its read
+// side: the SideScanSource, `info`, and the MCAP -> XTF and MCAP -> JSF conversions
+// (docs/robotics.md, docs/architecture.md "Adding a sonar format").
 #include "sonarsynth/formats/mcap/format.hpp"
 
+#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "sonarsynth/error.hpp"
-#include "sonarsynth/formats/mcap/read_format.hpp"
+#include "sonarsynth/formats/jsf/format.hpp"
+#include "sonarsynth/formats/mcap/opcodes.hpp"
+#include "sonarsynth/formats/mcap/reader.hpp"
 #include "sonarsynth/formats/mcap/writer.hpp"
+#include "sonarsynth/formats/rosbag/read_common.hpp"
 #include "sonarsynth/formats/rosbag/write_common.hpp"
 #include "sonarsynth/formats/xtf/format.hpp"
+#include "sonarsynth/formats/xtf/info_json.hpp"
 #include "sonarsynth/formats/xtf/reader.hpp"
 #include "sonarsynth/formats/xtf/survey_writer.hpp"
 
@@ -69,6 +75,42 @@ WriterOptions conversion_options(const xtf::Reader& reader, bool overwrite) {
   return o;
 }
 
+using rosbag::bag_to_xtf;
+using rosbag::ContainerInfo;
+using rosbag::read_as;
+using rosbag::via_xtf_to_jsf;
+
+ContainerInfo container(const Reader& reader) {
+  ContainerInfo c{
+      .format = "MCAP",
+      .keys = {{"profile", info::file_text(reader.profile())},
+               {"library", info::file_text(reader.library())},
+               {"indexed", reader.indexed()},
+               {"chunks", reader.chunk_count()}},
+      .text = "MCAP, profile '" + reader.profile() + "', library '" + reader.library() + "', " +
+              std::to_string(reader.chunk_count()) + " chunks, " +
+              (reader.indexed() ? "read through its index" : "no index: records walked"),
+      .list_key = "channels",
+      .list_title = "Channels",
+      .rows = {}};
+  for (const ChannelInfo& ch : reader.channels()) {
+    c.rows.push_back(
+        {.id = ch.id,
+         .topic = ch.topic,
+         .type = {"schema", ch.schema},
+         .detail = {"message_encoding", ch.message_encoding},
+         .text = (ch.schema.empty() ? "no schema" : ch.schema) + ", " + ch.message_encoding,
+         .messages = ch.messages,
+         .read_as = read_as(ch.decoded, ch.schema)});
+  }
+  return c;
+}
+
+bool identify(std::span<const std::uint8_t> head) {
+  return head.size() >= kMagic.size() &&
+         std::memcmp(head.data(), kMagic.data(), kMagic.size()) == 0;
+}
+
 }  // namespace
 
 ConvertResult xtf_to_mcap(const std::filesystem::path& in, const std::filesystem::path& out,
@@ -78,10 +120,22 @@ ConvertResult xtf_to_mcap(const std::filesystem::path& in, const std::filesystem
       [overwrite](const xtf::Reader& reader) { return conversion_options(reader, overwrite); });
 }
 
+ConvertResult mcap_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,
+                          bool overwrite, AltitudeSource /*altitude_source*/) {
+  return bag_to_xtf<Reader>(sonar_format(), "MCAP file", "MCAP chunk (or message)", in, out,
+                            overwrite);
+}
+
+ConvertResult mcap_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
+                          bool overwrite, AltitudeSource altitude_source) {
+  return via_xtf_to_jsf(mcap_to_xtf, sonar_format(), in, out, overwrite, altitude_source);
+}
+
 const SonarFormat& sonar_format() {
   static const SonarFormat format = reading_and_simulating_format(
       "mcap", "MCAP", "ROS 2 bag in MCAP, a RawSonarImage per side (docs/robotics.md)", {".mcap"},
-      identify, open_reader, file_info, create_survey_writer, estimated_bytes,
+      identify, rosbag::open_bag<Reader, sonar_format>, rosbag::bag_file_info<Reader, container>,
+      create_survey_writer, estimated_bytes,
       {{"xtf", "mcap", xtf_to_mcap}, {"mcap", "xtf", mcap_to_xtf}, {"mcap", "jsf", mcap_to_jsf}});
   return format;
 }

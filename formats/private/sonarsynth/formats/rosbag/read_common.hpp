@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// What the ROS 1 bag format (formats/rosbag/read_format.cpp) and the MCAP format
-// (formats/mcap/read_format.cpp) share on their read side: the summary of `info`, its JSON and
-// text after the container's own part, and the bag -> XTF and bag -> JSF conversions
+// What the ROS 1 bag format (formats/rosbag/format.cpp) and the MCAP format
+// (formats/mcap/format.cpp) share on their read side: the reader, the summary of `info`, its
+// JSON and text after the container's own part, and the bag -> XTF and bag -> JSF conversions
 // (docs/rosbag.md and docs/robotics.md, "Reading bags").
 #pragma once
 
@@ -110,10 +110,16 @@ struct ContainerInfo {
 SonarFileInfo bag_info(const ContainerInfo& c, const std::string& name, std::uint64_t size,
                        const PingStream& bag, const BagSummary& s, std::size_t max_anomalies);
 
-/// `info` of the bag `path` read by a BagReader, its container described by `describe(reader)`.
-template <class BagReader, class Describe>
-SonarFileInfo bag_file_info(const std::filesystem::path& path, std::size_t max_anomalies,
-                            Describe describe) {
+/// A bag format's SonarFormat::open_reader: the pings of its BagReader as `format()`'s records.
+template <class BagReader, const SonarFormat& (*format)()>
+std::unique_ptr<SideScanSource> open_bag(const std::filesystem::path& path) {
+  return std::make_unique<BagSource<BagReader>>(path, format());
+}
+
+/// A bag format's SonarFormat::info: `info` of the bag `path` read by a BagReader, its container
+/// described by `describe(reader)`.
+template <class BagReader, ContainerInfo (*describe)(const BagReader&)>
+SonarFileInfo bag_file_info(const std::filesystem::path& path, std::size_t max_anomalies) {
   BagReader reader(path);
   const PingStream bag = ping_stream(reader);
   const BagSummary s = summarise(bag);
