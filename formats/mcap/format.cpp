@@ -134,8 +134,8 @@ ConvertResult mcap_to_jsf(const std::filesystem::path& in, const std::filesystem
 const SonarFormat& sonar_format() {
   static const SonarFormat format = reading_and_simulating_format(
       "mcap", "MCAP", "ROS 2 bag in MCAP, a RawSonarImage per side (docs/robotics.md)", {".mcap"},
-      identify, rosbag::open_bag<Reader, sonar_format>, rosbag::bag_file_info<Reader, container>,
-      create_survey_writer, estimated_bytes,
+      identify, open_ping_source<Reader, rosbag::Ping, sonar_format>,
+      rosbag::bag_file_info<Reader, container>, create_survey_writer, estimated_bytes,
       {{"xtf", "mcap", xtf_to_mcap}, {"mcap", "xtf", mcap_to_xtf}, {"mcap", "jsf", mcap_to_jsf}});
   return format;
 }

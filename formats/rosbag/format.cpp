@@ -125,7 +125,7 @@ const SonarFormat& sonar_format() {
   static const SonarFormat format = reading_and_simulating_format(
       "rosbag", "ROS 1 bag",
       "ROS 1 bag, format 2.0 (marine_acoustic_msgs side-scan images, navigation)", {".bag"},
-      identify, open_bag<Reader, sonar_format>, bag_file_info<Reader, container>,
+      identify, open_ping_source<Reader, Ping, sonar_format>, bag_file_info<Reader, container>,
       create_survey_writer, estimated_bytes,
       {{"xtf", "rosbag", xtf_to_rosbag},
        {"rosbag", "xtf", rosbag_to_xtf},

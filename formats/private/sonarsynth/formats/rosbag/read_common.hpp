@@ -43,27 +43,6 @@ PingStream ping_stream(BagReader& reader) {
           reader.anomalies(), [&reader] { return reader.total_anomalies(); }};
 }
 
-/// A bag reader's pings as side-scan records (times always present; no layback in a bag).
-template <class BagReader>
-class BagSource : public ReaderSource<BagReader> {
- public:
-  BagSource(const std::filesystem::path& path, const SonarFormat& format)
-      : ReaderSource<BagReader>(path, format) {}
-  bool next(SideScanRecord& r) override {
-    if (!this->reader_.next_ping(ping_)) return false;
-    r.sonar = std::move(ping_.sonar);
-    r.nav_valid = ping_.nav_valid;
-    r.time_valid = true;
-    r.layback_m = 0.0;
-    r.heading_true_deg = deg_from_rad(r.sonar.heading_true_rad);
-    r.index = ping_.index;
-    return true;
-  }
-
- private:
-  Ping ping_;
-};
-
 /// What a connection (or channel) of `type` (or schema name) is read as; nullptr if not decoded.
 const char* read_as(bool decoded, std::string_view type);
 
@@ -109,12 +88,6 @@ struct ContainerInfo {
 /// container's part, then the summary `s`'s.
 SonarFileInfo bag_info(const ContainerInfo& c, const std::string& name, std::uint64_t size,
                        const PingStream& bag, const BagSummary& s, std::size_t max_anomalies);
-
-/// A bag format's SonarFormat::open_reader: the pings of its BagReader as `format()`'s records.
-template <class BagReader, const SonarFormat& (*format)()>
-std::unique_ptr<SideScanSource> open_bag(const std::filesystem::path& path) {
-  return std::make_unique<BagSource<BagReader>>(path, format());
-}
 
 /// A bag format's SonarFormat::info: `info` of the bag `path` read by a BagReader, its container
 /// described by `describe(reader)`.
