@@ -78,7 +78,6 @@ WriterOptions conversion_options(const xtf::Reader& reader, bool overwrite) {
 using rosbag::bag_to_xtf;
 using rosbag::ContainerInfo;
 using rosbag::read_as;
-using rosbag::via_xtf_to_jsf;
 
 ContainerInfo container(const Reader& reader) {
   ContainerInfo c{
@@ -111,8 +110,11 @@ bool identify(std::span<const std::uint8_t> head) {
          std::memcmp(head.data(), kMagic.data(), kMagic.size()) == 0;
 }
 
-}  // namespace
-
+/// Converts an XTF file into a ROS 2 bag (docs/robotics.md, "convert"): every ping the reader
+/// gives, its samples in the XTF file's own sample type (16- or 8-bit unsigned integers as
+/// uint16/uint8, anything else as float32). Pings the bag cannot hold are dropped and counted by
+/// reason. Throws FormatError for unreadable input and when no ping is left (then no output file
+/// is created). `altitude_source` is not used: the bag's messages carry no altitude.
 ConvertResult xtf_to_mcap(const std::filesystem::path& in, const std::filesystem::path& out,
                           bool overwrite, AltitudeSource /*altitude_source*/) {
   return rosbag::xtf_to_bag<Writer>(
@@ -120,23 +122,30 @@ ConvertResult xtf_to_mcap(const std::filesystem::path& in, const std::filesystem
       [overwrite](const xtf::Reader& reader) { return conversion_options(reader, overwrite); });
 }
 
+/// Converts a ROS 2 bag into XTF (docs/robotics.md, "Reading bags"): every ping (the port and
+/// starboard RawSonarImage of one header.stamp) with its samples (uint8 -> u8, float -> f32,
+/// other types -> u16 clamped to 0..32767), time, sound speed, slant range, the position of the
+/// NavSatFix and the heading, pitch and roll of the Imu at or before it, the port image's
+/// Message sequence as ping number; the other Imu messages as attitude packets. Pings without a
+/// position are dropped (XTF's (0, 0) is "no fix"). `altitude_source` has no effect. Throws
+/// FormatError for unreadable input and when no ping is left to write (then no output file is
+/// created).
 ConvertResult mcap_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,
                           bool overwrite, AltitudeSource /*altitude_source*/) {
   return bag_to_xtf<Reader>(sonar_format(), "MCAP file", "MCAP chunk (or message)", in, out,
                             overwrite);
 }
 
-ConvertResult mcap_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
-                          bool overwrite, AltitudeSource altitude_source) {
-  return via_xtf_to_jsf(mcap_to_xtf, sonar_format(), in, out, overwrite, altitude_source);
-}
+}  // namespace
 
 const SonarFormat& sonar_format() {
   static const SonarFormat format = reading_and_simulating_format(
       "mcap", "MCAP", "ROS 2 bag in MCAP, a RawSonarImage per side (docs/robotics.md)", {".mcap"},
       identify, open_ping_source<Reader, rosbag::Ping, sonar_format>,
       rosbag::bag_file_info<Reader, container>, create_survey_writer, estimated_bytes,
-      {{"xtf", "mcap", xtf_to_mcap}, {"mcap", "xtf", mcap_to_xtf}, {"mcap", "jsf", mcap_to_jsf}});
+      {{"xtf", "mcap", xtf_to_mcap},
+       {"mcap", "xtf", mcap_to_xtf},
+       {"mcap", "jsf", rosbag::bag_to_jsf<mcap_to_xtf, sonar_format>}});
   return format;
 }
 

@@ -104,6 +104,14 @@ WriterOptions simulation_writer_options(const SonarConfig& sonar,
   return o;
 }
 
+namespace {
+
+/// Converts an XTF file into a ROS 1 bag (docs/rosbag.md, "Conversion"): every ping with its
+/// samples (the XTF's sample type), time, number, position, heading, pitch, roll and sound speed;
+/// XTF attitude packets as Imu messages. The bag's messages have no field for altitude, depth,
+/// speed or heave: they are not carried, and `altitude_source` has no effect. Pings the bag
+/// cannot hold are dropped and counted by reason. Throws FormatError for unreadable input and
+/// when no ping is left to write (then no output file is created).
 ConvertResult xtf_to_rosbag(const std::filesystem::path& in, const std::filesystem::path& out,
                             bool overwrite, AltitudeSource /*altitude_source*/) {
   return xtf_to_bag<Writer>(
@@ -111,15 +119,19 @@ ConvertResult xtf_to_rosbag(const std::filesystem::path& in, const std::filesyst
       [overwrite](const xtf::Reader& reader) { return conversion_options(reader, overwrite); });
 }
 
+/// Converts a ROS 1 bag into XTF (docs/rosbag.md, "Reading bags"): every ping (the port and
+/// starboard images of one header.stamp) with its samples (u8 -> u8, float -> f32, other types
+/// -> u16 clamped to 0..32767), time, number, sound speed, slant range, the position of the
+/// NavSatFix and the heading, pitch and roll of the Imu at or before it; the other Imu messages
+/// as attitude packets. Pings without a position are dropped (XTF's (0, 0) is "no fix").
+/// `altitude_source` has no effect. Throws FormatError for unreadable input and when no ping is
+/// left to write (then no output file is created).
 ConvertResult rosbag_to_xtf(const std::filesystem::path& in, const std::filesystem::path& out,
                             bool overwrite, AltitudeSource /*altitude_source*/) {
   return bag_to_xtf<Reader>(sonar_format(), "ROS 1 bag", "bag message", in, out, overwrite);
 }
 
-ConvertResult rosbag_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
-                            bool overwrite, AltitudeSource altitude_source) {
-  return via_xtf_to_jsf(rosbag_to_xtf, sonar_format(), in, out, overwrite, altitude_source);
-}
+}  // namespace
 
 const SonarFormat& sonar_format() {
   static const SonarFormat format = reading_and_simulating_format(
@@ -129,7 +141,7 @@ const SonarFormat& sonar_format() {
       create_survey_writer, estimated_bytes,
       {{"xtf", "rosbag", xtf_to_rosbag},
        {"rosbag", "xtf", rosbag_to_xtf},
-       {"rosbag", "jsf", rosbag_to_jsf}});
+       {"rosbag", "jsf", bag_to_jsf<rosbag_to_xtf, sonar_format>}});
   return format;
 }
 

@@ -135,5 +135,12 @@ using ConvertFunction = ConvertResult (*)(const std::filesystem::path& in,
 ConvertResult via_xtf_to_jsf(ConvertFunction to_xtf, const SonarFormat& from,
                              const std::filesystem::path& in, const std::filesystem::path& out,
                              bool overwrite, AltitudeSource altitude_source);
+/// A bag format's (`format()`'s) conversion to JSF: its conversion to XTF `to_xtf` into a
+/// temporary XTF file beside `out`, then xtf_to_jsf() (via_xtf_to_jsf).
+template <ConvertFunction to_xtf, const SonarFormat& (*format)()>
+ConvertResult bag_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
+                         bool overwrite, AltitudeSource altitude_source) {
+  return via_xtf_to_jsf(to_xtf, format(), in, out, overwrite, altitude_source);
+}
 
 }  // namespace sonarsynth::rosbag
