@@ -16,31 +16,9 @@
 namespace sonarsynth::jsf {
 namespace {
 
-class JsfSource : public ReaderSource<Reader> {
- public:
-  explicit JsfSource(const std::filesystem::path& path) : ReaderSource(path, sonar_format()) {}
-  bool next(SideScanRecord& r) override {
-    if (!reader_.next_ping(ping_)) return false;
-    r.sonar = std::move(ping_.sonar);
-    r.nav_valid = ping_.nav_valid;
-    r.time_valid = ping_.time_valid;
-    r.layback_m = ping_.layback_m;
-    r.heading_true_deg = deg_from_rad(r.sonar.heading_true_rad);
-    r.index = ping_.index;
-    return true;
-  }
-
- private:
-  Ping ping_;
-};
-
 /// Every JSF message starts with the marker bytes 01 16 (docs/jsf.md).
 bool identify(std::span<const std::uint8_t> head) {
   return head.size() >= 2 && head[0] == (kStartMarker & 0xFFu) && head[1] == (kStartMarker >> 8);
-}
-
-std::unique_ptr<SideScanSource> open_reader(const std::filesystem::path& path) {
-  return std::make_unique<JsfSource>(path);
 }
 
 std::unique_ptr<SurveyFileSink> create_survey_writer(const SurveyWriterContext& c) {
@@ -61,9 +39,9 @@ double estimated_bytes(const SonarConfig& sonar, const std::string& /*sample_for
 
 const SonarFormat& sonar_format() {
   static const SonarFormat format = reading_and_simulating_format(
-      "jsf", "JSF", "EdgeTech JSF (Discover sonar data file)", {".jsf"}, identify, open_reader,
-      file_info, create_survey_writer, estimated_bytes,
-      {{"xtf", "jsf", xtf_to_jsf}, {"jsf", "xtf", jsf_to_xtf}});
+      "jsf", "JSF", "EdgeTech JSF (Discover sonar data file)", {".jsf"}, identify,
+      open_ping_source<Reader, Ping, sonar_format>, file_info, create_survey_writer,
+      estimated_bytes, {{"xtf", "jsf", xtf_to_jsf}, {"jsf", "xtf", jsf_to_xtf}});
   return format;
 }
 

@@ -10,7 +10,6 @@
 
 namespace sonarsynth::mcap {
 
-using rosbag::ImageFields;
 using rosbag::read_image_fields;
 using rosbag::read_imu;
 using rosbag::read_tilt;
@@ -77,21 +76,13 @@ void Reader::transforms(read::Cdr& c) {
 
 void Reader::image(read::Cdr& c, std::uint64_t stamp, std::string_view frame,
                    const ChannelInfo& info, bool images) {
-  const ImageFields f = read_image_fields(c);
-  if (!image_info_) image_info_ = f.info;
-  if (!images) return;
-  pings_->add_image(f, {offset_, ordinal_, sequence_, stamp, frame, info.topic, info.schema});
+  add_image(read_image_fields(c),
+            {offset_, ordinal_, sequence_, stamp, frame, info.topic, info.schema}, images);
 }
 
 bool Reader::next_ping(Ping& ping) {
-  while (!pings_->pop(ping)) {
-    if (next_block_ >= blocks_.size()) {
-      pings_->finish();
-      return false;
-    }
-    read_block(next_block_++, true);
-  }
-  return true;
+  return next_assembled_ping(ping, blocks_.size(),
+                             [this](std::size_t block) { read_block(block, true); });
 }
 
 }  // namespace sonarsynth::mcap

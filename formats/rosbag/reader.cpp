@@ -61,6 +61,23 @@ void BagReaderBase::report(std::uint64_t offset, std::string message) {
   if (anomalies_.size() < 1000) anomalies_.push_back({offset, std::move(message)});
 }
 
+void BagReaderBase::add_image(const ImageFields& f, const ImageSource& source, bool images) {
+  if (!image_info_) image_info_ = f.info;
+  if (images) pings_->add_image(f, source);
+}
+
+bool BagReaderBase::next_assembled_ping(Ping& ping, std::size_t blocks,
+                                        const std::function<void(std::size_t)>& read_images) {
+  while (!pings_->pop(ping)) {
+    if (next_block_ >= blocks) {
+      pings_->finish();
+      return false;
+    }
+    read_images(next_block_++);
+  }
+  return true;
+}
+
 Reader::Reader(std::unique_ptr<xtf::ByteSource> source)
     : BagReaderBase(std::move(source), "rosbag reader", false) {
   open();
@@ -258,21 +275,13 @@ void Reader::transforms(records::Cursor& c) {
 
 void Reader::image(Cursor& c, std::uint32_t seq, std::uint64_t stamp, std::string_view frame,
                    const ConnectionInfo& info, std::uint64_t offset, bool images) {
-  const ImageFields f = read_image_fields(c);
-  if (!image_info_) image_info_ = f.info;
-  if (!images) return;
-  pings_->add_image(f, {offset, ordinal_, seq, stamp, frame, info.topic, info.type});
+  add_image(read_image_fields(c), {offset, ordinal_, seq, stamp, frame, info.topic, info.type},
+            images);
 }
 
 bool Reader::next_ping(Ping& ping) {
-  while (!pings_->pop(ping)) {
-    if (next_chunk_ >= chunks_.size()) {
-      pings_->finish();
-      return false;
-    }
-    scan_chunk(next_chunk_++, true);
-  }
-  return true;
+  return next_assembled_ping(ping, chunks_.size(),
+                             [this](std::size_t chunk) { scan_chunk(chunk, true); });
 }
 
 }  // namespace sonarsynth::rosbag

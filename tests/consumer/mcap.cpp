@@ -13,10 +13,8 @@
 
 int main() {
   namespace mcap = sonarsynth::mcap;
-  const auto path = std::filesystem::temp_directory_path() / "sonarsynth_consumer_mcap.mcap";
-  std::uint64_t messages = 0;
-  write_test_file<mcap::Writer, mcap::WriterOptions>(
-      path, 3, 48.0, [&](const mcap::Writer& writer) { messages = writer.messages_written(); });
+  const auto [path, messages] = write_test_file<mcap::Writer, mcap::WriterOptions>(
+      "sonarsynth_consumer_mcap.mcap", &mcap::Writer::messages_written);
   std::array<char, 8> head{}, tail{};
   std::ifstream f(path, std::ios::binary);
   f.read(head.data(), 8);

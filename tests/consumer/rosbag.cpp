@@ -12,10 +12,8 @@
 
 int main() {
   namespace rosbag = sonarsynth::rosbag;
-  const auto path = std::filesystem::temp_directory_path() / "sonarsynth_consumer_rosbag.bag";
-  std::uint64_t pings = 0;
-  write_test_file<rosbag::Writer, rosbag::WriterOptions>(
-      path, 3, 48.0, [&](const rosbag::Writer& writer) { pings = writer.pings_written(); });
+  const auto [path, pings] = write_test_file<rosbag::Writer, rosbag::WriterOptions>(
+      "sonarsynth_consumer_rosbag.bag", &rosbag::Writer::pings_written);
   std::string line;
   std::getline(std::ifstream(path, std::ios::binary), line);
   const auto bytes = std::filesystem::file_size(path);

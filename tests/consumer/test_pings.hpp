@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <utility>
 
 #include "sonarsynth/formats/io/sonar_ping.hpp"
 #include "sonarsynth/geo_frame.hpp"
@@ -26,14 +28,15 @@ void write_test_pings(Writer& writer, std::uint32_t count, double slant_range_m)
   writer.close();
 }
 
-/// Writes `count` test pings into a new file `path` (replacing any) with a codec's Writer and
-/// options of its defaults, then gives the closed writer to `done`.
-template <class Writer, class WriterOptions, class Done>
-void write_test_file(const std::filesystem::path& path, std::uint32_t count, double slant_range_m,
-                     Done done) {
+/// Writes three test pings (48 m slant range) into a new file `<temp dir>/<name>` (replacing
+/// any) with a codec's Writer and options of its defaults; returns the file's path and what
+/// `count` (a member of the Writer, e.g. &Writer::pings_written) says of the closed writer.
+template <class Writer, class WriterOptions, class Count>
+std::pair<std::filesystem::path, std::uint64_t> write_test_file(const char* name, Count count) {
+  const auto path = std::filesystem::temp_directory_path() / name;
   WriterOptions options;
   options.overwrite = true;
   Writer writer(path, options);
-  write_test_pings(writer, count, slant_range_m);
-  done(writer);
+  write_test_pings(writer, 3, 48.0);
+  return {path, std::invoke(count, writer)};
 }

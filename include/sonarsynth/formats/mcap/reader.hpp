@@ -107,7 +107,7 @@ class Reader : public rosbag::BagReaderBase {
   std::vector<Block> blocks_;                   ///< in file order
   std::vector<std::uint8_t> buffer_, chunk_;
   std::vector<std::pair<std::uint64_t, std::uint16_t>> entries_;  ///< message index: offset, ch
-  std::size_t next_block_ = 0;
+
   std::uint64_t ordinal_ = 0, offset_ = 0;  ///< of the message being decoded
   std::uint32_t sequence_ = 0;              ///< its Message record's sequence
 };

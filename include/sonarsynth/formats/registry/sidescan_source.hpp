@@ -5,10 +5,12 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sonarsynth/formats/io/sonar_format.hpp"
 #include "sonarsynth/formats/io/sonar_ping.hpp"
+#include "sonarsynth/geo_frame.hpp"
 
 namespace sonarsynth {
 
@@ -72,5 +74,42 @@ class ReaderSource : public SideScanSource {
  private:
   const SonarFormat& format_;
 };
+
+/// The pings of a Reader with next_ping(Ping&) as side-scan records: its Ping's `sonar`,
+/// `nav_valid` and `index`, the heading in degrees; `time_valid` and `layback_m` where the Ping
+/// has them (JSF), else a valid time and no layback (a bag's pings).
+template <class Reader, class Ping>
+class PingReaderSource : public ReaderSource<Reader> {
+ public:
+  PingReaderSource(const std::filesystem::path& path, const SonarFormat& format)
+      : ReaderSource<Reader>(path, format) {}
+  bool next(SideScanRecord& r) override {
+    if (!this->reader_.next_ping(ping_)) return false;
+    r.sonar = std::move(ping_.sonar);
+    r.nav_valid = ping_.nav_valid;
+    r.time_valid = true;
+    r.layback_m = 0.0;
+    if constexpr (requires(const Ping& p) {
+                    p.time_valid;
+                    p.layback_m;
+                  }) {
+      r.time_valid = ping_.time_valid;
+      r.layback_m = ping_.layback_m;
+    }
+    r.heading_true_deg = deg_from_rad(r.sonar.heading_true_rad);
+    r.index = ping_.index;
+    return true;
+  }
+
+ private:
+  Ping ping_;
+};
+
+/// The SonarFormat::open_reader of a format whose Reader has next_ping(Ping&): its pings as
+/// `format()`'s (PingReaderSource).
+template <class Reader, class Ping, const SonarFormat& (*format)()>
+std::unique_ptr<SideScanSource> open_ping_source(const std::filesystem::path& path) {
+  return std::make_unique<PingReaderSource<Reader, Ping>>(path, format());
+}
 
 }  // namespace sonarsynth

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -21,6 +22,8 @@ namespace records {
 class Cursor;
 }
 class PingAssembler;
+struct ImageFields;
+struct ImageSource;
 
 /// One connection of a bag (a topic with its message type), from the bag's index.
 struct ConnectionInfo {
@@ -98,6 +101,12 @@ class BagReaderBase {
   ~BagReaderBase();
   /// Counts an anomaly, keeping the first 1000.
   void report(std::uint64_t offset, std::string message);
+  /// Keeps the settings of the first image; with `images`, gives the image to the assembler.
+  void add_image(const ImageFields& f, const ImageSource& source, bool images);
+  /// The next ping of the assembler, reading the images of block after block (`blocks` of them,
+  /// chunks in file order) with `read_images(block)` until one is complete; false at the end.
+  bool next_assembled_ping(Ping& ping, std::size_t blocks,
+                           const std::function<void(std::size_t)>& read_images);
 
   std::unique_ptr<xtf::ByteSource> source_;
   std::uint64_t size_ = 0;
@@ -106,6 +115,7 @@ class BagReaderBase {
   std::unique_ptr<PingAssembler> pings_;  ///< the NavSatFix and Imu messages, the sides paired
   std::vector<Anomaly> anomalies_;
   std::uint64_t anomaly_count_ = 0;
+  std::size_t next_block_ = 0;  ///< the block next_assembled_ping reads next
 };
 
 /// ROS 1 bag reader (format 2.0 with its index, uncompressed chunks: docs/rosbag.md, "Reading
@@ -147,7 +157,6 @@ class Reader : public BagReaderBase {
   std::vector<std::uint64_t> chunks_;           ///< chunk record positions, ascending
   std::vector<std::uint64_t> chunk_ordinal_;    ///< ordinal of each chunk's first message
   std::vector<std::uint8_t> buffer_;
-  std::size_t next_chunk_ = 0;
   std::uint64_t ordinal_ = 0;
 };
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// What the ROS 1 bag format (formats/rosbag/read_format.cpp) and the MCAP format
-// (formats/mcap/read_format.cpp) share on their read side: the summary of `info`, its JSON and
-// text after the container's own part, and the bag -> XTF and bag -> JSF conversions
+// What the ROS 1 bag format (formats/rosbag/format.cpp) and the MCAP format
+// (formats/mcap/format.cpp) share on their read side: the reader, the summary of `info`, its
+// JSON and text after the container's own part, and the bag -> XTF and bag -> JSF conversions
 // (docs/rosbag.md and docs/robotics.md, "Reading bags").
 #pragma once
 
@@ -42,27 +42,6 @@ PingStream ping_stream(BagReader& reader) {
   return {[&reader](Ping& p) { return reader.next_ping(p); }, reader.image_info(), reader.imu(),
           reader.anomalies(), [&reader] { return reader.total_anomalies(); }};
 }
-
-/// A bag reader's pings as side-scan records (times always present; no layback in a bag).
-template <class BagReader>
-class BagSource : public ReaderSource<BagReader> {
- public:
-  BagSource(const std::filesystem::path& path, const SonarFormat& format)
-      : ReaderSource<BagReader>(path, format) {}
-  bool next(SideScanRecord& r) override {
-    if (!this->reader_.next_ping(ping_)) return false;
-    r.sonar = std::move(ping_.sonar);
-    r.nav_valid = ping_.nav_valid;
-    r.time_valid = true;
-    r.layback_m = 0.0;
-    r.heading_true_deg = deg_from_rad(r.sonar.heading_true_rad);
-    r.index = ping_.index;
-    return true;
-  }
-
- private:
-  Ping ping_;
-};
 
 /// What a connection (or channel) of `type` (or schema name) is read as; nullptr if not decoded.
 const char* read_as(bool decoded, std::string_view type);
@@ -110,10 +89,10 @@ struct ContainerInfo {
 SonarFileInfo bag_info(const ContainerInfo& c, const std::string& name, std::uint64_t size,
                        const PingStream& bag, const BagSummary& s, std::size_t max_anomalies);
 
-/// `info` of the bag `path` read by a BagReader, its container described by `describe(reader)`.
-template <class BagReader, class Describe>
-SonarFileInfo bag_file_info(const std::filesystem::path& path, std::size_t max_anomalies,
-                            Describe describe) {
+/// A bag format's SonarFormat::info: `info` of the bag `path` read by a BagReader, its container
+/// described by `describe(reader)`.
+template <class BagReader, ContainerInfo (*describe)(const BagReader&)>
+SonarFileInfo bag_file_info(const std::filesystem::path& path, std::size_t max_anomalies) {
   BagReader reader(path);
   const PingStream bag = ping_stream(reader);
   const BagSummary s = summarise(bag);
@@ -156,5 +135,12 @@ using ConvertFunction = ConvertResult (*)(const std::filesystem::path& in,
 ConvertResult via_xtf_to_jsf(ConvertFunction to_xtf, const SonarFormat& from,
                              const std::filesystem::path& in, const std::filesystem::path& out,
                              bool overwrite, AltitudeSource altitude_source);
+/// A bag format's (`format()`'s) conversion to JSF: its conversion to XTF `to_xtf` into a
+/// temporary XTF file beside `out`, then xtf_to_jsf() (via_xtf_to_jsf).
+template <ConvertFunction to_xtf, const SonarFormat& (*format)()>
+ConvertResult bag_to_jsf(const std::filesystem::path& in, const std::filesystem::path& out,
+                         bool overwrite, AltitudeSource altitude_source) {
+  return via_xtf_to_jsf(to_xtf, format(), in, out, overwrite, altitude_source);
+}
 
 }  // namespace sonarsynth::rosbag
