@@ -35,6 +35,13 @@ double estimated_bytes(const SonarConfig& sonar, const std::string& /*sample_for
   return pings * 2.0 * (16.0 + 240.0 + 2.0 * samples);
 }
 
+// The any-format source takes a JSF ping's time validity and layback where the Ping has them
+// (registry/sidescan_source.hpp): a renamed field must not fall back to "valid, no layback".
+static_assert(requires(const Ping& p) {
+  p.time_valid;
+  p.layback_m;
+});
+
 }  // namespace
 
 const SonarFormat& sonar_format() {
